@@ -1,0 +1,161 @@
+//! The rigid body: an ellipsoid with semi-axes (a, b, c) along its principal body axes,
+//! centre of mass G offset from the geometric centre C0, central inertia about G.
+//!
+//! PHYSICS.md, "Body, frames, conventions". The paper's body is a = b, c, with
+//! `com_offset = (0, 0, −D2)` (paper eq. 7) and `I_b = diag(I, I, I3)`.
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::error::ModelError;
+
+/// A validated rigid ellipsoid. Construct with [`Body::new`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Body {
+    /// Semi-axes (a, b, c) along body x, y, z [m].
+    semi_axes: Vector3<f64>,
+    /// Mass [kg].
+    mass: f64,
+    /// Central inertia tensor about G in body axes [kg·m²].
+    inertia: Matrix3<f64>,
+    /// Its inverse [1/(kg·m²)].
+    inertia_inv: Matrix3<f64>,
+    /// G − C0 in body axes [m].
+    com_offset: Vector3<f64>,
+}
+
+impl Body {
+    /// Validates and builds a body.
+    ///
+    /// Rejects non-positive or non-finite semi-axes and mass, an inertia tensor that is
+    /// not symmetric, whose principal moments are not positive or violate the triangle
+    /// inequality (I_i ≤ I_j + I_k), and a centre of mass outside the ellipsoid
+    /// (gᵀ A⁻² g ≥ 1).
+    pub fn new(
+        semi_axes: Vector3<f64>,
+        mass: f64,
+        inertia: Matrix3<f64>,
+        com_offset: Vector3<f64>,
+    ) -> Result<Self, ModelError> {
+        for (name, v) in ["a", "b", "c"].iter().zip(semi_axes.iter()) {
+            if !(v.is_finite() && *v > 0.0) {
+                return Err(ModelError::invalid(format!("body.{name}"), v, "a semi-axis must be a positive, finite length in metres"));
+            }
+        }
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(ModelError::invalid("body.mass", mass, "the mass must be positive and finite (kg)"));
+        }
+        if inertia.iter().any(|v| !v.is_finite()) {
+            return Err(ModelError::invalid("body.inertia", fmt_matrix(&inertia), "every entry must be finite (kg m^2)"));
+        }
+        let scale = inertia.abs().max();
+        if (inertia - inertia.transpose()).abs().max() > 1e-12 * scale {
+            return Err(ModelError::invalid("body.inertia", fmt_matrix(&inertia), "the inertia tensor must be symmetric"));
+        }
+        let moments = inertia.symmetric_eigenvalues();
+        if moments.iter().any(|&m| m <= 0.0) {
+            return Err(ModelError::invalid("body.inertia", fmt_vector(&moments), "principal moments of inertia must be positive"));
+        }
+        let (i0, i1, i2) = (moments[0], moments[1], moments[2]);
+        let slack = 1e-12 * (i0 + i1 + i2);
+        if i0 > i1 + i2 + slack || i1 > i0 + i2 + slack || i2 > i0 + i1 + slack {
+            return Err(ModelError::invalid(
+                "body.inertia",
+                fmt_vector(&moments),
+                "principal moments must satisfy the triangle inequality (each at most the sum of the other two)",
+            ));
+        }
+        if com_offset.iter().any(|v| !v.is_finite()) {
+            return Err(ModelError::invalid("body.com_offset", fmt_vector(&com_offset), "the centre-of-mass offset must be finite (m)"));
+        }
+        let radial = com_offset.component_div(&semi_axes).norm_squared();
+        if radial >= 1.0 {
+            return Err(ModelError::invalid(
+                "body.com_offset",
+                fmt_vector(&com_offset),
+                format!("the centre of mass must lie inside the ellipsoid (g^T A^-2 g = {radial:.6} must be < 1)"),
+            ));
+        }
+        let inertia_inv = inertia.try_inverse().ok_or_else(|| {
+            ModelError::invalid("body.inertia", fmt_matrix(&inertia), "the inertia tensor must be invertible")
+        })?;
+        Ok(Body { semi_axes, mass, inertia, inertia_inv, com_offset })
+    }
+
+    /// The paper's body: a = b, c, CM a distance `d2` below C0 on the axis, principal
+    /// moments `i` (transverse, about G) and `i3` (axial).
+    pub fn of_revolution(a: f64, c: f64, mass: f64, i: f64, i3: f64, d2: f64) -> Result<Self, ModelError> {
+        Body::new(Vector3::new(a, a, c), mass, Matrix3::from_diagonal(&Vector3::new(i, i, i3)), Vector3::new(0.0, 0.0, -d2))
+    }
+
+    /// Semi-axes (a, b, c) [m].
+    pub fn semi_axes(&self) -> Vector3<f64> {
+        self.semi_axes
+    }
+    /// Mass [kg].
+    pub fn mass(&self) -> f64 {
+        self.mass
+    }
+    /// Central inertia about G, body axes [kg·m²].
+    pub fn inertia(&self) -> &Matrix3<f64> {
+        &self.inertia
+    }
+    /// Inverse of the central inertia [1/(kg·m²)].
+    pub fn inertia_inv(&self) -> &Matrix3<f64> {
+        &self.inertia_inv
+    }
+    /// G − C0 in body axes [m].
+    pub fn com_offset(&self) -> Vector3<f64> {
+        self.com_offset
+    }
+}
+
+/// Central inertia of a homogeneous solid ellipsoid with semi-axes (a, b, c):
+/// diag(b² + c², a² + c², a² + b²) · m / 5 [kg·m²].
+pub fn uniform_inertia(semi_axes: Vector3<f64>, mass: f64) -> Matrix3<f64> {
+    let sq = semi_axes.component_mul(&semi_axes);
+    Matrix3::from_diagonal(&Vector3::new(sq.y + sq.z, sq.x + sq.z, sq.x + sq.y)) * (mass / 5.0)
+}
+
+fn fmt_vector(v: &Vector3<f64>) -> String {
+    format!("[{}, {}, {}]", v.x, v.y, v.z)
+}
+
+fn fmt_matrix(m: &Matrix3<f64>) -> String {
+    let row = |i: usize| format!("[{}, {}, {}]", m[(i, 0)], m[(i, 1)], m[(i, 2)]);
+    format!("[{}, {}, {}]", row(0), row(1), row(2))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ok_body() -> Result<Body, ModelError> {
+        Body::of_revolution(0.025, 0.0175, 0.05, 3.8e-6, 6.25e-6, 0.003)
+    }
+
+    #[test]
+    fn accepts_the_paper_body() {
+        assert!(ok_body().is_ok());
+    }
+
+    #[test]
+    fn rejects_each_rule_with_its_name() {
+        let cases: [(Result<Body, ModelError>, &str, &str); 5] = [
+            (Body::of_revolution(-0.025, 0.0175, 0.05, 3.8e-6, 6.25e-6, 0.003), "body.a = -0.025", "positive"),
+            (Body::of_revolution(0.025, 0.0175, 0.0, 3.8e-6, 6.25e-6, 0.003), "body.mass = 0", "positive"),
+            (Body::of_revolution(0.025, 0.0175, 0.05, 1e-6, 6.25e-6, 0.003), "body.inertia", "triangle inequality"),
+            (Body::of_revolution(0.025, 0.0175, 0.05, 3.8e-6, 6.25e-6, 0.02), "body.com_offset", "inside the ellipsoid"),
+            (Body::of_revolution(0.025, 0.0175, 0.05, -3.8e-6, 6.25e-6, 0.0), "body.inertia", "positive"),
+        ];
+        for (result, name, rule) in cases {
+            let msg = result.unwrap_err().to_string();
+            assert!(msg.starts_with(name) && msg.contains(rule), "{msg}");
+        }
+    }
+
+    #[test]
+    fn uniform_sphere_inertia_is_two_fifths_m_r_squared() {
+        let i = uniform_inertia(Vector3::new(0.1, 0.1, 0.1), 2.0);
+        assert!((i[(0, 0)] - 0.4 * 2.0 * 0.01).abs() < 1e-15);
+    }
+}

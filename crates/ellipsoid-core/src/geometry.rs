@@ -1,0 +1,130 @@
+//! Exact contact geometry of an ellipsoid touching the plane z = 0, for any semi-axes.
+//!
+//! PHYSICS.md, "Contact geometry". With ζ = Rᵀe3 (world up in body axes) and
+//! A = diag(a, b, c):
+//! ```text
+//!   s    = sqrt(ζᵀA²ζ)                      height of C0 (paper eq. 8: D1)
+//!   p_c  = −A²ζ / s                          contact point C from C0, body axes
+//!   r_b  = p_c − g_b                         lever arm C − G, body axes
+//!   h    = s + ζ·g_b                         height of G;  ∇h = −r_b
+//!   H    = A²/s − (A²ζ)(A²ζ)ᵀ/s³             Hessian of s (curvature of the support map)
+//!   ζ̇    = ζ × ω_b,   ṙ_b = −H ζ̇             the contact point moves over the body
+//!   u    = r_b × ζ,   κ = r_b·(ζ̇ × ω_b) − ζ̇ᵀHζ̇,   z̈_G = −u·ω̇_b − κ
+//! ```
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::body::Body;
+
+/// Contact quantities at one instant, all in body axes.
+#[derive(Debug, Clone, Copy)]
+pub struct Contact {
+    /// ζ = Rᵀ e3, world up in body axes.
+    pub zeta: Vector3<f64>,
+    /// Contact point C relative to C0 [m].
+    pub p_c: Vector3<f64>,
+    /// Lever arm r = C − G [m].
+    pub r: Vector3<f64>,
+    /// Height of G above the plane [m].
+    pub height: f64,
+    /// ζ̇ = ζ × ω_b [1/s].
+    pub zeta_dot: Vector3<f64>,
+    /// Rate of the contact point over the body surface, ṙ_b = −H ζ̇ [m/s].
+    pub r_dot_surface: Vector3<f64>,
+    /// u = r × ζ [m].
+    pub u: Vector3<f64>,
+    /// κ = r·(ζ̇ × ω) − ζ̇ᵀHζ̇ [m/s²], so that z̈_G = −u·ω̇ − κ.
+    pub kappa: f64,
+}
+
+impl Contact {
+    /// Evaluates the contact geometry for body orientation `zeta` (unit) and body
+    /// angular velocity `omega` [rad/s].
+    #[inline]
+    pub fn new(body: &Body, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
+        let a = body.semi_axes();
+        let a2 = a.component_mul(&a);
+        let a2z = a2.component_mul(&zeta);
+        let s = zeta.dot(&a2z).sqrt();
+        let p_c = -a2z / s;
+        let g = body.com_offset();
+        let r = p_c - g;
+        let zeta_dot = zeta.cross(&omega);
+        // H ζ̇ without forming H: A²ζ̇/s − A²ζ (A²ζ·ζ̇)/s³.
+        let h_zd = a2.component_mul(&zeta_dot) / s - a2z * (a2z.dot(&zeta_dot) / (s * s * s));
+        let kappa = r.dot(&zeta_dot.cross(&omega)) - zeta_dot.dot(&h_zd);
+        Contact {
+            zeta,
+            p_c,
+            r,
+            height: s + zeta.dot(&g),
+            zeta_dot,
+            r_dot_surface: -h_zd,
+            u: r.cross(&zeta),
+            kappa,
+        }
+    }
+
+    /// Vertical velocity of G while touching, v_Gz = −r·ζ̇ = −e3·(ω × r) [m/s].
+    #[inline]
+    pub fn vz(&self) -> f64 {
+        -self.r.dot(&self.zeta_dot)
+    }
+}
+
+/// The Hessian H = A²/s − (A²ζ)(A²ζ)ᵀ/s³ (used by tests and diagnostics; the
+/// right-hand side applies it to a vector without forming it).
+pub fn hessian(body: &Body, zeta: Vector3<f64>) -> Matrix3<f64> {
+    let a = body.semi_axes();
+    let a2 = a.component_mul(&a);
+    let a2z = a2.component_mul(&zeta);
+    let s = zeta.dot(&a2z).sqrt();
+    Matrix3::from_diagonal(&a2) / s - a2z * a2z.transpose() / (s * s * s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::uniform_inertia;
+
+    fn body() -> Body {
+        let ax = Vector3::new(0.03, 0.02, 0.01);
+        Body::new(ax, 1.0, uniform_inertia(ax, 1.0), Vector3::new(0.001, -0.002, -0.003)).unwrap()
+    }
+
+    /// The contact point is the lowest point: p_c lies on the surface and its outward
+    /// normal A⁻²p_c is parallel to −ζ.
+    #[test]
+    fn contact_point_is_the_support_point() {
+        let b = body();
+        let zeta = Vector3::new(0.3, -0.5, 0.8).normalize();
+        let c = Contact::new(&b, zeta, Vector3::zeros());
+        let a = b.semi_axes();
+        let q = c.p_c.component_div(&a);
+        assert!((q.norm_squared() - 1.0).abs() < 1e-14);
+        let normal = c.p_c.component_div(&a.component_mul(&a));
+        assert!(normal.normalize().dot(&-zeta) > 1.0 - 1e-14);
+    }
+
+    /// Finite differences: ∇h = −r and the Hessian of s is H.
+    #[test]
+    fn height_gradient_and_hessian_match_finite_differences() {
+        let b = body();
+        let zeta = Vector3::new(0.3, -0.5, 0.8).normalize();
+        let eps = 1e-6;
+        let c0 = Contact::new(&b, zeta, Vector3::zeros());
+        let h = hessian(&b, zeta);
+        for k in 0..3 {
+            let mut dz = Vector3::zeros();
+            dz[k] = eps;
+            let cp = Contact::new(&b, zeta + dz, Vector3::zeros());
+            let cm = Contact::new(&b, zeta - dz, Vector3::zeros());
+            // h is defined for any ζ (not only unit): s(ζ) + ζ·g.
+            let grad = (cp.height - cm.height) / (2.0 * eps);
+            assert!((grad + c0.r[k]).abs() < 1e-9, "gradient {k}");
+            // −p_c = ∇s, so ∂(−p_c)/∂ζ_k = H[:, k].
+            let col = -(cp.p_c - cm.p_c) / (2.0 * eps);
+            assert!((col - h.column(k)).norm() < 1e-7, "hessian column {k}");
+        }
+    }
+}

@@ -1,0 +1,45 @@
+//! ODE integrators for small fixed-size systems: RK4 (fixed step), Dormand–Prince
+//! 5(4) (Hairer's DOPRI5) and Dormand–Prince 8(5,3) (Hairer's DOP853), with dense
+//! output, event location and statistics. No heap allocation per step.
+//!
+//! One driver ([`integrate`]) handles sampling, events and stopping for every method.
+
+use nalgebra::SVector;
+
+/// A first-order system dy/dt = f(t, y) on a fixed-size state.
+pub trait OdeSystem<const N: usize> {
+    /// The right-hand side f(t, y). Must not allocate.
+    fn rhs(&self, t: f64, y: &SVector<f64, N>) -> SVector<f64, N>;
+
+    /// Called on every accepted step end (and on located terminal events) before the
+    /// state is used again; may restore invariants of the exact flow, e.g. renormalise
+    /// a quaternion. The default does nothing.
+    fn project(&self, _y: &mut SVector<f64, N>) {}
+}
+
+/// Which sign changes of an event function count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Direction {
+    /// g goes from negative to positive.
+    Rising,
+    /// g goes from positive to negative.
+    Falling,
+    /// Either.
+    Either,
+}
+
+/// What the driver does when an event is located.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Action {
+    /// Record it and go on.
+    Continue,
+    /// Record it and end the integration at the event time.
+    Stop,
+}
+
+/// An event function g(t, y) whose zero crossings are located on the dense output.
+pub struct Event<'a, const N: usize> {
+    pub g: Box<dyn Fn(f64, &SVector<f64, N>) -> f64 + 'a>,
+    pub direction: Direction,
+    pub action: Action,
+}

@@ -1,0 +1,12 @@
+//! `ellipsoid-core`: a rigid, non-homogeneous ellipsoid on a horizontal plane.
+//!
+//! SI units throughout (m, kg, s, rad). The physics reference is `PHYSICS.md`
+//! (shipped as `docs/physics.md`); integrators live in [`integrate`].
+
+pub mod integrate;
+pub mod body;
+pub mod effects;
+pub mod error;
+pub mod geometry;
+pub mod model;
+pub mod state;

@@ -1,0 +1,172 @@
+//! Newton–Euler dynamics of the ellipsoid on the plane, generic over the contact law
+//! and the optional effects (PHYSICS.md, "Equations of motion").
+//!
+//! ```text
+//!   m a_G   = F + f − m g e3                 F: contact force at C, f: effects' force
+//!   I ω̇_b   = r_b × F_b + τ + N τ_N − ω_b × I ω_b
+//!   ẋ_G     = v_G (horizontal),  q̇ = ½ q ⊗ ω_b
+//!   Ẇ       = −F·v_C − f·v_G − (τ + N τ_N)·ω_b      dissipated power (≥ 0)
+//! ```
+//! z_G and v_Gz are functions of the orientation (`geometry`), so the contact
+//! constraint cannot drift. The contact law ([`ContactLaw`]) decides F from the
+//! acceleration-level constraint z̈_G = −u·ω̇ − κ (and, when rolling, v_C = 0).
+
+mod frictionless;
+mod rolling;
+mod sliding;
+
+pub use frictionless::Frictionless;
+pub use rolling::Rolling;
+pub use sliding::Sliding;
+
+use nalgebra::{Matrix3, Vector2, Vector3};
+
+use crate::body::Body;
+use crate::effects::{Effect, Wrench};
+use crate::geometry::Contact;
+use crate::integrate::OdeSystem;
+use crate::state::{self, State};
+
+/// Everything velocity-level about one state, shared by the contact laws and effects.
+#[derive(Debug, Clone, Copy)]
+pub struct Kinematics {
+    /// Rotation body -> world.
+    pub rot: Matrix3<f64>,
+    /// Angular velocity, body frame [rad/s].
+    pub omega: Vector3<f64>,
+    /// Contact geometry (body frame).
+    pub contact: Contact,
+    /// Velocity of G, world frame, v_Gz from the constraint [m/s].
+    pub v_g: Vector3<f64>,
+    /// Horizontal velocity of the material contact point, v_C = v_G + ω × r [m/s].
+    pub slip: Vector2<f64>,
+}
+
+impl Kinematics {
+    /// Kinematics of state `y`; with `rolling`, v_G = −ω × r (the state's v_G is ignored).
+    #[inline]
+    pub fn new(body: &Body, y: &State, rolling: bool) -> Self {
+        let rot = state::rotation(y);
+        let omega = state::omega(y);
+        let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
+        let contact = Contact::new(body, zeta, omega);
+        let spin_lever = rot * omega.cross(&contact.r); // ω × r, world
+        let v_h = if rolling { -spin_lever.xy() } else { state::velocity(y) };
+        let v_g = Vector3::new(v_h.x, v_h.y, contact.vz());
+        Kinematics { rot, omega, contact, v_g, slip: v_h + spin_lever.xy() }
+    }
+}
+
+/// The contact force and the accelerations it implies.
+#[derive(Debug, Clone, Copy)]
+pub struct Response {
+    /// Contact force at C, world frame [N].
+    pub force: Vector3<f64>,
+    /// Normal force N = F·e3 [N].
+    pub normal: f64,
+    /// Angular acceleration, body frame [rad/s²].
+    pub omega_dot: Vector3<f64>,
+    /// The factor multiplying N in the unilateral contact equation; ≤ 0 means a
+    /// Painlevé inconsistency (sliding). Infinite where it does not apply.
+    pub painleve: f64,
+}
+
+/// A contact law: how the plane pushes on the body.
+pub trait ContactLaw {
+    /// Whether the horizontal velocity of G follows from the constraint (rolling).
+    const ROLLING: bool;
+    /// Solves for the contact force given the kinematics, gravity g [m/s²] and effects.
+    fn respond(&self, body: &Body, gravity: f64, kin: &Kinematics, y: &State, load: &Wrench) -> Response;
+    /// Restores the law's algebraic relations on an accepted state (see [`OdeSystem::project`]).
+    fn project(&self, _body: &Body, _y: &mut State) {}
+}
+
+/// The body on the plane under gravity, a contact law `C` and effects `E`.
+#[derive(Debug, Clone)]
+pub struct System<C, E> {
+    pub body: Body,
+    /// g [m/s²].
+    pub gravity: f64,
+    pub contact: C,
+    pub effects: E,
+}
+
+/// Everything the right-hand side computes about one state.
+#[derive(Debug, Clone, Copy)]
+pub struct Evaluation {
+    pub kin: Kinematics,
+    pub load: Wrench,
+    pub response: Response,
+}
+
+impl Evaluation {
+    /// Acceleration of G, world frame: a = (F + f)/m − g e3 [m/s²].
+    pub fn accel(&self, body: &Body, gravity: f64) -> Vector3<f64> {
+        (self.response.force + self.load.force) / body.mass() - Vector3::new(0.0, 0.0, gravity)
+    }
+
+    /// Dissipated power Ẇ = −F·v_C − f·v_G − (τ + N τ_N)·ω [W].
+    pub fn dissipation(&self) -> f64 {
+        let r = &self.response;
+        let torque = self.load.torque + r.normal * self.load.torque_per_normal;
+        -(r.force.xy().dot(&self.kin.slip)) - self.load.force.dot(&self.kin.v_g) - torque.dot(&self.kin.omega)
+    }
+}
+
+impl<C: ContactLaw, E: Effect> System<C, E> {
+    /// Evaluates kinematics, loads and the contact response at `y`.
+    #[inline]
+    pub fn evaluate(&self, y: &State) -> Evaluation {
+        let kin = Kinematics::new(&self.body, y, C::ROLLING);
+        let load = self.effects.wrench(&self.body, &kin);
+        let response = self.contact.respond(&self.body, self.gravity, &kin, y, &load);
+        Evaluation { kin, load, response }
+    }
+}
+
+impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
+    #[inline]
+    fn rhs(&self, _t: f64, y: &State) -> State {
+        let ev = self.evaluate(y);
+        let accel = ev.accel(&self.body, self.gravity);
+        let q_dot = state::quaternion_rate(&state::quaternion(y), &ev.kin.omega);
+        let mut dy = State::zeros();
+        dy[state::POS] = ev.kin.v_g.x;
+        dy[state::POS + 1] = ev.kin.v_g.y;
+        dy[state::QUAT] = q_dot.w;
+        dy[state::QUAT + 1] = q_dot.i;
+        dy[state::QUAT + 2] = q_dot.j;
+        dy[state::QUAT + 3] = q_dot.k;
+        dy[state::VEL] = accel.x;
+        dy[state::VEL + 1] = accel.y;
+        dy.fixed_rows_mut::<3>(state::OMEGA).copy_from(&ev.response.omega_dot);
+        dy[state::WORK] = ev.dissipation();
+        dy
+    }
+
+    fn project(&self, y: &mut State) {
+        let q = state::quaternion(y).normalize();
+        y.fixed_rows_mut::<4>(state::QUAT).copy_from(&nalgebra::Vector4::new(q.w, q.i, q.j, q.k));
+        self.contact.project(&self.body, y);
+    }
+}
+
+/// Unilateral contact with the force along a known world direction d (d·e3 = 1):
+/// F = N d. From m z̈_G = N + f_z − m g and z̈_G = −u·ω̇ − κ with
+/// I ω̇ = N ℓ + T, ℓ = r × d_b + τ_N, T = τ − ω × Iω:
+/// ```text
+///   N (1 + m u·I⁻¹ℓ) = m g − f_z − m u·I⁻¹T − m κ
+/// ```
+/// (PHYSICS.md, models 1 and 2; d = e3 gives the frictionless law.)
+#[inline]
+pub(crate) fn unilateral(body: &Body, gravity: f64, kin: &Kinematics, load: &Wrench, d: Vector3<f64>) -> Response {
+    let m = body.mass();
+    let i_inv = body.inertia_inv();
+    let c = &kin.contact;
+    let d_b = kin.rot.tr_mul(&d);
+    let lever = c.r.cross(&d_b) + load.torque_per_normal;
+    let free = load.torque - kin.omega.cross(&(body.inertia() * kin.omega));
+    let painleve = 1.0 + m * c.u.dot(&(i_inv * lever));
+    let normal = (m * gravity - load.force.z - m * c.u.dot(&(i_inv * free)) - m * c.kappa) / painleve;
+    Response { force: normal * d, normal, omega_dot: i_inv * (normal * lever + free), painleve }
+}

@@ -1,0 +1,63 @@
+//! Rolling without slipping (paper §4, corrected; PHYSICS.md model 3). v_C = 0, so
+//! v_G = −ω × r and the contact force F (body frame F_b) solves the 3×3 system
+//! ```text
+//!   (I₃ − m [r]× I⁻¹ ([r]× + τ_N ζᵀ)) F_b = m g ζ − f_b + m [r]× I⁻¹ T − m ω × ṙ_tot
+//! ```
+//! with T = τ − ω × Iω and ṙ_tot = ω × r + ṙ_surface (the contact point moving over the
+//! body: omitting ṙ_surface is the classic error that breaks energy conservation).
+//! Without effects the matrix is I₃ + m [r]×ᵀ I⁻¹ [r]×, symmetric positive definite.
+//! The paper's own §4 substitutes this nonholonomic constraint into the Lagrangian and
+//! is wrong (PAPER-NOTES.md); this is the Newton–Euler form.
+
+use nalgebra::{Matrix3, Vector3};
+
+use super::{ContactLaw, Kinematics, Response};
+use crate::body::Body;
+use crate::effects::Wrench;
+use crate::state::{self, State};
+
+/// No slip at the contact point.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Rolling;
+
+impl Rolling {
+    /// Friction-cone margin μ N − |F_h| [N]: rolling needs it ≥ 0.
+    pub fn cone_margin(response: &Response, friction: f64) -> f64 {
+        friction * response.normal - response.force.xy().norm()
+    }
+}
+
+impl ContactLaw for Rolling {
+    const ROLLING: bool = true;
+
+    #[inline]
+    fn respond(&self, body: &Body, gravity: f64, kin: &Kinematics, _y: &State, load: &Wrench) -> Response {
+        let m = body.mass();
+        let i_inv = body.inertia_inv();
+        let c = &kin.contact;
+        let w = kin.omega;
+        let r_cross = c.r.cross_matrix();
+        let free = load.torque - w.cross(&(body.inertia() * w));
+        let r_dot = w.cross(&c.r) + c.r_dot_surface;
+        let matrix = Matrix3::identity() - m * r_cross * i_inv * (r_cross + load.torque_per_normal * c.zeta.transpose());
+        let rhs = m * gravity * c.zeta - kin.rot.tr_mul(&load.force) + m * (r_cross * (i_inv * free)) - m * w.cross(&r_dot);
+        // The matrix is I₃ plus a positive semi-definite part (plus a small τ_N term):
+        // always invertible for physical loads; a singular one would mean a torque per
+        // newton of normal force larger than the lever arm, which effects cannot produce.
+        let f_b = matrix.try_inverse().map_or(Vector3::from_element(f64::NAN), |inv| inv * rhs);
+        let normal = f_b.dot(&c.zeta);
+        Response {
+            force: kin.rot * f_b,
+            normal,
+            omega_dot: i_inv * (c.r.cross(&f_b) + normal * load.torque_per_normal + free),
+            painleve: f64::INFINITY,
+        }
+    }
+
+    /// v_G ← −(ω × r)_h: the stored horizontal velocity follows the constraint exactly.
+    fn project(&self, body: &Body, y: &mut State) {
+        let kin = Kinematics::new(body, y, true);
+        y[state::VEL] = kin.v_g.x;
+        y[state::VEL + 1] = kin.v_g.y;
+    }
+}

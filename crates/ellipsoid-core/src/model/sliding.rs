@@ -1,0 +1,71 @@
+//! Coulomb sliding friction (paper §3; PHYSICS.md model 2): F = N d with
+//! d = e3 − μ ŝ, ŝ the unit slip direction of the material contact point,
+//! N = m (g + u·I⁻¹(ω × Iω) − κ) / (1 + m u·I⁻¹(r × d_b)).
+//!
+//! ŝ = v_C/|v_C| is discontinuous where the slip stops. So that the stop can be located
+//! accurately on the dense output, the state carries a reference direction s_ref (the
+//! slip direction at the start of the current step, refreshed by [`ContactLaw::project`]),
+//! and the law uses ŝ = sign(v_C·s_ref) v_C/|v_C|: the friction direction continues
+//! smoothly through v_C = 0 instead of flipping, and the event function
+//! g = v_C·s_ref (see [`Sliding::slip_along_reference`]) changes sign cleanly at the stop.
+//! Beyond that point the continued motion is unphysical and never reported: the stop is
+//! a terminal event. With |v_C| at round-off level (the instant sliding starts from
+//! rolling), ŝ = s_ref.
+
+use nalgebra::{Vector2, Vector3};
+
+use super::{unilateral, ContactLaw, Kinematics, Response};
+use crate::body::Body;
+use crate::effects::Wrench;
+use crate::state::{self, State};
+
+/// Coulomb friction while the contact point slips.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sliding {
+    /// Coulomb coefficient μ (≥ 0).
+    pub friction: f64,
+}
+
+/// Relative size below which a slip speed is round-off of the body's velocities.
+const SLIP_ROUNDOFF: f64 = 1e-13;
+
+impl Sliding {
+    /// The unit slip direction ŝ the law uses (see the module docs).
+    #[inline]
+    pub fn direction(kin: &Kinematics, reference: Vector2<f64>) -> Vector2<f64> {
+        let speed = kin.slip.norm();
+        let scale = kin.v_g.norm() + (kin.slip - kin.v_g.xy()).norm();
+        if speed <= SLIP_ROUNDOFF * scale || speed == 0.0 {
+            reference
+        } else if kin.slip.dot(&reference) >= 0.0 {
+            kin.slip / speed
+        } else {
+            -kin.slip / speed
+        }
+    }
+
+    /// Event function for the slip stop: g = v_C·s_ref [m/s], positive while sliding.
+    #[inline]
+    pub fn slip_along_reference(kin: &Kinematics, y: &State) -> f64 {
+        kin.slip.dot(&state::slip_ref(y))
+    }
+}
+
+impl ContactLaw for Sliding {
+    const ROLLING: bool = false;
+
+    #[inline]
+    fn respond(&self, body: &Body, gravity: f64, kin: &Kinematics, y: &State, load: &Wrench) -> Response {
+        let s = Sliding::direction(kin, state::slip_ref(y));
+        unilateral(body, gravity, kin, load, Vector3::new(-self.friction * s.x, -self.friction * s.y, 1.0))
+    }
+
+    /// s_ref ← ŝ, keeping its orientation relative to the previous s_ref, so the sign of
+    /// g = v_C·s_ref is unchanged by the refresh.
+    fn project(&self, body: &Body, y: &mut State) {
+        let kin = Kinematics::new(body, y, false);
+        let s = Sliding::direction(&kin, state::slip_ref(y));
+        y[state::SLIP_REF] = s.x;
+        y[state::SLIP_REF + 1] = s.y;
+    }
+}

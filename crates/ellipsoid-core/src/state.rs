@@ -1,0 +1,151 @@
+//! The integration state, declared once, and conversions to and from the paper's
+//! z-x-z Euler angles (paper eq. 1; PHYSICS.md "Body, frames, conventions").
+//!
+//! ```text
+//! index  symbol        unit    meaning
+//! 0..2   x_G, y_G      m       horizontal position of the centre of mass G
+//! 2..6   q0,q1,q2,q3   -       unit quaternion (w, x, y, z), body -> world
+//! 6..8   v_Gx, v_Gy    m/s     horizontal velocity of G (rolling: kept equal to −(ω×r)_h)
+//! 8..11  ω1, ω2, ω3    rad/s   angular velocity in body axes
+//! 11     W             J       work dissipated so far (contact friction and effects)
+//! 12..14 s_x, s_y      -       slip reference direction (sliding; see `model::sliding`)
+//! ```
+//! z_G and v_Gz are not states: they follow from the orientation (exact contact).
+
+use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector2, Vector3};
+
+/// Length of the state vector.
+pub const DIM: usize = 14;
+/// The state vector.
+pub type State = SVector<f64, DIM>;
+
+/// Index of x_G.
+pub const POS: usize = 0;
+/// Index of the quaternion's scalar part.
+pub const QUAT: usize = 2;
+/// Index of v_Gx.
+pub const VEL: usize = 6;
+/// Index of ω1.
+pub const OMEGA: usize = 8;
+/// Index of the dissipated work.
+pub const WORK: usize = 11;
+/// Index of the slip reference direction.
+pub const SLIP_REF: usize = 12;
+
+/// Horizontal position of G [m].
+#[inline]
+pub fn position(y: &State) -> Vector2<f64> {
+    Vector2::new(y[POS], y[POS + 1])
+}
+/// Horizontal velocity of G [m/s].
+#[inline]
+pub fn velocity(y: &State) -> Vector2<f64> {
+    Vector2::new(y[VEL], y[VEL + 1])
+}
+/// Body angular velocity [rad/s].
+#[inline]
+pub fn omega(y: &State) -> Vector3<f64> {
+    Vector3::new(y[OMEGA], y[OMEGA + 1], y[OMEGA + 2])
+}
+/// The raw (possibly slightly unnormalised) quaternion.
+#[inline]
+pub fn quaternion(y: &State) -> Quaternion<f64> {
+    Quaternion::new(y[QUAT], y[QUAT + 1], y[QUAT + 2], y[QUAT + 3])
+}
+/// Rotation body -> world, from the normalised quaternion.
+#[inline]
+pub fn rotation(y: &State) -> Matrix3<f64> {
+    UnitQuaternion::new_normalize(quaternion(y)).to_rotation_matrix().into_inner()
+}
+/// Slip reference direction (unit, world horizontal).
+#[inline]
+pub fn slip_ref(y: &State) -> Vector2<f64> {
+    Vector2::new(y[SLIP_REF], y[SLIP_REF + 1])
+}
+
+/// Writes a unit quaternion into the state.
+pub fn set_quaternion(y: &mut State, q: &UnitQuaternion<f64>) {
+    y[QUAT] = q.w;
+    y[QUAT + 1] = q.i;
+    y[QUAT + 2] = q.j;
+    y[QUAT + 3] = q.k;
+}
+
+/// q̇ = ½ q ⊗ (0, ω_b): the quaternion rate for body-frame angular velocity.
+#[inline]
+pub fn quaternion_rate(q: &Quaternion<f64>, omega_b: &Vector3<f64>) -> Quaternion<f64> {
+    q * Quaternion::from_imag(*omega_b) * 0.5
+}
+
+/// The paper's z-x-z Euler angles and their rates [rad, rad/s].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EulerAngles {
+    pub theta: f64,
+    pub phi: f64,
+    pub psi: f64,
+    pub theta_dot: f64,
+    pub phi_dot: f64,
+    pub psi_dot: f64,
+}
+
+/// Below this sin θ the split of φ and ψ (and of their rates) is undefined to round-off:
+/// only φ + ψ and φ̇ + ψ̇ are. See [`EulerAngles::from_rotation`].
+const UPRIGHT_SIN: f64 = 1e-12;
+
+impl EulerAngles {
+    /// R = Rz(φ) Rx(θ) Rz(ψ) (paper eq. 1).
+    pub fn rotation(&self) -> UnitQuaternion<f64> {
+        UnitQuaternion::from_axis_angle(&Vector3::z_axis(), self.phi)
+            * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), self.theta)
+            * UnitQuaternion::from_axis_angle(&Vector3::z_axis(), self.psi)
+    }
+
+    /// Body angular velocity from the rates:
+    /// ω_b = (φ̇ sθ sψ + θ̇ cψ, φ̇ sθ cψ − θ̇ sψ, φ̇ cθ + ψ̇).
+    pub fn omega_body(&self) -> Vector3<f64> {
+        let (st, ct) = self.theta.sin_cos();
+        let (sp, cp) = self.psi.sin_cos();
+        Vector3::new(
+            self.phi_dot * st * sp + self.theta_dot * cp,
+            self.phi_dot * st * cp - self.theta_dot * sp,
+            self.phi_dot * ct + self.psi_dot,
+        )
+    }
+
+    /// Angles and rates from a rotation and the body angular velocity.
+    ///
+    /// θ = atan2(√(R13² + R23²), R33), φ = atan2(R13, −R23), ψ = atan2(R31, R32).
+    /// φ and ψ are unwrapped to lie within π of `previous` (continuous over a run).
+    /// Upright (sin θ below round-off) only φ + ψ is defined: φ keeps its previous value,
+    /// and the rates are reported as φ̇ = 0, ψ̇ = ω·e3*.
+    pub fn from_rotation(r: &Matrix3<f64>, omega_b: &Vector3<f64>, previous: Option<&EulerAngles>) -> Self {
+        let sin_theta = r[(0, 2)].hypot(r[(1, 2)]);
+        let theta = sin_theta.atan2(r[(2, 2)]);
+        let prev_phi = previous.map_or(0.0, |p| p.phi);
+        let prev_psi = previous.map_or(0.0, |p| p.psi);
+        let upright = sin_theta < UPRIGHT_SIN;
+        let (phi, psi) = if upright {
+            // θ ≈ 0: R = Rz(φ + ψ);  θ ≈ π: R = Rz(φ − ψ) diag(1, −1, −1). Keep φ.
+            let angle = r[(1, 0)].atan2(r[(0, 0)]);
+            let psi = if r[(2, 2)] > 0.0 { angle - prev_phi } else { prev_phi - angle };
+            (prev_phi, unwrap(psi, prev_psi))
+        } else {
+            (unwrap(r[(0, 2)].atan2(-r[(1, 2)]), prev_phi), unwrap(r[(2, 0)].atan2(r[(2, 1)]), prev_psi))
+        };
+        let (sp, cp) = psi.sin_cos();
+        let theta_dot = omega_b.x * cp - omega_b.y * sp;
+        let (phi_dot, psi_dot) = if upright {
+            (0.0, omega_b.z)
+        } else {
+            let phi_dot = (omega_b.x * sp + omega_b.y * cp) / sin_theta;
+            (phi_dot, omega_b.z - phi_dot * theta.cos())
+        };
+        EulerAngles { theta, phi, psi, theta_dot, phi_dot, psi_dot }
+    }
+}
+
+/// The angle equal to `angle` modulo 2π that lies within π of `reference`.
+fn unwrap(angle: f64, reference: f64) -> f64 {
+    use std::f64::consts::TAU;
+    angle + TAU * ((reference - angle) / TAU).round()
+}
