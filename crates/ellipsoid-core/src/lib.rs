@@ -8,5 +8,8 @@ pub mod body;
 pub mod effects;
 pub mod error;
 pub mod geometry;
+pub mod invariants;
 pub mod model;
+pub mod scenario;
+pub mod simulate;
 pub mod state;
