@@ -3,8 +3,34 @@
 //! output, event location and statistics. No heap allocation per step.
 //!
 //! One driver ([`integrate`]) handles sampling, events and stopping for every method.
+//!
+//! Layout: [`tableau`] holds the published coefficients; `rk4`, `dopri5` and `dop853`
+//! are the steppers (work buffers only, behind one internal `Stepper` trait);
+//! `controller` is Hairer's step-size controller, error norm and initial step;
+//! `stiffness` is Hairer's stiffness test; `events` brackets and refines zero
+//! crossings; `driver` is the single loop; [`problems`] are reference problems shared
+//! by the tests and benches. See `docs/integrators.md`.
 
 use nalgebra::SVector;
+
+mod controller;
+mod dop853;
+mod dopri5;
+mod driver;
+mod error;
+mod events;
+mod options;
+pub mod problems;
+mod rk4;
+mod solution;
+mod stepper;
+mod stiffness;
+pub mod tableau;
+
+pub use driver::integrate;
+pub use error::IntegrateError;
+pub use options::{Method, Options};
+pub use solution::{EventRecord, Solution, Stats, StopReason, Warning};
 
 /// A first-order system dy/dt = f(t, y) on a fixed-size state.
 pub trait OdeSystem<const N: usize> {

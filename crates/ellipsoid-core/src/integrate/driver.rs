@@ -1,0 +1,352 @@
+//! The one integration loop shared by every method: step-size bookkeeping, failure
+//! detection, stiffness warnings, events and samples on the dense output.
+
+use std::ops::ControlFlow;
+
+use nalgebra::SVector;
+
+use super::controller::{PiController, Verdict};
+use super::dop853::Dop853;
+use super::dopri5::Dopri5;
+use super::events::{crossed, locate, time_tolerance};
+use super::options::validate_inputs;
+use super::rk4::Rk4;
+use super::stepper::{Stepper, Trial};
+use super::stiffness::StiffnessDetector;
+use super::{
+    Action, Event, EventRecord, IntegrateError, Method, OdeSystem, Options, Solution, Stats,
+    StopReason, Warning,
+};
+
+/// Consecutive non-finite attempts, each shrinking h by `NONFINITE_SHRINK`, before
+/// giving up (0.2^20 ≈ 1e-14: past that no step size can help).
+const NONFINITE_RETRIES: u32 = 20;
+const NONFINITE_SHRINK: f64 = 0.2;
+/// A step-size collapse within this many attempts of a non-finite right-hand side is
+/// reported as `NonFinite` (its cause), not `StepSizeTooSmall`.
+const NONFINITE_MEMORY: u64 = 50;
+
+/// Integrates dy/dt = f(t, y) from (t0, y0) to t_end.
+///
+/// - `events`: zero crossings of each g (filtered by direction) are located on the dense
+///   output of the step in which g changes sign, to ~4·EPS·max(|t|, h); they are recorded
+///   in time order, and a `Stop` event ends the integration at its time, with y the
+///   dense-output state there passed through `OdeSystem::project`. A zero of g exactly at
+///   t0 (or within the root tolerance of t0) is not an event.
+/// - `sample_times`: sorted times in [t0, t_end]; `observer` receives the state at each
+///   one reached (from the dense output of the step containing it, projected), and may
+///   return `Break` to stop with `StopReason::Cancelled`.
+///
+/// Returns `Err` only for invalid input, detected before any right-hand-side call; a run
+/// that cannot go on returns `Ok` with `StopReason::Failed` and the last good state.
+#[allow(clippy::too_many_arguments)] // the public signature the physics code calls
+pub fn integrate<S: OdeSystem<N>, const N: usize>(
+    method: Method,
+    system: &S,
+    t0: f64,
+    y0: SVector<f64, N>,
+    t_end: f64,
+    options: &Options<N>,
+    events: &[Event<'_, N>],
+    sample_times: &[f64],
+    observer: &mut dyn FnMut(f64, &SVector<f64, N>) -> ControlFlow<()>,
+) -> Result<Solution<N>, IntegrateError> {
+    validate_inputs(method, t0, &y0, t_end, options, sample_times)?;
+    let run = Run {
+        system,
+        t0,
+        t_end,
+        options,
+        events,
+        samples: sample_times,
+        observer,
+        next_sample: 0,
+        g_prev: vec![0.0; events.len()],
+        g_new: vec![0.0; events.len()],
+        found: Vec::with_capacity(events.len()),
+        sol: Solution {
+            t: t0,
+            y: y0,
+            stop: StopReason::Reached,
+            events: Vec::new(),
+            stats: Stats::default(),
+            warnings: Vec::new(),
+        },
+    };
+    Ok(match method {
+        Method::Rk4 { h } => run.go(Rk4::new(h)),
+        Method::Dopri5 => run.go(Dopri5::new()),
+        Method::Dop853 => run.go(Dop853::new()),
+    })
+}
+
+/// One integration: inputs, output cursor and buffers allocated once.
+struct Run<'r, 'e, S, const N: usize> {
+    system: &'r S,
+    t0: f64,
+    t_end: f64,
+    options: &'r Options<N>,
+    events: &'r [Event<'e, N>],
+    samples: &'r [f64],
+    observer: &'r mut dyn FnMut(f64, &SVector<f64, N>) -> ControlFlow<()>,
+    /// Index of the first sample not yet emitted.
+    next_sample: usize,
+    /// g at the start and at the end of the current step.
+    g_prev: Vec<f64>,
+    g_new: Vec<f64>,
+    /// (time, index) of the crossings located in the current step.
+    found: Vec<(f64, usize)>,
+    sol: Solution<N>,
+}
+
+impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
+    fn go<St: Stepper<N>>(mut self, mut stepper: St) -> Solution<N> {
+        let (t0, t_end) = (self.t0, self.t_end);
+        let mut t = t0;
+        let mut y = self.sol.y;
+        while self
+            .samples
+            .get(self.next_sample)
+            .is_some_and(|&ts| ts <= t0)
+        {
+            self.next_sample += 1;
+            if (self.observer)(t0, &y).is_break() {
+                return self.finish(t0, y, StopReason::Cancelled);
+            }
+        }
+        if t_end == t0 {
+            return self.finish(t0, y, StopReason::Reached);
+        }
+        for (g, ev) in self.g_prev.iter_mut().zip(self.events) {
+            *g = (ev.g)(t0, &y);
+        }
+        let h_max = self.options.h_max.min(t_end - t0);
+        let Some(h_first) = stepper.start(
+            self.system,
+            t0,
+            &y,
+            h_max,
+            self.options,
+            &mut self.sol.stats,
+        ) else {
+            return self.finish(
+                t0,
+                y,
+                StopReason::Failed(IntegrateError::NonFinite { t: t0 }),
+            );
+        };
+        let mut h = h_first;
+        let mut controller = St::CONTROL.map(PiController::new);
+        let mut stiffness = St::STIFF_LIMIT
+            .filter(|_| self.options.stiffness_check)
+            .map(StiffnessDetector::new);
+        let mut nonfinite_streak = 0u32;
+        let mut since_nonfinite = u64::MAX;
+
+        loop {
+            let stats = &mut self.sol.stats;
+            let steps = stats.accepted + stats.rejected;
+            if steps >= self.options.max_steps {
+                return self.finish(
+                    t,
+                    y,
+                    StopReason::Failed(IntegrateError::MaxSteps { t, steps }),
+                );
+            }
+            // Hairer: 0.1·|h| ≤ |t|·uround means t + h no longer resolves the stages.
+            if controller.is_some() && (h <= 10.0 * f64::EPSILON * t.abs() || h < f64::MIN_POSITIVE)
+            {
+                let error = if since_nonfinite < NONFINITE_MEMORY {
+                    IntegrateError::NonFinite { t }
+                } else {
+                    IntegrateError::StepSizeTooSmall { t, h }
+                };
+                return self.finish(t, y, StopReason::Failed(error));
+            }
+            let (t_new, last) = match controller {
+                // fixed step: times t0 + n·h, so round-off does not accumulate in t
+                None => {
+                    let nominal = t0 + (stats.accepted + 1) as f64 * h_first;
+                    if nominal + (St::LAST_STRETCH - 1.0) * h_first >= t_end {
+                        (t_end, true)
+                    } else {
+                        (nominal, false)
+                    }
+                }
+                Some(_) => {
+                    if t + St::LAST_STRETCH * h >= t_end {
+                        (t_end, true)
+                    } else {
+                        (t + h, false)
+                    }
+                }
+            };
+            let h_step = t_new - t;
+            let err = match stepper.attempt(self.system, t, &y, h_step, self.options, stats) {
+                Trial::Done { err } => err,
+                Trial::NonFinite => {
+                    stats.rejected += 1;
+                    nonfinite_streak += 1;
+                    since_nonfinite = 0;
+                    let Some(c) = controller
+                        .as_mut()
+                        .filter(|_| nonfinite_streak < NONFINITE_RETRIES)
+                    else {
+                        return self.finish(
+                            t,
+                            y,
+                            StopReason::Failed(IntegrateError::NonFinite { t }),
+                        );
+                    };
+                    c.note_rejection();
+                    h = h_step * NONFINITE_SHRINK;
+                    continue;
+                }
+            };
+            since_nonfinite = since_nonfinite.saturating_add(1);
+            let h_next = match controller.as_mut().map(|c| c.judge(err, h_step, h_max)) {
+                None => h_first,
+                Some(Verdict::Accept { h_next }) => h_next,
+                Some(Verdict::Reject { h_next }) => {
+                    stats.rejected += 1;
+                    h = h_next;
+                    continue;
+                }
+            };
+            stats.accepted += 1;
+            nonfinite_streak = 0;
+            let mut y_new = *stepper.candidate();
+            self.system.project(&mut y_new);
+            stepper.accept(self.system, t_new, &y_new, stats);
+            if let Some(detector) = stiffness.as_mut()
+                && detector.update(stats.accepted, || stepper.stiffness_estimate())
+            {
+                self.sol.warnings.push(Warning::Stiff { t });
+            }
+            if let Some((t_stop, y_stop, stop)) = self.step_outputs(&mut stepper, t, t_new, &y_new)
+            {
+                return self.finish(t_stop, y_stop, stop);
+            }
+            t = t_new;
+            y = y_new;
+            h = h_next;
+            if last {
+                return self.finish(t, y, StopReason::Reached);
+            }
+        }
+    }
+
+    /// Locates the events of the accepted step (t, t_new] and emits, in time order, its
+    /// samples and events; returns where to stop if a terminal event or the observer says
+    /// so.
+    fn step_outputs<St: Stepper<N>>(
+        &mut self,
+        stepper: &mut St,
+        t: f64,
+        t_new: f64,
+        y_new: &SVector<f64, N>,
+    ) -> Option<(f64, SVector<f64, N>, StopReason)> {
+        let events = self.events;
+        self.found.clear();
+        for (i, ev) in events.iter().enumerate() {
+            let g = (ev.g)(t_new, y_new);
+            self.g_new[i] = g;
+            if crossed(ev.direction, self.g_prev[i], g) {
+                self.found.push((t_new, i));
+            }
+        }
+        let sample_due = self
+            .samples
+            .get(self.next_sample)
+            .is_some_and(|&ts| ts <= t_new);
+        if self.found.is_empty() && !sample_due {
+            std::mem::swap(&mut self.g_prev, &mut self.g_new);
+            return None;
+        }
+        stepper.prepare_dense(self.system, &mut self.sol.stats);
+
+        let tol = time_tolerance(t_new, t_new - t);
+        let mut kept = 0;
+        for n in 0..self.found.len() {
+            let i = self.found[n].1;
+            let g = &events[i].g;
+            let t_root = locate(
+                |s| g(s, &stepper.dense(s)),
+                t,
+                self.g_prev[i],
+                t_new,
+                self.g_new[i],
+                tol,
+            );
+            // the zero g(t0) = 0 itself, found again by the root finder
+            if t == self.t0 && t_root <= self.t0 + tol {
+                continue;
+            }
+            self.found[kept] = (t_root, i);
+            kept += 1;
+        }
+        self.found.truncate(kept);
+        self.found
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+
+        let mut next_event = 0;
+        loop {
+            let te = self.found.get(next_event).map_or(f64::INFINITY, |f| f.0);
+            let ts = match self.samples.get(self.next_sample) {
+                Some(&ts) if ts <= t_new => ts,
+                _ => f64::INFINITY,
+            };
+            if te == f64::INFINITY && ts == f64::INFINITY {
+                break;
+            }
+            if ts <= te {
+                // a sample at an event's time still belongs to the run
+                self.next_sample += 1;
+                let ys = self.state_at(stepper, ts, t_new, y_new);
+                if (self.observer)(ts, &ys).is_break() {
+                    return Some((ts, ys, StopReason::Cancelled));
+                }
+            } else {
+                let (te, index) = self.found[next_event];
+                next_event += 1;
+                let ye = self.state_at(stepper, te, t_new, y_new);
+                self.sol.events.push(EventRecord {
+                    index,
+                    t: te,
+                    y: ye,
+                });
+                self.sol.stats.events += 1;
+                if events[index].action == Action::Stop {
+                    return Some((te, ye, StopReason::Event { index }));
+                }
+            }
+        }
+        std::mem::swap(&mut self.g_prev, &mut self.g_new);
+        None
+    }
+
+    /// The projected dense-output state at `s` in the accepted step ending at `t_new`.
+    fn state_at<St: Stepper<N>>(
+        &self,
+        stepper: &St,
+        s: f64,
+        t_new: f64,
+        y_new: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        if s >= t_new {
+            return *y_new;
+        }
+        let mut y = stepper.dense(s);
+        self.system.project(&mut y);
+        y
+    }
+
+    fn finish(self, t: f64, y: SVector<f64, N>, stop: StopReason) -> Solution<N> {
+        Solution {
+            t,
+            y,
+            stop,
+            ..self.sol
+        }
+    }
+}

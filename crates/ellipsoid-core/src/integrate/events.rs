@@ -1,0 +1,133 @@
+//! Zero crossings of event functions: the sign test at step ends and Brent's method on
+//! the dense output.
+
+use super::Direction;
+
+/// Whether g went from `g_prev` to `g_new` across zero in the wanted direction. A zero at
+/// the start of the step (`g_prev == 0`, e.g. at t0 right after a mode switch) carries no
+/// sign and never counts; landing exactly on zero at the end does.
+#[inline]
+pub(crate) fn crossed(direction: Direction, g_prev: f64, g_new: f64) -> bool {
+    let rising = g_prev < 0.0 && g_new >= 0.0;
+    let falling = g_prev > 0.0 && g_new <= 0.0;
+    match direction {
+        Direction::Rising => rising,
+        Direction::Falling => falling,
+        Direction::Either => rising || falling,
+    }
+}
+
+/// Absolute time tolerance for locating a root in a step ending at `t` of length `h`.
+#[inline]
+pub(crate) fn time_tolerance(t: f64, h: f64) -> f64 {
+    4.0 * f64::EPSILON * t.abs().max(h.abs())
+}
+
+/// Brent's root finder (R. P. Brent, *Algorithms for Minimization without Derivatives*,
+/// 1973, ch. 4, procedure `zero`) on [a, b] with f(a) = fa, f(b) = fb of opposite signs
+/// (fb may be 0). Returns the end of the final bracket (width ≤ ~2·tol) on the side of
+/// `b`, i.e. a time at which g already has its post-crossing sign (or is zero).
+pub(crate) fn locate(
+    mut f: impl FnMut(f64) -> f64,
+    a: f64,
+    fa: f64,
+    b: f64,
+    fb: f64,
+    tol: f64,
+) -> f64 {
+    if fb == 0.0 {
+        return b;
+    }
+    let after = fb.signum();
+    let (mut a, mut fa, mut b, mut fb) = (a, fa, b, fb);
+    let (mut c, mut fc) = (a, fa);
+    let mut d = b - a;
+    let mut e = d;
+    // Bisection alone needs log2(h/tol) ≈ 60 iterations; Brent at most a few times that.
+    for _ in 0..200 {
+        if fb * (fc / fc.abs()) > 0.0 {
+            c = a;
+            fc = fa;
+            d = b - a;
+            e = d;
+        }
+        if fc.abs() < fb.abs() {
+            a = b;
+            b = c;
+            c = a;
+            fa = fb;
+            fb = fc;
+            fc = fa;
+        }
+        let tol1 = 2.0 * f64::EPSILON * b.abs() + 0.5 * tol;
+        let xm = 0.5 * (c - b);
+        if xm.abs() <= tol1 || fb == 0.0 {
+            break;
+        }
+        if e.abs() >= tol1 && fa.abs() > fb.abs() {
+            // inverse quadratic interpolation, or secant when only two points are known
+            let s = fb / fa;
+            let (mut p, mut q);
+            if a == c {
+                p = 2.0 * xm * s;
+                q = 1.0 - s;
+            } else {
+                let qq = fa / fc;
+                let r = fb / fc;
+                p = s * (2.0 * xm * qq * (qq - r) - (b - a) * (r - 1.0));
+                q = (qq - 1.0) * (r - 1.0) * (s - 1.0);
+            }
+            if p > 0.0 {
+                q = -q;
+            }
+            p = p.abs();
+            if 2.0 * p < (3.0 * xm * q - (tol1 * q).abs()).min((e * q).abs()) {
+                e = d;
+                d = p / q;
+            } else {
+                d = xm;
+                e = d;
+            }
+        } else {
+            d = xm;
+            e = d;
+        }
+        a = b;
+        fa = fb;
+        b += if d.abs() > tol1 { d } else { tol1.copysign(xm) };
+        fb = f(b);
+    }
+    if fb == 0.0 || fb.signum() == after {
+        b
+    } else {
+        c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn brent_finds_simple_roots_on_the_far_side() {
+        let f = |t: f64| t * t - 2.0;
+        let tol = time_tolerance(2.0, 1.0);
+        let r = locate(f, 1.0, f(1.0), 2.0, f(2.0), tol);
+        assert!((r - 2f64.sqrt()).abs() < 4.0 * tol, "{r}");
+        assert!(f(r) >= 0.0, "returned point must be past the crossing");
+        let g = |t: f64| 1.0 - t * t;
+        let r = locate(g, 0.5, g(0.5), 3.0, g(3.0), tol);
+        assert!((r - 1.0).abs() < 4.0 * tol && g(r) <= 0.0, "{r}");
+    }
+
+    #[test]
+    fn crossing_rules() {
+        assert!(crossed(Direction::Rising, -1.0, 1.0));
+        assert!(!crossed(Direction::Falling, -1.0, 1.0));
+        assert!(crossed(Direction::Either, 1.0, 0.0));
+        assert!(
+            !crossed(Direction::Either, 0.0, 1.0),
+            "zero at the start is not an event"
+        );
+    }
+}

@@ -1,0 +1,100 @@
+//! Classical RK4 with a fixed step and its 3rd-order continuous extension.
+
+use nalgebra::SVector;
+
+use super::stepper::{Stepper, Trial, all_finite, combine, stage_input};
+use super::tableau::{RK4, rk4_dense_weights};
+use super::{OdeSystem, Options, Stats};
+
+pub(crate) struct Rk4<const N: usize> {
+    /// The fixed step [s].
+    h_fixed: f64,
+    t0: f64,
+    h: f64,
+    y0: SVector<f64, N>,
+    k: [SVector<f64, N>; 4],
+    y1: SVector<f64, N>,
+}
+
+impl<const N: usize> Rk4<N> {
+    pub(crate) fn new(h: f64) -> Self {
+        let z = SVector::zeros();
+        Rk4 {
+            h_fixed: h,
+            t0: 0.0,
+            h: 0.0,
+            y0: z,
+            k: [z; 4],
+            y1: z,
+        }
+    }
+}
+
+impl<const N: usize> Stepper<N> for Rk4<N> {
+    const CONTROL: Option<super::controller::ControlParams> = None;
+    const STIFF_LIMIT: Option<f64> = None;
+    // Only absorbs the round-off of t0 + n·h; the last step is otherwise never longer.
+    const LAST_STRETCH: f64 = 1.0 + 1.0e-9;
+
+    fn start<S: OdeSystem<N>>(
+        &mut self,
+        _system: &S,
+        _t0: f64,
+        _y0: &SVector<f64, N>,
+        h_max: f64,
+        _options: &Options<N>,
+        _stats: &mut Stats,
+    ) -> Option<f64> {
+        Some(self.h_fixed.min(h_max))
+    }
+
+    fn attempt<S: OdeSystem<N>>(
+        &mut self,
+        system: &S,
+        t: f64,
+        y: &SVector<f64, N>,
+        h: f64,
+        _options: &Options<N>,
+        stats: &mut Stats,
+    ) -> Trial {
+        self.t0 = t;
+        self.h = h;
+        self.y0 = *y;
+        self.k[0] = system.rhs(t, y);
+        for i in 1..4 {
+            let yi = stage_input(y, h, &RK4.a[i], &self.k, i);
+            self.k[i] = system.rhs(t + RK4.c[i] * h, &yi);
+        }
+        stats.rhs_evals += 4;
+        self.y1 = y + combine(&RK4.b, &self.k) * h;
+        if all_finite(&self.y1) {
+            Trial::Done { err: 0.0 }
+        } else {
+            Trial::NonFinite
+        }
+    }
+
+    fn candidate(&self) -> &SVector<f64, N> {
+        &self.y1
+    }
+
+    fn accept<S: OdeSystem<N>>(
+        &mut self,
+        _system: &S,
+        _t_new: f64,
+        _y_new: &SVector<f64, N>,
+        _stats: &mut Stats,
+    ) {
+    }
+
+    fn stiffness_estimate(&self) -> Option<f64> {
+        None
+    }
+
+    fn prepare_dense<S: OdeSystem<N>>(&mut self, _system: &S, _stats: &mut Stats) {}
+
+    fn dense(&self, t: f64) -> SVector<f64, N> {
+        let theta = (t - self.t0) / self.h;
+        self.y0 + combine(&rk4_dense_weights(theta), &self.k) * self.h
+    }
+}

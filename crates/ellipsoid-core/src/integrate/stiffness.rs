@@ -1,0 +1,59 @@
+//! Hairer's stiffness detection (`dopri5.f`/`dop853.f`; E. Hairer, G. Wanner, *Solving
+//! ODEs II*, 2nd ed., Sect. IV.2):
+//! h·ρ with ρ ≈ ‖f(ỹ) − f(ŷ)‖ / ‖ỹ − ŷ‖ from two stages at the same time estimates the
+//! dominant eigenvalue; when it sits at the stability boundary for 15 tested steps in a
+//! row, the problem is declared stiff. The test runs every NSTIFF-th accepted step, and on
+//! every step once a positive has been seen, until 6 negatives in a row clear it.
+
+/// Accepted steps between routine tests (IWORK(4) default in `dopri5.f`).
+const NSTIFF: u64 = 1000;
+/// Positives in a row that make a warning.
+const POSITIVES: u32 = 15;
+/// Negatives in a row that clear the count.
+const NEGATIVES: u32 = 6;
+
+/// h·ρ at the stability boundary: 3.25 for DOPRI5, 6.1 for DOP853.
+pub(crate) const DOPRI5_LIMIT: f64 = 3.25;
+pub(crate) const DOP853_LIMIT: f64 = 6.1;
+
+#[derive(Debug, Clone)]
+pub(crate) struct StiffnessDetector {
+    limit: f64,
+    hlamb: f64,
+    positives: u32,
+    negatives: u32,
+}
+
+impl StiffnessDetector {
+    pub(crate) fn new(limit: f64) -> Self {
+        StiffnessDetector {
+            limit,
+            hlamb: 0.0,
+            positives: 0,
+            negatives: 0,
+        }
+    }
+
+    /// Called after each accepted step; `estimate` gives h·ρ for it. Returns true when
+    /// the problem has just been found stiff.
+    pub(crate) fn update(&mut self, accepted: u64, estimate: impl FnOnce() -> Option<f64>) -> bool {
+        if !accepted.is_multiple_of(NSTIFF) && self.positives == 0 {
+            return false;
+        }
+        // HLAMB keeps its previous value when the denominator vanishes
+        if let Some(hl) = estimate() {
+            self.hlamb = hl;
+        }
+        if self.hlamb > self.limit {
+            self.negatives = 0;
+            self.positives += 1;
+            self.positives == POSITIVES
+        } else {
+            self.negatives += 1;
+            if self.negatives == NEGATIVES {
+                self.positives = 0;
+            }
+            false
+        }
+    }
+}
