@@ -61,7 +61,9 @@ pub struct InitialState {
     pub omega_body: Option<Vector3<f64>>,
     /// Horizontal position of G [m].
     pub position: Vector2<f64>,
-    /// Horizontal velocity of G [m/s]; must be `None` for rolling, where it is implied.
+    /// Horizontal velocity of G [m/s]. Must be `None` for rolling, where it is implied;
+    /// `None` means zero for frictionless and sliding, and no slip (v_G = −ω × r) for
+    /// Coulomb.
     pub velocity: Option<Vector2<f64>>,
 }
 
@@ -396,9 +398,13 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         state::set_quaternion(&mut y, &init.angles.rotation());
         let omega = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
         y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&omega);
-        if let Some(v) = init.velocity {
-            y[state::VEL] = v.x;
-            y[state::VEL + 1] = v.y;
+        match init.velocity {
+            Some(v) => {
+                y[state::VEL] = v.x;
+                y[state::VEL + 1] = v.y;
+            }
+            None if matches!(scene.contact, ContactModel::Coulomb { .. }) => self.roll.project(&mut y),
+            None => {}
         }
         let mode = match scene.contact {
             ContactModel::Frictionless => Mode::Frictionless,
