@@ -1,1 +1,37 @@
-fn main() {}
+//! `ellipsoid`: simulate a rigid ellipsoid on a plane from a TOML scenario.
+//!
+//! Exit status: 0 success; 1 the output could not be written (or an internal error);
+//! 2 bad input (nothing written); 3 the simulation stopped early (trajectory and
+//! summary up to the stop are written). See `docs/scenarios.md`.
+
+mod check;
+mod cli;
+mod error;
+mod progress;
+mod run;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+fn main() -> ExitCode {
+    // A bug must still end in one readable line, never a panic dump.
+    std::panic::set_hook(Box::new(|info| {
+        let msg = info.payload().downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| info.payload().downcast_ref::<String>().cloned()).unwrap_or_default();
+        let place = info.location().map(|l| format!(" ({}:{})", l.file(), l.line())).unwrap_or_default();
+        eprintln!("error: internal error: {msg}{place}; please report it");
+    }));
+    let cli = cli::Cli::parse();
+    let result = match &cli.command {
+        cli::Command::Run(args) => run::run(args),
+        cli::Command::Check(args) => check::check(args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            let code = e.exit_code();
+            eprintln!("error: {:#}", anyhow::Error::new(e));
+            ExitCode::from(code)
+        }
+    }
+}

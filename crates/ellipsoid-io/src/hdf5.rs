@@ -1,0 +1,106 @@
+//! HDF5 trajectories (feature `hdf5`; links the system libhdf5).
+//!
+//! Layout, readable by h5py without special knowledge:
+//! ```text
+//! /t, /x, …, /work      float64 datasets, one per numeric column, attribute `units`
+//! /mode                 fixed-length ASCII strings (h5py: numpy bytes, e.g. b"sliding")
+//! root attributes       version, scenario (the TOML text), scenario_path, status,
+//!                       message, columns (comma-separated, file order), summary (JSON),
+//!                       stats_accepted, stats_rejected, stats_rhs_evals, stats_events,
+//!                       drift_<invariant> (only for the invariants that are conserved)
+//! ```
+//! Samples are buffered in memory (20 f64 per row) and written when the run ends, to a
+//! temporary file renamed into place.
+
+use std::path::{Path, PathBuf};
+
+use ellipsoid_core::simulate::Sample;
+use hdf5_metno as h5;
+use h5::types::{FixedAscii, VarLenUnicode};
+use tempfile::TempPath;
+
+use crate::atomic;
+use crate::columns::{self, NUMERIC, NUMERIC_COLUMNS};
+use crate::{Metadata, OutputError};
+
+/// Longest mode name ("frictionless").
+const MODE_LEN: usize = 12;
+
+/// An HDF5 trajectory being collected.
+pub struct Hdf5File {
+    path: PathBuf,
+    tmp: TempPath,
+    columns: Vec<Vec<f64>>,
+    modes: Vec<FixedAscii<MODE_LEN>>,
+}
+
+impl Hdf5File {
+    /// Reserves a temporary file beside `path` (so an unwritable directory fails early).
+    pub fn create(path: &Path) -> Result<Self, OutputError> {
+        let tmp = atomic::temporary(path)?.into_temp_path();
+        Ok(Hdf5File { path: path.to_owned(), tmp, columns: vec![Vec::new(); NUMERIC], modes: Vec::new() })
+    }
+
+    pub fn write(&mut self, s: &Sample) {
+        for (col, v) in self.columns.iter_mut().zip(columns::values(s)) {
+            col.push(v);
+        }
+        let mode = FixedAscii::from_ascii(s.mode.name().as_bytes()).expect("mode names are short ASCII");
+        self.modes.push(mode);
+    }
+
+    pub fn rows(&self) -> u64 {
+        self.modes.len() as u64
+    }
+
+    /// Writes the datasets and attributes, then renames the file into place.
+    pub fn finish(self, meta: &Metadata<'_>) -> Result<(), OutputError> {
+        let fail = |e: h5::Error| OutputError::Hdf5 { path: self.path.clone(), message: e.to_string() };
+        {
+            let file = h5::File::create(&self.tmp).map_err(fail)?;
+            for ((name, unit), data) in NUMERIC_COLUMNS.iter().zip(&self.columns) {
+                let ds = file.new_dataset_builder().with_data(data.as_slice()).create(*name).map_err(fail)?;
+                str_attr(&ds, "units", unit).map_err(fail)?;
+            }
+            let ds = file.new_dataset_builder().with_data(self.modes.as_slice()).create(columns::MODE).map_err(fail)?;
+            str_attr(&ds, "units", "1").map_err(fail)?;
+            str_attr(&ds, "values", "frictionless, sliding, rolling").map_err(fail)?;
+
+            let summary = meta.summary;
+            str_attr(&file, "version", &summary.version).map_err(fail)?;
+            str_attr(&file, "scenario", meta.scenario_text).map_err(fail)?;
+            str_attr(&file, "scenario_path", &summary.scenario).map_err(fail)?;
+            str_attr(&file, "status", summary.status).map_err(fail)?;
+            str_attr(&file, "message", &summary.message).map_err(fail)?;
+            str_attr(&file, "columns", &columns::names().join(",")).map_err(fail)?;
+            str_attr(&file, "summary", &summary.to_json()).map_err(fail)?;
+            let st = &summary.stats;
+            for (name, v) in [("stats_accepted", st.accepted), ("stats_rejected", st.rejected), ("stats_rhs_evals", st.rhs_evals), ("stats_events", st.events)] {
+                file.new_attr::<u64>().create(name).and_then(|a| a.write_scalar(&v)).map_err(fail)?;
+            }
+            let d = &summary.drift;
+            let drifts = [
+                ("drift_energy", d.energy),
+                ("drift_energy_plus_work", d.energy_plus_work),
+                ("drift_momentum", d.momentum),
+                ("drift_angular_momentum_z", d.angular_momentum_z),
+                ("drift_axial_spin", d.axial_spin),
+                ("drift_jellett", d.jellett),
+            ];
+            for (name, v) in drifts {
+                if let Some(v) = v {
+                    file.new_attr::<f64>().create(name).and_then(|a| a.write_scalar(&v)).map_err(fail)?;
+                }
+            }
+            file.close().map_err(fail)?;
+        }
+        atomic::commit_path(self.tmp, &self.path)
+    }
+}
+
+/// A scalar UTF-8 string attribute (h5py reads it as `str`).
+fn str_attr(loc: &h5::Location, name: &str, value: &str) -> h5::Result<()> {
+    // Interior NUL bytes cannot be stored in a C string; none of ours has one.
+    let v: VarLenUnicode = value.replace('\0', "").parse().map_err(|e: h5::types::StringError| h5::Error::from(e.to_string()))?;
+    loc.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&v)
+}

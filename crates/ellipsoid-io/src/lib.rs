@@ -1,0 +1,131 @@
+//! Writers for simulation results, shared by the `ellipsoid` command-line tool and the
+//! Python package: the trajectory as CSV or (feature `hdf5`) HDF5, the run summary as
+//! JSON, every file written atomically (a temporary file in the target's directory,
+//! renamed into place only when complete).
+//!
+//! Column names and units are declared once, in [`columns`].
+
+pub mod atomic;
+pub mod columns;
+pub mod csv;
+#[cfg(feature = "hdf5")]
+pub mod hdf5;
+pub mod summary;
+
+use std::path::{Path, PathBuf};
+
+use ellipsoid_core::simulate::Sample;
+
+pub use summary::Summary;
+
+/// How to get a build that writes HDF5 (used in the error of a build without it).
+pub const HDF5_HINT: &str = "this ellipsoid was built without HDF5 support; install it with \
+`cargo install --path crates/ellipsoid-cli --features hdf5` (needs the HDF5 C library: \
+`apt-get install -y libhdf5-dev`), or write CSV with `-o FILE.csv`";
+
+/// Why an output could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum OutputError {
+    /// The file name's extension names no format we write.
+    #[error("{path}: unknown output format {extension:?}; use .csv or .h5")]
+    UnknownFormat { path: PathBuf, extension: String },
+    /// `.h5` asked of a build without the `hdf5` feature.
+    #[error("{path}: {HDF5_HINT}")]
+    Hdf5Unavailable { path: PathBuf },
+    /// The file system refused.
+    #[error("{path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    /// The HDF5 library refused.
+    #[error("{path}: HDF5: {message}")]
+    Hdf5 { path: PathBuf, message: String },
+}
+
+impl OutputError {
+    pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
+        OutputError::Io { path: path.to_owned(), source }
+    }
+}
+
+/// A trajectory file format, chosen by extension.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Format {
+    /// `.csv`: one header line, one row per sample.
+    Csv,
+    /// `.h5` / `.hdf5`: one dataset per column.
+    Hdf5,
+}
+
+impl Format {
+    /// The format named by `path`'s extension (case-insensitive). `.h5` from a build
+    /// without the `hdf5` feature is an error that says how to get one.
+    pub fn from_path(path: &Path) -> Result<Format, OutputError> {
+        let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+        match ext.as_str() {
+            "csv" => Ok(Format::Csv),
+            "h5" | "hdf5" if cfg!(feature = "hdf5") => Ok(Format::Hdf5),
+            "h5" | "hdf5" => Err(OutputError::Hdf5Unavailable { path: path.to_owned() }),
+            _ => Err(OutputError::UnknownFormat { path: path.to_owned(), extension: ext }),
+        }
+    }
+}
+
+/// What a trajectory file records besides the samples.
+#[derive(Debug, Clone, Copy)]
+pub struct Metadata<'a> {
+    /// The scenario's TOML text.
+    pub scenario_text: &'a str,
+    /// The run summary (its JSON is stored whole in HDF5 files).
+    pub summary: &'a Summary,
+}
+
+/// A trajectory being written: samples stream in, then [`TrajectoryWriter::finish`]
+/// puts the file in place. Dropped unfinished, it leaves nothing behind.
+pub enum TrajectoryWriter {
+    Csv(csv::CsvFile),
+    #[cfg(feature = "hdf5")]
+    Hdf5(hdf5::Hdf5File),
+}
+
+impl TrajectoryWriter {
+    /// Starts a trajectory file at `path` (its directory must exist), format by extension.
+    pub fn create(path: &Path) -> Result<Self, OutputError> {
+        match Format::from_path(path)? {
+            Format::Csv => Ok(TrajectoryWriter::Csv(csv::CsvFile::create(path)?)),
+            #[cfg(feature = "hdf5")]
+            Format::Hdf5 => Ok(TrajectoryWriter::Hdf5(hdf5::Hdf5File::create(path)?)),
+            #[cfg(not(feature = "hdf5"))]
+            Format::Hdf5 => unreachable!("Format::from_path refuses HDF5 without the feature"),
+        }
+    }
+
+    /// Appends one sample (the caller checks it is finite: see [`columns::non_finite`]).
+    pub fn write(&mut self, sample: &Sample) -> Result<(), OutputError> {
+        match self {
+            TrajectoryWriter::Csv(w) => w.write(sample),
+            #[cfg(feature = "hdf5")]
+            TrajectoryWriter::Hdf5(w) => {
+                w.write(sample);
+                Ok(())
+            }
+        }
+    }
+
+    /// Samples written so far.
+    pub fn rows(&self) -> u64 {
+        match self {
+            TrajectoryWriter::Csv(w) => w.rows(),
+            #[cfg(feature = "hdf5")]
+            TrajectoryWriter::Hdf5(w) => w.rows(),
+        }
+    }
+
+    /// Completes the file (CSV has no room for `meta`) and renames it into place.
+    #[cfg_attr(not(feature = "hdf5"), allow(unused_variables))] // only HDF5 files store metadata
+    pub fn finish(self, meta: &Metadata<'_>) -> Result<(), OutputError> {
+        match self {
+            TrajectoryWriter::Csv(w) => w.finish(),
+            #[cfg(feature = "hdf5")]
+            TrajectoryWriter::Hdf5(w) => w.finish(meta),
+        }
+    }
+}

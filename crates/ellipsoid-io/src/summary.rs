@@ -1,0 +1,147 @@
+//! The run summary: why the run stopped, what happened, what it cost, how well the
+//! invariants held. Serialised as JSON by the CLI (`--summary`) and stored in HDF5 files.
+
+use std::collections::BTreeMap;
+
+use ellipsoid_core::integrate::Stats;
+use ellipsoid_core::invariants::Invariants;
+use ellipsoid_core::scenario::Scenario;
+use ellipsoid_core::simulate::{Drift, EventRecord, Outcome, Status};
+use serde::Serialize;
+use serde_json::{Map, Value};
+
+use crate::columns;
+
+/// Everything a run reports besides its trajectory.
+#[derive(Debug, Clone, Serialize)]
+pub struct Summary {
+    /// completed | lost_contact | slip_stopped | painleve | solver_failure | chattering | cancelled
+    pub status: &'static str,
+    /// Why, in a sentence.
+    pub message: String,
+    /// Located events, each `{kind, t, …}`.
+    pub events: Vec<EventRecord>,
+    /// Solver work: accepted and rejected steps, right-hand-side calls, events.
+    pub stats: Stats,
+    /// Wall-clock time of the simulation [s].
+    pub wall_time_s: f64,
+    /// Trajectory rows written.
+    pub samples: u64,
+    /// The state where the run ended, by CSV column name.
+    #[serde(rename = "final")]
+    pub final_state: Map<String, Value>,
+    /// Largest relative deviation of each invariant; null where it is not conserved.
+    pub drift: Drift,
+    pub initial_invariants: Invariants,
+    pub final_invariants: Invariants,
+    pub warnings: Vec<String>,
+    /// The scenario's `[check]` expectations and whether the run met them.
+    pub checks: BTreeMap<String, CheckResult>,
+    /// Column → unit.
+    pub units: Map<String, Value>,
+    /// The scenario file.
+    pub scenario: String,
+    /// `--set` overrides applied to it.
+    pub overrides: Vec<String>,
+    /// The trajectory file, if one was written.
+    pub output: Option<String>,
+    /// Version of the program that ran.
+    pub version: String,
+}
+
+/// One `[check]` expectation against what the run did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CheckResult {
+    /// The tolerance (or the expected status).
+    pub expected: Value,
+    /// The drift (or status) observed; null if the invariant was not tracked.
+    pub actual: Value,
+    pub passed: bool,
+}
+
+impl Summary {
+    /// The summary of `outcome`, a run of `scenario`.
+    pub fn new(scenario: &Scenario, outcome: &Outcome, wall_time_s: f64, samples: u64, output: Option<String>, version: &str) -> Summary {
+        let status = status_name(&outcome.status);
+        let s = &outcome.final_sample;
+        let mut final_state = Map::new();
+        for ((name, _), v) in columns::NUMERIC_COLUMNS.iter().zip(columns::values(s)) {
+            final_state.insert((*name).to_owned(), finite_or_null(v));
+        }
+        final_state.insert(columns::MODE.to_owned(), Value::from(s.mode.name()));
+        let drift_map = match serde_json::to_value(outcome.drift) {
+            Ok(Value::Object(m)) => m,
+            _ => Map::new(),
+        };
+        let mut checks = BTreeMap::new();
+        if let Some(expected) = &scenario.check.status {
+            checks.insert("status".to_owned(), CheckResult { expected: Value::from(expected.as_str()), actual: Value::from(status), passed: expected == status });
+        }
+        for (name, tol) in &scenario.check.drift {
+            let actual = drift_map.get(name).cloned().unwrap_or(Value::Null);
+            let passed = actual.as_f64().is_some_and(|d| d <= *tol);
+            checks.insert(name.clone(), CheckResult { expected: Value::from(*tol), actual, passed });
+        }
+        Summary {
+            status,
+            message: status_message(&outcome.status, s.t),
+            events: outcome.events.clone(),
+            stats: outcome.stats,
+            wall_time_s,
+            samples,
+            final_state,
+            drift: outcome.drift,
+            initial_invariants: outcome.initial_invariants,
+            final_invariants: outcome.final_invariants,
+            warnings: outcome.warnings.clone(),
+            checks,
+            units: columns::units().into_iter().map(|(c, u)| (c.to_owned(), Value::from(u))).collect(),
+            scenario: scenario.source.clone(),
+            overrides: scenario.overrides.clone(),
+            output,
+            version: version.to_owned(),
+        }
+    }
+
+    /// Pretty-printed JSON with a final newline.
+    pub fn to_json(&self) -> String {
+        let mut s = serde_json::to_string_pretty(self).expect("a summary holds only JSON-representable values");
+        s.push('\n');
+        s
+    }
+
+    /// The checks that failed, as `name (expected …, got …)`.
+    pub fn failed_checks(&self) -> Vec<String> {
+        self.checks.iter().filter(|(_, c)| !c.passed).map(|(n, c)| format!("{n} (expected {}, got {})", c.expected, c.actual)).collect()
+    }
+}
+
+fn finite_or_null(v: f64) -> Value {
+    serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number)
+}
+
+/// The status's name, as in the summary's `status` field.
+pub fn status_name(status: &Status) -> &'static str {
+    match status {
+        Status::Completed => "completed",
+        Status::LostContact => "lost_contact",
+        Status::SlipStopped => "slip_stopped",
+        Status::Painleve(_) => "painleve",
+        Status::SolverFailure(_) => "solver_failure",
+        Status::Chattering(_) => "chattering",
+        Status::Cancelled => "cancelled",
+    }
+}
+
+/// A sentence explaining the status; `t` is where the run ended [s].
+pub fn status_message(status: &Status, t: f64) -> String {
+    match status {
+        Status::Completed => format!("reached t_end = {t} s"),
+        Status::LostContact => format!("the normal force reached zero at t = {t} s: the body leaves the plane (free flight is not simulated)"),
+        Status::SlipStopped => {
+            format!("the slip speed reached zero at t = {t} s, where the pure sliding model ends (model = \"coulomb\" goes on rolling)")
+        }
+        Status::Painleve(m) | Status::SolverFailure(m) | Status::Chattering(m) => m.clone(),
+        Status::Cancelled => format!("cancelled at t = {t} s"),
+    }
+}
