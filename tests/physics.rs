@@ -409,3 +409,57 @@ fn bad_initial_states_are_rejected_with_their_rule() {
     let err = ellipsoid_core::simulate::simulate(&s, &mut |_| ControlFlow::Continue(())).unwrap_err().to_string();
     assert!(err.starts_with("output.t_end = 0"), "{err}");
 }
+
+#[test]
+fn painleve_inconsistency_is_a_clear_error() {
+    // A uniform needle (a = 5 mm, c = 0.1 m) sliding with μ = 1: the friction torque
+    // drives the sliding denominator 1 + m u·I⁻¹(r × d) to zero and N to infinity.
+    let ax = Vector3::new(0.005, 0.005, 0.1);
+    let needle = Body::new(ax, 0.1, ellipsoid_core::body::uniform_inertia(ax, 0.1), Vector3::zeros()).unwrap();
+    let s = scene(needle.clone(), ContactModel::Sliding { friction: 1.0 }, angles(0.3, 0.0, 0.0, 0.0, 0.0, 0.0), Some(Vector2::new(1.0, 0.0)), 0.2, 1e-3, TOL);
+    let (out, samples) = run(&s);
+    let Status::Painleve(msg) = &out.status else { panic!("{:?}", out.status) };
+    assert!(msg.starts_with("Painlevé inconsistency at t = 0.034"), "{msg}");
+    assert_eq!(out.events.last().unwrap().kind, EventKind::Painleve);
+    assert!(samples.iter().all(|s| s.normal_force.is_finite()));
+    // Already inconsistent at t = 0: rejected before integrating.
+    let s = scene(needle, ContactModel::Sliding { friction: 2.0 }, angles(0.3, 0.0, 0.0, 0.0, 0.0, 0.0), Some(Vector2::new(0.0, 1.0)), 0.2, 1e-3, TOL);
+    let err = ellipsoid_core::simulate::simulate(&s, &mut |_| ControlFlow::Continue(())).unwrap_err().to_string();
+    assert!(err.starts_with("initial Painlevé denominator 1 + m u·I⁻¹(r × d) = -") && err.contains("Painlevé inconsistency at t = 0"), "{err}");
+}
+
+#[test]
+fn inv_optional_effects_balance_work_and_energy() {
+    use ellipsoid_core::effects::{AirDrag, RollingResistance, SpinFriction};
+    use ellipsoid_core::simulate::EffectSet;
+    let none = EffectSet::default();
+    let effects = [
+        ("air drag", EffectSet { air_drag: Some(AirDrag { linear: 0.02, angular: 2e-7 }), ..none }),
+        ("rolling resistance", EffectSet { rolling_resistance: Some(RollingResistance { coefficient: 1e-4, regularisation: 1e-3 }), ..none }),
+        ("spin friction", EffectSet { spin_friction: Some(SpinFriction { coefficient: 1e-4, regularisation: 1e-3 }), ..none }),
+        (
+            "all three",
+            EffectSet {
+                air_drag: Some(AirDrag { linear: 0.02, angular: 2e-7 }),
+                rolling_resistance: Some(RollingResistance { coefficient: 1e-4, regularisation: 1e-3 }),
+                spin_friction: Some(SpinFriction { coefficient: 1e-4, regularisation: 1e-3 }),
+            },
+        ),
+    ];
+    for (name, set) in effects {
+        for contact in [ContactModel::Frictionless, ContactModel::Rolling, ContactModel::Coulomb { friction: 0.3 }] {
+            let v = (contact == ContactModel::Frictionless).then(|| Vector2::new(0.2, 0.0));
+            let mut s = scene(oblate(), contact, angles(0.3, 0.0, 0.0, 0.5, 2.0, 50.0), v, 3.0, 1e-3, TOL);
+            s.effects = set;
+            let (out, samples) = run(&s);
+            assert_eq!(out.status, Status::Completed, "{name} {contact:?}");
+            assert!(out.drift.energy.is_none() && out.drift.jellett.is_none(), "{name}: dissipative scenes report no conserved energy");
+            let d = out.drift.energy_plus_work.unwrap();
+            assert!(d < 1e-9, "{name} {contact:?}: E + W drift {d:e}");
+            let e0 = out.initial_invariants.energy;
+            let w = samples.last().unwrap().work;
+            assert!(w > 1e-4 * e0, "{name} {contact:?}: dissipated only {w:e} J of {e0:e}");
+            assert!(samples.windows(2).all(|p| p[1].work >= p[0].work - 1e-15 * e0), "{name} {contact:?}: W decreases");
+        }
+    }
+}

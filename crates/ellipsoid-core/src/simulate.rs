@@ -9,7 +9,10 @@
 //!   starting opposite to the friction rolling needed.
 //!
 //! Every model stops at loss of contact (event g = N) and, while sliding, at a
-//! Painlevé inconsistency (event g = 1 + m u·I⁻¹(r × d_b)).
+//! Painlevé inconsistency (event g = 1 + m u·I⁻¹(r × d_b), or a solver failure where
+//! that denominator has collapsed). The slip stop is watched by two events: the sign
+//! change of v_C·s_ref, and |v_C| falling to a floor far below the tolerance for a slip
+//! that grazes zero (see `model::sliding`).
 
 use std::ops::ControlFlow;
 
@@ -212,6 +215,10 @@ pub struct Outcome {
     pub drift: Drift,
 }
 
+/// Below this the sliding normal-force denominator (≥ 1 without friction) has collapsed:
+/// a solver failure there is the Painlevé singularity, N → ∞, and is reported as such.
+const PAINLEVE_COLLAPSE: f64 = 1e-3;
+
 /// Most mode switches a run may make before it is declared chattering.
 const MAX_SWITCHES: usize = 10_000;
 
@@ -251,6 +258,8 @@ enum Watch {
     Normal,
     /// g = v_C·s_ref (slip stop).
     Slip,
+    /// g = |v_C| − ε·scale (a grazing slip stop).
+    SlipFloor,
     /// g = Painlevé denominator.
     Painleve,
     /// g = μN − |F_h| (rolling leaves the friction cone).
@@ -329,7 +338,17 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                 match sol.stop {
                     StopReason::Reached => break Status::Completed,
                     StopReason::Cancelled => break Status::Cancelled,
-                    StopReason::Failed(e) => break Status::SolverFailure(format!("{e} (mode {})", mode.name())),
+                    StopReason::Failed(e) => {
+                        let painleve = self.slide.evaluate(&y).response.painleve;
+                        if mode == Mode::Sliding && painleve < PAINLEVE_COLLAPSE {
+                            events.push(EventRecord { kind: EventKind::Painleve, t });
+                            break Status::Painleve(format!(
+                                "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) fell to {painleve:.1e}, \
+                                 so N grows without bound (a tangential impact) and Coulomb sliding has no consistent contact force ({e})"
+                            ));
+                        }
+                        break Status::SolverFailure(format!("{e} (mode {})", mode.name()));
+                    }
                     StopReason::Event { index } => match seg.watches[index] {
                         Watch::Normal => {
                             events.push(EventRecord { kind: EventKind::LostContact, t });
@@ -342,14 +361,19 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                                  so Coulomb sliding has no consistent contact force (reduce body.friction or use the rolling model)"
                             ));
                         }
-                        Watch::Slip => {
-                            events.push(EventRecord { kind: EventKind::SlipStop, t });
-                            let Some(mu) = self.coulomb() else { break Status::SlipStopped };
+                        Watch::Slip | Watch::SlipFloor => {
+                            let Some(mu) = self.coulomb() else {
+                                events.push(EventRecord { kind: EventKind::SlipStop, t });
+                                break Status::SlipStopped;
+                            };
+                            // Outside the cone the slip only grazed zero: it goes on
+                            // sliding (opposite to the friction rolling would need).
                             let next = self.after_slip_stop(mu, &mut y);
                             if next == Mode::Rolling {
+                                events.push(EventRecord { kind: EventKind::SlipStop, t });
                                 events.push(EventRecord { kind: EventKind::ModeSwitch { from: mode, to: next }, t });
-                                switches += 1;
                             }
+                            switches += 1;
                             mode = next;
                         }
                         Watch::Cone(_) => {
@@ -439,18 +463,18 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
             Mode::Sliding => self.slide.evaluate(&y).response,
             Mode::Rolling => self.roll.evaluate(&y).response,
         };
-        if !(response.normal > 0.0) {
-            return Err(ModelError::invalid(
-                "initial normal force N",
-                format!("{} N", response.normal),
-                "the plane must push on the body at t = 0 (N > 0); with these angles and rates the body would leave the plane at once",
-            ));
-        }
         if !(response.painleve > 0.0) {
             return Err(ModelError::invalid(
                 "initial Painlevé denominator 1 + m u·I⁻¹(r × d)",
                 response.painleve,
                 "Painlevé inconsistency at t = 0: Coulomb sliding has no consistent normal force (reduce the friction coefficient)",
+            ));
+        }
+        if !(response.normal > 0.0) {
+            return Err(ModelError::invalid(
+                "initial normal force N",
+                format!("{} N", response.normal),
+                "the plane must push on the body at t = 0 (N > 0); with these angles and rates the body would leave the plane at once",
             ));
         }
         Ok((mode, y))
@@ -506,7 +530,7 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         let scene = self.scene;
         let mut watches = vec![Watch::Normal];
         match mode {
-            Mode::Sliding => watches.extend([Watch::Slip, Watch::Painleve]),
+            Mode::Sliding => watches.extend([Watch::Slip, Watch::SlipFloor, Watch::Painleve]),
             Mode::Rolling => watches.extend(self.coulomb().map(Watch::Cone)),
             Mode::Frictionless => {}
         }
@@ -518,6 +542,7 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                     match w {
                         Watch::Normal => ev.response.normal,
                         Watch::Slip => Sliding::slip_along_reference(&ev.kin, y),
+                        Watch::SlipFloor => Sliding::slip_above_floor(&ev.kin),
                         Watch::Painleve => ev.response.painleve,
                         Watch::Cone(mu) => Rolling::cone_margin(&ev.response, mu),
                     }

@@ -29,6 +29,11 @@ pub struct Sliding {
 /// Relative size below which a slip speed is round-off of the body's velocities.
 const SLIP_ROUNDOFF: f64 = 1e-13;
 
+/// Relative slip speed at which a grazing slip counts as stopped (see
+/// [`Sliding::slip_above_floor`]); it moves a clean stop time by about
+/// 1e-11 (|v_G| + |ω × r|)/|v̇_C|, e.g. 3e-12 s for a billiard ball at 2 m/s.
+pub const SLIP_FLOOR: f64 = 1e-11;
+
 impl Sliding {
     /// The unit slip direction ŝ the law uses (see the module docs).
     #[inline]
@@ -48,6 +53,17 @@ impl Sliding {
     #[inline]
     pub fn slip_along_reference(kin: &Kinematics, y: &State) -> f64 {
         kin.slip.dot(&state::slip_ref(y))
+    }
+
+    /// Second event function for the slip stop: g = |v_C| − ε (|v_G| + |ω × r|) [m/s],
+    /// with ε = [`SLIP_FLOOR`]. When the slip grazes zero (friction barely able to stop
+    /// it, e.g. just after leaving rolling at the cone's edge) its direction turns
+    /// faster and faster and v_C·s_ref may never change sign; the slip is then stopped
+    /// at this floor, far below the integration tolerance.
+    #[inline]
+    pub fn slip_above_floor(kin: &Kinematics) -> f64 {
+        let scale = kin.v_g.norm() + (kin.slip - kin.v_g.xy()).norm();
+        kin.slip.norm() - SLIP_FLOOR * scale
     }
 }
 
