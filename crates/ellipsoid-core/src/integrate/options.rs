@@ -8,7 +8,7 @@ use super::IntegrateError;
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]
 pub enum Method {
-    /// Classical 4th-order Runge–Kutta with a fixed step `h` [s] (the last step is
+    /// Classical 4th-order Runge–Kutta with a fixed step `h` \[s\] (the last step is
     /// shortened to land on t_end). No error control: the tolerances are not used.
     Rk4 { h: f64 },
     /// Dormand–Prince 5(4) with Hairer's controller (`dopri5.f`).
@@ -35,9 +35,9 @@ pub struct Options<const N: usize> {
     pub rtol: SVector<f64, N>,
     /// Absolute tolerance per component, in the component's unit (> 0).
     pub atol: SVector<f64, N>,
-    /// Initial step [s]; `None` = Hairer's automatic guess (`hinit`). Ignored by RK4.
+    /// Initial step \[s\]; `None` = Hairer's automatic guess (`hinit`). Ignored by RK4.
     pub h0: Option<f64>,
-    /// Largest step [s]; infinity means |t_end − t0|.
+    /// Largest step \[s\]; infinity means |t_end − t0|.
     pub h_max: f64,
     /// Limit on accepted + rejected steps.
     pub max_steps: u64,

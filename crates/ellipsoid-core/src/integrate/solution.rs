@@ -22,7 +22,7 @@ pub enum StopReason {
 pub struct EventRecord<const N: usize> {
     /// Index into the `events` slice.
     pub index: usize,
-    /// Time of the crossing [s], on the side where g has already changed sign.
+    /// Time of the crossing \[s\], on the side where g has already changed sign.
     pub t: f64,
     /// Dense-output state at `t`, passed through `OdeSystem::project`.
     pub y: SVector<f64, N>,
@@ -45,14 +45,14 @@ pub struct Stats {
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
 pub enum Warning {
     /// Hairer's test found h·ρ at the stability boundary for 15 tested steps in a row:
-    /// the problem looks stiff from `t` [s] on; an explicit method will crawl.
+    /// the problem looks stiff from `t` \[s\] on; an explicit method will crawl.
     Stiff { t: f64 },
 }
 
 /// The result of [`integrate`](super::integrate).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Solution<const N: usize> {
-    /// Where integration ended [s]: t_end, a terminal event, a cancelling sample, or the
+    /// Where integration ended \[s\]: t_end, a terminal event, a cancelling sample, or the
     /// last good point of a failure.
     pub t: f64,
     /// State at `t`.

@@ -1,18 +1,18 @@
 //! Butcher tableaux, embedded error weights and dense-output weights, as published.
 //!
 //! Sources:
-//! - [HNW] E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I:
+//! - HNW: E. Hairer, S. P. Nørsett, G. Wanner, *Solving Ordinary Differential Equations I:
 //!   Nonstiff Problems*, 2nd ed., Springer 1993: RK4 (Sect. II.1), DOPRI5 and DOP853
 //!   (Sect. II.5, and the codes' description in the appendix).
-//! - Hairer's Fortran codes `dopri5.f` and `dop853.f` (version of 2004): the same digits,
+//! - Hairer's Fortran codes `dopri5.f` and `dop853.f`: the same digits,
 //!   plus the dense-output coefficients d1..d7 of DOPRI5 (Shampine's 4th-order extension)
 //!   and the three extra stages and the D coefficients of DOP853's 7th-order extension.
 //!   The DOP853 digits below are copied from SciPy's transcription of `dop853.f`
 //!   (`scipy/integrate/_ivp/dop853_coefficients.py`) and checked equal to it bit for bit.
 //!
 //! The unit tests at the bottom check the Runge–Kutta order conditions (one per rooted
-//! tree, [HNW] Sect. II.2; continuous versions Sect. II.6) for every tableau and every continuous extension,
-//! so a mistyped digit fails loudly.
+//! tree, HNW Sect. II.2; continuous versions Sect. II.6) for every tableau and every
+//! continuous extension, so a mistyped digit fails loudly.
 
 #![allow(clippy::excessive_precision)] // digits kept exactly as published, for checking
 
@@ -27,7 +27,7 @@ pub struct Tableau<const S: usize> {
     pub b: [f64; S],
 }
 
-/// The classical 4th-order Runge–Kutta method ([HNW] Sect. II.1).
+/// The classical 4th-order Runge–Kutta method (HNW Sect. II.1).
 #[rustfmt::skip]
 pub const RK4: Tableau<4> = Tableau {
     c: [0.0, 0.5, 0.5, 1.0],
@@ -40,7 +40,7 @@ pub const RK4: Tableau<4> = Tableau {
     b: [1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0],
 };
 
-/// Weights b_i(θ) of RK4's 3rd-order continuous extension ([HNW] Sect. II.6, the dense
+/// Weights b_i(θ) of RK4's 3rd-order continuous extension (HNW Sect. II.6, the dense
 /// output of the classical method): y(t + θh) ≈ y + h Σ b_i(θ) k_i, with b_i(1) = b_i.
 #[inline]
 pub fn rk4_dense_weights(theta: f64) -> [f64; 4] {
@@ -52,7 +52,7 @@ pub fn rk4_dense_weights(theta: f64) -> [f64; 4] {
     [b1, b23, b23, b4]
 }
 
-/// Dormand–Prince 5(4) ([HNW] Sect. II.5; `dopri5.f`, coefficients c2..a76). FSAL: the
+/// Dormand–Prince 5(4) (HNW Sect. II.5; `dopri5.f`, coefficients c2..a76). FSAL: the
 /// last row of `a` equals `b`, so stage 7 is f(t + h, y₁).
 #[rustfmt::skip]
 pub const DOPRI5: Tableau<7> = Tableau {
@@ -78,7 +78,7 @@ pub const DOPRI5_E: [f64; 7] = [
 ];
 
 /// DOPRI5 dense-output coefficients d1..d7 (`dopri5.f`; Shampine's 4th-order continuous
-/// extension, [HNW] Sect. II.6). The interpolant is
+/// extension, HNW Sect. II.6). The interpolant is
 /// y(θ) = y₀ + θ(Δ + (1−θ)(B + θ(Δ − h k₇ − B + (1−θ) h Σ d_i k_i))),
 /// with Δ = y₁ − y₀ and B = h k₁ − Δ.
 #[rustfmt::skip]
@@ -88,7 +88,7 @@ pub const DOPRI5_D: [f64; 7] = [
     -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0,
 ];
 
-/// Dormand–Prince 8(5,3) ([HNW] Sect. II.5; `dop853.f`, c2..a1211 and b1..b12). Twelve
+/// Dormand–Prince 8(5,3) (HNW Sect. II.5; `dop853.f`, c2..a1211 and b1..b12). Twelve
 /// stages; f(t + h, y₁) is evaluated separately after an accepted step and serves as the
 /// first stage of the next one.
 #[rustfmt::skip]
@@ -152,7 +152,7 @@ pub const DOP853_D: [[f64; 16]; 4] = [
 
 #[cfg(test)]
 mod tests {
-    //! Order conditions ([HNW] Sect. II.2): a method with weights w is of order p iff
+    //! Order conditions (HNW Sect. II.2): a method with weights w is of order p iff
     //! Σ_i w_i Φ_i(τ) = 1/γ(τ) for every rooted tree τ with |τ| ≤ p, where Φ_i(τ) is the
     //! product over the subtrees τ_k of (A Φ(τ_k))_i. A continuous extension with weights
     //! w(θ) is of order q iff Σ_i w_i(θ) Φ_i(τ) = θ^|τ|/γ(τ) for |τ| ≤ q (Sect. II.6).
