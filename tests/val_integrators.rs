@@ -19,6 +19,32 @@ use nalgebra::{SVector, Vector2, Vector4};
 
 const ADAPTIVE: [Method; 2] = [Method::Dopri5, Method::Dop853];
 
+/// Counts heap allocations per thread, so a test can check that the work per step
+/// allocates nothing (other tests running in parallel are on other threads).
+struct CountingAllocator;
+
+thread_local! {
+    static ALLOCATIONS: std::cell::Cell<u64> = const { std::cell::Cell::new(0) };
+}
+
+// SAFETY: forwards to the system allocator; only adds a thread-local counter.
+unsafe impl std::alloc::GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
+        let _ = ALLOCATIONS.try_with(|n| n.set(n.get() + 1));
+        unsafe { std::alloc::System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
+        unsafe { std::alloc::System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+fn allocations() -> u64 {
+    ALLOCATIONS.with(|n| n.get())
+}
+
 /// Integrates without events or samples.
 fn solve<S: OdeSystem<N>, const N: usize>(
     method: Method,
@@ -858,5 +884,60 @@ fn val_empty_interval() {
             (sol.t, sol.y, sol.stop, seen, sol.stats.rhs_evals),
             (2.0, y0, StopReason::Reached, 1, 0)
         );
+    }
+}
+
+/// The cost of a run in heap allocations does not depend on its number of steps,
+/// samples or event checks: everything per step lives in fixed-size arrays.
+#[test]
+fn inv_no_allocation_per_step() {
+    let osc = HarmonicOscillator { omega: 2.0 };
+    let y0 = Vector2::new(1.0, 0.0);
+    for method in [Method::Rk4 { h: 1e-3 }, Method::Dopri5, Method::Dop853] {
+        let count = |t_end: f64| {
+            // an event that is checked every step but never fires, and a terminal one
+            let events = vec![
+                Event {
+                    g: Box::new(|_, y: &Vector2<f64>| y[0] - 2.0),
+                    direction: Direction::Either,
+                    action: Action::Continue,
+                },
+                Event {
+                    g: Box::new(|_, y: &Vector2<f64>| y[1] - 3.0),
+                    direction: Direction::Rising,
+                    action: Action::Stop,
+                },
+            ];
+            let samples: Vec<f64> = (0..=(t_end as usize * 10))
+                .map(|i| i as f64 * 0.1)
+                .collect();
+            let options = Options::new(1e-10, 1e-10);
+            let before = allocations();
+            let sol = integrate(
+                method,
+                &osc,
+                0.0,
+                y0,
+                t_end,
+                &options,
+                &events,
+                &samples,
+                &mut |_, _| ControlFlow::Continue(()),
+            )
+            .unwrap();
+            let used = allocations() - before;
+            assert_eq!(sol.stop, StopReason::Reached);
+            (used, sol.stats.accepted)
+        };
+        let (short, short_steps) = count(1.0);
+        let (long, long_steps) = count(100.0);
+        assert!(long_steps > 50 * short_steps);
+        assert_eq!(
+            short,
+            long,
+            "{}: allocations grow with the number of steps",
+            method.name()
+        );
+        assert!(short <= 4, "{}: {short} allocations for a run", method.name());
     }
 }
