@@ -104,3 +104,42 @@ fn str_attr(loc: &h5::Location, name: &str, value: &str) -> h5::Result<()> {
     let v: VarLenUnicode = value.replace('\0', "").parse().map_err(|e: h5::types::StringError| h5::Error::from(e.to_string()))?;
     loc.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&v)
 }
+
+/// A trajectory read back from an HDF5 file written by [`Hdf5File`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct Hdf5Trajectory {
+    /// Numeric columns in file order, with their `units` attribute.
+    pub columns: Vec<(String, String, Vec<f64>)>,
+    /// The `mode` column.
+    pub modes: Vec<String>,
+    /// The root's string attributes (version, scenario, status, summary, …).
+    pub attributes: std::collections::BTreeMap<String, String>,
+}
+
+impl Hdf5Trajectory {
+    /// The numeric column `name`.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns.iter().find(|c| c.0 == name).map(|c| c.2.as_slice())
+    }
+}
+
+/// Reads a trajectory file written by [`Hdf5File`].
+pub fn read(path: &Path) -> Result<Hdf5Trajectory, OutputError> {
+    let fail = |e: h5::Error| OutputError::Hdf5 { path: path.to_owned(), message: e.to_string() };
+    let file = h5::File::open(path).map_err(fail)?;
+    let mut columns = Vec::new();
+    for (name, _) in NUMERIC_COLUMNS {
+        let ds = file.dataset(name).map_err(fail)?;
+        let units: VarLenUnicode = ds.attr("units").and_then(|a| a.read_scalar()).map_err(fail)?;
+        columns.push((name.to_owned(), units.as_str().to_owned(), ds.read_raw::<f64>().map_err(fail)?));
+    }
+    let modes = file.dataset(columns::MODE).and_then(|d| d.read_raw::<FixedAscii<MODE_LEN>>()).map_err(fail)?;
+    let mut attributes = std::collections::BTreeMap::new();
+    for name in file.attr_names().map_err(fail)? {
+        let attr = file.attr(&name).map_err(fail)?;
+        if let Ok(v) = attr.read_scalar::<VarLenUnicode>() {
+            attributes.insert(name, v.as_str().to_owned());
+        }
+    }
+    Ok(Hdf5Trajectory { columns, modes: modes.iter().map(|m| m.as_str().to_owned()).collect(), attributes })
+}
