@@ -1,0 +1,125 @@
+//! Cost of the physics: one right-hand-side evaluation per contact model, one step per
+//! method on the ellipsoid, whole runs of every bundled scenario, and sweep throughput
+//! on all cores against one.
+//!
+//! `cargo bench -p ellipsoid-core --bench models` (release profile). Inputs are built
+//! outside the timed closures and passed through `black_box`.
+
+use std::hint::black_box;
+use std::ops::ControlFlow;
+use std::path::Path;
+
+use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
+use ellipsoid_core::body::Body;
+use ellipsoid_core::integrate::{Method, OdeSystem, Options, integrate};
+use ellipsoid_core::model::{ContactLaw, Frictionless, Rolling, Sliding, System};
+use ellipsoid_core::scenario;
+use ellipsoid_core::simulate::{Scene, simulate};
+use ellipsoid_core::state::{self, EulerAngles, State};
+
+use rayon::prelude::*;
+
+/// The oblate top of the nutation scene.
+fn top() -> Body {
+    let (a, c, m) = (0.025, 0.0175, 0.05);
+    Body::of_revolution(a, c, m, m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0, 0.003).unwrap()
+}
+
+/// A tilted, spinning, sliding state (slip along x).
+fn state() -> State {
+    let angles = EulerAngles { theta: 0.3, phi: 0.2, psi: 0.1, theta_dot: 1.0, phi_dot: 3.0, psi_dot: 60.0 };
+    let mut y = State::zeros();
+    state::set_quaternion(&mut y, &angles.rotation());
+    y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&angles.omega_body());
+    y[state::VEL] = 0.3;
+    y[state::SLIP_REF] = 1.0;
+    y
+}
+
+fn system<C: ContactLaw>(contact: C) -> System<C, ()> {
+    System { body: top(), gravity: 9.81, contact, effects: () }
+}
+
+fn rhs(c: &mut Criterion) {
+    let y = state();
+    let mut group = c.benchmark_group("rhs");
+    group.throughput(Throughput::Elements(1));
+    let free = system(Frictionless);
+    group.bench_function("frictionless", |b| b.iter(|| black_box(&free).rhs(0.0, black_box(&y))));
+    let slide = system(Sliding { friction: 0.3 });
+    group.bench_function("sliding", |b| b.iter(|| black_box(&slide).rhs(0.0, black_box(&y))));
+    let roll = system(Rolling);
+    group.bench_function("rolling", |b| b.iter(|| black_box(&roll).rhs(0.0, black_box(&y))));
+    group.finish();
+}
+
+/// 1000 steps of each method on the frictionless top: time per step.
+fn steps(c: &mut Criterion) {
+    let sys = system(Frictionless);
+    let y = state();
+    let mut group = c.benchmark_group("step_frictionless");
+    for (method, options) in [
+        (Method::Rk4 { h: 1e-4 }, Options::new(1e-10, 1e-12)),
+        (Method::Dopri5, Options::new(1e-10, 1e-12)),
+        (Method::Dop853, Options::new(1e-12, 1e-12)),
+    ] {
+        let run = || integrate(method, &sys, 0.0, y, 1.0, &options, &[], &[], &mut |_, _| ControlFlow::Continue(())).unwrap();
+        let steps = run().stats.accepted;
+        group.throughput(Throughput::Elements(steps));
+        group.bench_function(method.name(), |b| b.iter(|| black_box(run())));
+    }
+    group.finish();
+}
+
+fn bundled() -> Vec<(String, Scene)> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    files.sort();
+    files.iter().map(|p| (p.file_stem().unwrap().to_string_lossy().into_owned(), scenario::load(p, &[] as &[&str]).unwrap().scene)).collect()
+}
+
+fn run(scene: &Scene) -> usize {
+    let mut rows = 0;
+    simulate(scene, &mut |_| {
+        rows += 1;
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    rows
+}
+
+/// Each bundled scenario, whole, at its own settings.
+fn scenarios(c: &mut Criterion) {
+    let mut group = c.benchmark_group("scenario");
+    group.sample_size(10);
+    for (name, scene) in bundled() {
+        group.bench_function(&name, |b| b.iter(|| black_box(run(black_box(&scene)))));
+    }
+    group.finish();
+}
+
+/// 16 nutation runs (1 s each, tilts 0.05–0.8 rad): one core against all cores.
+fn sweep(c: &mut Criterion) {
+    let base = bundled().into_iter().find(|(n, _)| n == "nutation").unwrap().1;
+    let scenes: Vec<Scene> = (0..16)
+        .map(|k| {
+            let mut s = base.clone();
+            s.t_end = 1.0;
+            s.sample_times.retain(|&t| t <= 1.0);
+            s.initial.angles.theta = 0.05 + 0.05 * k as f64;
+            s
+        })
+        .collect();
+    let mut group = c.benchmark_group("sweep16");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(scenes.len() as u64));
+    group.bench_function("one_core", |b| b.iter_batched(|| scenes.clone(), |s| s.iter().map(run).sum::<usize>(), BatchSize::SmallInput));
+    group.bench_function("all_cores", |b| b.iter_batched(|| scenes.clone(), |s| s.par_iter().map(run).sum::<usize>(), BatchSize::SmallInput));
+    group.finish();
+}
+
+criterion_group!(benches, rhs, steps, scenarios, sweep);
+criterion_main!(benches);
+
+
+
