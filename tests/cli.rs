@@ -362,9 +362,12 @@ enum Expect {
     Parts(&'static str, &'static str),
 }
 
+/// (name, file content or None for no file, extra arguments, expected error line).
+type Case = (&'static str, Option<Vec<u8>>, Vec<&'static str>, Expect);
+
 #[test]
 fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
-    let cases: Vec<(&str, Option<Vec<u8>>, Vec<&str>, Expect)> = vec![
+    let cases: Vec<Case> = vec![
         ("missing key", Some(edit("mass = 0.05\n", "").into()), vec![], Expect::Exact("error: bad.toml:1:1: body.mass is missing: give the mass (kg)")),
         ("wrong type", Some(edit("mass = 0.05", "mass = \"heavy\"").into()), vec![], Expect::Exact("error: bad.toml:4:1: body.mass = \"heavy\": expected a number: the mass (kg), found a string")),
         ("negative mass", Some(edit("mass = 0.05", "mass = -0.05").into()), vec![], Expect::Exact("error: bad.toml:4:1: body.mass = -0.05: the mass must be positive and finite (kg)")),

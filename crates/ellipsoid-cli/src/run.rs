@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use std::time::Instant;
 
 use ellipsoid_core::scenario::{self, Scenario};
-use ellipsoid_core::simulate;
+use ellipsoid_core::simulate::{self, Sample};
 use ellipsoid_io::{atomic, columns, Format, Metadata, OutputError, Summary, TrajectoryWriter};
 
 use crate::cli::RunArgs;
@@ -69,15 +69,10 @@ fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(Summary, Option<St
     let mut stop: Option<Stop> = None;
     let start = Instant::now();
     let result = simulate::simulate(&scenario.scene, &mut |s| {
+        if stop.is_none() {
+            stop = accept(s, &mut writer).err();
+        }
         if stop.is_some() {
-            return ControlFlow::Break(());
-        }
-        if let Some((column, value)) = columns::non_finite(s) {
-            stop = Some(Stop::NonFinite { t: s.t, column, value });
-            return ControlFlow::Break(());
-        }
-        if let Err(e) = writer.write(s) {
-            stop = Some(Stop::Write(e));
             return ControlFlow::Break(());
         }
         progress.update(s.t);
@@ -101,6 +96,15 @@ fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(Summary, Option<St
     }
     writer.finish(&Metadata { scenario_text: &scenario.text, summary: &summary })?;
     Ok((summary, note))
+}
+
+/// Writes a sample, or says why the run must stop: a non-finite value (never written) or
+/// a write error.
+fn accept(s: &Sample, writer: &mut TrajectoryWriter) -> Result<(), Stop> {
+    if let Some((column, value)) = columns::non_finite(s) {
+        return Err(Stop::NonFinite { t: s.t, column, value });
+    }
+    writer.write(s).map_err(Stop::Write)
 }
 
 /// Creates the parent directories of `path`, recording the ones it made.
@@ -144,4 +148,44 @@ fn report(summary: &Summary, output: &Path, stop_note: Option<&str>) {
         lines.push(format!("ellipsoid: warning: the scenario's [check] expectations were not met: {}", failed.join("; ")));
     }
     eprintln!("{}", lines.join("\n"));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ellipsoid_core::simulate::Mode;
+    use ellipsoid_core::state::EulerAngles;
+    use nalgebra::Vector3;
+
+    fn sample(t: f64) -> Sample {
+        Sample {
+            t,
+            position: Vector3::zeros(),
+            angles: EulerAngles::default(),
+            omega: Vector3::new(0.0, 0.0, 1.0),
+            velocity: Vector3::zeros(),
+            energy: 1.0,
+            work: 0.0,
+            normal_force: 1.0,
+            slip_speed: 0.0,
+            mode: Mode::Rolling,
+        }
+    }
+
+    #[test]
+    fn a_non_finite_sample_stops_the_run_and_is_not_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.csv");
+        let mut writer = TrajectoryWriter::create(&path).unwrap();
+        assert!(accept(&sample(0.0), &mut writer).is_ok());
+        let mut bad = sample(0.1);
+        bad.omega.y = f64::NAN;
+        match accept(&bad, &mut writer) {
+            Err(Stop::NonFinite { t, column, value }) => assert!(t == 0.1 && column == "omega_y" && value.is_nan()),
+            _ => panic!("a NaN sample must stop the run"),
+        }
+        assert_eq!(writer.rows(), 1);
+        let summary_free = std::fs::read_dir(dir.path()).unwrap().count();
+        assert_eq!(summary_free, 1, "only the temporary exists before finish");
+    }
 }
