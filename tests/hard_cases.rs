@@ -80,8 +80,9 @@ fn hard_2_slip_stop_without_chattering() {
         assert!(balance < 1e-9, "{name}: E + W drift {balance:e}");
         let steps = out.stats.accepted + out.stats.rejected;
         assert!(out.stats.rejected * 4 < steps, "{name}: {} of {steps} steps rejected", out.stats.rejected);
+        assert!(out.stats.min_step > 1e-12, "{name}: step size collapsed to {:e} s", out.stats.min_step);
         assert!(samples.iter().all(|s| s.slip_speed.is_finite()));
-        measured("2 slip stop", format!("{name}: {switches} switches, E+W drift {balance:.1e}, {} accepted / {} rejected steps", out.stats.accepted, out.stats.rejected));
+        measured("2 slip stop", format!("{name}: {switches} switches, E+W drift {balance:.1e}, {} accepted / {} rejected steps, smallest step {:.1e} s", out.stats.accepted, out.stats.rejected, out.stats.min_step));
     }
 }
 

@@ -622,6 +622,7 @@ fn add_stats(total: &mut Stats, s: &Stats) {
     total.rejected += s.rejected;
     total.rhs_evals += s.rhs_evals;
     total.events += s.events;
+    total.min_step = total.min_step.min(s.min_step);
 }
 
 /// Streams samples to the observer and tracks invariant deviations.

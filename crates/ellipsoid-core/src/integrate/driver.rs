@@ -214,6 +214,9 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                 }
             };
             stats.accepted += 1;
+            if !last {
+                stats.min_step = stats.min_step.min(h_step);
+            }
             nonfinite_streak = 0;
             let mut y_new = *stepper.candidate();
             self.system.project(&mut y_new);

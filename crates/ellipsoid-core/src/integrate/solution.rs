@@ -29,7 +29,7 @@ pub struct EventRecord<const N: usize> {
 }
 
 /// Work counters.
-#[derive(Default, Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Stats {
     /// Accepted steps.
     pub accepted: u64,
@@ -39,6 +39,14 @@ pub struct Stats {
     pub rhs_evals: u64,
     /// Located events.
     pub events: u64,
+    /// Smallest accepted step \[s\] (∞ before the first), shortened last steps excluded.
+    pub min_step: f64,
+}
+
+impl Default for Stats {
+    fn default() -> Self {
+        Stats { accepted: 0, rejected: 0, rhs_evals: 0, events: 0, min_step: f64::INFINITY }
+    }
 }
 
 /// Something the caller should know although the integration went on.

@@ -31,8 +31,8 @@ const SLIP_ROUNDOFF: f64 = 1e-13;
 
 /// Relative slip speed at which a grazing slip counts as stopped (see
 /// [`Sliding::slip_above_floor`]); it moves a clean stop time by about
-/// 1e-11 (|v_G| + |ω × r|)/|v̇_C|, e.g. 3e-12 s for a billiard ball at 2 m/s.
-pub const SLIP_FLOOR: f64 = 1e-11;
+/// 1e-10 (|v_G| + |ω × r|)/|v̇_C|, e.g. 3e-11 s for a billiard ball at 2 m/s.
+pub const SLIP_FLOOR: f64 = 1e-10;
 
 impl Sliding {
     /// The unit slip direction ŝ the law uses (see the module docs).
