@@ -149,3 +149,45 @@ fn unwrap(angle: f64, reference: f64) -> f64 {
     use std::f64::consts::TAU;
     angle + TAU * ((reference - angle) / TAU).round()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Angles → rotation and ω → angles and rates is the identity away from θ = 0, π.
+    #[test]
+    fn euler_round_trip() {
+        for k in 0..200 {
+            let x = k as f64;
+            let a = EulerAngles {
+                theta: 0.01 + 3.1 * (0.37 * x).sin().abs(),
+                phi: 3.0 * (0.71 * x).sin(),
+                psi: 3.0 * (1.13 * x).cos(),
+                theta_dot: (0.3 * x).sin() * 5.0,
+                phi_dot: (0.5 * x).cos() * 7.0,
+                psi_dot: 60.0 * (0.9 * x).sin(),
+            };
+            let r = a.rotation().to_rotation_matrix().into_inner();
+            let b = EulerAngles::from_rotation(&r, &a.omega_body(), Some(&a));
+            for (p, q) in [(a.theta, b.theta), (a.phi, b.phi), (a.psi, b.psi)] {
+                assert!((p - q).abs() < 1e-12, "{a:?} -> {b:?}");
+            }
+            for (p, q) in [(a.theta_dot, b.theta_dot), (a.phi_dot, b.phi_dot), (a.psi_dot, b.psi_dot)] {
+                assert!((p - q).abs() < 1e-9 * (1.0 + p.abs()), "{a:?} -> {b:?}");
+            }
+        }
+    }
+
+    /// Upright, only φ + ψ is defined: φ keeps its previous value, ψ takes the rest, the
+    /// rates are (φ̇, ψ̇) = (0, ω3), and angles unwrap continuously across ±π.
+    #[test]
+    fn upright_and_unwrapping() {
+        let prev = EulerAngles { phi: 0.4, psi: 3.0, ..Default::default() };
+        let up = EulerAngles { phi: 0.4, psi: 3.0 + 0.3, ..Default::default() };
+        let r = up.rotation().to_rotation_matrix().into_inner();
+        let b = EulerAngles::from_rotation(&r, &Vector3::new(0.0, 0.0, 5.0), Some(&prev));
+        assert_eq!(b.theta, 0.0);
+        assert!((b.phi - 0.4).abs() < 1e-15 && (b.psi - 3.3).abs() < 1e-12, "{b:?}");
+        assert_eq!((b.phi_dot, b.psi_dot), (0.0, 5.0));
+    }
+}
