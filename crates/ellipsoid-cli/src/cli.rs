@@ -29,7 +29,7 @@ pub struct RunArgs {
     /// The scenario file (TOML; see docs/scenarios.md).
     pub scenario: PathBuf,
     /// Trajectory file: `.csv`, or `.h5` (build with `--features hdf5`). Directories are
-    /// created as needed. Default: out/<scenario file stem>.csv.
+    /// created as needed. Default: out/STEM.csv, STEM the scenario file name without .toml.
     #[arg(short, long, value_name = "OUT.csv|OUT.h5")]
     pub output: Option<PathBuf>,
     /// Write the run summary as JSON to this file, or to standard output with `-`.

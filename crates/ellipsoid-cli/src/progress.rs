@@ -24,7 +24,7 @@ impl Progress {
         Progress { enabled: std::io::stderr().is_terminal(), start: Instant::now(), t_end, bar: None, position: 0 }
     }
 
-    /// Reports that simulated time has reached `t` [s].
+    /// Reports that simulated time has reached `t` \[s\].
     pub fn update(&mut self, t: f64) {
         if !self.enabled {
             return;

@@ -23,7 +23,7 @@ pub struct Summary {
     pub events: Vec<EventRecord>,
     /// Solver work: accepted and rejected steps, right-hand-side calls, events.
     pub stats: Stats,
-    /// Wall-clock time of the simulation [s].
+    /// Wall-clock time of the simulation \[s\].
     pub wall_time_s: f64,
     /// Trajectory rows written.
     pub samples: u64,
@@ -133,7 +133,7 @@ pub fn status_name(status: &Status) -> &'static str {
     }
 }
 
-/// A sentence explaining the status; `t` is where the run ended [s].
+/// A sentence explaining the status; `t` is where the run ended \[s\].
 pub fn status_message(status: &Status, t: f64) -> String {
     match status {
         Status::Completed => format!("reached t_end = {t} s"),
