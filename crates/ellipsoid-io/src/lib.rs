@@ -129,3 +129,68 @@ impl TrajectoryWriter {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use ellipsoid_core::simulate::Mode;
+    use ellipsoid_core::state::EulerAngles;
+    use nalgebra::Vector3;
+
+    fn sample() -> Sample {
+        Sample {
+            t: 0.1,
+            position: Vector3::new(1e-300, -0.0, 0.014818069210007943),
+            angles: EulerAngles { theta: 0.1, phi: 1.0 / 3.0, ..Default::default() },
+            omega: Vector3::new(0.0, 0.0, 60.0),
+            velocity: Vector3::zeros(),
+            energy: 2.9768262947508894e-2,
+            work: 0.0,
+            normal_force: 0.5,
+            slip_speed: 0.0,
+            mode: Mode::Sliding,
+        }
+    }
+
+    #[test]
+    fn csv_rows_round_trip_and_put_mode_before_work() {
+        let mut w = csv::CsvWriter::new(Vec::new()).unwrap();
+        w.write(&sample()).unwrap();
+        let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(
+            lines.next().unwrap(),
+            "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,omega_y,omega_z,vx,vy,vz,energy,normal_force,slip_speed,mode,work"
+        );
+        let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+        assert_eq!(row[19], "sliding");
+        let numbers: Vec<f64> = row.iter().enumerate().filter(|(i, _)| *i != 19).map(|(_, v)| v.parse().unwrap()).collect();
+        assert_eq!(numbers.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), columns::values(&sample()).iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+        assert_eq!(row[1], "1e-300");
+    }
+
+    #[test]
+    fn formats_by_extension() {
+        assert_eq!(Format::from_path(Path::new("a/b.CSV")).unwrap(), Format::Csv);
+        assert!(matches!(Format::from_path(Path::new("b.txt")), Err(OutputError::UnknownFormat { .. })));
+        let h5 = Format::from_path(Path::new("b.h5"));
+        if cfg!(feature = "hdf5") {
+            assert_eq!(h5.unwrap(), Format::Hdf5);
+        } else {
+            assert!(h5.unwrap_err().to_string().contains("--features hdf5"));
+        }
+    }
+
+    #[test]
+    fn an_unfinished_file_leaves_nothing_behind() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.csv");
+        let mut w = TrajectoryWriter::create(&path).unwrap();
+        w.write(&sample()).unwrap();
+        drop(w);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        atomic::write(&path, b"x").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"x");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+}
