@@ -1,8 +1,36 @@
+//! `ellipsoid._ellipsoid`, the compiled core of the `ellipsoid` Python package.
+//!
+//! - [`scenario`]: `Scenario`, `load` (the core's TOML parser; Python dicts → TOML in [`convert`]);
+//! - [`api`]: `simulate`, `sweep` (runs without the GIL in [`run`], interruptible);
+//! - [`trajectory`]: `Trajectory` (numpy columns named like the CSV, summary, writers from
+//!   `ellipsoid-io`, so files are the command-line tool's byte for byte);
+//! - [`errors`]: the exception tree, one base class `EllipsoidError`.
+//!
+//! The Python sources (`python/ellipsoid/`) re-export these names and carry the stubs.
+
+mod api;
+mod convert;
+mod errors;
+mod run;
+mod scenario;
+mod trajectory;
+
 use pyo3::prelude::*;
 
-/// The compiled core of the `ellipsoid` Python package.
+/// The compiled core of the `ellipsoid` package (import `ellipsoid`, not this module).
 #[pymodule]
 fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    let py = m.py();
+    m.add("__version__", run::VERSION)?;
+    m.add("HDF5", cfg!(feature = "hdf5"))?;
+    m.add("COLUMNS", ellipsoid_io::columns::names())?;
+    for class in errors::Class::ALL {
+        m.add(class.name(), class.get(py)?)?;
+    }
+    m.add_class::<scenario::PyScenario>()?;
+    m.add_class::<trajectory::Trajectory>()?;
+    m.add_function(wrap_pyfunction!(scenario::load, m)?)?;
+    m.add_function(wrap_pyfunction!(api::simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(api::sweep, m)?)?;
     Ok(())
 }

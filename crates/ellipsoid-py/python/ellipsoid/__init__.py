@@ -1,0 +1,51 @@
+"""Fast, exact simulation of a rigid ellipsoid on a horizontal plane (SI units, radians).
+
+    import ellipsoid
+    traj = ellipsoid.simulate("scenarios/nutation.toml", output={"t_end": 1.0})
+    traj.t, traj.theta, traj.energy         # numpy float64 arrays [s], [rad], [J]
+    traj.summary["drift"]                    # the command-line tool's summary dict
+    traj.to_csv("nutation.csv")              # byte-identical to `ellipsoid run -o`
+
+Scenarios come from TOML files (`load`) or keyword arguments mirroring the file's tables
+(`Scenario(body=dict(...), contact=dict(model="coulomb", friction=0.3), ...)`); both go
+through the same parser, so every check and every message is the command-line tool's.
+`Scenario.replace(contact={"friction": 0.2})` (or `**{"contact.friction": 0.2}`) makes
+variants for a `sweep`, which runs them in parallel in Rust.
+
+Errors: every exception derives from `EllipsoidError`: `ScenarioError` (a ValueError) for
+bad input, `SimulationError` (a RuntimeError, with the partial `.trajectory`) for a run
+that stops on an error, `OutputError` (an OSError) for files that cannot be written,
+`InternalError` for bugs.
+"""
+
+from ellipsoid._ellipsoid import (
+    COLUMNS,
+    HDF5,
+    EllipsoidError,
+    InternalError,
+    OutputError,
+    Scenario,
+    ScenarioError,
+    SimulationError,
+    Trajectory,
+    __version__,
+    load,
+    simulate,
+    sweep,
+)
+
+__all__ = [
+    "COLUMNS",
+    "HDF5",
+    "EllipsoidError",
+    "InternalError",
+    "OutputError",
+    "Scenario",
+    "ScenarioError",
+    "SimulationError",
+    "Trajectory",
+    "__version__",
+    "load",
+    "simulate",
+    "sweep",
+]

@@ -1,0 +1,187 @@
+//! The exception tree and the one place where Rust errors become Python exceptions.
+//!
+//! ```text
+//! Exception
+//! └── EllipsoidError                       every error this package raises
+//!     ├── ScenarioError(…, ValueError)     bad input: file, TOML, key, value, physical rule
+//!     ├── SimulationError(…, RuntimeError) Painlevé, solver failure, chattering, non-finite
+//!     │                                    state; `.trajectory` holds the run up to the stop
+//!     ├── OutputError(…, OSError)          a trajectory file could not be written
+//!     └── InternalError(…, RuntimeError)   a bug (a Rust panic caught at the boundary)
+//! ```
+//! Messages are the command-line tool's, without its `error: ` prefix. Every mapping is an
+//! exhaustive `match`, so a new error variant in the core or io crate fails to compile
+//! here until it is given its class.
+
+use ellipsoid_core::scenario::{ErrorKind, ScenarioError};
+use ellipsoid_core::simulate::Status;
+use ellipsoid_io::OutputError;
+use pyo3::exceptions::{PyException, PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::sync::PyOnceLock;
+use pyo3::types::{PyDict, PyTuple, PyType};
+
+/// How to get a wheel that writes HDF5.
+pub const HDF5_HINT: &str = "this ellipsoid Python package was built without HDF5 support; \
+reinstall it with `pip install ./crates/ellipsoid-py -C maturin.build-args=\"--features hdf5\"` \
+(needs the HDF5 C library: `apt-get install -y libhdf5-dev`), or write CSV with to_csv()";
+
+/// The exception classes, created once at import.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Class {
+    Ellipsoid,
+    Scenario,
+    Simulation,
+    Output,
+    Internal,
+}
+
+static CLASSES: [PyOnceLock<Py<PyType>>; 5] = [const { PyOnceLock::new() }; 5];
+
+impl Class {
+    pub const ALL: [Class; 5] = [Class::Ellipsoid, Class::Scenario, Class::Simulation, Class::Output, Class::Internal];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Class::Ellipsoid => "EllipsoidError",
+            Class::Scenario => "ScenarioError",
+            Class::Simulation => "SimulationError",
+            Class::Output => "OutputError",
+            Class::Internal => "InternalError",
+        }
+    }
+
+    fn doc(self) -> &'static str {
+        match self {
+            Class::Ellipsoid => "Base class of every error raised by the ellipsoid package.",
+            Class::Scenario => {
+                "A scenario that cannot be run: unreadable file, TOML syntax, unknown or missing key, wrong type, \
+                 or a value that breaks a physical rule.\n\n\
+                 The message is the command-line tool's (`file:line:col: key = value: rule`). Attributes: `kind` \
+                 (io | syntax | override | unknown_key | missing | type | conflict | invalid), `key` (dotted, e.g. \
+                 'body.mass', or None), `value` (as written, or None), `rule`, `source` (file or name), `line` and \
+                 `column` (1-based, or None), `override` (the `key=value` override the value came from, or None)."
+            }
+            Class::Simulation => {
+                "A run that stopped on an error: a Painlevé inconsistency, a solver failure, chattering at the \
+                 friction-cone boundary, or a non-finite state.\n\n\
+                 Attributes: `status` (the summary's status name: painleve | solver_failure | chattering | cancelled), \
+                 `trajectory` (the Trajectory up to the stop, with its summary)."
+            }
+            Class::Output => "A trajectory file could not be written (file system, HDF5 library, or a format this build lacks).",
+            Class::Internal => "A bug in ellipsoid (a Rust panic caught at the Python boundary); please report it with the message.",
+        }
+    }
+
+    /// Base classes besides [`Class::Ellipsoid`].
+    fn bases<'py>(self, py: Python<'py>) -> PyResult<Bound<'py, PyTuple>> {
+        let base = |c: Class| c.get(py).map(|t| t.into_any());
+        match self {
+            Class::Ellipsoid => PyTuple::new(py, [py.get_type::<PyException>().into_any()]),
+            Class::Scenario => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyValueError>().into_any()]),
+            Class::Simulation | Class::Internal => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyRuntimeError>().into_any()]),
+            Class::Output => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyOSError>().into_any()]),
+        }
+    }
+
+    /// The class object (created on first use, as `ellipsoid.<Name>`).
+    pub fn get(self, py: Python<'_>) -> PyResult<Bound<'_, PyType>> {
+        let cell = &CLASSES[self as usize];
+        let ty = cell.get_or_try_init(py, || -> PyResult<Py<PyType>> {
+            let ns = PyDict::new(py);
+            ns.set_item("__module__", "ellipsoid")?;
+            ns.set_item("__doc__", self.doc())?;
+            let ty = py.get_type::<PyType>().call1((self.name(), self.bases(py)?, ns))?;
+            Ok(ty.cast_into::<PyType>()?.unbind())
+        })?;
+        Ok(ty.bind(py).clone())
+    }
+
+    /// An exception of this class with `message` and attributes.
+    pub fn error(self, py: Python<'_>, message: &str, attrs: &[(&str, Py<PyAny>)]) -> PyErr {
+        let build = || -> PyResult<PyErr> {
+            let exc = self.get(py)?.call1((message,))?;
+            for (k, v) in attrs {
+                exc.setattr(*k, v)?;
+            }
+            Ok(PyErr::from_value(exc))
+        };
+        build().unwrap_or_else(|e| e)
+    }
+}
+
+/// A scenario error, as `ellipsoid.ScenarioError` with its parts as attributes.
+pub fn scenario_error(py: Python<'_>, e: &ScenarioError) -> PyErr {
+    let kind = match e.kind {
+        ErrorKind::Io => "io",
+        ErrorKind::Syntax => "syntax",
+        ErrorKind::Override => "override",
+        ErrorKind::UnknownKey => "unknown_key",
+        ErrorKind::Missing => "missing",
+        ErrorKind::Type => "type",
+        ErrorKind::Conflict => "conflict",
+        ErrorKind::Invalid => "invalid",
+    };
+    let loc = &e.location;
+    let any = |v: Option<&str>| v.into_pyobject(py).map(|o| o.into_any().unbind()).unwrap_or_else(|_| py.None());
+    let num = |v: Option<usize>| v.into_pyobject(py).map(|o| o.into_any().unbind()).unwrap_or_else(|_| py.None());
+    let attrs = [
+        ("kind", any(Some(kind))),
+        ("key", any(e.key.as_deref())),
+        ("value", any(e.value.as_deref())),
+        ("rule", any(Some(&e.rule))),
+        ("source", any(Some(&loc.source))),
+        ("line", num(loc.line)),
+        ("column", num(loc.column)),
+        ("override", any(loc.set.as_deref())),
+    ];
+    Class::Scenario.error(py, &e.to_string(), &attrs)
+}
+
+/// A write failure, as `ellipsoid.OutputError`.
+pub fn output_error(py: Python<'_>, e: &OutputError) -> PyErr {
+    let message = match e {
+        OutputError::Hdf5Unavailable { path } => format!("{}: {HDF5_HINT}", path.display()),
+        OutputError::UnknownFormat { .. } | OutputError::Io { .. } | OutputError::Hdf5 { .. } => e.to_string(),
+    };
+    // `err.errno`: the OS error number, or for errors that wrap one without it (the
+    // temporary file's), the number of its kind. No `filename`, which would make OSError
+    // rewrite the message.
+    let errno = match e {
+        OutputError::Io { source, .. } => source.raw_os_error().or_else(|| errno_of(py, source.kind())),
+        OutputError::UnknownFormat { .. } | OutputError::Hdf5Unavailable { .. } | OutputError::Hdf5 { .. } => None,
+    };
+    let errno = errno.into_pyobject(py).map(|o| o.into_any().unbind()).unwrap_or_else(|_| py.None());
+    Class::Output.error(py, &message, &[("errno", errno)])
+}
+
+/// The number of an I/O error kind from Python's `errno` module.
+fn errno_of(py: Python<'_>, kind: std::io::ErrorKind) -> Option<i32> {
+    use std::io::ErrorKind as K;
+    let name = match kind {
+        K::NotFound => "ENOENT",
+        K::PermissionDenied => "EACCES",
+        K::AlreadyExists => "EEXIST",
+        K::NotADirectory => "ENOTDIR",
+        K::IsADirectory => "EISDIR",
+        K::ReadOnlyFilesystem => "EROFS",
+        K::StorageFull => "ENOSPC",
+        _ => return None,
+    };
+    py.import("errno").and_then(|m| m.getattr(name)).and_then(|v| v.extract()).ok()
+}
+
+/// Whether a run that ended with `status` is an error (`Some(message)`) or an outcome.
+/// `Cancelled` is handled by the caller (user interrupt or non-finite state) before this.
+pub fn status_error(status: &Status) -> Option<&str> {
+    match status {
+        Status::Completed | Status::LostContact | Status::SlipStopped => None,
+        Status::Painleve(m) | Status::SolverFailure(m) | Status::Chattering(m) => Some(m),
+        Status::Cancelled => Some("the run was cancelled"),
+    }
+}
+
+/// A caught panic, as `ellipsoid.InternalError`.
+pub fn internal_error(py: Python<'_>, msg: &str) -> PyErr {
+    Class::Internal.error(py, &format!("internal error: {msg}; please report it"), &[])
+}

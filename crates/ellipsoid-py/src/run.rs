@@ -1,0 +1,134 @@
+//! Running scenarios without the GIL: one run, or many in parallel (rayon), interruptible
+//! with Ctrl-C.
+//!
+//! The calling thread detaches from Python and hands the work to a worker thread (or a
+//! rayon pool); it then wakes every [`POLL`] to attach briefly and run Python's signal
+//! handlers (`Python::check_signals`). A `KeyboardInterrupt` raised there sets a flag that
+//! every run's observer reads at each output sample, so the runs stop at their next
+//! sample, and the interrupt is raised once they have. Panics are caught on the worker
+//! and become `ellipsoid.InternalError`.
+
+use std::ops::ControlFlow;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use ellipsoid_core::error::ModelError;
+use ellipsoid_core::scenario::Scenario;
+use ellipsoid_core::simulate::{self, Sample, Status};
+use ellipsoid_io::{columns, Summary};
+use pyo3::prelude::*;
+
+/// How often the detached caller checks for signals.
+const POLL: Duration = Duration::from_millis(50);
+
+/// Stack of the worker threads (the CLI runs on the main thread, which usually has 8 MiB).
+pub const STACK: usize = 8 << 20;
+
+/// Version written into summaries (the workspace's, the same as the CLI's).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// A finished run.
+pub struct Run {
+    pub scenario: Scenario,
+    /// The samples, unless only the summary was asked for.
+    pub samples: Vec<Sample>,
+    pub summary: Summary,
+    pub status: Status,
+    /// Why the run was stopped on a non-finite sample (the summary's message says it too).
+    pub non_finite: Option<String>,
+    /// Whether it stopped because of a user interrupt.
+    pub interrupted: bool,
+}
+
+/// Why a run produced no result.
+pub enum Failure {
+    /// The physics layer rejected the scene (an input error found at t = 0).
+    Model(Scenario, ModelError),
+    /// A panic (its message).
+    Panic(String),
+}
+
+/// Simulates `scenario`, like the command-line tool's `run`: stops at the first
+/// non-finite sample (not kept), or when `cancel` is set.
+pub fn run(scenario: Scenario, keep_samples: bool, cancel: &AtomicBool) -> Result<Run, Failure> {
+    let mut samples = Vec::new();
+    let mut rows = 0u64;
+    let mut non_finite = None;
+    let mut interrupted = false;
+    let start = Instant::now();
+    let result = simulate::simulate(&scenario.scene, &mut |s| {
+        if cancel.load(Ordering::Relaxed) {
+            interrupted = true;
+            return ControlFlow::Break(());
+        }
+        if let Some((column, value)) = columns::non_finite(s) {
+            non_finite = Some(format!("stopped at t = {} s: the state became non-finite ({column} = {value}); the trajectory before it is kept", s.t));
+            return ControlFlow::Break(());
+        }
+        rows += 1;
+        if keep_samples {
+            samples.push(*s);
+        }
+        ControlFlow::Continue(())
+    });
+    let wall_time_s = start.elapsed().as_secs_f64();
+    let outcome = match result {
+        Ok(o) => o,
+        Err(e) => return Err(Failure::Model(scenario, e)),
+    };
+    let mut summary = Summary::new(&scenario, &outcome, wall_time_s, rows, None, VERSION);
+    if let Some(n) = &non_finite {
+        summary.message = n.clone();
+    }
+    Ok(Run { scenario, samples, summary, status: outcome.status, non_finite, interrupted })
+}
+
+/// `run` with panics caught.
+pub fn run_caught(scenario: Scenario, keep_samples: bool, cancel: &AtomicBool) -> Result<Run, Failure> {
+    catch_unwind(AssertUnwindSafe(|| run(scenario, keep_samples, cancel))).unwrap_or_else(|p| Err(Failure::Panic(panic_message(&*p))))
+}
+
+pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| payload.downcast_ref::<String>().cloned()).unwrap_or_else(|| "a panic without a message".into())
+}
+
+/// Runs `work` on a worker thread while the caller, detached from Python, checks for
+/// signals every [`POLL`]. Returns the work's result and the interrupt, if any (the work
+/// was told to stop through the flag it receives).
+pub fn detached<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> PyResult<(T, Option<PyErr>)> {
+    let cancel = AtomicBool::new(false);
+    let mut interrupt: Option<PyErr> = None;
+    let outcome: Result<T, String> = py.detach(|| {
+        std::thread::scope(|scope| {
+            let (tx, rx) = mpsc::channel();
+            let cancel = &cancel;
+            let spawned = std::thread::Builder::new().name("ellipsoid".into()).stack_size(STACK).spawn_scoped(scope, move || {
+                let r = catch_unwind(AssertUnwindSafe(|| work(cancel))).map_err(|p| panic_message(&*p));
+                let _ = tx.send(r);
+            });
+            if let Err(e) = spawned {
+                return Err(format!("cannot start a worker thread: {e}"));
+            }
+            loop {
+                match rx.recv_timeout(POLL) {
+                    Ok(r) => return r,
+                    Err(mpsc::RecvTimeoutError::Timeout) => {
+                        if interrupt.is_none() {
+                            if let Err(e) = Python::attach(|py| py.check_signals()) {
+                                interrupt = Some(e);
+                                cancel.store(true, Ordering::Relaxed);
+                            }
+                        }
+                    }
+                    Err(mpsc::RecvTimeoutError::Disconnected) => return Err("the worker thread ended without a result".into()),
+                }
+            }
+        })
+    });
+    match outcome {
+        Ok(v) => Ok((v, interrupt)),
+        Err(msg) => Err(crate::errors::internal_error(py, &msg)),
+    }
+}

@@ -1,0 +1,301 @@
+"""Running from Python: outcomes and errors, sweeps, the GIL, Ctrl-C, output files."""
+
+from __future__ import annotations
+
+import _thread
+import errno
+import os
+import signal
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ellipsoid
+from conftest import REPO, oblate
+
+NUTATION = REPO / "scenarios" / "nutation.toml"
+
+
+def needle(friction: float = 1.0, velocity=(1.0, 0.0)) -> ellipsoid.Scenario:
+    """A uniform needle sliding with μ = 1: the sliding normal-force denominator
+    1 + m u·I⁻¹(r × d) reaches 0 at t ≈ 0.034 s (Painlevé)."""
+    return ellipsoid.Scenario(
+        body=dict(a=0.005, c=0.1, mass=0.1, inertia="uniform"),
+        initial=dict(theta=0.3, velocity=list(velocity)),
+        contact=dict(model="sliding", friction=friction),
+        solver=dict(rtol=1e-12, atol=1e-12),
+        output=dict(t_end=0.2, dt=1e-3),
+        name="needle",
+    )
+
+
+def tumbling() -> ellipsoid.Scenario:
+    """A prolate body falling over fast enough (θ̇ = −45 rad/s) to leave the plane."""
+    return ellipsoid.Scenario(
+        body=dict(a=0.02, c=0.04, mass=0.1, inertia="uniform"),
+        initial=dict(theta=1.5, theta_dot=-45.0, velocity=[0.0, 0.0]),
+        contact=dict(model="frictionless"),
+        solver=dict(rtol=1e-12, atol=1e-12),
+        output=dict(t_end=1.0, dt=1e-4),
+        name="tumbling",
+    )
+
+
+# ----------------------------------------------------------------- outcomes and errors
+
+
+def test_trajectory_columns_are_read_only_float64_arrays() -> None:
+    traj = ellipsoid.simulate(NUTATION, output={"t_end": 0.1})
+    assert len(traj) == 101 and traj.t[-1] == 0.1 and traj.completed
+    for name in ellipsoid.COLUMNS:
+        col = getattr(traj, name)
+        assert isinstance(col, np.ndarray) and col.shape == (101,)
+        assert col.dtype == (np.dtype("U12") if name == "mode" else np.float64)
+        assert not col.flags.writeable
+        assert getattr(traj, name) is col, "arrays are made once"
+    with pytest.raises(ValueError, match="read-only"):
+        traj.x[0] = 1.0
+    assert traj.units["t"] == "s" and traj.units["mode"] == "1" and list(traj.units) == list(ellipsoid.COLUMNS)
+    assert list(traj.to_dict()) == list(ellipsoid.COLUMNS)
+    assert traj.scenario == ellipsoid.load(NUTATION, output={"t_end": 0.1})
+    assert "101 samples" in repr(traj)
+
+
+def test_loss_of_contact_is_an_outcome_not_an_error() -> None:
+    traj = ellipsoid.simulate(tumbling())
+    assert traj.status == "lost_contact" and not traj.completed
+    assert [e["kind"] for e in traj.events] == ["lost_contact"]
+    assert traj.t[-1] == traj.events[0]["t"] < 1.0, "the trajectory ends at the event"
+    assert abs(traj.normal_force[-1]) < 1e-9
+    assert "the body leaves the plane" in traj.message
+
+
+def test_pure_sliding_slip_stop_is_an_outcome() -> None:
+    traj = ellipsoid.simulate(REPO / "scenarios" / "egg.toml")
+    assert traj.status == "slip_stopped"
+    assert traj.events[-1]["kind"] == "slip_stop" and traj.t[-1] == traj.events[-1]["t"]
+    assert traj.slip_speed[-1] < 1e-6 * traj.slip_speed[0]
+
+
+def test_painleve_is_a_simulation_error_with_the_partial_trajectory() -> None:
+    with pytest.raises(ellipsoid.SimulationError) as info:
+        ellipsoid.simulate(needle())
+    err = info.value
+    assert isinstance(err, RuntimeError) and isinstance(err, ellipsoid.EllipsoidError)
+    assert str(err).startswith("Painlevé inconsistency at t = 0.034"), str(err)
+    assert err.status == "painleve"
+    traj = err.trajectory
+    assert isinstance(traj, ellipsoid.Trajectory) and traj.status == "painleve"
+    assert traj.summary["message"] == str(err)
+    assert traj.events[-1]["kind"] == "painleve" and traj.t[-1] == traj.events[-1]["t"]
+    assert 30 < len(traj) < 40 and np.all(np.isfinite(traj.normal_force))
+
+
+def test_painleve_at_t0_is_a_scenario_error() -> None:
+    with pytest.raises(ellipsoid.ScenarioError, match="Painlevé inconsistency at t = 0"):
+        ellipsoid.simulate(needle(friction=2.0, velocity=(0.0, 1.0)))
+
+
+def test_solver_failure_is_a_simulation_error() -> None:
+    s = ellipsoid.load(NUTATION, solver={"max_steps": 5}, output={"t_end": 1.0})
+    with pytest.raises(ellipsoid.SimulationError) as info:
+        ellipsoid.simulate(s)
+    assert info.value.status == "solver_failure"
+    assert len(info.value.trajectory) >= 1
+
+
+def test_no_panic_reaches_python_on_odd_inputs() -> None:
+    """Extreme but accepted values end in a result or an EllipsoidError, never a panic."""
+    base = ellipsoid.load(NUTATION, output={"t_end": 0.05})
+    odd: list[dict[str, object]] = [
+        {"initial.theta": 0.0, "initial.theta_deg": None},
+        {"initial.psi_dot": 1e12},
+        {"initial.psi_dot": 0.0},
+        {"body.a": 1e-9, "body.c": 1e-9, "body.com_offset": 0.0, "body.inertia": "uniform"},
+        {"body.mass": 1e30},
+        {"effects.gravity": 0.0},
+        {"effects.gravity": 1e12},
+        {"solver.method": "rk4", "solver.step": 0.05},
+        {"solver.rtol": 1e-3, "solver.atol": 1e3},
+        {"output.times": [0.05], "output.dt": None},
+        {"contact.model": "coulomb", "contact.friction": 0.0},
+        {"contact.model": "coulomb", "contact.friction": 1e9},
+    ]
+    for changes in odd:
+        sets = {k: v for k, v in changes.items() if v is not None}
+        if "initial.theta_deg" in changes or "output.dt" in changes:
+            text = NUTATION.read_text().replace("theta_deg = 10.0\n", "" if "initial.theta_deg" in changes else "theta_deg = 10.0\n")
+            text = text.replace("dt = 1e-3\n", "" if "output.dt" in changes else "dt = 1e-3\n")
+            make = lambda: ellipsoid.Scenario.from_toml(text, name="odd", **{"output.t_end": 0.05, **sets})  # noqa: E731
+        else:
+            make = lambda: base.replace(**sets)  # noqa: E731
+        try:
+            ellipsoid.simulate(make())
+        except ellipsoid.EllipsoidError as e:
+            assert not isinstance(e, ellipsoid.InternalError), (changes, e)
+        except BaseException as e:  # pragma: no cover - the failure we test for
+            pytest.fail(f"{changes}: {type(e).__name__}: {e}")
+
+
+# ----------------------------------------------------------------- sweeps
+
+
+def test_sweep_equals_serial_runs_in_input_order() -> None:
+    base = ellipsoid.load(REPO / "scenarios" / "tippe-top.toml", output={"t_end": 1.0})
+    scenarios: list[ellipsoid.Scenario | str] = [base.replace(contact={"friction": mu}) for mu in (0.5, 0.05, 0.3, 0.1, 0.2)]
+    scenarios.append(str(NUTATION))  # paths are accepted too
+    serial = [ellipsoid.simulate(s) for s in scenarios]
+    for workers in (None, 1, 2):
+        parallel = ellipsoid.sweep(scenarios, workers=workers)
+        assert len(parallel) == len(serial)
+        for a, b in zip(serial, parallel):
+            assert a.scenario == b.scenario
+            for name in ellipsoid.COLUMNS:
+                np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+            sa, sb = a.summary, b.summary
+            sa.pop("wall_time_s"), sb.pop("wall_time_s")
+            assert sa == sb
+    summaries = ellipsoid.sweep(scenarios, 2, summaries_only=True)
+    assert [s["final"] for s in summaries] == [t.summary["final"] for t in serial]
+    assert [s["samples"] for s in summaries] == [len(t) for t in serial]
+
+
+def test_sweep_failures_raise_in_order_or_are_returned() -> None:
+    good = ellipsoid.load(NUTATION, output={"t_end": 0.1})
+    items: list[ellipsoid.Scenario | str] = [good, needle(), "/nonexistent.toml", tumbling()]
+    with pytest.raises(ellipsoid.ScenarioError, match="/nonexistent.toml"):
+        ellipsoid.sweep(items)
+    with pytest.raises(ellipsoid.SimulationError, match="Painlevé"):
+        ellipsoid.sweep([good, needle(), tumbling()])
+    out = ellipsoid.sweep(items, errors="return")
+    assert isinstance(out[0], ellipsoid.Trajectory) and out[0].completed
+    assert isinstance(out[1], ellipsoid.SimulationError) and out[1].trajectory.status == "painleve"
+    assert isinstance(out[2], ellipsoid.ScenarioError)
+    assert isinstance(out[3], ellipsoid.Trajectory) and out[3].status == "lost_contact"
+    with pytest.raises(ValueError, match="workers = 0"):
+        ellipsoid.sweep([good], workers=0)
+    with pytest.raises(ValueError, match="errors"):
+        ellipsoid.sweep([good], errors="ignore")  # type: ignore[call-overload]
+    assert ellipsoid.sweep([]) == []
+
+
+# ----------------------------------------------------------------- GIL and Ctrl-C
+
+LONG = {"output": {"t_end": 1e6, "dt": 1.0}}  # about half an hour of computing
+
+
+def test_gil_is_released_while_simulating() -> None:
+    counter = 0
+    done = False
+
+    def spin() -> None:
+        nonlocal counter
+        while not done:
+            counter += 1
+
+    thread = threading.Thread(target=spin)
+    thread.start()
+    try:
+        time.sleep(0.05)
+        before = counter
+        traj = ellipsoid.simulate(NUTATION, output={"t_end": 100.0, "dt": 0.01})
+        during = counter - before
+    finally:
+        done = True
+        thread.join()
+    assert traj.summary["wall_time_s"] > 0.05
+    # With the GIL held for the whole run the other thread could not count at all.
+    assert during > 100_000, during
+
+
+@pytest.mark.parametrize("how", ["interrupt_main", "os.kill"])
+def test_ctrl_c_interrupts_a_long_run(how: str) -> None:
+    def fire() -> None:
+        if how == "interrupt_main":
+            _thread.interrupt_main()
+        else:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    timer = threading.Timer(0.5, fire)
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            ellipsoid.simulate(NUTATION, **LONG)
+    finally:
+        timer.cancel()
+    elapsed = time.monotonic() - start
+    assert 0.4 < elapsed < 2.0, elapsed
+
+
+def test_ctrl_c_interrupts_a_sweep() -> None:
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            ellipsoid.sweep([ellipsoid.load(NUTATION, **LONG)] * 4, workers=2)
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 2.0
+    # The package still works afterwards.
+    assert ellipsoid.simulate(NUTATION, output={"t_end": 0.01}).completed
+
+
+# ----------------------------------------------------------------- files
+
+
+def test_output_errors_are_oserrors(tmp_path: Path) -> None:
+    traj = ellipsoid.simulate(NUTATION, output={"t_end": 0.01})
+    with pytest.raises(ellipsoid.OutputError) as info:
+        traj.to_csv(tmp_path / "missing-dir" / "x.csv")
+    assert isinstance(info.value, OSError) and info.value.errno == errno.ENOENT
+    assert str(info.value).startswith(str(tmp_path / "missing-dir" / "x.csv"))
+    assert not (tmp_path / "missing-dir").exists()
+
+
+def test_to_pandas_has_every_column() -> None:
+    pd = pytest.importorskip("pandas")
+    traj = ellipsoid.simulate(REPO / "scenarios" / "billiard.toml", output={"t_end": 0.2})
+    df = traj.to_pandas()
+    assert isinstance(df, pd.DataFrame) and list(df.columns) == list(ellipsoid.COLUMNS) and len(df) == len(traj)
+    np.testing.assert_array_equal(df["energy"].to_numpy(), traj.energy)
+    assert set(df["mode"]) <= {"sliding", "rolling"}
+
+
+@pytest.mark.skipif(not ellipsoid.HDF5, reason="built without HDF5 (see test_hdf5_unavailable_says_how_to_get_it)")
+def test_hdf5_round_trip_through_h5py(tmp_path: Path) -> None:
+    h5py = pytest.importorskip("h5py")
+    traj = ellipsoid.simulate(REPO / "scenarios" / "billiard.toml", output={"t_end": 0.3})
+    path = tmp_path / "billiard.h5"
+    traj.to_hdf5(path)
+    with h5py.File(path, "r") as f:
+        for name in ellipsoid.COLUMNS:
+            if name == "mode":
+                assert [m.decode() for m in f["mode"][...]] == traj.mode.tolist()
+            else:
+                np.testing.assert_array_equal(f[name][...], getattr(traj, name), err_msg=name)
+                assert f[name].attrs["units"] == traj.units[name]
+        assert f.attrs["status"] == "completed"
+        assert f.attrs["scenario"] == traj.scenario.text
+        import json
+
+        stored = json.loads(f.attrs["summary"])
+        expected = traj.summary
+        assert stored["output"] == str(path)
+        stored.pop("output"), expected.pop("output")
+        assert stored == expected
+    traj.save(tmp_path / "again.hdf5")
+    assert (tmp_path / "again.hdf5").stat().st_size > 0
+
+
+@pytest.mark.skipif(ellipsoid.HDF5, reason="built with HDF5")
+def test_hdf5_unavailable_says_how_to_get_it(tmp_path: Path) -> None:
+    traj = ellipsoid.simulate(NUTATION, output={"t_end": 0.01})
+    for write in (traj.to_hdf5, traj.save):
+        with pytest.raises(ellipsoid.OutputError, match=r"built without HDF5 support; reinstall it with .*--features hdf5"):
+            write(tmp_path / "x.h5")
+    assert not list(tmp_path.iterdir())
