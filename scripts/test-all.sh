@@ -17,4 +17,19 @@ fi
 echo "== cargo test"
 cargo test --release --features ellipsoid-cli/hdf5
 
+# 3. Python: the package built from source by pip (PEP 517 through maturin) in a fresh
+#    venv, with HDF5 (the library is installed above), then pytest. The command-line tool
+#    that `cargo test --release` just built is the reference of the parity tests.
+echo "== python"
+target="${CARGO_TARGET_DIR:-target}"
+case "$target" in /*) ;; *) target="$PWD/$target" ;; esac
+export ELLIPSOID_CLI="$target/release/ellipsoid"
+[ -x "$ELLIPSOID_CLI" ] || cargo build --release --features ellipsoid-cli/hdf5 -p ellipsoid-cli
+export ELLIPSOID_EXPECT_HDF5=1
+rm -rf .venv
+python3 -m venv .venv
+.venv/bin/python -m pip install --quiet --disable-pip-version-check maturin numpy pytest scipy h5py pandas mypy
+.venv/bin/python -m pip install --quiet --disable-pip-version-check ./crates/ellipsoid-py -C maturin.build-args="--features hdf5"
+.venv/bin/python -m pytest -q crates/ellipsoid-py/tests
+
 echo "all tests passed"

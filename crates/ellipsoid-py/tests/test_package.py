@@ -51,3 +51,13 @@ def test_stubs_match_the_module() -> None:
     pytest.importorskip("mypy")
     done = subprocess.run([sys.executable, "-m", "mypy.stubtest", "ellipsoid"], capture_output=True, text=True, timeout=300)
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_build_has_hdf5_when_expected() -> None:
+    """scripts/test-all.sh builds with HDF5 and says so, so that a wheel that silently
+    lacks it fails instead of skipping the round trip."""
+    import os
+
+    if os.environ.get("ELLIPSOID_EXPECT_HDF5") != "1":
+        pytest.skip("ELLIPSOID_EXPECT_HDF5 is not set")
+    assert ellipsoid.HDF5
