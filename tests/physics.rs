@@ -425,7 +425,7 @@ fn painleve_inconsistency_is_a_clear_error() {
     // Already inconsistent at t = 0: rejected before integrating.
     let s = scene(needle, ContactModel::Sliding { friction: 2.0 }, angles(0.3, 0.0, 0.0, 0.0, 0.0, 0.0), Some(Vector2::new(0.0, 1.0)), 0.2, 1e-3, TOL);
     let err = ellipsoid_core::simulate::simulate(&s, &mut |_| ControlFlow::Continue(())).unwrap_err().to_string();
-    assert!(err.starts_with("initial Painlevé denominator 1 + m u·I⁻¹(r × d) = -") && err.contains("Painlevé inconsistency at t = 0"), "{err}");
+    assert!(err.starts_with("contact.friction = 2: Painlevé inconsistency at t = 0") && err.contains("1 + m u·I⁻¹(r × d) = -"), "{err}");
 }
 
 #[test]

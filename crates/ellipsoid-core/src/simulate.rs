@@ -464,10 +464,18 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
             Mode::Rolling => self.roll.evaluate(&y).response,
         };
         if !(response.painleve > 0.0) {
+            let mu = match scene.contact {
+                ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } => friction,
+                _ => 0.0,
+            };
             return Err(ModelError::invalid(
-                "initial Painlevé denominator 1 + m u·I⁻¹(r × d)",
-                response.painleve,
-                "Painlevé inconsistency at t = 0: Coulomb sliding has no consistent normal force (reduce the friction coefficient)",
+                "contact.friction",
+                mu,
+                format!(
+                    "Painlevé inconsistency at t = 0: with this coefficient the sliding normal-force denominator \
+                     1 + m u·I⁻¹(r × d) = {} is not positive, so Coulomb sliding has no consistent contact force (reduce the friction)",
+                    response.painleve
+                ),
             ));
         }
         if !(response.normal > 0.0) {
