@@ -11,6 +11,7 @@ use common::*;
 use ellipsoid_core::body::Body;
 use ellipsoid_core::integrate::{self, Action, Direction, Event, Method, Options, StopReason};
 use ellipsoid_core::model::{Frictionless, System};
+use ellipsoid_core::reference;
 use ellipsoid_core::simulate::{ContactModel, EventKind, Mode, Status};
 use ellipsoid_core::state::{self, State};
 use nalgebra::{Vector2, Vector3};
@@ -35,82 +36,6 @@ fn inv_frictionless_conserves_energy_momentum_lz_and_spin() {
     assert!(hi - lo > 1e-3, "θ range {lo}..{hi}");
 }
 
-/// Gauss–Legendre nodes and weights on [−1, 1] (Newton on P_n, Golub-free classic).
-fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
-    (1..=n)
-        .map(|i| {
-            let mut x = (PI * (i as f64 - 0.25) / (n as f64 + 0.5)).cos();
-            let mut dp = 0.0;
-            for _ in 0..100 {
-                let (mut p0, mut p1) = (1.0, x);
-                for k in 2..=n {
-                    let p2 = ((2 * k - 1) as f64 * x * p1 - (k - 1) as f64 * p0) / k as f64;
-                    p0 = p1;
-                    p1 = p2;
-                }
-                dp = n as f64 * (x * p1 - p0) / (x * x - 1.0);
-                let dx = p1 / dp;
-                x -= dx;
-                if dx.abs() < 1e-16 {
-                    break;
-                }
-            }
-            (x, 2.0 / ((1.0 - x * x) * dp * dp))
-        })
-        .collect()
-}
-
-/// Nutation period of the frictionless body of revolution from the one-degree-of-freedom
-/// reduction of PHYSICS.md:
-///   ½ (I + m h'(θ)²) θ̇² + V(θ) = E_r,  V = (L_z − I3 n cosθ)²/(2 I sin²θ) + m g h(θ),
-///   T = 2 ∫ dθ/θ̇ between the turning points. With θ = mid + (Δ/2) sin χ the endpoint
-///   singularities cancel and the integrand is analytic in χ, so Gauss–Legendre converges
-///   exponentially.
-fn quadrature_period(a: f64, c: f64, d2: f64, m: f64, i: f64, i3: f64, theta: f64, theta_dot: f64, phi_dot: f64, psi_dot: f64) -> f64 {
-    let h = |t: f64| (a * a * t.sin().powi(2) + c * c * t.cos().powi(2)).sqrt() - d2 * t.cos();
-    let dh = |t: f64| (a * a - c * c) * t.sin() * t.cos() / (a * a * t.sin().powi(2) + c * c * t.cos().powi(2)).sqrt() + d2 * t.sin();
-    let n = phi_dot * theta.cos() + psi_dot;
-    let lz = i * phi_dot * theta.sin().powi(2) + i3 * n * theta.cos();
-    let v = |t: f64| (lz - i3 * n * t.cos()).powi(2) / (2.0 * i * t.sin().powi(2)) + m * G * h(t);
-    let e = 0.5 * (i + m * dh(theta).powi(2)) * theta_dot * theta_dot + v(theta);
-    // Turning points: bracket around the minimum of V, then bisect to the last bit.
-    let grid: Vec<f64> = (1..20000).map(|k| k as f64 * PI / 20000.0).collect();
-    let t_min = *grid.iter().min_by(|x, y| v(**x).total_cmp(&v(**y))).unwrap();
-    let root = |mut lo: f64, mut hi: f64| {
-        // f = E − V changes sign on [lo, hi]
-        let f = |t: f64| e - v(t);
-        let flo = f(lo);
-        for _ in 0..200 {
-            let mid = 0.5 * (lo + hi);
-            if mid == lo || mid == hi {
-                break;
-            }
-            if (f(mid) > 0.0) == (flo > 0.0) { lo = mid } else { hi = mid }
-        }
-        0.5 * (lo + hi)
-    };
-    let lo = root(1e-9, t_min);
-    let hi = root(t_min, PI - 1e-9);
-    let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
-    let integrate = |nodes: &[(f64, f64)]| {
-        nodes
-            .iter()
-            .map(|&(x, w)| {
-                let chi = x * PI / 2.0;
-                let t = mid + half * chi.sin();
-                let integrand = half * chi.cos() * ((i + m * dh(t).powi(2)) / (2.0 * (e - v(t)))).sqrt();
-                w * integrand * PI / 2.0
-            })
-            .sum::<f64>()
-            * 2.0
-    };
-    let t64 = integrate(&gauss_legendre(64));
-    let t96 = integrate(&gauss_legendre(96));
-    // Converged far below the 1e-8 the period test asks for.
-    assert!((t64 - t96).abs() < 1e-10 * t64, "quadrature not converged: {t64} vs {t96}");
-    t96
-}
-
 fn initial_state(body: &Body, a: &ellipsoid_core::state::EulerAngles) -> State {
     let _ = body;
     let mut y = State::zeros();
@@ -125,7 +50,10 @@ fn val_nutation_period_matches_quadrature() {
     let (i, i3) = (m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0);
     let body = Body::of_revolution(a, c, m, i, i3, d2).unwrap();
     let init = angles(0.1745, 0.0, 0.0, 0.0, 0.0, 60.0);
-    let expected = quadrature_period(a, c, d2, m, i, i3, init.theta, init.theta_dot, init.phi_dot, init.psi_dot);
+    // Exact period from the 1-DOF reduction (quadrature in `ellipsoid_core::reference`).
+    let nutation = reference::nutation(&body, G, &initial_state(&body, &init)).unwrap();
+    assert!(nutation.uncertainty < 1e-10 * nutation.period, "quadrature not converged: {nutation:?}");
+    let expected = nutation.period;
     let sys = System { body: body.clone(), gravity: G, contact: Frictionless, effects: () };
     // θ̇ = 0 ⇔ d(cos θ)/dt = (ζ × ω_b)_3 = 0; rising crossings are the maxima of θ.
     let events = [Event {

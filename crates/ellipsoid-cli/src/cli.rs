@@ -22,6 +22,16 @@ pub enum Command {
     Run(RunArgs),
     /// Validate a scenario and print its derived quantities, without simulating.
     Check(CheckArgs),
+    /// Work–precision report: run every method over a grid of settings, measure error
+    /// against a reference, invariant drift, wall time, evaluations and steps; write
+    /// precision.csv, error_vs_time.svg and error_vs_evaluations.svg.
+    ///
+    /// Grid: RK4 at h = 1e-2 … 1e-6 s (half decades), DOPRI5 and DOP853 at rtol = 1e-3 …
+    /// 1e-13, atol = rtol × (the scenario's atol/rtol). Error: the relative nutation-period
+    /// error and invariant drift for frictionless bodies of revolution (exact
+    /// quadrature), otherwise the final-state error against DOP853 at rtol = 1e-14. See
+    /// docs/performance.md.
+    Precision(PrecisionArgs),
 }
 
 #[derive(Debug, Args)]
@@ -40,6 +50,33 @@ pub struct RunArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// Print nothing but errors on standard error.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct PrecisionArgs {
+    /// The scenario file (TOML).
+    pub scenario: PathBuf,
+    /// Output directory (created as needed). Default: out/precision/STEM.
+    #[arg(short, long, value_name = "DIR")]
+    pub output: Option<PathBuf>,
+    /// Simulated time per run (s). Default: the scenario's t_end, at most 10 s (RK4 at
+    /// h = 1e-6 s then takes 1e7 steps, a few seconds per run).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Three settings per method (RK4 h = 1e-2, 1e-3, 1e-4 s; rtol = 1e-4, 1e-7, 1e-10)
+    /// and one timing run each.
+    #[arg(long)]
+    pub quick: bool,
+    /// Fewest timed runs per setting (more are made while a setting has taken under
+    /// 0.3 s, at most 15); the median is reported. Default 3 (1 with --quick).
+    #[arg(long, value_name = "N")]
+    pub repeats: Option<usize>,
+    /// Override a scenario value before validation (as for `run`). Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// No progress lines on standard error.
     #[arg(short, long)]
     pub quiet: bool,
 }

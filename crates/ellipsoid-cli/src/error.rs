@@ -12,6 +12,15 @@ pub enum CliError {
     /// format this build cannot write).
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// A plot could not be drawn (exit 1).
+    #[error("cannot draw the plot: {0}")]
+    Plot(String),
+    /// A bad command-line value (exit 2).
+    #[error("{0}")]
+    Usage(String),
+    /// `precision` found no trustworthy reference (exit 3).
+    #[error("no reference: {0}")]
+    Reference(String),
 }
 
 impl CliError {
@@ -20,7 +29,9 @@ impl CliError {
         match self {
             CliError::Scenario(_) => 2,
             CliError::Output(OutputError::UnknownFormat { .. } | OutputError::Hdf5Unavailable { .. }) => 2,
-            CliError::Output(_) => 1,
+            CliError::Output(_) | CliError::Plot(_) => 1,
+            CliError::Usage(_) => 2,
+            CliError::Reference(_) => 3,
         }
     }
 }

@@ -7,6 +7,8 @@
 mod check;
 mod cli;
 mod error;
+mod plot;
+mod precision;
 mod progress;
 mod run;
 
@@ -25,6 +27,7 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         cli::Command::Run(args) => run::run(args),
         cli::Command::Check(args) => check::check(args),
+        cli::Command::Precision(args) => precision::precision(args),
     };
     match result {
         Ok(code) => code,

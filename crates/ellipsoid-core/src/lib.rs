@@ -10,6 +10,7 @@ pub mod error;
 pub mod geometry;
 pub mod invariants;
 pub mod model;
+pub mod reference;
 pub mod scenario;
 pub mod simulate;
 pub mod state;
