@@ -6,8 +6,6 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy import integrate, optimize
-
 import ellipsoid
 from conftest import A, BUNDLED, C, D2, I1, I3, M, oblate
 
@@ -54,6 +52,8 @@ def nutation_period(theta0: float, psi_dot0: float) -> float:
     of cosines and of square roots as products), so that the integrand keeps full
     precision next to the turning points, where both θ̇ and cos χ vanish.
     """
+    scipy_integrate = pytest.importorskip("scipy.integrate")
+    optimize = pytest.importorskip("scipy.optimize")
     n = psi_dot0
     p0 = np.sqrt(A**2 * np.sin(theta0) ** 2 + C**2 * np.cos(theta0) ** 2)
 
@@ -88,7 +88,7 @@ def nutation_period(theta0: float, psi_dot0: float) -> float:
         mass = I1 + M * dh(th) ** 2
         return half * np.cos(chi) / np.sqrt(2 * kinetic / mass)
 
-    value, _ = integrate.quad(integrand, -np.pi / 2, np.pi / 2, epsabs=0, epsrel=1e-13, limit=200)
+    value, _ = scipy_integrate.quad(integrand, -np.pi / 2, np.pi / 2, epsabs=0, epsrel=1e-13, limit=200)
     # Cross-check with a Gauss–Legendre rule (the integrand is smooth). They agree to
     # ~1e-12: K still loses digits next to the far turning point, where its two terms
     # cancel, and more nodes there only sample that round-off; 1e-10 is ample for a
