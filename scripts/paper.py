@@ -241,6 +241,14 @@ def frictionless(run: Runner, out: Path, m: dict) -> None:
     fig.tight_layout(rect=(0, 0.02, 1, 1))
     save(fig, out, "fig07b.png")
     m["fig07b_mass_1e-4"] = rows
+    # The trend with c depends on the initial state: released at 12° spinning about its own
+    # axis only, the amplitude falls as c grows.
+    rows = []
+    for c in (C_VALUES[0], C_VALUES[-1]):
+        r = run(base, [f"body.c={c}", "initial.theta_deg=12.0", "initial.phi_dot=0.0", "initial.psi_dot=60.0"])
+        th = np.degrees(r["theta"])
+        rows.append({"c": c, "theta_min_deg": float(th.min()), "theta_max_deg": float(th.max())})
+    m["fig07_spin_only_theta0_12deg_psi_dot_60"] = rows
 
     # Fig. 8: the three rates at c = 0.0125 m share the period of θ.
     r = run("fig08-frictionless-rates.toml")
@@ -303,6 +311,7 @@ def sliding(run: Runner, out: Path, m: dict) -> None:
         "energy_J": [float(r["energy"][0]), float(r["energy"][-1])],
         "energy_plus_work_drift": r.summary["drift"]["energy_plus_work"],
         "final_mode": str(r.mode[-1]),
+        "theta_at_deg": {f"{tq:g}": float(np.interp(tq, t, th)) for tq in (0.5, 1.0, 2.0, 3.0, 3.5)},
     }
     m["fig11"] = {"theta_dot_max_abs_deg_s": float(np.abs(thd).max()),
                   "theta_dot_max_abs_deg_s_after_5s": float(np.abs(thd[late]).max())}
