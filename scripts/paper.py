@@ -543,8 +543,12 @@ def trajectories(run: Runner, out: Path, m: dict) -> None:
             fig = plt.figure(figsize=(7, 6))
             ax = fig.add_subplot(projection="3d")
             ax.plot(x, y, z, lw=0.8)
+            # Shadows on the floor and two walls: the XY, XZ and YZ projections.
             zf = np.full_like(z, z.min() - 0.2 * (z.max() - z.min() + 1e-9))
             ax.plot(x, y, zf, lw=0.4, color="0.6")
+            pad = 0.15 * max(np.ptp(x), np.ptp(y))
+            ax.plot(x, np.full_like(y, y.max() + pad), z, lw=0.4, color="0.6")
+            ax.plot(np.full_like(x, x.min() - pad), y, z, lw=0.4, color="0.6")
             ax.plot(x[:1], y[:1], z[:1], "ko", ms=4)
             ax.set(xlabel="X (mm)", ylabel="Y (mm)", zlabel="Z (mm)")
             ax.set_title(title, fontsize=9)
