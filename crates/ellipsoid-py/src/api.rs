@@ -41,7 +41,7 @@ pub fn simulate(py: Python<'_>, scenario: &Bound<'_, PyAny>, changes: Option<&Bo
 fn finish(py: Python<'_>, result: Result<Run, Failure>, summary_only: bool) -> PyResult<Bound<'_, PyAny>> {
     let run = match result {
         Ok(run) => run,
-        Err(Failure::Model(scenario, e)) => return Err(errors::scenario_error(py, &scenario.locate(&e))),
+        Err(Failure::Model(e)) => return Err(errors::scenario_error(py, &e)),
         Err(Failure::Panic(msg)) => return Err(errors::internal_error(py, &msg)),
     };
     let failure = match &run.non_finite {

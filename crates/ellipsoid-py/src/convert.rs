@@ -62,10 +62,10 @@ pub fn toml_value(key: &str, value: &Bound<'_, PyAny>) -> PyResult<toml::Value> 
             return toml_value(key, &plain);
         }
     }
-    if value.hasattr("__index__")? {
-        if let Ok(i) = value.call_method0("__index__") {
-            return toml_value(key, &i);
-        }
+    if value.hasattr("__index__")?
+        && let Ok(i) = value.call_method0("__index__")
+    {
+        return toml_value(key, &i);
     }
     if value.hasattr("__float__")? {
         return Ok(toml::Value::Float(value.extract::<f64>()?));

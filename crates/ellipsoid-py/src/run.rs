@@ -14,8 +14,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use ellipsoid_core::error::ModelError;
-use ellipsoid_core::scenario::Scenario;
+use ellipsoid_core::scenario::{Scenario, ScenarioError};
 use ellipsoid_core::simulate::{self, Sample, Status};
 use ellipsoid_io::{columns, Summary};
 use pyo3::prelude::*;
@@ -44,8 +43,9 @@ pub struct Run {
 
 /// Why a run produced no result.
 pub enum Failure {
-    /// The physics layer rejected the scene (an input error found at t = 0).
-    Model(Scenario, ModelError),
+    /// The physics layer rejected the scene (an input error found at t = 0), placed in
+    /// the scenario like the command-line tool does.
+    Model(Box<ScenarioError>),
     /// A panic (its message).
     Panic(String),
 }
@@ -76,7 +76,7 @@ pub fn run(scenario: Scenario, keep_samples: bool, cancel: &AtomicBool) -> Resul
     let wall_time_s = start.elapsed().as_secs_f64();
     let outcome = match result {
         Ok(o) => o,
-        Err(e) => return Err(Failure::Model(scenario, e)),
+        Err(e) => return Err(Failure::Model(Box::new(scenario.locate(&e)))),
     };
     let mut summary = Summary::new(&scenario, &outcome, wall_time_s, rows, None, VERSION);
     if let Some(n) = &non_finite {
@@ -115,11 +115,11 @@ pub fn detached<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + S
                 match rx.recv_timeout(POLL) {
                     Ok(r) => return r,
                     Err(mpsc::RecvTimeoutError::Timeout) => {
-                        if interrupt.is_none() {
-                            if let Err(e) = Python::attach(|py| py.check_signals()) {
-                                interrupt = Some(e);
-                                cancel.store(true, Ordering::Relaxed);
-                            }
+                        if interrupt.is_none()
+                            && let Err(e) = Python::attach(|py| py.check_signals())
+                        {
+                            interrupt = Some(e);
+                            cancel.store(true, Ordering::Relaxed);
                         }
                     }
                     Err(mpsc::RecvTimeoutError::Disconnected) => return Err("the worker thread ended without a result".into()),
