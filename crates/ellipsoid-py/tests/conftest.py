@@ -12,7 +12,12 @@ import ellipsoid
 
 REPO = Path(__file__).resolve().parents[3]
 SCENARIOS = REPO / "scenarios"
-BUNDLED = sorted(SCENARIOS.glob("*.toml"))
+# Every bundled scenario, the paper reproduction's (scenarios/paper/) included.
+BUNDLED = sorted(SCENARIOS.rglob("*.toml"))
+
+
+def scenario_id(path: Path) -> str:
+    return str(path.relative_to(SCENARIOS).with_suffix(""))
 
 # The oblate body (paper §2): a = 0.025, c = 0.0175, D2 = 0.003 m, m = 0.05 kg,
 # I = m(a² + c²)/5, I3 = 2ma²/5.

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import ellipsoid
-from conftest import BUNDLED, REPO
+from conftest import BUNDLED, REPO, scenario_id
 
 # Fields of the summary that legitimately differ between two runs of the same scenario.
 VOLATILE = {"wall_time_s", "output"}
@@ -33,7 +33,7 @@ def read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
     return rows[0], rows[1:]
 
 
-@pytest.mark.parametrize("path", BUNDLED, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", BUNDLED, ids=scenario_id)
 def test_regress_bundled_scenario_matches_the_cli(cli: Path, path: Path, tmp_path: Path, monkeypatch) -> None:
     monkeypatch.chdir(REPO)
     rel = str(path.relative_to(REPO))

@@ -7,12 +7,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 import ellipsoid
-from conftest import A, BUNDLED, C, D2, I1, I3, M, oblate
+from conftest import A, BUNDLED, C, D2, I1, I3, M, oblate, scenario_id
 
 G = 9.81
 
 
-@pytest.mark.parametrize("path", BUNDLED, ids=lambda p: p.stem)
+@pytest.mark.parametrize("path", BUNDLED, ids=scenario_id)
 def test_inv_bundled_scenario_meets_its_check_table(path: Path) -> None:
     """Each bundled scenario's [check] table (expected status, largest relative drifts)."""
     traj = ellipsoid.simulate(path)
