@@ -86,6 +86,30 @@ fn hard_2_slip_stop_without_chattering() {
     }
 }
 
+/// The paper's sliding body (a = 0.025, c = 0.0225, D2 = 0.003 m, I = 3.075e-6 kg m²)
+/// spun about the vertical under low Coulomb friction: the slip grazes zero (friction
+/// barely able to stop it) or stick and slip alternate with the nutation. Both once
+/// stalled the integrator near |v_C| = 0 (steps of 1e-11 s for ever).
+#[test]
+fn hard_2_grazing_slip_and_repeated_stick_slip_complete() {
+    let body = |m: f64, i3: f64| Body::of_revolution(0.025, 0.0225, m, 3.075e-6, i3, 0.003).unwrap();
+    let mut grazing = scene(body(0.0136, 3.4e-6), ContactModel::Coulomb { friction: 0.15 }, angles(2f64.to_radians(), 0.0, 0.0, 0.0, 120.0, 0.0), Some(Vector2::zeros()), 1.0, 1e-3, 1e-11);
+    grazing.solver.atol = 1e-13;
+    let mut repeated = scene(body(0.02, 5e-6), ContactModel::Coulomb { friction: 0.05 }, angles(10f64.to_radians(), 0.0, 0.0, 0.0, 150.0, 0.0), Some(Vector2::zeros()), 2.0, 1e-3, 1e-10);
+    repeated.solver.atol = 1e-12;
+    for (name, s, max_steps) in [("grazing", grazing, 20_000), ("repeated", repeated, 600_000)] {
+        let (out, _) = run(&s);
+        assert_eq!(out.status, Status::Completed, "{name}");
+        let steps = out.stats.accepted + out.stats.rejected;
+        let switches = out.events.iter().filter(|e| matches!(e.kind, EventKind::ModeSwitch { .. })).count();
+        assert!(steps < max_steps, "{name}: {steps} steps");
+        assert!(out.stats.min_step > 1e-12, "{name}: step size collapsed to {:e} s", out.stats.min_step);
+        let balance = out.drift.energy_plus_work.unwrap();
+        assert!(balance < 1e-9, "{name}: E + W drift {balance:e}");
+        measured("2 slip stop", format!("{name}: {switches} switches, {steps} steps, smallest {:.1e} s, E+W drift {balance:.1e}", out.stats.min_step));
+    }
+}
+
 // 3 ------------------------------------------------------------ near loss of contact
 
 /// A uniform prolate ellipsoid (a = 0.02, c = 0.04 m) tumbling end over end on a

@@ -24,6 +24,7 @@ use crate::effects::{AirDrag, Effect, RollingResistance, SpinFriction};
 use crate::error::ModelError;
 use crate::integrate::{self, Action, Direction, Event, Method, OdeSystem, Options, Stats, StopReason, Warning};
 use crate::invariants::Invariants;
+use crate::model::sliding::SLIP_FLOOR;
 use crate::model::{ContactLaw, Frictionless, Rolling, Sliding, System};
 use crate::state::{self, EulerAngles, State};
 
@@ -258,7 +259,8 @@ enum Watch {
     Normal,
     /// g = v_C·s_ref (slip stop).
     Slip,
-    /// g = |v_C| − ε·scale (a grazing slip stop).
+    /// g = |v_C| − ε·scale (a grazing slip stop), ε = max(SLIP_FLOOR, rtol): a slip
+    /// below the integration error is no slip.
     SlipFloor,
     /// g = Painlevé denominator.
     Painleve,
@@ -542,6 +544,7 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
             Mode::Rolling => watches.extend(self.coulomb().map(Watch::Cone)),
             Mode::Frictionless => {}
         }
+        let floor = SLIP_FLOOR.max(scene.solver.rtol);
         let events: Vec<Event<'_, { state::DIM }>> = watches
             .iter()
             .map(|&w| Event {
@@ -550,7 +553,7 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                     match w {
                         Watch::Normal => ev.response.normal,
                         Watch::Slip => Sliding::slip_along_reference(&ev.kin, y),
-                        Watch::SlipFloor => Sliding::slip_above_floor(&ev.kin),
+                        Watch::SlipFloor => Sliding::slip_above_floor(&ev.kin, floor),
                         Watch::Painleve => ev.response.painleve,
                         Watch::Cone(mu) => Rolling::cone_margin(&ev.response, mu),
                     }

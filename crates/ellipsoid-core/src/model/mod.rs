@@ -13,7 +13,7 @@
 
 mod frictionless;
 mod rolling;
-mod sliding;
+pub mod sliding;
 
 pub use frictionless::Frictionless;
 pub use rolling::Rolling;

@@ -29,9 +29,9 @@ pub struct Sliding {
 /// Relative size below which a slip speed is round-off of the body's velocities.
 const SLIP_ROUNDOFF: f64 = 1e-13;
 
-/// Relative slip speed at which a grazing slip counts as stopped (see
+/// Smallest relative slip speed at which a grazing slip counts as stopped (see
 /// [`Sliding::slip_above_floor`]); it moves a clean stop time by about
-/// 1e-10 (|v_G| + |ω × r|)/|v̇_C|, e.g. 3e-11 s for a billiard ball at 2 m/s.
+/// 1e-10 (|v_G| + |ω||r|)/|v̇_C|, e.g. 3e-11 s for a billiard ball at 2 m/s.
 pub const SLIP_FLOOR: f64 = 1e-10;
 
 impl Sliding {
@@ -39,8 +39,7 @@ impl Sliding {
     #[inline]
     pub fn direction(kin: &Kinematics, reference: Vector2<f64>) -> Vector2<f64> {
         let speed = kin.slip.norm();
-        let scale = kin.v_g.norm() + (kin.slip - kin.v_g.xy()).norm();
-        if speed <= SLIP_ROUNDOFF * scale || speed == 0.0 {
+        if speed <= SLIP_ROUNDOFF * Sliding::speed_scale(kin) || speed == 0.0 {
             reference
         } else if kin.slip.dot(&reference) >= 0.0 {
             kin.slip / speed
@@ -55,15 +54,21 @@ impl Sliding {
         kin.slip.dot(&state::slip_ref(y))
     }
 
-    /// Second event function for the slip stop: g = |v_C| − ε (|v_G| + |ω × r|) [m/s],
-    /// with ε = [`SLIP_FLOOR`]. When the slip grazes zero (friction barely able to stop
-    /// it, e.g. just after leaving rolling at the cone's edge) its direction turns
-    /// faster and faster and v_C·s_ref may never change sign; the slip is then stopped
-    /// at this floor, far below the integration tolerance.
+    /// The speed of the body's points near the contact, |v_G| + |ω||r| [m/s]: the
+    /// scale of the slip velocity's round-off and integration error.
     #[inline]
-    pub fn slip_above_floor(kin: &Kinematics) -> f64 {
-        let scale = kin.v_g.norm() + (kin.slip - kin.v_g.xy()).norm();
-        kin.slip.norm() - SLIP_FLOOR * scale
+    pub fn speed_scale(kin: &Kinematics) -> f64 {
+        kin.v_g.norm() + kin.omega.norm() * kin.contact.r.norm()
+    }
+
+    /// Second event function for the slip stop: g = |v_C| − ε (|v_G| + |ω||r|) [m/s],
+    /// with a relative floor ε ≥ [`SLIP_FLOOR`]. When the slip grazes zero (friction
+    /// barely able to stop it, e.g. just after leaving rolling at the cone's edge) its
+    /// direction turns at a rate ∝ 1/|v_C|, the steps collapse, and v_C·s_ref may never
+    /// change sign; the slip is then stopped at this floor, below the integration error.
+    #[inline]
+    pub fn slip_above_floor(kin: &Kinematics, floor: f64) -> f64 {
+        kin.slip.norm() - floor * Sliding::speed_scale(kin)
     }
 }
 
