@@ -181,6 +181,12 @@ pub fn status_error(status: &Status) -> Option<&str> {
     }
 }
 
+/// Runs `f`, turning a panic into `ellipsoid.InternalError` (pyo3 would raise its
+/// `PanicException`, a BaseException that `except Exception` does not catch).
+pub fn guard<T>(py: Python<'_>, f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|p| Err(internal_error(py, &crate::run::panic_message(&*p))))
+}
+
 /// A caught panic, as `ellipsoid.InternalError`.
 pub fn internal_error(py: Python<'_>, msg: &str) -> PyErr {
     Class::Internal.error(py, &format!("internal error: {msg}; please report it"), &[])

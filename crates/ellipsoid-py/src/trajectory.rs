@@ -78,14 +78,16 @@ impl Trajectory {
         summary.output = Some(path.display().to_string());
         let text = &self.scenario.inner.text;
         let samples = &self.samples;
-        py.detach(|| -> Result<(), OutputError> {
-            let mut w = writer(path)?;
-            for s in samples {
-                w.write(s)?;
-            }
-            w.finish(&Metadata { scenario_text: text, summary: &summary })
+        errors::guard(py, || {
+            py.detach(|| -> Result<(), OutputError> {
+                let mut w = writer(path)?;
+                for s in samples {
+                    w.write(s)?;
+                }
+                w.finish(&Metadata { scenario_text: text, summary: &summary })
+            })
+            .map_err(|e| errors::output_error(py, &e))
         })
-        .map_err(|e| errors::output_error(py, &e))
     }
 }
 
