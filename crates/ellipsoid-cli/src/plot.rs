@@ -28,7 +28,7 @@ fn log_bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 fn decade_label(v: f64) -> String {
-    let e = v.log10().round();
+    let e = v.log10().round() + 0.0; // + 0.0: no "1e-0"
     if (v / 10f64.powf(e) - 1.0).abs() < 1e-9 { format!("1e{e}") } else { String::new() }
 }
 
@@ -110,6 +110,9 @@ mod tests {
         }
         let decades = svg.lines().filter(|l| l.starts_with("1e")).count();
         assert!(decades >= 6, "{decades} decade labels");
+        assert_eq!(decade_label(1.0), "1e0");
+        assert_eq!(decade_label(1e-3), "1e-3");
+        assert_eq!(decade_label(2e-3), "");
     }
 
     #[test]
