@@ -86,6 +86,30 @@ fn hard_2_slip_stop_without_chattering() {
     }
 }
 
+/// The paper's fixed-step RK4 cannot resolve a slip smaller than friction removes in a
+/// step: it stops the slip a few steps early (first order in h), and the residual slip is
+/// removed by a frictional impulse that keeps E + W and the angular momentum about C.
+#[test]
+fn hard_2_fixed_step_rk4_stops_the_slip_without_chattering() {
+    let (v0, mu) = (2.0, 0.2);
+    let t_star = 2.0 * v0 / (7.0 * mu * G);
+    let mut errors = Vec::new();
+    for h in [1e-3, 1e-4, 1e-5] {
+        let mut s = scene(ball(0.028575, 0.17), ContactModel::Coulomb { friction: mu }, angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0), Some(Vector2::new(v0, 0.0)), 0.5, 1e-2, TOL);
+        s.solver.method = Method::Rk4 { h };
+        let (out, samples) = run(&s);
+        assert_eq!(out.status, Status::Completed);
+        let stop = out.events.iter().find(|e| e.kind == EventKind::SlipStop).expect("slip stops").t;
+        assert!((t_star - stop) < 20.0 * h && stop <= t_star + 1e-12, "h = {h}: stop at {stop} vs {t_star}");
+        errors.push(t_star - stop);
+        let v = samples.last().unwrap().velocity.norm();
+        assert!((v - 5.0 * v0 / 7.0).abs() < 1e-12 * v0, "h = {h}: rolls at {v}");
+        assert!(out.drift.energy_plus_work.unwrap() < 1e-12, "h = {h}: E + W {:e}", out.drift.energy_plus_work.unwrap());
+    }
+    assert!(errors[0] > 5.0 * errors[1] && errors[1] > 5.0 * errors[2], "stop error not first order in h: {errors:?}");
+    measured("2 slip stop", format!("RK4 billiard: stop early by {:.1e} / {:.1e} / {:.1e} s at h = 1e-3 / 1e-4 / 1e-5, rolls at 5v0/7 to 1e-12", errors[0], errors[1], errors[2]));
+}
+
 /// The paper's sliding body (a = 0.025, c = 0.0225, D2 = 0.003 m, I = 3.075e-6 kg m²)
 /// spun about the vertical under low Coulomb friction: the slip grazes zero (friction
 /// barely able to stop it) or stick and slip alternate with the nutation. Both once

@@ -220,6 +220,12 @@ pub struct Outcome {
 /// a solver failure there is the Painlevé singularity, N → ∞, and is reported as such.
 const PAINLEVE_COLLAPSE: f64 = 1e-3;
 
+/// A fixed-step method cannot resolve a slip smaller than friction removes in a few
+/// steps (μ g h each, times the lever's gain): below this many of those, the slip counts
+/// as stopped. Chosen so that the paper's RK4 at h = 1e-4 s stops the paper's sliding
+/// scene where DOP853 does instead of chattering on (see docs/hard-cases.md).
+const RK4_SLIP_STEPS: f64 = 10.0;
+
 /// Most mode switches a run may make before it is declared chattering.
 const MAX_SWITCHES: usize = 10_000;
 
@@ -513,9 +519,11 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         Sliding::direction(&kin, Vector2::zeros()) == Vector2::zeros()
     }
 
-    /// At zero slip under Coulomb friction: roll if the cone holds (N > 0 and
+    /// At zero slip under Coulomb friction (a residual slip removed by [`Rolling::stick`]):
+    /// roll if the cone holds (N > 0 and
     /// |F_h| ≤ μN), else start sliding opposite to the friction rolling would need.
     fn after_slip_stop(&self, mu: f64, y: &mut State) -> Mode {
+        Rolling::stick(&self.scene.body, y);
         self.roll.project(y);
         let response = self.roll.evaluate(y).response;
         if Rolling::cone_margin(&response, mu) >= 0.0 {
@@ -545,6 +553,10 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
             Mode::Frictionless => {}
         }
         let floor = SLIP_FLOOR.max(scene.solver.rtol);
+        let v_min = match (scene.solver.method, scene.contact) {
+            (Method::Rk4 { h }, ContactModel::Sliding { friction } | ContactModel::Coulomb { friction }) => RK4_SLIP_STEPS * friction * scene.gravity * h,
+            _ => 0.0,
+        };
         let events: Vec<Event<'_, { state::DIM }>> = watches
             .iter()
             .map(|&w| Event {
@@ -553,7 +565,7 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                     match w {
                         Watch::Normal => ev.response.normal,
                         Watch::Slip => Sliding::slip_along_reference(&ev.kin, y),
-                        Watch::SlipFloor => Sliding::slip_above_floor(&ev.kin, floor),
+                        Watch::SlipFloor => Sliding::slip_above_floor(&ev.kin, floor, v_min),
                         Watch::Painleve => ev.response.painleve,
                         Watch::Cone(mu) => Rolling::cone_margin(&ev.response, mu),
                     }

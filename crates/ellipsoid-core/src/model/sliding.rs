@@ -61,14 +61,16 @@ impl Sliding {
         kin.v_g.norm() + kin.omega.norm() * kin.contact.r.norm()
     }
 
-    /// Second event function for the slip stop: g = |v_C| − ε (|v_G| + |ω||r|) [m/s],
-    /// with a relative floor ε ≥ [`SLIP_FLOOR`]. When the slip grazes zero (friction
-    /// barely able to stop it, e.g. just after leaving rolling at the cone's edge) its
-    /// direction turns at a rate ∝ 1/|v_C|, the steps collapse, and v_C·s_ref may never
-    /// change sign; the slip is then stopped at this floor, below the integration error.
+    /// Second event function for the slip stop: g = |v_C| − max(ε (|v_G| + |ω||r|), v_min)
+    /// [m/s], with a relative floor ε ≥ [`SLIP_FLOOR`] and an absolute floor v_min. When
+    /// the slip grazes zero (friction barely able to stop it, e.g. just after leaving
+    /// rolling at the cone's edge) its direction turns at a rate ∝ 1/|v_C|, the steps
+    /// collapse, and v_C·s_ref may never change sign; the slip is then stopped at this
+    /// floor, below the integration error (a fixed-step method cannot resolve a slip
+    /// smaller than what friction removes in one step: v_min = μ g h).
     #[inline]
-    pub fn slip_above_floor(kin: &Kinematics, floor: f64) -> f64 {
-        kin.slip.norm() - floor * Sliding::speed_scale(kin)
+    pub fn slip_above_floor(kin: &Kinematics, floor: f64, v_min: f64) -> f64 {
+        kin.slip.norm() - (floor * Sliding::speed_scale(kin)).max(v_min)
     }
 }
 
