@@ -1,14 +1,12 @@
 //! `ellipsoid run`: simulate, stream the trajectory to a file, write the summary.
 
 use std::io::Write;
-use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
 
 use ellipsoid_core::scenario::{self, Scenario};
-use ellipsoid_core::simulate::{self, Sample};
-use ellipsoid_io::{atomic, columns, Format, Metadata, OutputError, Summary, TrajectoryWriter};
+use ellipsoid_io::run::Failure;
+use ellipsoid_io::{atomic, Format, Metadata, OutputError, Summary, TrajectoryWriter};
 
 use crate::cli::RunArgs;
 use crate::error::CliError;
@@ -16,14 +14,6 @@ use crate::progress::Progress;
 
 /// Exit status of a run that stopped before t_end.
 const EARLY_STOP: u8 = 3;
-
-/// Why the observer stopped the run.
-enum Stop {
-    /// A sample held NaN or infinity (it is not written).
-    NonFinite { t: f64, column: &'static str, value: f64 },
-    /// The trajectory file could not be written.
-    Write(OutputError),
-}
 
 pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     let scenario = scenario::load(&args.scenario, &args.set)?;
@@ -66,45 +56,19 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
 fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(Summary, Option<String>), CliError> {
     let mut writer = TrajectoryWriter::create(output)?;
     let mut progress = Progress::new(scenario.scene.t_end);
-    let mut stop: Option<Stop> = None;
-    let start = Instant::now();
-    let result = simulate::simulate(&scenario.scene, &mut |s| {
-        if stop.is_none() {
-            stop = accept(s, &mut writer).err();
-        }
-        if stop.is_some() {
-            return ControlFlow::Break(());
-        }
+    let finished = ellipsoid_io::run::run(scenario, Some(output.display().to_string()), env!("CARGO_PKG_VERSION"), None, |s| {
         progress.update(s.t);
-        ControlFlow::Continue(())
+        writer.write(s)
     });
-    let wall_time_s = start.elapsed().as_secs_f64();
     progress.finish();
     // Errors of the physics layer are input errors found late (e.g. N ≤ 0 at t = 0):
-    // place them in the scenario file. The unfinished output is dropped, so deleted.
-    let outcome = result.map_err(|e| scenario.locate(&e))?;
-    let note = match stop {
-        Some(Stop::Write(e)) => return Err(e.into()),
-        Some(Stop::NonFinite { t, column, value }) => Some(format!(
-            "stopped at t = {t} s: the state became non-finite ({column} = {value}); the trajectory before it is written"
-        )),
-        None => None,
-    };
-    let mut summary = Summary::new(scenario, &outcome, wall_time_s, writer.rows(), Some(output.display().to_string()), env!("CARGO_PKG_VERSION"));
-    if let Some(n) = &note {
-        summary.message = n.clone();
-    }
-    writer.finish(&Metadata { scenario_text: &scenario.text, summary: &summary })?;
-    Ok((summary, note))
-}
-
-/// Writes a sample, or says why the run must stop: a non-finite value (never written) or
-/// a write error.
-fn accept(s: &Sample, writer: &mut TrajectoryWriter) -> Result<(), Stop> {
-    if let Some((column, value)) = columns::non_finite(s) {
-        return Err(Stop::NonFinite { t: s.t, column, value });
-    }
-    writer.write(s).map_err(Stop::Write)
+    // they are placed in the scenario file. The unfinished output is dropped, so deleted.
+    let finished = finished.map_err(|f| match f {
+        Failure::Scenario(e) => CliError::Scenario(e),
+        Failure::Sink(e) => CliError::from(e),
+    })?;
+    writer.finish(&Metadata { scenario_text: &scenario.text, summary: &finished.summary })?;
+    Ok((finished.summary, finished.non_finite))
 }
 
 /// Creates the parent directories of `path`, recording the ones it made.
@@ -148,44 +112,4 @@ fn report(summary: &Summary, output: &Path, stop_note: Option<&str>) {
         lines.push(format!("ellipsoid: warning: the scenario's [check] expectations were not met: {}", failed.join("; ")));
     }
     eprintln!("{}", lines.join("\n"));
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use ellipsoid_core::simulate::Mode;
-    use ellipsoid_core::state::EulerAngles;
-    use nalgebra::Vector3;
-
-    fn sample(t: f64) -> Sample {
-        Sample {
-            t,
-            position: Vector3::zeros(),
-            angles: EulerAngles::default(),
-            omega: Vector3::new(0.0, 0.0, 1.0),
-            velocity: Vector3::zeros(),
-            energy: 1.0,
-            work: 0.0,
-            normal_force: 1.0,
-            slip_speed: 0.0,
-            mode: Mode::Rolling,
-        }
-    }
-
-    #[test]
-    fn a_non_finite_sample_stops_the_run_and_is_not_written() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("t.csv");
-        let mut writer = TrajectoryWriter::create(&path).unwrap();
-        assert!(accept(&sample(0.0), &mut writer).is_ok());
-        let mut bad = sample(0.1);
-        bad.omega.y = f64::NAN;
-        match accept(&bad, &mut writer) {
-            Err(Stop::NonFinite { t, column, value }) => assert!(t == 0.1 && column == "omega_y" && value.is_nan()),
-            _ => panic!("a NaN sample must stop the run"),
-        }
-        assert_eq!(writer.rows(), 1);
-        let summary_free = std::fs::read_dir(dir.path()).unwrap().count();
-        assert_eq!(summary_free, 1, "only the temporary exists before finish");
-    }
 }

@@ -10,6 +10,7 @@ pub mod columns;
 pub mod csv;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
+pub mod run;
 pub mod summary;
 
 use std::path::{Path, PathBuf};

@@ -8,15 +8,16 @@
 //! sample, and the interrupt is raised once they have. Panics are caught on the worker
 //! and become `ellipsoid.InternalError`.
 
-use std::ops::ControlFlow;
+use std::convert::Infallible;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
-use ellipsoid_core::simulate::{self, Sample, Status};
-use ellipsoid_io::{columns, Summary};
+use ellipsoid_core::simulate::{Sample, Status};
+use ellipsoid_io::run as io_run;
+use ellipsoid_io::Summary;
 use pyo3::prelude::*;
 
 /// How often the detached caller checks for signals.
@@ -50,39 +51,30 @@ pub enum Failure {
     Panic(String),
 }
 
-/// Simulates `scenario`, like the command-line tool's `run`: stops at the first
-/// non-finite sample (not kept), or when `cancel` is set.
+/// Simulates `scenario` exactly as the command-line tool's `run` does
+/// (`ellipsoid_io::run`): stops at the first non-finite sample (not kept), or when
+/// `cancel` is set.
 pub fn run(scenario: Scenario, keep_samples: bool, cancel: &AtomicBool) -> Result<Run, Failure> {
     let mut samples = Vec::new();
-    let mut rows = 0u64;
-    let mut non_finite = None;
-    let mut interrupted = false;
-    let start = Instant::now();
-    let result = simulate::simulate(&scenario.scene, &mut |s| {
-        if cancel.load(Ordering::Relaxed) {
-            interrupted = true;
-            return ControlFlow::Break(());
-        }
-        if let Some((column, value)) = columns::non_finite(s) {
-            non_finite = Some(format!("stopped at t = {} s: the state became non-finite ({column} = {value}); the trajectory before it is kept", s.t));
-            return ControlFlow::Break(());
-        }
-        rows += 1;
+    let finished = ellipsoid_io::run::run(&scenario, None, VERSION, Some(cancel), |s| {
         if keep_samples {
             samples.push(*s);
         }
-        ControlFlow::Continue(())
+        Ok::<(), Infallible>(())
     });
-    let wall_time_s = start.elapsed().as_secs_f64();
-    let outcome = match result {
-        Ok(o) => o,
-        Err(e) => return Err(Failure::Model(Box::new(scenario.locate(&e)))),
+    let finished = match finished {
+        Ok(f) => f,
+        Err(io_run::Failure::Scenario(e)) => return Err(Failure::Model(e)),
+        Err(io_run::Failure::Sink(never)) => match never {},
     };
-    let mut summary = Summary::new(&scenario, &outcome, wall_time_s, rows, None, VERSION);
-    if let Some(n) = &non_finite {
-        summary.message = n.clone();
-    }
-    Ok(Run { scenario, samples, summary, status: outcome.status, non_finite, interrupted })
+    Ok(Run {
+        scenario,
+        samples,
+        summary: finished.summary,
+        status: finished.outcome.status,
+        non_finite: finished.non_finite,
+        interrupted: finished.interrupted,
+    })
 }
 
 /// `run` with panics caught.
