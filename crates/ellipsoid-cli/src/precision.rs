@@ -104,7 +104,7 @@ impl Reference {
     pub fn status(&self) -> &'static str {
         match self {
             Reference::Period { .. } => "completed",
-            Reference::State { outcome, .. } => status_name(&outcome.status),
+            Reference::State { outcome, .. } => outcome.status.name(),
         }
     }
 
@@ -123,7 +123,7 @@ impl Reference {
                  error (measure `final_state`) = max(angle of R_ref^T R [rad], |Δx_G|/ℓ, |Δv_G|/(|v_G(0)| + |ω(0)|ℓ), |Δω|/|ω(0)|, |Δt_f|/t_f), \
                  ℓ = largest semi-axis, at the final state",
                 outcome.final_sample.t,
-                status_name(&outcome.status),
+                outcome.status.name(),
             ),
         }
     }
@@ -242,7 +242,7 @@ fn establish_reference(scenario: &Scenario, scene: &Scene, atol_ratio: f64) -> R
     if matches!(reference.status, Status::SolverFailure(_) | Status::Chattering(_) | Status::Cancelled | Status::Painleve(_)) {
         return Err(CliError::Reference(format!(
             "the DOP853 reference run at rtol = {REFERENCE_RTOL:e} did not finish cleanly ({}): {:?}",
-            status_name(&reference.status),
+            reference.status.name(),
             reference.status
         )));
     }
@@ -306,7 +306,7 @@ fn measure_setting(scenario: &Scenario, scene: &Scene, setting: &Setting, refere
     };
     Ok(Row {
         setting: *setting,
-        status: status_name(&outcome.status),
+        status: outcome.status.name(),
         t_final: outcome.final_sample.t,
         error: if error.is_nan() { f64::INFINITY } else { error },
         period_error,
@@ -382,17 +382,6 @@ pub fn state_error(scene: &Scene, out: &Outcome, reference: &Outcome) -> f64 {
     .fold(0.0, |m, e| if e.is_nan() { f64::NAN } else { m.max(e) })
 }
 
-pub fn status_name(s: &Status) -> &'static str {
-    match s {
-        Status::Completed => "completed",
-        Status::LostContact => "lost_contact",
-        Status::SlipStopped => "slip_stopped",
-        Status::Painleve(_) => "painleve",
-        Status::SolverFailure(_) => "solver_failure",
-        Status::Chattering(_) => "chattering",
-        Status::Cancelled => "cancelled",
-    }
-}
 
 /// Column names of `precision.csv`.
 pub const CSV_HEADER: &str = "scene,t_end,measure,method,setting,h,rtol,atol,status,t_final,error,period_error,state_error,energy_drift,invariant_drift,wall_time_median_s,wall_time_min_s,repeats,rhs_evals,steps,rejected";

@@ -182,6 +182,19 @@ pub enum Status {
 }
 
 impl Status {
+    /// Its name in summaries (`status` field), as serialised.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Status::Completed => "completed",
+            Status::LostContact => "lost_contact",
+            Status::SlipStopped => "slip_stopped",
+            Status::Painleve(_) => "painleve",
+            Status::SolverFailure(_) => "solver_failure",
+            Status::Chattering(_) => "chattering",
+            Status::Cancelled => "cancelled",
+        }
+    }
+
     /// Whether the run reached its end time.
     pub fn completed(&self) -> bool {
         matches!(self, Status::Completed)

@@ -62,7 +62,7 @@ pub struct CheckResult {
 impl Summary {
     /// The summary of `outcome`, a run of `scenario`.
     pub fn new(scenario: &Scenario, outcome: &Outcome, wall_time_s: f64, samples: u64, output: Option<String>, version: &str) -> Summary {
-        let status = status_name(&outcome.status);
+        let status = outcome.status.name();
         let s = &outcome.final_sample;
         let mut final_state = Map::new();
         for ((name, _), v) in columns::NUMERIC_COLUMNS.iter().zip(columns::values(s)) {
@@ -120,18 +120,6 @@ fn finite_or_null(v: f64) -> Value {
     serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number)
 }
 
-/// The status's name, as in the summary's `status` field.
-pub fn status_name(status: &Status) -> &'static str {
-    match status {
-        Status::Completed => "completed",
-        Status::LostContact => "lost_contact",
-        Status::SlipStopped => "slip_stopped",
-        Status::Painleve(_) => "painleve",
-        Status::SolverFailure(_) => "solver_failure",
-        Status::Chattering(_) => "chattering",
-        Status::Cancelled => "cancelled",
-    }
-}
 
 /// A sentence explaining the status; `t` is where the run ended \[s\].
 pub fn status_message(status: &Status, t: f64) -> String {
