@@ -391,3 +391,29 @@ fn inv_optional_effects_balance_work_and_energy() {
         }
     }
 }
+
+#[test]
+fn a_cancel_flag_stops_a_run_between_sparse_samples() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let mut s = scene(oblate(), ContactModel::Frictionless, angles(0.2, 0.0, 0.0, 0.0, 0.0, 60.0), Some(Vector2::zeros()), 1e6, 1e6, TOL);
+    s.sample_times = vec![0.0, 1e6];
+    let cancel = Arc::new(AtomicBool::new(false));
+    let setter = {
+        let cancel = Arc::clone(&cancel);
+        std::thread::spawn(move || {
+            std::thread::sleep(std::time::Duration::from_millis(100));
+            cancel.store(true, Ordering::Relaxed);
+        })
+    };
+    let mut rows = 0;
+    let out = ellipsoid_core::simulate::simulate_cancellable(&s, &mut |_| {
+        rows += 1;
+        ControlFlow::Continue(())
+    }, Some(cancel))
+    .unwrap();
+    setter.join().unwrap();
+    assert_eq!(out.status, Status::Cancelled);
+    assert!(out.final_sample.t > 0.0 && out.final_sample.t < 1e6, "stopped at {}", out.final_sample.t);
+    assert_eq!(rows, 2, "the initial sample and the row where it stopped");
+}

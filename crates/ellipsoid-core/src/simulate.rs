@@ -15,6 +15,8 @@
 //! that grazes zero (see `model::sliding`).
 
 use std::ops::ControlFlow;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 
 use nalgebra::{Vector2, Vector3};
 use serde::Serialize;
@@ -244,30 +246,48 @@ const MAX_SWITCHES: usize = 10_000;
 
 /// Simulates `scene`, handing every sample to `observer` (return `Break` to cancel).
 pub fn simulate(scene: &Scene, observer: &mut dyn FnMut(&Sample) -> ControlFlow<()>) -> Result<Outcome, ModelError> {
+    simulate_cancellable(scene, observer, None)
+}
+
+/// [`simulate`] that also stops, with [`Status::Cancelled`], at the next integration
+/// step after `cancel` is set (e.g. by another thread on Ctrl-C), however sparse the
+/// samples.
+pub fn simulate_cancellable(
+    scene: &Scene,
+    observer: &mut dyn FnMut(&Sample) -> ControlFlow<()>,
+    cancel: Option<Arc<AtomicBool>>,
+) -> Result<Outcome, ModelError> {
     scene.validate()?;
     // Monomorphise over exactly the effects present: each level below doubles the
     // variants, and an absent effect is the empty tuple, which compiles to nothing.
-    dispatch_drag(scene, observer, &scene.effects, ())
+    dispatch_drag(Call { scene, observer, cancel }, ())
 }
 
-fn dispatch_drag<E: Effect + Copy>(scene: &Scene, obs: &mut dyn FnMut(&Sample) -> ControlFlow<()>, set: &EffectSet, acc: E) -> Result<Outcome, ModelError> {
-    match set.air_drag {
-        Some(d) => dispatch_rolling(scene, obs, set, (acc, d)),
-        None => dispatch_rolling(scene, obs, set, acc),
+/// One call of [`simulate_cancellable`], passed down the effect dispatch.
+struct Call<'a> {
+    scene: &'a Scene,
+    observer: &'a mut dyn FnMut(&Sample) -> ControlFlow<()>,
+    cancel: Option<Arc<AtomicBool>>,
+}
+
+fn dispatch_drag<E: Effect + Copy>(call: Call<'_>, acc: E) -> Result<Outcome, ModelError> {
+    match call.scene.effects.air_drag {
+        Some(d) => dispatch_rolling(call, (acc, d)),
+        None => dispatch_rolling(call, acc),
     }
 }
 
-fn dispatch_rolling<E: Effect + Copy>(scene: &Scene, obs: &mut dyn FnMut(&Sample) -> ControlFlow<()>, set: &EffectSet, acc: E) -> Result<Outcome, ModelError> {
-    match set.rolling_resistance {
-        Some(r) => dispatch_spin(scene, obs, set, (acc, r)),
-        None => dispatch_spin(scene, obs, set, acc),
+fn dispatch_rolling<E: Effect + Copy>(call: Call<'_>, acc: E) -> Result<Outcome, ModelError> {
+    match call.scene.effects.rolling_resistance {
+        Some(r) => dispatch_spin(call, (acc, r)),
+        None => dispatch_spin(call, acc),
     }
 }
 
-fn dispatch_spin<E: Effect + Copy>(scene: &Scene, obs: &mut dyn FnMut(&Sample) -> ControlFlow<()>, set: &EffectSet, acc: E) -> Result<Outcome, ModelError> {
-    match set.spin_friction {
-        Some(s) => Runner::new(scene, (acc, s)).run(obs),
-        None => Runner::new(scene, acc).run(obs),
+fn dispatch_spin<E: Effect + Copy>(call: Call<'_>, acc: E) -> Result<Outcome, ModelError> {
+    match call.scene.effects.spin_friction {
+        Some(s) => Runner::new(call.scene, (acc, s), call.cancel).run(call.observer),
+        None => Runner::new(call.scene, acc, call.cancel).run(call.observer),
     }
 }
 
@@ -290,6 +310,7 @@ enum Watch {
 /// The three contact laws over one set of effects.
 struct Runner<'s, E> {
     scene: &'s Scene,
+    cancel: Option<Arc<AtomicBool>>,
     free: System<Frictionless, E>,
     slide: System<Sliding, E>,
     roll: System<Rolling, E>,
@@ -302,7 +323,7 @@ struct Segment {
 }
 
 impl<'s, E: Effect + Copy> Runner<'s, E> {
-    fn new(scene: &'s Scene, effects: E) -> Self {
+    fn new(scene: &'s Scene, effects: E, cancel: Option<Arc<AtomicBool>>) -> Self {
         let body = scene.body.clone();
         let g = scene.gravity;
         let friction = match scene.contact {
@@ -311,6 +332,7 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         };
         Runner {
             scene,
+            cancel,
             free: System { body: body.clone(), gravity: g, contact: Frictionless, effects },
             slide: System { body: body.clone(), gravity: g, contact: Sliding { friction }, effects },
             roll: System { body, gravity: g, contact: Rolling, effects },
@@ -590,6 +612,7 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         let mut options = Options::new(scene.solver.rtol, scene.solver.atol);
         options.h0 = scene.solver.initial_step;
         options.max_steps = scene.solver.max_steps;
+        options.cancel = self.cancel.clone();
         let samples = &scene.sample_times[rec.next_sample..];
         let solution = integrate::integrate(scene.solver.method, sys, t0, y0, scene.t_end, &options, &events, samples, &mut |t, y| {
             let (sample, inv) = self.sample_with(sys, mode, t, y, Some(&rec.angles));

@@ -1,9 +1,10 @@
 //! One scenario run as the command-line tool and the Python package both perform it:
 //! every sample goes to a sink; the run stops at the first non-finite sample (never
-//! passed on: no NaN is reported as a result), when the sink fails, or when `cancel` is
-//! set; the summary is built from the outcome.
+//! passed on: no NaN is reported as a result), when the sink fails, or at the next
+//! integration step after `cancel` is set; the summary is built from the outcome.
 
 use std::ops::ControlFlow;
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
@@ -45,19 +46,15 @@ pub fn run<E>(
     scenario: &Scenario,
     output: Option<String>,
     version: &str,
-    cancel: Option<&AtomicBool>,
+    cancel: Option<Arc<AtomicBool>>,
     mut sink: impl FnMut(&Sample) -> Result<(), E>,
 ) -> Result<Finished, Failure<E>> {
     let mut rows = 0u64;
     let mut non_finite = None;
     let mut sink_error = None;
-    let mut interrupted = false;
     let start = Instant::now();
-    let result = simulate::simulate(&scenario.scene, &mut |s| {
-        if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
-            interrupted = true;
-            return ControlFlow::Break(());
-        }
+    let flag = cancel.clone();
+    let result = simulate::simulate_cancellable(&scenario.scene, &mut |s| {
         if let Some(note) = non_finite_note(s) {
             non_finite = Some(note);
             return ControlFlow::Break(());
@@ -68,7 +65,7 @@ pub fn run<E>(
         }
         rows += 1;
         ControlFlow::Continue(())
-    });
+    }, cancel);
     let wall_time_s = start.elapsed().as_secs_f64();
     let outcome = result.map_err(|e| Failure::Scenario(Box::new(scenario.locate(&e))))?;
     if let Some(e) = sink_error {
@@ -78,6 +75,7 @@ pub fn run<E>(
     if let Some(n) = &non_finite {
         summary.message = n.clone();
     }
+    let interrupted = flag.is_some_and(|c| c.load(Ordering::Relaxed));
     Ok(Finished { outcome, summary, non_finite, interrupted })
 }
 

@@ -4,12 +4,13 @@
 //! The calling thread detaches from Python and hands the work to a worker thread (or a
 //! rayon pool); it then wakes every [`POLL`] to attach briefly and run Python's signal
 //! handlers (`Python::check_signals`). A `KeyboardInterrupt` raised there sets a flag that
-//! every run's observer reads at each output sample, so the runs stop at their next
-//! sample, and the interrupt is raised once they have. Panics are caught on the worker
+//! the integrator reads before every step (`simulate_cancellable`), so the runs stop at
+//! their next step, and the interrupt is raised once they have. Panics are caught on the worker
 //! and become `ellipsoid.InternalError`.
 
 use std::convert::Infallible;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::Duration;
@@ -54,9 +55,9 @@ pub enum Failure {
 /// Simulates `scenario` exactly as the command-line tool's `run` does
 /// (`ellipsoid_io::run`): stops at the first non-finite sample (not kept), or when
 /// `cancel` is set.
-pub fn run(scenario: Scenario, keep_samples: bool, cancel: &AtomicBool) -> Result<Run, Failure> {
+pub fn run(scenario: Scenario, keep_samples: bool, cancel: &Arc<AtomicBool>) -> Result<Run, Failure> {
     let mut samples = Vec::new();
-    let finished = ellipsoid_io::run::run(&scenario, None, VERSION, Some(cancel), |s| {
+    let finished = ellipsoid_io::run::run(&scenario, None, VERSION, Some(Arc::clone(cancel)), |s| {
         if keep_samples {
             samples.push(*s);
         }
@@ -78,7 +79,7 @@ pub fn run(scenario: Scenario, keep_samples: bool, cancel: &AtomicBool) -> Resul
 }
 
 /// `run` with panics caught.
-pub fn run_caught(scenario: Scenario, keep_samples: bool, cancel: &AtomicBool) -> Result<Run, Failure> {
+pub fn run_caught(scenario: Scenario, keep_samples: bool, cancel: &Arc<AtomicBool>) -> Result<Run, Failure> {
     catch_unwind(AssertUnwindSafe(|| run(scenario, keep_samples, cancel))).unwrap_or_else(|p| Err(Failure::Panic(panic_message(&*p))))
 }
 
@@ -89,8 +90,8 @@ pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 /// Runs `work` on a worker thread while the caller, detached from Python, checks for
 /// signals every [`POLL`]. Returns the work's result and the interrupt, if any (the work
 /// was told to stop through the flag it receives).
-pub fn detached<T: Send>(py: Python<'_>, work: impl FnOnce(&AtomicBool) -> T + Send) -> PyResult<(T, Option<PyErr>)> {
-    let cancel = AtomicBool::new(false);
+pub fn detached<T: Send>(py: Python<'_>, work: impl FnOnce(&Arc<AtomicBool>) -> T + Send) -> PyResult<(T, Option<PyErr>)> {
+    let cancel = Arc::new(AtomicBool::new(false));
     let mut interrupt: Option<PyErr> = None;
     let outcome: Result<T, String> = py.detach(|| {
         std::thread::scope(|scope| {

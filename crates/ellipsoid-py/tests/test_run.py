@@ -231,6 +231,19 @@ def test_ctrl_c_interrupts_a_long_run(how: str) -> None:
     assert 0.4 < elapsed < 2.0, elapsed
 
 
+def test_ctrl_c_interrupts_a_run_with_sparse_output() -> None:
+    # Only two output times, 1e6 s apart: the interrupt must not wait for a sample.
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            ellipsoid.simulate(NUTATION, output={"t_end": 1e6, "times": [0.0, 1e6]})
+    finally:
+        timer.cancel()
+    assert time.monotonic() - start < 2.0
+
+
 def test_ctrl_c_interrupts_a_sweep() -> None:
     timer = threading.Timer(0.5, _thread.interrupt_main)
     start = time.monotonic()

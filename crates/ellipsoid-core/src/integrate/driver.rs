@@ -2,6 +2,8 @@
 //! detection, stiffness warnings, events and samples on the dense output.
 
 use std::ops::ControlFlow;
+use std::sync::atomic::Ordering;
+
 
 use nalgebra::SVector;
 
@@ -144,6 +146,9 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
         let mut since_nonfinite = u64::MAX;
 
         loop {
+            if self.options.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed)) {
+                return self.finish(t, y, StopReason::Cancelled);
+            }
             let stats = &mut self.sol.stats;
             let steps = stats.accepted + stats.rejected;
             if steps >= self.options.max_steps {

@@ -1,5 +1,8 @@
 //! Method choice and tolerances, validated once before any step.
 
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
 use nalgebra::SVector;
 
 use super::IntegrateError;
@@ -29,7 +32,7 @@ impl Method {
 }
 
 /// Tolerances and limits. Build with [`Options::new`] and change fields as needed.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct Options<const N: usize> {
     /// Relative tolerance per component (≥ 10·EPS).
     pub rtol: SVector<f64, N>,
@@ -43,6 +46,10 @@ pub struct Options<const N: usize> {
     pub max_steps: u64,
     /// Hairer's stiffness test (DOPRI5, DOP853), reported as `Warning::Stiff`.
     pub stiffness_check: bool,
+    /// Checked before every step attempt: once set (e.g. from another thread on
+    /// Ctrl-C), the integration ends with `StopReason::Cancelled` at the last accepted
+    /// state.
+    pub cancel: Option<Arc<AtomicBool>>,
 }
 
 impl<const N: usize> Options<N> {
@@ -55,6 +62,7 @@ impl<const N: usize> Options<N> {
             h_max: f64::INFINITY,
             max_steps: 10_000_000,
             stiffness_check: true,
+            cancel: None,
         }
     }
 

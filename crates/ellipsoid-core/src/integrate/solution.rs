@@ -11,7 +11,7 @@ pub enum StopReason {
     Reached,
     /// A terminal event (index into the `events` slice) was located.
     Event { index: usize },
-    /// The observer returned `ControlFlow::Break` at a sample.
+    /// The observer returned `ControlFlow::Break` at a sample, or `Options::cancel` was set.
     Cancelled,
     /// The integrator could not go on; `Solution::t`/`y` hold the last good state.
     Failed(IntegrateError),
