@@ -241,6 +241,11 @@ const PAINLEVE_COLLAPSE: f64 = 1e-3;
 /// scene where DOP853 does instead of chattering on (see docs/hard-cases.md).
 const RK4_SLIP_STEPS: f64 = 10.0;
 
+/// A located slip stop is taken only if |v_C| is within this many slip floors (see
+/// `Runner::slip_floor`); otherwise v_C·s_ref changed sign because the slip direction
+/// turned by more than 90° within one step, and sliding goes on.
+const SLIP_ACCEPT: f64 = 2.0;
+
 /// Most mode switches a run may make before it is declared chattering.
 const MAX_SWITCHES: usize = 10_000;
 
@@ -298,8 +303,7 @@ enum Watch {
     Normal,
     /// g = v_C·s_ref (slip stop).
     Slip,
-    /// g = |v_C| − ε·scale (a grazing slip stop), ε = max(SLIP_FLOOR, rtol): a slip
-    /// below the integration error is no slip.
+    /// g = |v_C| − max(ε·scale, v_min) (a grazing slip stop; see `Runner::slip_floor`).
     SlipFloor,
     /// g = Painlevé denominator.
     Painleve,
@@ -401,19 +405,28 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                             events.push(EventRecord { kind: EventKind::Painleve, t });
                             break Status::Painleve(format!(
                                 "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) reached 0, \
-                                 so Coulomb sliding has no consistent contact force (reduce body.friction or use the rolling model)"
+                                 so Coulomb sliding has no consistent contact force (reduce contact.friction or use the rolling model)"
                             ));
+                        }
+                        Watch::Slip | Watch::SlipFloor if !self.slip_has_stopped(&y) => {
+                            // v_C·s_ref changed sign because the slip turned by more than
+                            // 90° within one (loose-tolerance) step, not because it
+                            // stopped: go on sliding with the reference renewed.
+                            let s = self.slide.evaluate(&y).kin.slip.normalize();
+                            y[state::SLIP_REF] = s.x;
+                            y[state::SLIP_REF + 1] = s.y;
+                            switches += 1;
                         }
                         Watch::Slip | Watch::SlipFloor => {
                             let Some(mu) = self.coulomb() else {
                                 events.push(EventRecord { kind: EventKind::SlipStop, t });
                                 break Status::SlipStopped;
                             };
-                            // Outside the cone the slip only grazed zero: it goes on
-                            // sliding (opposite to the friction rolling would need).
+                            // Outside the cone the slip passes through zero and goes on
+                            // (opposite to the friction rolling would need).
+                            events.push(EventRecord { kind: EventKind::SlipStop, t });
                             let next = self.after_slip_stop(mu, &mut y);
                             if next == Mode::Rolling {
-                                events.push(EventRecord { kind: EventKind::SlipStop, t });
                                 events.push(EventRecord { kind: EventKind::ModeSwitch { from: mode, to: next }, t });
                             }
                             switches += 1;
@@ -548,6 +561,27 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         ]
     }
 
+    /// The slip below which sliding counts as stopped: relative to |v_G| + |ω||r|, the
+    /// larger of [`SLIP_FLOOR`] and rtol (a slip below the integration error is no slip);
+    /// absolute, for fixed-step RK4, [`RK4_SLIP_STEPS`]·μ g h (a slip friction removes
+    /// within a few steps cannot be resolved).
+    fn slip_floor(&self) -> (f64, f64) {
+        let scene = self.scene;
+        let v_min = match (scene.solver.method, scene.contact) {
+            (Method::Rk4 { h }, ContactModel::Sliding { friction } | ContactModel::Coulomb { friction }) => RK4_SLIP_STEPS * friction * scene.gravity * h,
+            _ => 0.0,
+        };
+        (SLIP_FLOOR.max(scene.solver.rtol), v_min)
+    }
+
+    /// Whether a located slip-stop event is one: |v_C| within [`SLIP_ACCEPT`] times the
+    /// floor of [`Runner::slip_floor`].
+    fn slip_has_stopped(&self, y: &State) -> bool {
+        let kin = self.slide.evaluate(y).kin;
+        let (floor, v_min) = self.slip_floor();
+        kin.slip.norm() <= SLIP_ACCEPT * (floor * Sliding::speed_scale(&kin)).max(v_min)
+    }
+
     /// Whether the material contact point's slip is zero to round-off.
     fn slip_is_zero(&self, y: &State) -> bool {
         let kin = self.slide.evaluate(y).kin;
@@ -587,11 +621,7 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
             Mode::Rolling => watches.extend(self.coulomb().map(Watch::Cone)),
             Mode::Frictionless => {}
         }
-        let floor = SLIP_FLOOR.max(scene.solver.rtol);
-        let v_min = match (scene.solver.method, scene.contact) {
-            (Method::Rk4 { h }, ContactModel::Sliding { friction } | ContactModel::Coulomb { friction }) => RK4_SLIP_STEPS * friction * scene.gravity * h,
-            _ => 0.0,
-        };
+        let (floor, v_min) = self.slip_floor();
         let events: Vec<Event<'_, { state::DIM }>> = watches
             .iter()
             .map(|&w| Event {
