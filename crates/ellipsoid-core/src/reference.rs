@@ -168,16 +168,20 @@ pub fn nutation(body: &Body, gravity: f64, y: &State) -> Result<Nutation, NoRefe
     // E_r − V(θ) > 0 between the turning points
     let f = |theta: f64| kinetic0 + red.drop(theta0, theta - theta0);
 
-    // Bracket: the maximum of E_r − V on a grid, and the grid's ends (V → ∞ at 0 and π
-    // unless the axis can pass through the vertical).
+    // Bracket the turning points of the well the motion is in: walk a grid outward from
+    // θ0 to the first point on each side where E_r − V < 0 (an oblate body has wells
+    // near θ = 0 and θ = π; the global maximum of E_r − V may lie in the other one).
+    // With none on a side the axis can pass through the vertical (V finite there).
     const GRID: usize = 20_000;
     let grid = |k: usize| k as f64 * PI / GRID as f64;
-    let peak = (1..GRID).map(grid).max_by(|x, y| f(*x).total_cmp(&f(*y))).expect("non-empty grid");
-    let (lo_end, hi_end) = (grid(1), grid(GRID - 1));
-    if !(f(lo_end) < 0.0 && f(hi_end) < 0.0) {
+    let k0 = ((theta0 / PI * GRID as f64) as usize).clamp(1, GRID - 1);
+    let below = (1..=k0).rev().map(grid).find(|&t| t < theta0 && f(t) < 0.0);
+    let above = (k0..GRID).map(grid).find(|&t| t > theta0 && f(t) < 0.0);
+    let (Some(lo_end), Some(hi_end)) = (below, above) else {
         return Err(NoReference::ThroughVertical);
-    }
-    let peak = if f(theta0) > f(peak) { theta0 } else { peak };
+    };
+    let inside = (1..GRID).map(grid).filter(|&t| t > lo_end && t < hi_end);
+    let peak = inside.chain([theta0]).max_by(|x, y| f(*x).total_cmp(&f(*y))).expect("θ0 is inside");
     if !(f(peak) > 0.0) {
         return Err(NoReference::Steady);
     }
@@ -280,6 +284,20 @@ mod tests {
         let theta0 = 10f64.to_radians();
         assert!((nut.theta_min - theta0).abs().min((nut.theta_max - theta0).abs()) < 1e-12, "{nut:?}");
         assert!(nut.theta_max > nut.theta_min + 1e-3, "{nut:?}");
+    }
+
+    /// An oblate body has potential wells near θ = 0 and θ = π; started near π (almost
+    /// upside down, slow spin) it nutates there, although E_r − V is larger in the other
+    /// well. (Bracketing from the global maximum once picked the wrong one.)
+    #[test]
+    fn val_turning_points_are_those_of_the_well_containing_theta0() {
+        let (a, c, m) = (0.025, 0.0175, 0.05);
+        let body = Body::of_revolution(a, c, m, m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0, 0.001).unwrap();
+        let theta0 = 162.81f64.to_radians();
+        let y = state_of(&EulerAngles { theta: theta0, psi_dot: 0.2, ..Default::default() });
+        let nut = nutation(&body, 9.81, &y).unwrap();
+        assert!(nut.theta_min <= theta0 + 1e-12 && theta0 - 1e-12 <= nut.theta_max, "{nut:?}");
+        assert!(nut.theta_min > 2.8 && nut.theta_max < PI, "{nut:?}");
     }
 
     #[test]
