@@ -107,8 +107,11 @@ fn inv_rolling_conserves_energy_and_the_contact_point_is_at_rest() {
 
 #[test]
 fn inv_sliding_work_energy_balance() {
-    let s = scene(oblate(), ContactModel::Sliding { friction: 0.3 }, angles(0.5, 0.0, 0.0, 0.0, 3.0, 80.0), Some(Vector2::new(0.3, 0.0)), 10.0, 1e-3, TOL);
+    // Spun about the vertical, the oblate top slides (and rises) for about a second.
+    let s = scene(oblate(), ContactModel::Sliding { friction: 0.3 }, angles(0.1745, 0.0, 0.0, 0.0, 100.0, 0.0), Some(Vector2::new(0.3, 0.0)), 10.0, 1e-3, TOL);
     let (out, samples) = run(&s);
+    assert_eq!(out.status, Status::SlipStopped);
+    assert!(out.final_sample.t > 0.5, "slid only {} s", out.final_sample.t);
     let d = out.drift.energy_plus_work.unwrap();
     assert!(d < 1e-9, "E + W drift {d:e}");
     let last = samples.last().unwrap();
@@ -119,14 +122,16 @@ fn inv_sliding_work_energy_balance() {
 
 #[test]
 fn inv_jellett_constant_for_the_tippe_top_in_all_models() {
-    let init = angles(0.1, 0.0, 0.0, 0.0, 0.0, 180.0);
-    for (contact, velocity) in [
-        (ContactModel::Frictionless, Some(Vector2::zeros())),
-        (ContactModel::Sliding { friction: 0.3 }, Some(Vector2::zeros())),
-        (ContactModel::Rolling, None),
+    // Spun about the vertical it slides while turning over until t = 1.105 s.
+    let init = angles(0.1, 0.0, 0.0, 0.0, 180.0, 0.0);
+    for (contact, velocity, lasts) in [
+        (ContactModel::Frictionless, Some(Vector2::zeros()), 2.0),
+        (ContactModel::Sliding { friction: 0.3 }, Some(Vector2::zeros()), 1.1),
+        (ContactModel::Rolling, None, 2.0),
     ] {
         let s = scene(tippe_top(), contact, init, velocity, 2.0, 1e-3, TOL);
         let (out, _) = run(&s);
+        assert!(out.final_sample.t >= lasts, "{contact:?} ended at {} s ({:?})", out.final_sample.t, out.status);
         let j = out.drift.jellett.unwrap();
         assert!(j < 1e-9, "{contact:?}: Jellett drift {j:e}");
     }
@@ -151,6 +156,11 @@ fn val_billiard_ball_slip_ends_at_2v0_over_7mug_then_rolls_at_5v0_over_7() {
 }
 
 // ---------------------------------------------------------------- tippe top
+//
+// The reference times and angles below (0.0361449 s; 0.750628 s, 1.1050937 s, 2.369764
+// rad; θ bounds) are quoted in this project's physics-core issue from an independent
+// reference implementation, not produced by this code; likewise the rattleback's
+// reversal windows (reference at rtol 1e-12).
 
 fn theta_range(samples: &[ellipsoid_core::simulate::Sample], from: f64) -> (f64, f64) {
     samples.iter().filter(|s| s.t >= from).fold((f64::MAX, f64::MIN), |(lo, hi), s| (lo.min(s.angles.theta), hi.max(s.angles.theta)))
@@ -333,6 +343,10 @@ fn bad_initial_states_are_rejected_with_their_rule() {
     let err = ellipsoid_core::simulate::simulate(&s, &mut |_| ControlFlow::Continue(())).unwrap_err().to_string();
     assert!(err.starts_with("contact.friction = -0.1"), "{err}");
     s.contact = ContactModel::Frictionless;
+    s.initial.omega_body = Some(Vector3::new(0.0, f64::NAN, 1.0));
+    let err = ellipsoid_core::simulate::simulate(&s, &mut |_| ControlFlow::Continue(())).unwrap_err().to_string();
+    assert!(err.starts_with("initial.omega_body = [0.0, NaN, 1.0]: every component must be finite"), "{err}");
+    s.initial.omega_body = None;
     s.t_end = 0.0;
     let err = ellipsoid_core::simulate::simulate(&s, &mut |_| ControlFlow::Continue(())).unwrap_err().to_string();
     assert!(err.starts_with("output.t_end = 0"), "{err}");
@@ -376,7 +390,8 @@ fn inv_optional_effects_balance_work_and_energy() {
     ];
     for (name, set) in effects {
         for contact in [ContactModel::Frictionless, ContactModel::Rolling, ContactModel::Coulomb { friction: 0.3 }] {
-            let v = (contact == ContactModel::Frictionless).then(|| Vector2::new(0.2, 0.0));
+            // Coulomb starts sliding (given a velocity) and switches to rolling.
+            let v = (contact != ContactModel::Rolling).then(|| Vector2::new(0.2, 0.0));
             let mut s = scene(oblate(), contact, angles(0.3, 0.0, 0.0, 0.5, 2.0, 50.0), v, 3.0, 1e-3, TOL);
             s.effects = set;
             let (out, samples) = run(&s);

@@ -203,8 +203,10 @@ impl Status {
     }
 }
 
-/// Largest deviation of each applicable invariant from its initial value, relative to
-/// the scale given in [`Drift`]'s docs; `None` where the quantity is not conserved.
+/// Largest deviation of each applicable invariant from its initial value, over the
+/// output samples and the final state (not between samples), relative to a scale from
+/// the initial state: |E|, |E + W|, m(|v_G| + |ω||r|), |Iω|, |ω|, |Iω||r|. `None` where
+/// the quantity is not conserved in the scene.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct Drift {
     pub energy: Option<f64>,
@@ -779,6 +781,13 @@ impl Scene {
         }
         if let Some(w) = self.sample_times.windows(2).find(|w| w[1] < w[0]) {
             return Err(ModelError::invalid("output.times", format!("{} after {}", w[1], w[0]), "output times must be sorted in increasing order"));
+        }
+        let init = &self.initial;
+        let vectors = [("initial.position", init.position.as_slice().to_vec()), ("initial.velocity", init.velocity.map_or(vec![], |v| v.as_slice().to_vec())), ("initial.omega_body", init.omega_body.map_or(vec![], |w| w.as_slice().to_vec()))];
+        for (name, v) in vectors {
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(ModelError::invalid(name, format!("{v:?}"), "every component must be finite"));
+            }
         }
         let a = &self.initial.angles;
         for (name, v) in [("theta", a.theta), ("phi", a.phi), ("psi", a.psi), ("theta_dot", a.theta_dot), ("phi_dot", a.phi_dot), ("psi_dot", a.psi_dot)] {

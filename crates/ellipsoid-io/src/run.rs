@@ -5,7 +5,7 @@
 
 use std::ops::ControlFlow;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
@@ -20,8 +20,6 @@ pub struct Finished {
     pub summary: Summary,
     /// Why the run was stopped at a non-finite sample, if it was.
     pub non_finite: Option<String>,
-    /// Whether `cancel` stopped it.
-    pub interrupted: bool,
 }
 
 /// Why a run produced no result.
@@ -53,7 +51,6 @@ pub fn run<E>(
     let mut non_finite = None;
     let mut sink_error = None;
     let start = Instant::now();
-    let flag = cancel.clone();
     let result = simulate::simulate_cancellable(&scenario.scene, &mut |s| {
         if let Some(note) = non_finite_note(s) {
             non_finite = Some(note);
@@ -75,8 +72,7 @@ pub fn run<E>(
     if let Some(n) = &non_finite {
         summary.message = n.clone();
     }
-    let interrupted = flag.is_some_and(|c| c.load(Ordering::Relaxed));
-    Ok(Finished { outcome, summary, non_finite, interrupted })
+    Ok(Finished { outcome, summary, non_finite })
 }
 
 #[cfg(test)]

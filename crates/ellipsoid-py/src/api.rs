@@ -18,8 +18,8 @@ use crate::trajectory::Trajectory;
 /// are applied first, as `Scenario.replace` does (e.g. `output={"t_end": 0.5}` or
 /// `**{"output.t_end": 0.5}`, end time in s).
 ///
-/// The GIL is released while the run lasts; Ctrl-C (SIGINT) stops it at its next output
-/// sample and raises KeyboardInterrupt.
+/// The GIL is released while the run lasts; Ctrl-C (SIGINT) stops it at its next
+/// integration step and raises KeyboardInterrupt.
 ///
 /// Loss of contact and the pure sliding model's slip stop are outcomes: the trajectory
 /// ends there and `traj.status` / `traj.events` say so. Raises ScenarioError for bad
@@ -67,7 +67,7 @@ fn finish(py: Python<'_>, result: Result<Run, Failure>, summary_only: bool) -> P
 /// `errors="raise"` (default) raises the first failure in input order once every run has
 /// ended; `errors="return"` puts the exception object (ScenarioError, SimulationError
 /// with `.trajectory`, ...) in the failed run's place instead. Ctrl-C stops every run at
-/// its next sample and raises KeyboardInterrupt.
+/// its next integration step and raises KeyboardInterrupt.
 #[pyfunction]
 #[pyo3(signature = (scenarios, workers = None, *, summaries_only = false, errors = "raise"))]
 pub fn sweep<'py>(py: Python<'py>, scenarios: &Bound<'py, PyAny>, workers: Option<usize>, summaries_only: bool, errors: &str) -> PyResult<Bound<'py, PyList>> {

@@ -39,8 +39,6 @@ pub struct Run {
     pub status: Status,
     /// Why the run was stopped on a non-finite sample (the summary's message says it too).
     pub non_finite: Option<String>,
-    /// Whether it stopped because of a user interrupt.
-    pub interrupted: bool,
 }
 
 /// Why a run produced no result.
@@ -74,7 +72,6 @@ pub fn run(scenario: Scenario, keep_samples: bool, cancel: &Arc<AtomicBool>) -> 
         summary: finished.summary,
         status: finished.outcome.status,
         non_finite: finished.non_finite,
-        interrupted: finished.interrupted,
     })
 }
 
