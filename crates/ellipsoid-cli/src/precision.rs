@@ -231,7 +231,7 @@ fn run(scenario: &Scenario, scene: &Scene) -> Result<Outcome, CliError> {
 
 fn establish_reference(scenario: &Scenario, scene: &Scene, atol_ratio: f64) -> Result<Reference, CliError> {
     if is_conservative_frictionless(scene) {
-        let y0 = frictionless_initial_state(scene);
+        let y0 = scene.initial_state().map_err(|e| CliError::from(scenario.locate(&e)))?.1;
         match reference::nutation(&scene.body, scene.gravity, &y0) {
             Ok(nutation) => return Ok(Reference::Period { nutation, y0 }),
             Err(why) => eprintln!("precision: no exact period reference ({why}); using a DOP853 reference run"),
@@ -254,23 +254,6 @@ fn establish_reference(scenario: &Scenario, scene: &Scene, atol_ratio: f64) -> R
 /// Frictionless with no effects: the 1-DOF reduction applies if the body is one of revolution.
 fn is_conservative_frictionless(scene: &Scene) -> bool {
     scene.contact == ContactModel::Frictionless && !scene.effects.any()
-}
-
-/// The initial state `simulate` builds for a frictionless scene (position, orientation,
-/// ω, horizontal velocity; nothing is projected in that mode).
-pub fn frictionless_initial_state(scene: &Scene) -> State {
-    let init = &scene.initial;
-    let mut y = State::zeros();
-    y[state::POS] = init.position.x;
-    y[state::POS + 1] = init.position.y;
-    state::set_quaternion(&mut y, &init.angles.rotation());
-    let omega = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
-    y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&omega);
-    if let Some(v) = init.velocity {
-        y[state::VEL] = v.x;
-        y[state::VEL + 1] = v.y;
-    }
-    y
 }
 
 fn measure_setting(scenario: &Scenario, scene: &Scene, setting: &Setting, reference: &Reference, repeats: usize) -> Result<Row, CliError> {
@@ -524,7 +507,7 @@ mod tests {
             let sys = System { body: scene.body.clone(), gravity: scene.gravity, contact: Frictionless, effects: () };
             let mut options = Options::new(1e-9, 1e-11);
             options.max_steps = scene.solver.max_steps;
-            let y0 = frictionless_initial_state(&scene);
+            let y0 = scene.initial_state().unwrap().1;
             let sol = integrate::integrate(method, &sys, 0.0, y0, scene.t_end, &options, &[], &[], &mut |_, _| ControlFlow::Continue(())).unwrap();
             assert_eq!((sol.stats.accepted, sol.stats.rejected), (out.stats.accepted, out.stats.rejected), "{method:?}");
             assert_eq!(sol.y, out.final_state, "{method:?}: same final state, bit for bit");

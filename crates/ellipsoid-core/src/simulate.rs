@@ -763,6 +763,14 @@ fn flatten(inv: &Invariants) -> [f64; 6] {
 }
 
 impl Scene {
+    /// The contact mode and state a run of this scene starts from, after the same checks
+    /// as [`simulate`] (N > 0 and a consistent sliding force at t = 0; optional effects
+    /// do not enter the initial state).
+    pub fn initial_state(&self) -> Result<(Mode, State), ModelError> {
+        self.validate()?;
+        Runner::new(self, (), None).start()
+    }
+
     /// Checks the settings that the body and the integrator do not check themselves.
     pub fn validate(&self) -> Result<(), ModelError> {
         if !(self.t_end.is_finite() && self.t_end > 0.0) {
