@@ -4,8 +4,8 @@
 
 use nalgebra::SVector;
 
-use super::controller::{ControlParams, DOP853_CONTROL, hinit, scale};
-use super::stepper::{Stepper, Trial, all_finite, combine, stage_input};
+use super::controller::{ControlParams, DOP853_CONTROL, scale};
+use super::stepper::{Stepper, Trial, all_finite, combine, first_stage, stage_input};
 use super::stiffness::DOP853_LIMIT;
 use super::tableau::{DOP853, DOP853_A_EXTRA, DOP853_BHH, DOP853_C_EXTRA, DOP853_D, DOP853_E5};
 use super::{OdeSystem, Options, Stats};
@@ -61,15 +61,9 @@ impl<const N: usize> Stepper<N> for Dop853<N> {
         options: &Options<N>,
         stats: &mut Stats,
     ) -> Option<f64> {
-        self.f_next = system.rhs(t0, y0);
-        stats.rhs_evals += 1;
-        if !all_finite(&self.f_next) {
-            return None;
-        }
-        Some(match options.h0 {
-            Some(h0) => h0.min(h_max),
-            None => hinit(system, t0, y0, &self.f_next, 8, h_max, options, stats),
-        })
+        let (f0, h) = first_stage(system, t0, y0, 8, h_max, options, stats)?;
+        self.f_next = f0;
+        Some(h)
     }
 
     fn attempt<S: OdeSystem<N>>(

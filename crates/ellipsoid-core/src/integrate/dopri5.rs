@@ -3,8 +3,8 @@
 
 use nalgebra::SVector;
 
-use super::controller::{ControlParams, DOPRI5_CONTROL, hinit, rms_error};
-use super::stepper::{Stepper, Trial, all_finite, combine, stage_input};
+use super::controller::{ControlParams, DOPRI5_CONTROL, rms_error};
+use super::stepper::{Stepper, Trial, all_finite, combine, first_stage, stage_input};
 use super::stiffness::DOPRI5_LIMIT;
 use super::tableau::{DOPRI5, DOPRI5_D, DOPRI5_E};
 use super::{OdeSystem, Options, Stats};
@@ -58,15 +58,9 @@ impl<const N: usize> Stepper<N> for Dopri5<N> {
         options: &Options<N>,
         stats: &mut Stats,
     ) -> Option<f64> {
-        self.f_next = system.rhs(t0, y0);
-        stats.rhs_evals += 1;
-        if !all_finite(&self.f_next) {
-            return None;
-        }
-        Some(match options.h0 {
-            Some(h0) => h0.min(h_max),
-            None => hinit(system, t0, y0, &self.f_next, 5, h_max, options, stats),
-        })
+        let (f0, h) = first_stage(system, t0, y0, 5, h_max, options, stats)?;
+        self.f_next = f0;
+        Some(h)
     }
 
     fn attempt<S: OdeSystem<N>>(

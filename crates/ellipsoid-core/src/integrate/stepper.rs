@@ -109,6 +109,30 @@ pub(crate) fn combine<const N: usize, const S: usize>(
     acc
 }
 
+/// The first stage f(t0, y0) and the first step of an adaptive method of order `order`:
+/// the caller's h0 (at most `h_max`) or Hairer's `hinit`; `None` if f(t0, y0) is not
+/// finite.
+pub(crate) fn first_stage<S: OdeSystem<N>, const N: usize>(
+    system: &S,
+    t0: f64,
+    y0: &SVector<f64, N>,
+    order: i32,
+    h_max: f64,
+    options: &Options<N>,
+    stats: &mut Stats,
+) -> Option<(SVector<f64, N>, f64)> {
+    let f0 = system.rhs(t0, y0);
+    stats.rhs_evals += 1;
+    if !all_finite(&f0) {
+        return None;
+    }
+    let h = match options.h0 {
+        Some(h0) => h0.min(h_max),
+        None => super::controller::hinit(system, t0, y0, &f0, order, h_max, options, stats),
+    };
+    Some((f0, h))
+}
+
 /// Whether every component is finite.
 #[inline]
 pub(crate) fn all_finite<const N: usize>(v: &SVector<f64, N>) -> bool {
