@@ -14,6 +14,7 @@
 //! change of v_C·s_ref, and |v_C| falling to a floor far below the tolerance for a slip
 //! that grazes zero (see `model::sliding`).
 
+use std::cell::Cell;
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -27,7 +28,7 @@ use crate::error::ModelError;
 use crate::integrate::{self, Action, Direction, Event, Method, OdeSystem, Options, Stats, StopReason, Warning};
 use crate::invariants::Invariants;
 use crate::model::sliding::SLIP_FLOOR;
-use crate::model::{ContactLaw, Frictionless, Rolling, Sliding, System};
+use crate::model::{ContactLaw, Evaluation, Frictionless, Rolling, Sliding, System};
 use crate::state::{self, EulerAngles, State};
 
 /// The contact model a scene asks for.
@@ -624,11 +625,23 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
             Mode::Frictionless => {}
         }
         let (floor, v_min) = self.slip_floor();
+        // The driver evaluates every event function at the same (t, y) in turn: evaluate
+        // the model once per state for all of them.
+        let last: Cell<Option<(f64, State, Evaluation)>> = Cell::new(None);
+        let evaluate = |t: f64, y: &State| match last.get() {
+            Some((tc, yc, ev)) if tc == t && yc == *y => ev,
+            _ => {
+                let ev = sys.evaluate(y);
+                last.set(Some((t, *y, ev)));
+                ev
+            }
+        };
+        let evaluate = &evaluate;
         let events: Vec<Event<'_, { state::DIM }>> = watches
             .iter()
             .map(|&w| Event {
-                g: Box::new(move |_t, y: &State| {
-                    let ev = sys.evaluate(y);
+                g: Box::new(move |t, y: &State| {
+                    let ev = evaluate(t, y);
                     match w {
                         Watch::Normal => ev.response.normal,
                         Watch::Slip => Sliding::slip_along_reference(&ev.kin, y),
