@@ -792,10 +792,10 @@ impl Scene {
         if !(self.gravity.is_finite() && self.gravity >= 0.0) {
             return Err(ModelError::invalid("effects.gravity", self.gravity, "g must be finite and non-negative (m/s^2)"));
         }
-        if let ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } = self.contact {
-            if !(friction.is_finite() && friction >= 0.0) {
-                return Err(ModelError::invalid("contact.friction", friction, "the Coulomb coefficient must be finite and non-negative"));
-            }
+        if let ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } = self.contact
+            && !(friction.is_finite() && friction >= 0.0)
+        {
+            return Err(ModelError::invalid("contact.friction", friction, "the Coulomb coefficient must be finite and non-negative"));
         }
         if let Some(bad) = self.sample_times.iter().find(|t| !(t.is_finite() && **t >= 0.0 && **t <= self.t_end)) {
             return Err(ModelError::invalid("output.times", bad, format!("output times must lie within [0, t_end = {}] s", self.t_end)));

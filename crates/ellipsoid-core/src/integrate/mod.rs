@@ -63,9 +63,12 @@ pub enum Action {
     Stop,
 }
 
+/// g(t, y), boxed so that events of different closures share one list.
+pub type EventFn<'a, const N: usize> = Box<dyn Fn(f64, &SVector<f64, N>) -> f64 + 'a>;
+
 /// An event function g(t, y) whose zero crossings are located on the dense output.
 pub struct Event<'a, const N: usize> {
-    pub g: Box<dyn Fn(f64, &SVector<f64, N>) -> f64 + 'a>,
+    pub g: EventFn<'a, N>,
     pub direction: Direction,
     pub action: Action,
 }

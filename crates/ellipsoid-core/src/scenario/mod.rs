@@ -1,0 +1,220 @@
+//! Scenario files: a TOML document (SI units, radians) → a validated [`Scene`].
+//!
+//! The format is documented in `docs/scenarios.md`; the bundled examples are in
+//! `scenarios/`. Shared by the command-line tool and the Python package.
+//!
+//! ```text
+//!   text ──DeTable::parse──▶ spanned tree ──--set key=value──▶ tree ──walk──▶ Scene
+//!                                                                 └──▶ Body::new, Scene::validate
+//! ```
+//! The document is read into a tree that remembers where every key and value came
+//! from (a byte span in the file, or a `--set` override), so that every error — a
+//! syntax error, an unknown key, a wrong type, a missing key, or a physical rule broken
+//! in `Body::new` or `simulate` (via [`Scenario::locate`]) — names the file, the line
+//! and column, the key, the value and the rule:
+//!
+//! ```text
+//!   scenarios/x.toml:4:1: body.mass = -0.05: the mass must be positive and finite (kg)
+//! ```
+#![allow(clippy::result_large_err)] // one error per failed parse, off the hot path; its fields are public API
+
+use std::collections::BTreeMap;
+use std::fmt;
+use std::ops::Range;
+use std::path::Path;
+
+use nalgebra::{Matrix3, UnitQuaternion, Vector2, Vector3};
+use serde::Serialize;
+use toml::de::{DeTable, DeValue};
+
+use crate::body::{uniform_inertia, Body};
+use crate::effects::{AirDrag, RollingResistance, SpinFriction};
+use crate::error::ModelError;
+use crate::integrate::Method;
+use crate::simulate::{ContactModel, EffectSet, InitialState, Scene, SolverSettings};
+use crate::state::EulerAngles;
+
+mod format;
+mod reader;
+#[cfg(test)]
+mod tests;
+mod tree;
+
+use format::*;
+use reader::*;
+use tree::*;
+
+/// g when `effects.gravity` is absent [m/s²] (standard gravity rounded as in the paper).
+pub const DEFAULT_GRAVITY: f64 = 9.81;
+/// `solver.method` when absent.
+pub const DEFAULT_METHOD: &str = "dop853";
+/// `solver.rtol` when absent.
+pub const DEFAULT_RTOL: f64 = 1e-10;
+/// `solver.atol` when absent (in each state component's SI unit).
+pub const DEFAULT_ATOL: f64 = 1e-12;
+/// `solver.max_steps` when absent (accepted + rejected steps per mode segment).
+pub const DEFAULT_MAX_STEPS: u64 = 10_000_000;
+/// `regularisation` of rolling resistance and spin friction when absent [rad/s].
+pub const DEFAULT_REGULARISATION: f64 = 1e-3;
+/// Most output samples a scenario may ask for (10⁷ rows of CSV is already ~3 GB).
+pub const MAX_SAMPLES: usize = 10_000_000;
+/// The invariants a `[check]` table may bound (the fields of `simulate::Drift`).
+pub const DRIFT_NAMES: [&str; 6] = ["energy", "energy_plus_work", "momentum", "angular_momentum_z", "axial_spin", "jellett"];
+/// The run statuses a `[check]` table may expect (the `status` names of `simulate::Status`).
+pub const STATUS_NAMES: [&str; 7] = ["completed", "lost_contact", "slip_stopped", "painleve", "solver_failure", "chattering", "cancelled"];
+
+const TOP_KEYS: [&str; 7] = ["body", "initial", "contact", "effects", "solver", "output", "check"];
+const BODY_KEYS: [&str; 7] = ["a", "b", "c", "mass", "com_offset", "com_offset_vector", "inertia"];
+const INITIAL_KEYS: [&str; 17] = [
+    "theta", "theta_deg", "phi", "phi_deg", "psi", "psi_deg", "theta_dot", "theta_dot_deg", "phi_dot", "phi_dot_deg", "psi_dot", "psi_dot_deg",
+    "omega_body", "omega_body_deg", "rotation", "position", "velocity",
+];
+const CONTACT_KEYS: [&str; 2] = ["model", "friction"];
+const CONTACT_MODELS: [&str; 4] = ["frictionless", "sliding", "rolling", "coulomb"];
+const EFFECT_KEYS: [&str; 4] = ["gravity", "rolling_resistance", "spin_friction", "air_drag"];
+const SOLVER_KEYS: [&str; 5] = ["method", "rtol", "atol", "step", "max_steps"];
+const METHODS: [&str; 3] = ["rk4", "dopri5", "dop853"];
+const OUTPUT_KEYS: [&str; 3] = ["t_end", "dt", "times"];
+
+/// A parsed, validated scenario.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scenario {
+    /// What to simulate.
+    pub scene: Scene,
+    /// The scenario's text as read (before `--set` overrides).
+    pub text: String,
+    /// Where it came from: the path as given, or a name for text given directly.
+    pub source: String,
+    /// The `key=value` overrides applied, in order.
+    pub overrides: Vec<String>,
+    /// Expectations of the optional `[check]` table.
+    pub check: Check,
+    /// The document after overrides, with spans (for [`Scenario::locate`]).
+    tree: Node,
+}
+
+/// The optional `[check]` table: what a run of the scenario is expected to achieve.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct Check {
+    /// Expected `status` of the run (one of [`STATUS_NAMES`]).
+    pub status: Option<String>,
+    /// Largest allowed relative drift of each named invariant (names from [`DRIFT_NAMES`]).
+    pub drift: BTreeMap<String, f64>,
+}
+
+/// What kind of mistake a [`ScenarioError`] reports.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ErrorKind {
+    /// The file could not be read.
+    Io,
+    /// The text is not valid TOML.
+    Syntax,
+    /// A `--set key=value` override is malformed.
+    Override,
+    /// A key the format does not know.
+    UnknownKey,
+    /// A required key is absent.
+    Missing,
+    /// A value of the wrong type (a string for a number, …).
+    Type,
+    /// Two keys that exclude each other.
+    Conflict,
+    /// A value that breaks a rule (physical or numerical).
+    Invalid,
+}
+
+/// Where an error lies.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct Location {
+    /// The file (path as given) or the name of the text.
+    pub source: String,
+    /// 1-based line and column (in characters) in the file; `None` for a `--set` value.
+    pub line: Option<usize>,
+    pub column: Option<usize>,
+    /// The `--set key=value` override the value came from.
+    pub set: Option<String>,
+}
+
+impl fmt::Display for Location {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}", self.source)?;
+        if let (Some(line), Some(col)) = (self.line, self.column) {
+            write!(f, ":{line}:{col}")?;
+        }
+        if let Some(set) = &self.set {
+            write!(f, ": --set {set}")?;
+        }
+        Ok(())
+    }
+}
+
+/// A scenario that cannot be run. Displays as one line:
+/// `file:line:col: key = value: rule` (or `file:line:col: key is missing: rule`, …).
+#[derive(Debug, Clone, PartialEq, thiserror::Error, Serialize)]
+#[error("{}", self.render())]
+pub struct ScenarioError {
+    pub kind: ErrorKind,
+    pub location: Location,
+    /// The full dotted key (`body.mass`), when the error concerns one.
+    pub key: Option<String>,
+    /// The offending value as written (or as the physics layer formatted it).
+    pub value: Option<String>,
+    /// What is wrong, and what would be right.
+    pub rule: String,
+}
+
+impl ScenarioError {
+    fn render(&self) -> String {
+        let loc = &self.location;
+        match (&self.key, &self.value, self.kind) {
+            (Some(k), _, ErrorKind::Missing) => format!("{loc}: {k} is missing: {}", self.rule),
+            (Some(k), Some(v), _) => format!("{loc}: {k} = {v}: {}", self.rule),
+            (Some(k), None, _) => format!("{loc}: {k}: {}", self.rule),
+            (None, _, _) => format!("{loc}: {}", self.rule),
+        }
+    }
+}
+
+type Result<T> = std::result::Result<T, ScenarioError>;
+
+/// Reads and parses the scenario file at `path`, applying `overrides` (`key=value`).
+pub fn load(path: &Path, overrides: &[impl AsRef<str>]) -> Result<Scenario> {
+    let source = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
+        kind: ErrorKind::Io,
+        location: Location { source: source.clone(), line: None, column: None, set: None },
+        key: None,
+        value: None,
+        rule: format!("cannot read the scenario file: {e}"),
+    })?;
+    parse(&text, &source, overrides)
+}
+
+/// Parses scenario `text` (named `source` in messages), applying `overrides` (`key=value`,
+/// the value in TOML syntax; a bare word is taken as a string).
+pub fn parse(text: &str, source: &str, overrides: &[impl AsRef<str>]) -> Result<Scenario> {
+    let ctx = Ctx { source, text };
+    let doc = DeTable::parse(text).map_err(|e| ctx.syntax(&e, None))?;
+    let mut tree = Node::from_table(doc.into_inner(), Origin::File(0..0));
+    let overrides: Vec<String> = overrides.iter().map(|s| s.as_ref().to_owned()).collect();
+    for set in &overrides {
+        apply_override(&ctx, &mut tree, set)?;
+    }
+    let (scene, check) = build(&ctx, &tree)?;
+    Ok(Scenario { scene, text: text.to_owned(), source: source.to_owned(), overrides, check, tree })
+}
+
+impl Scenario {
+    /// The file name without its extension (`nutation` for `scenarios/nutation.toml`).
+    pub fn stem(&self) -> String {
+        Path::new(&self.source).file_stem().map_or_else(|| "scenario".to_owned(), |s| s.to_string_lossy().into_owned())
+    }
+
+    /// Places an error of the physics layer (e.g. from `simulate`) at the key it names:
+    /// `body.com_offset` → the `com_offset` or `com_offset_vector` key, `initial state` →
+    /// the `[initial]` table, and so on.
+    pub fn locate(&self, err: &ModelError) -> ScenarioError {
+        Ctx { source: &self.source, text: &self.text }.model(&self.tree, err)
+    }
+}
