@@ -41,6 +41,9 @@ pub(crate) const DOP853_CONTROL: ControlParams = ControlParams {
     safe: 0.9,
 };
 
+/// ln 1e-4: FACOLD's floor and start value (`dopri5.f`).
+const LN_FACOLD_MIN: f64 = -9.210340371976182;
+
 /// The controller's decision on an attempted step.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum Verdict {
@@ -52,7 +55,8 @@ pub(crate) enum Verdict {
 #[derive(Debug, Clone)]
 pub(crate) struct PiController {
     p: ControlParams,
-    facold: f64,
+    /// ln FACOLD: the logarithm of the last accepted error (at least 1e-4).
+    ln_facold: f64,
     after_reject: bool,
 }
 
@@ -61,19 +65,24 @@ impl PiController {
         // FACOLD = 1e-4 before the first step (dopri5.f, DOPCOR)
         PiController {
             p,
-            facold: 1.0e-4,
+            ln_facold: LN_FACOLD_MIN,
             after_reject: false,
         }
     }
 
     /// Judges a step of size `h` with scaled error `err` (finite, ≥ 0).
+    ///
+    /// fac = err^expo1 / facold^beta is formed as exp(expo1·ln err − beta·ln facold) with
+    /// ln facold kept from the last accepted step: one `ln` and one `exp` per step instead
+    /// of Hairer's two `pow` (the same value up to round-off; `pow` was a quarter of
+    /// DOPRI5's per-step cost). err = 0 gives ln err = −∞ and fac = 0, clamped below.
     pub(crate) fn judge(&mut self, err: f64, h: f64, h_max: f64) -> Verdict {
         let p = &self.p;
-        let fac11 = err.powf(p.expo1);
-        let fac = fac11 / self.facold.powf(p.beta);
-        let fac = (fac / p.safe).min(1.0 / p.fac1).max(1.0 / p.fac2);
+        let ln_err = err.ln();
         if err <= 1.0 {
-            self.facold = err.max(1.0e-4);
+            let fac = (p.expo1 * ln_err - p.beta * self.ln_facold).exp();
+            let fac = (fac / p.safe).min(1.0 / p.fac1).max(1.0 / p.fac2);
+            self.ln_facold = ln_err.max(LN_FACOLD_MIN);
             let mut h_next = (h / fac).min(h_max);
             if self.after_reject {
                 // no increase right after a rejection
@@ -83,6 +92,7 @@ impl PiController {
             Verdict::Accept { h_next }
         } else {
             self.after_reject = true;
+            let fac11 = (p.expo1 * ln_err).exp();
             Verdict::Reject {
                 h_next: h / (1.0 / p.fac1).min(fac11 / p.safe),
             }
@@ -161,4 +171,44 @@ pub(crate) fn hinit<S: OdeSystem<N>, const N: usize>(
     };
     // f64::min ignores a NaN h1 (non-finite f1): the first step then reveals the problem.
     (100.0 * h).min(h1).min(h_max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ln_facold_floor_is_ln_1e_minus_4() {
+        assert_eq!(LN_FACOLD_MIN, 1.0e-4_f64.ln());
+    }
+
+    /// The log-space controller agrees with Hairer's pow formula
+    /// (fac = err^expo1 / facold^beta, `dopri5.f` DOPCOR) to round-off, across a run of
+    /// accepted and rejected steps, and keeps its rules (no growth after a rejection).
+    #[test]
+    fn judge_matches_hairers_pow_formula() {
+        let p = DOPRI5_CONTROL;
+        let mut c = PiController::new(p);
+        let (mut facold, mut after_reject) = (1.0e-4_f64, false);
+        let h = 1.0e-3;
+        for &err in &[0.3_f64, 1e-9, 0.0, 2.5, 0.99, 1.0, 40.0, 0.5, 1e-6] {
+            let fac11 = err.powf(p.expo1);
+            let fac = (fac11 / facold.powf(p.beta) / p.safe).min(1.0 / p.fac1).max(1.0 / p.fac2);
+            let (want_accept, want_h) = if err <= 1.0 {
+                let hn = if after_reject { (h / fac).min(h) } else { h / fac };
+                facold = err.max(1.0e-4);
+                after_reject = false;
+                (true, hn)
+            } else {
+                after_reject = true;
+                (false, h / (1.0 / p.fac1).min(fac11 / p.safe))
+            };
+            let (accepted, got) = match c.judge(err, h, 1.0) {
+                Verdict::Accept { h_next } => (true, h_next),
+                Verdict::Reject { h_next } => (false, h_next),
+            };
+            assert_eq!(accepted, want_accept, "err = {err}");
+            assert!((got - want_h).abs() <= 1e-14 * want_h, "err = {err}: {got} vs {want_h}");
+        }
+    }
 }
