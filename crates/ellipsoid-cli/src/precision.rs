@@ -12,7 +12,7 @@
 //!   the first and last maxima of θ located (as events) in the run.
 //! - `final_state` (every other scene): the reference is a DOP853 run at rtol = 1e-14,
 //!   checked against one at 3e-15 (their difference is printed). The error is the
-//!   largest of: the angle of R_refᵀR [rad], |x_G − x_ref|/ℓ, |v_G − v_ref|/(|v_G(0)| + |ω(0)|ℓ),
+//!   largest of: the angle of R_refᵀR \[rad\], |x_G − x_ref|/ℓ, |v_G − v_ref|/(|v_G(0)| + |ω(0)|ℓ),
 //!   |ω − ω_ref|/|ω(0)| and |t_f − t_f,ref|/t_f,ref, at the final state (ℓ = largest semi-axis).
 
 use std::fmt::Write as _;
@@ -34,7 +34,7 @@ use crate::cli::PrecisionArgs;
 use crate::error::CliError;
 use crate::plot::{self, Series};
 
-/// Default end time: the scenario's, but at most this [s] (RK4 at h = 1e-6 s costs
+/// Default end time: the scenario's, but at most this \[s\] (RK4 at h = 1e-6 s costs
 /// about 0.5 s of wall time per simulated second).
 pub const DEFAULT_T_END_CAP: f64 = 10.0;
 /// The paper's method and step (RK4, h = 1e-4 s), marked on the plots.
@@ -46,7 +46,7 @@ const REFERENCE_RTOL: f64 = 1e-14;
 const CHECK_RTOL: f64 = 3e-15;
 /// Invariant drifts are measured on this many equal intervals of [0, t_end].
 const DRIFT_INTERVALS: usize = 100;
-/// Timing: at least `repeats` runs, more while the total is below this [s] (at most 15).
+/// Timing: at least `repeats` runs, more while the total is below this \[s\] (at most 15).
 const TIMING_BUDGET: f64 = 0.3;
 const MAX_REPEATS: usize = 15;
 

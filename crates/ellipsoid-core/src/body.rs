@@ -11,15 +11,15 @@ use crate::error::ModelError;
 /// A validated rigid ellipsoid. Construct with [`Body::new`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct Body {
-    /// Semi-axes (a, b, c) along body x, y, z [m].
+    /// Semi-axes (a, b, c) along body x, y, z \[m\].
     semi_axes: Vector3<f64>,
-    /// Mass [kg].
+    /// Mass \[kg\].
     mass: f64,
     /// Central inertia tensor about G in body axes [kg·m²].
     inertia: Matrix3<f64>,
     /// Its inverse [1/(kg·m²)].
     inertia_inv: Matrix3<f64>,
-    /// G − C0 in body axes [m].
+    /// G − C0 in body axes \[m\].
     com_offset: Vector3<f64>,
 }
 
@@ -87,11 +87,11 @@ impl Body {
         Body::new(Vector3::new(a, a, c), mass, Matrix3::from_diagonal(&Vector3::new(i, i, i3)), Vector3::new(0.0, 0.0, -d2))
     }
 
-    /// Semi-axes (a, b, c) [m].
+    /// Semi-axes (a, b, c) \[m\].
     pub fn semi_axes(&self) -> Vector3<f64> {
         self.semi_axes
     }
-    /// Mass [kg].
+    /// Mass \[kg\].
     pub fn mass(&self) -> f64 {
         self.mass
     }
@@ -103,7 +103,7 @@ impl Body {
     pub fn inertia_inv(&self) -> &Matrix3<f64> {
         &self.inertia_inv
     }
-    /// G − C0 in body axes [m].
+    /// G − C0 in body axes \[m\].
     pub fn com_offset(&self) -> Vector3<f64> {
         self.com_offset
     }

@@ -15,11 +15,11 @@ use crate::model::Kinematics;
 /// Generalised load of the optional effects.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Wrench {
-    /// Force on G, world frame [N].
+    /// Force on G, world frame \[N\].
     pub force: Vector3<f64>,
     /// Torque about G, body frame [N·m].
     pub torque: Vector3<f64>,
-    /// Torque about G per newton of normal force, body frame [m].
+    /// Torque about G per newton of normal force, body frame \[m\].
     pub torque_per_normal: Vector3<f64>,
 }
 
@@ -55,7 +55,7 @@ impl<A: Effect, B: Effect> Effect for (A, B) {
     }
 }
 
-/// Viscous air drag: force −k v_G [N] and torque −k_ω ω [N·m].
+/// Viscous air drag: force −k v_G \[N\] and torque −k_ω ω [N·m].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AirDrag {
     /// k [kg/s].
@@ -75,7 +75,7 @@ impl Effect for AirDrag {
 /// regularised as ω_h / √(|ω_h|² + ε²) so that it vanishes smoothly at ω_h = 0.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RollingResistance {
-    /// c_r [m].
+    /// c_r \[m\].
     pub coefficient: f64,
     /// ε [rad/s].
     pub regularisation: f64,
@@ -95,7 +95,7 @@ impl Effect for RollingResistance {
 /// ω_z / √(ω_z² + ε²).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpinFriction {
-    /// c_s [m].
+    /// c_s \[m\].
     pub coefficient: f64,
     /// ε [rad/s].
     pub regularisation: f64,

@@ -21,17 +21,17 @@ use crate::body::Body;
 pub struct Contact {
     /// ζ = Rᵀ e3, world up in body axes.
     pub zeta: Vector3<f64>,
-    /// Contact point C relative to C0 [m].
+    /// Contact point C relative to C0 \[m\].
     pub p_c: Vector3<f64>,
-    /// Lever arm r = C − G [m].
+    /// Lever arm r = C − G \[m\].
     pub r: Vector3<f64>,
-    /// Height of G above the plane [m].
+    /// Height of G above the plane \[m\].
     pub height: f64,
     /// ζ̇ = ζ × ω_b [1/s].
     pub zeta_dot: Vector3<f64>,
     /// Rate of the contact point over the body surface, ṙ_b = −H ζ̇ [m/s].
     pub r_dot_surface: Vector3<f64>,
-    /// u = r × ζ [m].
+    /// u = r × ζ \[m\].
     pub u: Vector3<f64>,
     /// κ = r·(ζ̇ × ω) − ζ̇ᵀHζ̇ [m/s²], so that z̈_G = −u·ω̇ − κ.
     pub kappa: f64,

@@ -19,9 +19,9 @@ use crate::state::{self, State};
 /// The invariant quantities of one state (SI units).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Invariants {
-    /// E [J].
+    /// E \[J\].
     pub energy: f64,
-    /// E + W [J].
+    /// E + W \[J\].
     pub energy_plus_work: f64,
     /// m v_G, horizontal [kg·m/s].
     pub momentum: [f64; 2],
@@ -40,7 +40,7 @@ impl Invariants {
         Invariants::from_kinematics(body, gravity, &kin, y[state::WORK])
     }
 
-    /// Evaluates the invariants from already computed kinematics and dissipated work W [J].
+    /// Evaluates the invariants from already computed kinematics and dissipated work W \[J\].
     pub fn from_kinematics(body: &Body, gravity: f64, kin: &Kinematics, work: f64) -> Self {
         let m = body.mass();
         let l_body = body.inertia() * kin.omega;

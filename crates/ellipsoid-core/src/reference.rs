@@ -74,13 +74,13 @@ pub enum NoReference {
 /// The exact nutation of a frictionless body of revolution.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Nutation {
-    /// Lower turning point θ1 [rad].
+    /// Lower turning point θ1 \[rad\].
     pub theta_min: f64,
-    /// Upper turning point θ2 [rad].
+    /// Upper turning point θ2 \[rad\].
     pub theta_max: f64,
-    /// Period of θ(t) [s] (128-node rule).
+    /// Period of θ(t) \[s\] (128-node rule).
     pub period: f64,
-    /// |T(128 nodes) − T(96 nodes)| [s]: the quadrature's own error bound.
+    /// |T(128 nodes) − T(96 nodes)| \[s\]: the quadrature's own error bound.
     pub uncertainty: f64,
 }
 
@@ -90,7 +90,7 @@ struct Reduced {
     a2: f64,
     c2: f64,
     gz: f64,
-    /// m [kg], g [m/s²], I (transverse, about G) [kg m²].
+    /// m \[kg\], g [m/s²], I (transverse, about G) [kg m²].
     m: f64,
     g: f64,
     i1: f64,
@@ -105,13 +105,13 @@ impl Reduced {
         (self.a2 * sn * sn + self.c2 * cs * cs).sqrt()
     }
 
-    /// h'(θ) [m].
+    /// h'(θ) \[m\].
     fn dh(&self, theta: f64) -> f64 {
         let (sn, cs) = theta.sin_cos();
         (self.a2 - self.c2) * sn * cs / self.s(theta) - self.gz * sn
     }
 
-    /// V(θa) − V(θa + δ) [J], without cancellation between nearby values of V.
+    /// V(θa) − V(θa + δ) \[J\], without cancellation between nearby values of V.
     fn drop(&self, theta_a: f64, delta: f64) -> f64 {
         let theta = theta_a + delta;
         let (sa, ua) = theta_a.sin_cos();

@@ -66,7 +66,7 @@ pub struct InitialState {
     pub angles: EulerAngles,
     /// Body angular velocity [rad/s]; when given it replaces the Euler-angle rates.
     pub omega_body: Option<Vector3<f64>>,
-    /// Horizontal position of G [m].
+    /// Horizontal position of G \[m\].
     pub position: Vector2<f64>,
     /// Horizontal velocity of G [m/s]. Must be `None` for rolling, where it is implied;
     /// `None` means zero for frictionless and sliding, and no slip (v_G = −ω × r) for
@@ -80,7 +80,7 @@ pub struct SolverSettings {
     pub method: Method,
     pub rtol: f64,
     pub atol: f64,
-    /// Initial step hint for the adaptive methods [s].
+    /// Initial step hint for the adaptive methods \[s\].
     pub initial_step: Option<f64>,
     pub max_steps: u64,
 }
@@ -95,9 +95,9 @@ pub struct Scene {
     pub effects: EffectSet,
     pub initial: InitialState,
     pub solver: SolverSettings,
-    /// End time [s].
+    /// End time \[s\].
     pub t_end: f64,
-    /// Output times, sorted, within [0, t_end] [s].
+    /// Output times, sorted, within [0, t_end] \[s\].
     pub sample_times: Vec<f64>,
 }
 
@@ -125,7 +125,7 @@ impl Mode {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Sample {
     pub t: f64,
-    /// Position of G [m] (z from the contact constraint).
+    /// Position of G \[m\] (z from the contact constraint).
     pub position: Vector3<f64>,
     pub angles: EulerAngles,
     /// Body angular velocity [rad/s].
@@ -133,7 +133,7 @@ pub struct Sample {
     /// Velocity of G [m/s].
     pub velocity: Vector3<f64>,
     pub energy: f64,
-    /// Dissipated work W [J].
+    /// Dissipated work W \[J\].
     pub work: f64,
     pub normal_force: f64,
     /// |v_C| [m/s].
@@ -160,7 +160,7 @@ pub enum EventKind {
 pub struct EventRecord {
     #[serde(flatten)]
     pub kind: EventKind,
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
 }
 

@@ -32,7 +32,7 @@ pub const WORK: usize = 11;
 /// Index of the slip reference direction.
 pub const SLIP_REF: usize = 12;
 
-/// Horizontal position of G [m].
+/// Horizontal position of G \[m\].
 #[inline]
 pub fn position(y: &State) -> Vector2<f64> {
     Vector2::new(y[POS], y[POS + 1])

@@ -7,7 +7,7 @@ use super::tableau::{RK4, rk4_dense_weights};
 use super::{OdeSystem, Options, Stats};
 
 pub(crate) struct Rk4<const N: usize> {
-    /// The fixed step [s].
+    /// The fixed step \[s\].
     h_fixed: f64,
     t0: f64,
     h: f64,

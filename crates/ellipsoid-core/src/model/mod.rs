@@ -60,9 +60,9 @@ impl Kinematics {
 /// The contact force and the accelerations it implies.
 #[derive(Debug, Clone, Copy)]
 pub struct Response {
-    /// Contact force at C, world frame [N].
+    /// Contact force at C, world frame \[N\].
     pub force: Vector3<f64>,
-    /// Normal force N = F·e3 [N].
+    /// Normal force N = F·e3 \[N\].
     pub normal: f64,
     /// Angular acceleration, body frame [rad/s²].
     pub omega_dot: Vector3<f64>,
@@ -105,7 +105,7 @@ impl Evaluation {
         (self.response.force + self.load.force) / body.mass() - Vector3::new(0.0, 0.0, gravity)
     }
 
-    /// Dissipated power Ẇ = −F·v_C − f·v_G − (τ + N τ_N)·ω [W].
+    /// Dissipated power Ẇ = −F·v_C − f·v_G − (τ + N τ_N)·ω \[W\].
     pub fn dissipation(&self) -> f64 {
         let r = &self.response;
         let torque = self.load.torque + r.normal * self.load.torque_per_normal;

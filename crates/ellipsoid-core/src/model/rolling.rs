@@ -46,7 +46,7 @@ impl Rolling {
         y[state::WORK] -= 0.5 * v_c.dot(&impulse);
     }
 
-    /// Friction-cone margin μ N − |F_h| [N]: rolling needs it ≥ 0.
+    /// Friction-cone margin μ N − |F_h| \[N\]: rolling needs it ≥ 0.
     pub fn cone_margin(response: &Response, friction: f64) -> f64 {
         friction * response.normal - response.force.xy().norm()
     }
