@@ -161,10 +161,10 @@ pub struct Report {
 
 pub fn precision(args: &PrecisionArgs) -> Result<ExitCode, CliError> {
     let scenario = scenario::load(&args.scenario, &args.set)?;
-    if let Some(t) = args.t_end {
-        if !(t.is_finite() && t > 0.0) {
-            return Err(CliError::Usage(format!("--t-end {t}: the end time must be positive and finite (s)")));
-        }
+    if let Some(t) = args.t_end
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(CliError::Usage(format!("--t-end {t}: the end time must be positive and finite (s)")));
     }
     let dir = args.output.clone().unwrap_or_else(|| Path::new("out").join("precision").join(scenario.stem()));
     let log = |s: &str| {

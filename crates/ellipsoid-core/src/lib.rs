@@ -3,6 +3,9 @@
 //! SI units throughout (m, kg, s, rad). The physics reference is `PHYSICS.md`
 //! (shipped as `docs/physics.md`); integrators live in [`integrate`].
 
+// `!(x > 0.0)` is how this crate rejects NaN along with non-positive values.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 pub mod integrate;
 pub mod body;
 pub mod effects;
