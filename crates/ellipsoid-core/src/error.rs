@@ -21,3 +21,30 @@ impl ModelError {
         ModelError::Invalid { quantity: quantity.into(), value: value.to_string(), rule: rule.into() }
     }
 }
+
+/// A number as messages print it: plain for 1e-4 ≤ |x| < 1e15 (and 0), otherwise in
+/// scientific notation, so 1e-300 is not spelled out in 300 digits; NaN and ±inf as such.
+pub fn number(x: f64) -> String {
+    let a = x.abs();
+    if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::number;
+
+    #[test]
+    fn numbers_print_short_at_any_magnitude() {
+        assert_eq!(number(0.0), "0");
+        assert_eq!(number(0.05), "0.05");
+        assert_eq!(number(-2.5e6), "-2500000");
+        assert_eq!(number(1e-300), "1e-300");
+        assert_eq!(number(-3.2e20), "-3.2e20");
+        assert_eq!(number(f64::INFINITY), "inf");
+        assert_eq!(number(f64::NAN), "NaN");
+    }
+}
