@@ -24,7 +24,7 @@ use serde::Serialize;
 
 use crate::body::Body;
 use crate::effects::{AirDrag, Effect, RollingResistance, SpinFriction};
-use crate::error::ModelError;
+use crate::error::{ModelError, number};
 use crate::integrate::{self, Action, Direction, Event, Method, OdeSystem, Options, Stats, StopReason, Warning};
 use crate::invariants::Invariants;
 use crate::model::sliding::SLIP_FLOOR;
@@ -505,7 +505,7 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
             if let (ContactModel::Rolling, Some(v)) = (scene.contact, init.velocity) {
                 return Err(ModelError::invalid(
                     "initial.velocity",
-                    format!("[{}, {}]", v.x, v.y),
+                    format!("[{}, {}]", number(v.x), number(v.y)),
                     "not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r)",
                 ));
             }
@@ -522,25 +522,41 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
             Mode::Sliding => self.slide.evaluate(&y).response,
             Mode::Rolling => self.roll.evaluate(&y).response,
         };
-        if !(response.painleve > 0.0) {
-            let mu = match scene.contact {
-                ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } => friction,
-                _ => 0.0,
-            };
+        let (sample, inv) = self.sample(mode, 0.0, &y, None);
+        let derived = [
+            ("the normal force N", response.normal, "N"),
+            ("the energy E", inv.energy, "J"),
+            ("the speed of G", sample.velocity.norm(), "m/s"),
+            ("the angular speed", sample.omega.norm(), "rad/s"),
+            ("the height of G", sample.position.z, "m"),
+            ("the angular momentum L_z", inv.angular_momentum_z, "kg m^2/s"),
+            ("Jellett's quantity", inv.jellett, "kg m^3/s"),
+        ];
+        if let Some((name, value, unit)) = derived.into_iter().find(|(_, v, _)| !v.is_finite()) {
+            return Err(ModelError::invalid(
+                "initial state",
+                format!("{name} = {} {unit}", number(value)),
+                "every quantity derived from [body] and [initial] must be finite at t = 0; these inputs overflow \
+                 double precision (state the problem in SI units of ordinary magnitude)",
+            ));
+        }
+        if let ContactModel::Sliding { friction: mu } | ContactModel::Coulomb { friction: mu } = scene.contact
+            && !(response.painleve > 0.0)
+        {
             return Err(ModelError::invalid(
                 "contact.friction",
-                mu,
+                number(mu),
                 format!(
                     "Painlevé inconsistency at t = 0: with this coefficient the sliding normal-force denominator \
                      1 + m u·I⁻¹(r × d) = {} is not positive, so Coulomb sliding has no consistent contact force (reduce the friction)",
-                    response.painleve
+                    number(response.painleve)
                 ),
             ));
         }
         if !(response.normal > 0.0) {
             return Err(ModelError::invalid(
                 "initial normal force N",
-                format!("{} N", response.normal),
+                format!("{} N", number(response.normal)),
                 "the plane must push on the body at t = 0 (N > 0); with these angles and rates the body would leave the plane at once",
             ));
         }
@@ -787,21 +803,39 @@ impl Scene {
     /// Checks the settings that the body and the integrator do not check themselves.
     pub fn validate(&self) -> Result<(), ModelError> {
         if !(self.t_end.is_finite() && self.t_end > 0.0) {
-            return Err(ModelError::invalid("output.t_end", self.t_end, "the end time must be positive and finite (s)"));
+            return Err(ModelError::invalid("output.t_end", number(self.t_end), "the end time must be positive and finite (s)"));
         }
         if !(self.gravity.is_finite() && self.gravity >= 0.0) {
-            return Err(ModelError::invalid("effects.gravity", self.gravity, "g must be finite and non-negative (m/s^2)"));
+            return Err(ModelError::invalid("effects.gravity", number(self.gravity), "g must be finite and non-negative (m/s^2)"));
         }
         if let ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } = self.contact
             && !(friction.is_finite() && friction >= 0.0)
         {
-            return Err(ModelError::invalid("contact.friction", friction, "the Coulomb coefficient must be finite and non-negative"));
+            return Err(ModelError::invalid("contact.friction", number(friction), "the Coulomb coefficient must be finite and non-negative"));
         }
         if let Some(bad) = self.sample_times.iter().find(|t| !(t.is_finite() && **t >= 0.0 && **t <= self.t_end)) {
-            return Err(ModelError::invalid("output.times", bad, format!("output times must lie within [0, t_end = {}] s", self.t_end)));
+            return Err(ModelError::invalid("output.times", number(*bad), format!("output times must lie within [0, t_end = {}] s", number(self.t_end))));
         }
-        if let Some(w) = self.sample_times.windows(2).find(|w| w[1] < w[0]) {
-            return Err(ModelError::invalid("output.times", format!("{} after {}", w[1], w[0]), "output times must be sorted in increasing order"));
+        if let Some(w) = self.sample_times.windows(2).find(|w| w[1] <= w[0]) {
+            return Err(ModelError::invalid("output.times", format!("{} after {}", number(w[1]), number(w[0])), "output times must be strictly increasing"));
+        }
+        if let Method::Rk4 { h } = self.solver.method {
+            if h > self.t_end {
+                return Err(ModelError::invalid("solver.step", number(h), format!("the fixed step must not exceed output.t_end = {} s", number(self.t_end))));
+            }
+            let steps = (self.t_end / h).ceil();
+            if steps > self.solver.max_steps as f64 {
+                return Err(ModelError::invalid(
+                    "solver.step",
+                    number(h),
+                    format!(
+                        "rk4 would take {} steps to t_end = {} s, more than solver.max_steps = {} (raise the step or max_steps)",
+                        number(steps),
+                        number(self.t_end),
+                        self.solver.max_steps
+                    ),
+                ));
+            }
         }
         let init = &self.initial;
         let vectors = [("initial.position", init.position.as_slice().to_vec()), ("initial.velocity", init.velocity.map_or(vec![], |v| v.as_slice().to_vec())), ("initial.omega_body", init.omega_body.map_or(vec![], |w| w.as_slice().to_vec()))];
@@ -813,7 +847,7 @@ impl Scene {
         let a = &self.initial.angles;
         for (name, v) in [("theta", a.theta), ("phi", a.phi), ("psi", a.psi), ("theta_dot", a.theta_dot), ("phi_dot", a.phi_dot), ("psi_dot", a.psi_dot)] {
             if !v.is_finite() {
-                return Err(ModelError::invalid(format!("initial.{name}"), v, "must be finite"));
+                return Err(ModelError::invalid(format!("initial.{name}"), number(v), "must be finite"));
             }
         }
         Ok(())

@@ -214,12 +214,12 @@ pub(super) fn read_solver(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<SolverSetting
     let sec = ctx.section(root, "solver", &SOLVER_KEYS, "method, tolerances and step")?.unwrap_or(Sec { path: "solver".into(), node: &EMPTY });
     let method = ctx.choice(&sec, "method", &METHODS)?.map_or(DEFAULT_METHOD, |(m, _)| m);
     let rtol = ctx
-        .checked(&sec, "rtol", "the relative tolerance", |v| v >= 10.0 * f64::EPSILON, "the relative tolerance must be finite and at least 10·EPS ≈ 2.2e-15")?
+        .checked(&sec, "rtol", "the relative tolerance", |v| (10.0 * f64::EPSILON..=1e-2).contains(&v), "the relative tolerance must lie between 10·EPS ≈ 2.2e-15 and 1e-2 (looser tolerances leave no correct digit)")?
         .unwrap_or(DEFAULT_RTOL);
     let atol = ctx.checked(&sec, "atol", "the absolute tolerance", |v| v > 0.0, "the absolute tolerance must be positive and finite")?.unwrap_or(DEFAULT_ATOL);
     let step = ctx.checked(&sec, "step", "the step (s)", |v| v > 0.0, "the step must be positive and finite (s)")?;
     let max_steps = ctx
-        .checked(&sec, "max_steps", "the most steps per run segment", |v| v >= 1.0 && v.fract() == 0.0 && v < u64::MAX as f64, "must be a whole number of at least 1")?
+        .checked(&sec, "max_steps", "the most steps per run segment", |v| v >= 1.0 && v.fract() == 0.0 && v < u64::MAX as f64, "must be a whole number from 1 to 2^64 − 1")?
         .map_or(DEFAULT_MAX_STEPS, |v| v as u64);
     let (method, initial_step) = match method {
         "rk4" => {
@@ -242,14 +242,18 @@ pub(super) fn read_output(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, Vec<f64
     ctx.exclusive(&sec, "dt", "times", "a sampling interval or explicit output times")?;
     if let Some(dt) = ctx.checked(&sec, "dt", "the sampling interval (s)", |v| v > 0.0, "the sampling interval must be positive and finite (s)")? {
         let times = grid(t_end, dt).map_err(|n| {
-            ctx.bad(ErrorKind::Invalid, &sec, sec.get("dt").expect("just read"), format!("t_end / dt asks for {n:.3e} samples; at most {MAX_SAMPLES} are allowed (raise dt)"))
+            ctx.bad(ErrorKind::Invalid, &sec, sec.get("dt").expect("just read"), format!("t_end / dt asks for {} samples; at most {MAX_SAMPLES} are allowed (raise dt)", number(n)))
         })?;
         return Ok((t_end, times));
     }
     let got = sec.get("times").ok_or_else(|| ctx.missing(&sec, "dt", "give the sampling interval dt (s), or explicit output times = [t1, t2, …]"))?;
     const FORM: &str = "an array of output times (s)";
     let Value::Array(items) = &got.node().value else { return Err(ctx.wrong_type(&sec, got, FORM)) };
-    let times = items.iter().map(Node::as_f64).collect::<Option<Vec<f64>>>().ok_or_else(|| ctx.wrong_type(&sec, got, FORM))?;
+    let times = items
+        .iter()
+        .map(Node::as_f64)
+        .collect::<Option<Vec<f64>>>()
+        .ok_or_else(|| ctx.bad(ErrorKind::Type, &sec, got, "every output time must be a number (s)"))?;
     if times.is_empty() {
         return Err(ctx.bad(ErrorKind::Invalid, &sec, got, "give at least one output time"));
     }
@@ -260,15 +264,18 @@ pub(super) fn read_output(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, Vec<f64
 }
 
 /// t = k·dt for k = 0, 1, … while ≤ t_end, plus t_end itself if it is not on the grid
-/// (a time within 1e-9·k·dt of t_end counts as t_end). Err(count) when too many.
+/// (a time within 1e-9·k·dt of t_end counts as t_end). Err(number of samples) when
+/// there would be more than [`MAX_SAMPLES`].
 pub(super) fn grid(t_end: f64, dt: f64) -> std::result::Result<Vec<f64>, f64> {
     let ratio = t_end / dt;
-    if ratio >= MAX_SAMPLES as f64 {
-        return Err(ratio);
-    }
     let nearest = ratio.round();
     let on_grid = nearest >= 1.0 && (ratio - nearest).abs() <= 1e-9 * nearest;
-    let n = if on_grid { nearest as usize } else { ratio.floor() as usize + 1 };
+    // n grid points before t_end, then t_end
+    let n = if on_grid { nearest } else { ratio.floor() + 1.0 };
+    if n + 1.0 > MAX_SAMPLES as f64 {
+        return Err(n + 1.0);
+    }
+    let n = n as usize;
     let mut times: Vec<f64> = (0..n).map(|k| k as f64 * dt).collect();
     times.push(t_end);
     Ok(times)

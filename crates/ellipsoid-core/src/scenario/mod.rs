@@ -29,7 +29,7 @@ use toml::de::{DeTable, DeValue};
 
 use crate::body::{uniform_inertia, Body};
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
-use crate::error::ModelError;
+use crate::error::{ModelError, number};
 use crate::integrate::Method;
 use crate::simulate::{ContactModel, EffectSet, InitialState, Scene, SolverSettings};
 use crate::state::EulerAngles;

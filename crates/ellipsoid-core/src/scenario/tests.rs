@@ -185,3 +185,51 @@ fn suggestions_need_a_small_edit_distance() {
     assert_eq!(suggest("gravty", &EFFECT_KEYS), Some("gravity"));
     assert_eq!(suggest("zzz", &EFFECT_KEYS), None);
 }
+
+#[test]
+fn overflowing_initial_state_is_rejected_by_name() {
+    let cases = [
+        ("body.mass=1e308", "the normal force N = NaN N"),
+        ("initial.velocity=[1e200, 0]", "the energy E = inf J"),
+        // frictionless: the error is the overflow, not a Painlevé test on NaN with μ = 0
+        ("body.a=1e300", "the normal force N = NaN N"),
+        ("initial.psi_dot=1e200", "the normal force N = NaN N"),
+    ];
+    for (set, what) in cases {
+        let s = ok(PAPER, &[set]);
+        let e = s.scene.initial_state().expect_err(set).to_string();
+        assert!(e.starts_with(&format!("initial state = {what}: ")) && e.contains("must be finite"), "{set}: {e}");
+    }
+    assert!(ok(PAPER, &[]).scene.initial_state().is_ok());
+}
+
+#[test]
+fn solver_settings_are_bounded() {
+    let e = err(PAPER, &["solver.rtol=0.5"]);
+    assert!(e.contains("solver.rtol = 0.5") && e.contains("1e-2"), "{e}");
+    assert!(ok(PAPER, &["solver.rtol=1e-2"]).scene.solver.rtol == 1e-2);
+    let e = err(PAPER, &["solver.method=\"rk4\"", "solver.step=20.0"]);
+    assert!(e.contains("solver.step = 20") && e.contains("must not exceed output.t_end = 10 s"), "{e}");
+    let e = err(PAPER, &["solver.method=\"rk4\"", "solver.step=1e-300"]);
+    assert!(e.contains("solver.step = 1e-300") && e.contains("more than solver.max_steps = 10000000"), "{e}");
+    // exactly max_steps steps is allowed
+    assert!(ok(PAPER, &["solver.method=\"rk4\"", "solver.step=1e-3", "solver.max_steps=10000"]).scene.solver.max_steps == 10_000);
+    let e = err(PAPER, &["solver.method=\"rk4\"", "solver.step=1e-3", "solver.max_steps=9999"]);
+    assert!(e.contains("rk4 would take 10000 steps"), "{e}");
+    let e = err(PAPER, &["solver.max_steps=99999999999999999999"]);
+    assert!(e.contains("solver.max_steps = 1e20: must be a whole number from 1 to 2^64 − 1"), "{e}");
+}
+
+#[test]
+fn output_times_messages_are_exact() {
+    let e = err(&edit("dt = 1e-3", "dt = 1e-6"), &[]);
+    assert!(e.contains("asks for 10000001 samples; at most 10000000"), "{e}");
+    let e = err(&edit("dt = 1e-3", "times = [0.5, 0.5]"), &[]);
+    assert!(e.contains("0.5 after 0.5") && e.contains("strictly increasing"), "{e}");
+    let e = err(&edit("dt = 1e-3", "times = [\"a\"]"), &[]);
+    assert!(e.contains("every output time must be a number (s)"), "{e}");
+    let e = err(&edit("dt = 1e-3", "dt = 1e-3\ntimes = [0.1]"), &[]).to_string();
+    assert!(e.contains("not both"), "{e}");
+    let e = err(PAPER, &["output.t_end=-1e-300"]);
+    assert!(e.contains("output.t_end = -1e-300"), "{e}");
+}

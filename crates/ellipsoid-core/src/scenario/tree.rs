@@ -63,9 +63,13 @@ impl Node {
             DeValue::String(s) => Value::Str(s.into_owned()),
             DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
                 Ok(v) => Value::Int(v),
-                // Beyond i64: no key of the format needs it; keep it as a number that
-                // fails the finiteness checks rather than a different type.
-                Err(_) => Value::Float(if i.as_str().starts_with('-') { f64::NEG_INFINITY } else { f64::INFINITY }),
+                // Beyond i64: no key of the format needs it; keep it as a number (its
+                // nearest float, or ±inf), which the range checks then reject.
+                Err(_) => Value::Float(if i.radix() == 10 { i.as_str().parse().ok() } else { None }.unwrap_or(if i.as_str().starts_with('-') {
+                    f64::NEG_INFINITY
+                } else {
+                    f64::INFINITY
+                })),
             },
             DeValue::Float(f) => Value::Float(f.as_str().parse().unwrap_or(f64::NAN)),
             DeValue::Boolean(b) => Value::Bool(b),
@@ -124,7 +128,7 @@ impl Node {
         match &self.value {
             Value::Str(s) => format!("{s:?}"),
             Value::Int(i) => i.to_string(),
-            Value::Float(f) => f.to_string(),
+            Value::Float(f) => crate::error::number(*f),
             Value::Bool(b) => b.to_string(),
             Value::Datetime(d) => d.clone(),
             Value::Array(a) => format!("[{}]", a.iter().map(Node::render).collect::<Vec<_>>().join(", ")),
