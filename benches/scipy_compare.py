@@ -13,8 +13,8 @@ attempt costs a fixed number of calls (RK45: 5 stages + f(t+h, y1) = 6; DOP853: 
 = 12) after 2 start-up calls (f(t0, y0) and the initial-step guess), so
 attempts = (nfev - 2) / calls_per_attempt.
 
-Usage: python3 -m venv /work/venv-scipy && /work/venv-scipy/bin/pip install scipy numpy
-       /work/venv-scipy/bin/python benches/scipy_compare.py [--markdown]
+Usage: python3 -m venv .venv-scipy && .venv-scipy/bin/pip install scipy numpy
+       .venv-scipy/bin/python benches/scipy_compare.py [--markdown]
 """
 
 import csv

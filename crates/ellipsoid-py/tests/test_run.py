@@ -108,7 +108,8 @@ def test_solver_failure_is_a_simulation_error() -> None:
 
 
 def test_no_panic_reaches_python_on_odd_inputs() -> None:
-    """Extreme but accepted values end in a result or an EllipsoidError, never a panic."""
+    """Extreme but accepted values end in a finite result or an EllipsoidError, never a
+    panic and never a NaN or infinity in the trajectory."""
     base = ellipsoid.load(NUTATION, output={"t_end": 0.05})
     odd: list[dict[str, object]] = [
         {"initial.theta": 0.0, "initial.theta_deg": None},
@@ -133,11 +134,18 @@ def test_no_panic_reaches_python_on_odd_inputs() -> None:
         else:
             make = lambda: base.replace(**sets)  # noqa: E731
         try:
-            ellipsoid.simulate(make())
+            traj = ellipsoid.simulate(make())
         except ellipsoid.EllipsoidError as e:
             assert not isinstance(e, ellipsoid.InternalError), (changes, e)
+            trajectory = getattr(e, "trajectory", None)
         except BaseException as e:  # pragma: no cover - the failure we test for
             pytest.fail(f"{changes}: {type(e).__name__}: {e}")
+        else:
+            trajectory = traj
+        if trajectory is not None:
+            for name in ellipsoid.Trajectory.columns:
+                if name != "mode":
+                    assert np.all(np.isfinite(getattr(trajectory, name))), (changes, name)
 
 
 # ----------------------------------------------------------------- sweeps
