@@ -1,6 +1,10 @@
 //! Atomic file creation: write to a temporary file in the target's directory, then
 //! rename it over the target. A reader never sees a half-written file, and a run that
 //! fails before [`AtomicFile::commit`] leaves nothing (the temporary is deleted on drop).
+//!
+//! Several files that belong together (a trajectory and its summary) are first
+//! [prepared](AtomicFile::prepare), then put in place by [`commit_all`]: either all of
+//! them appear, or none does and the targets are as they were.
 
 use std::fs::File;
 use std::io::{self, Write};
@@ -30,9 +34,100 @@ impl AtomicFile {
 
     /// Flushes to disk and renames the file to its target.
     pub fn commit(self) -> Result<(), OutputError> {
+        self.prepare()?.commit()
+    }
+
+    /// Flushes to disk: the file is complete, waiting to be renamed to its target.
+    pub fn prepare(self) -> Result<Prepared, OutputError> {
         let target = self.target;
         self.tmp.as_file().sync_all().map_err(|e| OutputError::io(&target, e))?;
-        commit_path(self.tmp.into_temp_path(), &target)
+        Ok(Prepared { tmp: self.tmp.into_temp_path(), target })
+    }
+}
+
+/// A complete file in a temporary beside its target, not yet in place (dropped, it is
+/// deleted).
+pub struct Prepared {
+    tmp: TempPath,
+    target: PathBuf,
+}
+
+impl Prepared {
+    #[cfg_attr(not(feature = "hdf5"), allow(dead_code))] // the HDF5 writer makes its own temporary
+    pub(crate) fn new(tmp: TempPath, target: &Path) -> Self {
+        Prepared { tmp, target: target.to_owned() }
+    }
+
+    /// Where the file goes.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Renames the file to its target.
+    pub fn commit(self) -> Result<(), OutputError> {
+        commit_path(self.tmp, &self.target)
+    }
+}
+
+/// Puts every prepared file in place, or none: a target that is a directory is refused
+/// before anything is renamed, and if a rename still fails, the files already renamed
+/// are taken back (a new file is removed, a replaced one restored from a hard link made
+/// beforehand).
+pub fn commit_all(files: Vec<Prepared>) -> Result<(), OutputError> {
+    for f in &files {
+        check_target(&f.target)?;
+    }
+    // What to do to undo each rename made so far: restore the old file or remove the new.
+    let mut undo: Vec<(PathBuf, Option<TempPath>)> = Vec::new();
+    for f in files {
+        let backup = backup_of(&f.target);
+        let target = f.target.clone();
+        if let Err(e) = f.commit() {
+            for (target, backup) in undo.into_iter().rev() {
+                match backup {
+                    Some(b) => {
+                        let _ = b.persist(&target);
+                    }
+                    None => {
+                        let _ = std::fs::remove_file(&target);
+                    }
+                }
+            }
+            return Err(e);
+        }
+        undo.push((target, backup));
+    }
+    Ok(())
+}
+
+/// Refuses a target that is a directory (renaming a file over it would fail).
+pub fn check_target(target: &Path) -> Result<(), OutputError> {
+    if target.is_dir() {
+        return Err(OutputError::io(target, io::Error::new(io::ErrorKind::IsADirectory, "is a directory, not a file")));
+    }
+    Ok(())
+}
+
+/// A hard link to the existing file at `target` (deleted on drop), to restore it with;
+/// None if there is no file there (or the file system cannot link, then it cannot be restored).
+fn backup_of(target: &Path) -> Option<TempPath> {
+    if !target.is_file() {
+        return None;
+    }
+    let dir = match target.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    // Reserve a unique name, then link the old file under it.
+    let path = tempfile::Builder::new().prefix(".backup.").suffix(".tmp").tempfile_in(dir).ok()?.into_temp_path();
+    std::fs::remove_file(&path).ok()?;
+    match std::fs::hard_link(target, &path) {
+        Ok(()) => Some(path),
+        Err(_) => {
+            // Nothing at `path` now; keep TempPath from deleting a later file there.
+            let _ = path.keep();
+            None
+        }
     }
 }
 
@@ -68,7 +163,59 @@ pub(crate) fn commit_path(tmp: TempPath, target: &Path) -> Result<(), OutputErro
 
 /// Writes `bytes` to `target` atomically.
 pub fn write(target: &Path, bytes: &[u8]) -> Result<(), OutputError> {
+    prepare(target, bytes)?.commit()
+}
+
+/// Writes `bytes` to a temporary beside `target`, to be put in place later.
+pub fn prepare(target: &Path, bytes: &[u8]) -> Result<Prepared, OutputError> {
     let mut f = AtomicFile::create(target)?;
     f.write_all(bytes).map_err(|e| OutputError::io(target, e))?;
-    f.commit()
+    f.prepare()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn names(dir: &Path) -> Vec<String> {
+        let mut n: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        n.sort();
+        n
+    }
+
+    #[test]
+    fn commit_all_puts_every_file_in_place() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("a.csv"), dir.path().join("b.json"));
+        std::fs::write(&a, "old").unwrap();
+        commit_all(vec![prepare(&a, b"new a").unwrap(), prepare(&b, b"new b").unwrap()]).unwrap();
+        assert_eq!(std::fs::read_to_string(&a).unwrap(), "new a");
+        assert_eq!(std::fs::read_to_string(&b).unwrap(), "new b");
+        assert_eq!(names(dir.path()), ["a.csv", "b.json"], "no temporary or backup left");
+    }
+
+    #[test]
+    fn commit_all_refuses_a_directory_target_before_renaming_anything() {
+        let dir = tempfile::tempdir().unwrap();
+        let (a, d) = (dir.path().join("a.csv"), dir.path().join("d"));
+        std::fs::create_dir(&d).unwrap();
+        let err = commit_all(vec![prepare(&a, b"a").unwrap(), prepare(&d, b"d").unwrap()]).unwrap_err();
+        assert!(err.to_string().ends_with("d: is a directory, not a file"), "{err}");
+        assert_eq!(names(dir.path()), ["d"]);
+        assert_eq!(names(&d), Vec::<String>::new());
+    }
+
+    #[test]
+    fn commit_all_takes_back_what_it_renamed_when_a_later_rename_fails() {
+        let dir = tempfile::tempdir().unwrap();
+        let (old, new) = (dir.path().join("old.csv"), dir.path().join("new.csv"));
+        std::fs::write(&old, "keep").unwrap();
+        let sub = dir.path().join("sub");
+        std::fs::create_dir(&sub).unwrap();
+        let doomed = prepare(&sub.join("s.json"), b"s").unwrap();
+        std::fs::remove_dir_all(&sub).unwrap(); // its temporary goes with it: the rename fails
+        assert!(commit_all(vec![prepare(&old, b"replaced").unwrap(), prepare(&new, b"n").unwrap(), doomed]).is_err());
+        assert_eq!(std::fs::read_to_string(&old).unwrap(), "keep", "the replaced file is restored");
+        assert_eq!(names(dir.path()), ["old.csv"], "the new file is removed, no backup left");
+    }
 }

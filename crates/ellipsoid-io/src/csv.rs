@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use ellipsoid_core::simulate::Sample;
 
-use crate::atomic::AtomicFile;
+use crate::atomic::{AtomicFile, Prepared};
 use crate::columns::{self, MODE_POSITION};
 use crate::OutputError;
 
@@ -74,9 +74,14 @@ impl CsvFile {
     }
 
     pub fn finish(self) -> Result<(), OutputError> {
+        self.prepare()?.commit()
+    }
+
+    /// Completes the file without putting it in place.
+    pub fn prepare(self) -> Result<Prepared, OutputError> {
         let path = self.path;
         let buffered = self.writer.into_inner().map_err(|e| OutputError::io(&path, e))?;
         let file = buffered.into_inner().map_err(|e| OutputError::io(&path, e.into_error()))?;
-        file.commit()
+        file.prepare()
     }
 }

@@ -55,6 +55,11 @@ impl Hdf5File {
 
     /// Writes the datasets and attributes, then renames the file into place.
     pub fn finish(self, meta: &Metadata<'_>) -> Result<(), OutputError> {
+        self.prepare(meta)?.commit()
+    }
+
+    /// Writes the datasets and attributes, without putting the file in place.
+    pub fn prepare(self, meta: &Metadata<'_>) -> Result<atomic::Prepared, OutputError> {
         let fail = |e: h5::Error| OutputError::Hdf5 { path: self.path.clone(), message: e.to_string() };
         {
             let file = h5::File::create(&self.tmp).map_err(fail)?;
@@ -94,7 +99,7 @@ impl Hdf5File {
             }
             file.close().map_err(fail)?;
         }
-        atomic::commit_path(self.tmp, &self.path)
+        Ok(atomic::Prepared::new(self.tmp, &self.path))
     }
 }
 

@@ -121,12 +121,18 @@ impl TrajectoryWriter {
     }
 
     /// Completes the file (CSV has no room for `meta`) and renames it into place.
-    #[cfg_attr(not(feature = "hdf5"), allow(unused_variables))] // only HDF5 files store metadata
     pub fn finish(self, meta: &Metadata<'_>) -> Result<(), OutputError> {
+        self.prepare(meta)?.commit()
+    }
+
+    /// Completes the file in its temporary; [`atomic::Prepared::commit`] (or
+    /// [`atomic::commit_all`], with other files) puts it in place.
+    #[cfg_attr(not(feature = "hdf5"), allow(unused_variables))] // only HDF5 files store metadata
+    pub fn prepare(self, meta: &Metadata<'_>) -> Result<atomic::Prepared, OutputError> {
         match self {
-            TrajectoryWriter::Csv(w) => w.finish(),
+            TrajectoryWriter::Csv(w) => w.prepare(),
             #[cfg(feature = "hdf5")]
-            TrajectoryWriter::Hdf5(w) => w.finish(meta),
+            TrajectoryWriter::Hdf5(w) => w.prepare(meta),
         }
     }
 }
