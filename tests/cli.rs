@@ -279,6 +279,74 @@ fn check_prints_derived_quantities_without_writing() {
     assert!(stderr(&out).contains("--set body.mass=0: body.mass = 0: the mass must be positive"), "{}", stderr(&out));
 }
 
+/// File names in `dir`, sorted.
+fn listing(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn an_unwritable_summary_exits_1_and_writes_nothing_new() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = scenarios().join("nutation.toml");
+    std::fs::write(dir.path().join("keep.csv"), "keep").unwrap();
+    std::fs::create_dir(dir.path().join("d")).unwrap();
+    let mut summaries = vec!["d"]; // a directory
+    if Path::new("/proc/self").is_dir() {
+        summaries.push("/proc/s.json"); // no file can be created there
+    }
+    for summary in summaries {
+        for output in ["keep.csv", "made/new.csv"] {
+            let out = ellipsoid(dir.path(), &["run", file.to_str().unwrap(), "-q", "--set", "output.t_end=0.1", "-o", output, "--summary", summary]);
+            assert_no_panic(&out);
+            let err = stderr(&out);
+            assert_eq!(code(&out), 1, "-o {output} --summary {summary}: {err}");
+            assert!(err.starts_with(&format!("error: {summary}: ")) && err.lines().count() == 1, "{err}");
+            // The OS's reason is given once, not repeated by the error chain.
+            let reason = err.trim_end().rsplit(": ").next().unwrap();
+            assert_eq!(err.matches(reason).count(), 1, "{err}");
+            assert_eq!(listing(dir.path()), ["d", "keep.csv"], "-o {output} --summary {summary}: nothing new, no directory made");
+            assert_eq!(std::fs::read_to_string(dir.path().join("keep.csv")).unwrap(), "keep");
+            assert!(listing(&dir.path().join("d")).is_empty());
+        }
+    }
+}
+
+#[test]
+fn outputs_that_are_the_same_file_as_each_other_or_the_scenario_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(scenarios().join("nutation.toml")).unwrap();
+    std::fs::write(dir.path().join("v.toml"), &text).unwrap();
+    std::fs::write(dir.path().join("v.csv"), &text).unwrap(); // a scenario by any other name
+    std::fs::write(dir.path().join("keep.csv"), "keep").unwrap();
+    let abs = dir.path().canonicalize().unwrap();
+    let abs_v = abs.join("v.toml").to_string_lossy().into_owned();
+    let abs_names = format!("the scenario file {abs_v} and --summary v.toml");
+    let cases: [(&[&str], &str, &str); 6] = [
+        (&["v.toml", "-o", "x.csv", "--summary", "x.csv"], "-o x.csv and --summary x.csv", "x.csv"),
+        (&["v.toml", "-o", "keep.csv", "--summary", "./keep.csv"], "-o keep.csv and --summary ./keep.csv", "keep.csv"),
+        (&["v.toml", "-o", "sub/../x.csv", "--summary", "x.csv"], "-o sub/../x.csv and --summary x.csv", "x.csv"),
+        (&["v.toml", "-o", "w.csv", "--summary", "v.toml"], "the scenario file v.toml and --summary v.toml", "v.toml"),
+        (&["v.csv", "-o", "out/../v.csv", "--summary", "s.json"], "the scenario file v.csv and -o out/../v.csv", "v.csv"),
+        (&[&abs_v, "--summary", "v.toml"], &abs_names, "v.toml"),
+    ];
+    for (extra, names, file) in cases {
+        let mut args = vec!["run", "-q", "--set", "output.t_end=0.1"];
+        args.extend(extra);
+        let out = ellipsoid(dir.path(), &args);
+        assert_no_panic(&out);
+        let err = stderr(&out);
+        assert_eq!(code(&out), 2, "{extra:?}: {err}");
+        let expected = format!("error: {names} are the same file ({})", abs.join(file).display());
+        assert!(err.starts_with(&expected) && err.lines().count() == 1, "{extra:?}: {err}\nexpected {expected}");
+        assert_eq!(listing(dir.path()), ["keep.csv", "v.csv", "v.toml"], "{extra:?}: nothing written");
+        assert_eq!(std::fs::read_to_string(dir.path().join("v.toml")).unwrap(), text);
+        assert_eq!(std::fs::read_to_string(dir.path().join("v.csv")).unwrap(), text);
+        assert_eq!(std::fs::read_to_string(dir.path().join("keep.csv")).unwrap(), "keep");
+    }
+}
+
 #[test]
 fn an_input_error_does_not_touch_an_existing_output() {
     let dir = tempfile::tempdir().unwrap();

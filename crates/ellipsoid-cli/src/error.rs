@@ -41,3 +41,32 @@ impl From<ScenarioError> for CliError {
         CliError::Scenario(Box::new(e))
     }
 }
+
+/// The error's text, followed by each underlying cause that it does not already quote
+/// (an I/O error's message already ends with the OS message of its source).
+pub fn message(e: &CliError) -> String {
+    let mut text = e.to_string();
+    let mut cause = std::error::Error::source(e);
+    while let Some(c) = cause {
+        let more = c.to_string();
+        if !text.contains(&more) {
+            text.push_str(": ");
+            text.push_str(&more);
+        }
+        cause = c.source();
+    }
+    text
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_io_error_names_the_os_message_once() {
+        let e = CliError::from(OutputError::Io { path: "d".into(), source: std::io::Error::from_raw_os_error(21) });
+        let text = message(&e);
+        assert_eq!(text.matches("os error 21").count(), 1, "{text}");
+        assert!(text.starts_with("d: "), "{text}");
+    }
+}

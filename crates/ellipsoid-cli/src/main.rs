@@ -33,7 +33,7 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             let code = e.exit_code();
-            eprintln!("error: {:#}", anyhow::Error::new(e));
+            eprintln!("error: {}", error::message(&e));
             ExitCode::from(code)
         }
     }

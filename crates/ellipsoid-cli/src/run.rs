@@ -20,14 +20,34 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     let output = args.output.clone().unwrap_or_else(|| Path::new("out").join(format!("{}.csv", scenario.stem())));
     Format::from_path(&output)?;
     let summary_path = args.summary.as_ref().filter(|p| p.as_os_str() != "-");
+    let output_name = if args.output.is_some() { "-o" } else { "the default -o" };
+    let mut named = vec![("the scenario file", args.scenario.as_path()), (output_name, output.as_path())];
+    named.extend(summary_path.map(|p| ("--summary", p.as_path())));
+    distinct(&named)?;
+    for (_, path) in &named[1..] {
+        atomic::check_target(path)?;
+    }
 
-    // Directories made for the outputs are removed again if the run is rejected.
+    // Directories made for the outputs are removed again if the run ends in an error,
+    // and the files appear only when all of them are complete.
     let mut made = Vec::new();
-    let result = (|| {
+    let result = (|| -> Result<(Summary, Option<String>), CliError> {
         for path in [Some(&output), summary_path].into_iter().flatten() {
             make_parent(path, &mut made)?;
         }
-        simulate_to(&scenario, &output)
+        // Reserved first, so an unwritable summary fails before the run.
+        let summary_file = summary_path.map(|p| atomic::AtomicFile::create(p)).transpose()?;
+        let (trajectory, summary, stop_note) = simulate_to(&scenario, &output)?;
+        let mut files = vec![trajectory];
+        if let (Some(mut file), Some(path)) = (summary_file, summary_path) {
+            file.write_all(summary.to_json().as_bytes()).map_err(|e| OutputError::Io { path: path.clone(), source: e })?;
+            files.push(file.prepare()?);
+        }
+        if args.summary.as_ref().is_some_and(|p| p.as_os_str() == "-") {
+            std::io::stdout().lock().write_all(summary.to_json().as_bytes()).map_err(|e| OutputError::Io { path: "<stdout>".into(), source: e })?;
+        }
+        atomic::commit_all(files)?;
+        Ok((summary, stop_note))
     })();
     if result.is_err() {
         for dir in made.iter().rev() {
@@ -36,14 +56,6 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     }
     let (summary, stop_note) = result?;
 
-    if let Some(target) = &args.summary {
-        let json = summary.to_json();
-        if target.as_os_str() == "-" {
-            std::io::stdout().lock().write_all(json.as_bytes()).map_err(|e| OutputError::Io { path: "<stdout>".into(), source: e })?;
-        } else {
-            atomic::write(target, json.as_bytes())?;
-        }
-    }
     let completed = summary.status == "completed" && stop_note.is_none();
     if !args.quiet || !completed {
         report(&summary, &output, stop_note.as_deref());
@@ -51,9 +63,55 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     Ok(if completed { ExitCode::SUCCESS } else { ExitCode::from(EARLY_STOP) })
 }
 
-/// Runs the scene, writing the trajectory to `output`; returns the summary and, if the
-/// run was stopped for a non-finite value, why.
-fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(Summary, Option<String>), CliError> {
+/// Refuses two of the named paths (scenario, trajectory, summary) that are one file.
+fn distinct(named: &[(&str, &Path)]) -> Result<(), CliError> {
+    let ids: Vec<PathBuf> = named.iter().map(|(_, p)| identity(p)).collect();
+    for i in 0..named.len() {
+        for j in i + 1..named.len() {
+            if ids[i] == ids[j] {
+                let ((a, pa), (b, pb)) = (named[i], named[j]);
+                return Err(CliError::Usage(format!(
+                    "{a} {} and {b} {} are the same file ({}); give {b} a different path",
+                    pa.display(),
+                    pb.display(),
+                    ids[i].display()
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The file `path` names: canonical if it exists, else its longest existing prefix made
+/// canonical, followed by the rest of the path (`.` and `..` taken lexically).
+fn identity(path: &Path) -> PathBuf {
+    use std::path::Component;
+    if let Ok(p) = path.canonicalize() {
+        return p;
+    }
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_owned());
+    let components: Vec<Component> = absolute.components().collect();
+    for known in (1..components.len()).rev() {
+        let prefix: PathBuf = components[..known].iter().collect();
+        if let Ok(mut id) = prefix.canonicalize() {
+            for c in &components[known..] {
+                match c {
+                    Component::ParentDir => {
+                        id.pop();
+                    }
+                    Component::Normal(name) => id.push(name),
+                    _ => {}
+                }
+            }
+            return id;
+        }
+    }
+    absolute
+}
+
+/// Runs the scene, writing the trajectory for `output` (complete, not yet in place);
+/// returns it, the summary and, if the run was stopped for a non-finite value, why.
+fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(atomic::Prepared, Summary, Option<String>), CliError> {
     let mut writer = TrajectoryWriter::create(output)?;
     let mut progress = Progress::new(scenario.scene.t_end);
     let finished = ellipsoid_io::run::run(scenario, Some(output.display().to_string()), env!("CARGO_PKG_VERSION"), None, |s| {
@@ -67,8 +125,8 @@ fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(Summary, Option<St
         Failure::Scenario(e) => CliError::Scenario(e),
         Failure::Sink(e) => CliError::from(e),
     })?;
-    writer.finish(&Metadata { scenario_text: &scenario.text, summary: &finished.summary })?;
-    Ok((finished.summary, finished.non_finite))
+    let trajectory = writer.prepare(&Metadata { scenario_text: &scenario.text, summary: &finished.summary })?;
+    Ok((trajectory, finished.summary, finished.non_finite))
 }
 
 /// Creates the parent directories of `path`, recording the ones it made.
