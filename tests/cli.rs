@@ -273,6 +273,13 @@ fn check_prints_derived_quantities_without_writing() {
     ] {
         assert!(text.contains(needle), "missing {needle:?} in\n{text}");
     }
+    // Every label is separated from its value, however long (the [check] drift keys).
+    assert!(text.contains("\n[check] angular_momentum_z relative drift <= 1e-9\n"), "{text}");
+    for l in text.lines() {
+        let padded = l.as_bytes().get(21) == Some(&b' ');
+        let long_check_label = l.strip_prefix("[check] ").and_then(|r| r.split_once(' ')).is_some_and(|(_, v)| v.starts_with("relative drift <= "));
+        assert!(padded || long_check_label, "label run into its value: {l:?}");
+    }
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "check writes nothing");
     let out = ellipsoid(dir.path(), &["check", file.to_str().unwrap(), "--set", "body.mass=0"]);
     assert_eq!(code(&out), 2);

@@ -18,6 +18,9 @@ use nalgebra::{Matrix3, Vector3};
 use crate::cli::CheckArgs;
 use crate::error::CliError;
 
+/// Width of the label column of the printout.
+const LABEL_WIDTH: usize = 22;
+
 pub fn check(args: &CheckArgs) -> Result<ExitCode, CliError> {
     let scenario = scenario::load(&args.scenario, &args.set)?;
     let (first, outcome) = first_sample(&scenario)?;
@@ -43,8 +46,9 @@ fn describe(scenario: &Scenario, first: Option<&Sample>, outcome: &Outcome) -> S
     let body = &scene.body;
     let (ax, i, g) = (body.semi_axes(), body.inertia(), body.com_offset());
     let mut o = String::new();
+    // Labels are padded to a column of LABEL_WIDTH; a longer one still gets a space.
     let mut line = |label: &str, text: String| {
-        let _ = writeln!(o, "{label:<22}{text}");
+        let _ = writeln!(o, "{label:<width$} {text}", width = LABEL_WIDTH - 1);
     };
     line("scenario", format!("{}{}", scenario.source, if scenario.overrides.is_empty() { String::new() } else { format!(" (--set {})", scenario.overrides.join(", --set ")) }));
     line("semi-axes a, b, c", format!("{} m ({})", vec3(&ax), shape(&ax)));
