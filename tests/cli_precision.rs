@@ -98,3 +98,33 @@ fn precision_rejects_a_bad_end_time_and_writes_nothing() {
     assert!(err.contains("--t-end -1") && err.lines().count() == 1, "{err}");
     assert!(!dir.path().join("report").exists());
 }
+
+/// (arguments, what the one error line must contain): end times the grid cannot run in
+/// solver.max_steps steps, or too short for its largest step, and zero repeats.
+#[test]
+fn precision_rejects_an_end_time_or_repeats_it_cannot_run_quickly_and_writes_nothing() {
+    let cases: [(&[&str], &[&str]); 6] = [
+        (&["--quick", "--t-end", "1e300"], &["--t-end 1e300: ", "h = 0.0001 s would take 1.0e304 steps, more than solver.max_steps = 10000000; give --t-end 1000 or less"]),
+        (&["--quick", "--t-end", "1e6"], &["--t-end 1000000: ", "give --t-end 1000 or less"]),
+        (&["--t-end", "11"], &["--t-end 11: ", "h = 1e-6 s would take 11000000 steps", "give --t-end 10 or less, or use --quick"]),
+        (&["--quick", "--t-end", "0.001"], &["--t-end 0.001: shorter than the grid's largest RK4 step h = 0.01 s"]),
+        (&["--quick", "--t-end", "inf"], &["--t-end inf: the end time must be positive and finite (s)"]),
+        (&["--quick", "--t-end", "0.1", "--repeats", "0"], &["--repeats 0: at least one timed run per setting is needed"]),
+    ];
+    for (extra, needles) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let mut args: Vec<String> = vec!["precision".into(), scenario("paper-sliding.toml").to_str().unwrap().to_owned(), "-o".into(), "report".into(), "-q".into()];
+        args.extend(extra.iter().map(|s| s.to_string()));
+        let started = std::time::Instant::now();
+        let out = Command::new(BIN).args(&args).current_dir(dir.path()).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{extra:?}: {err}");
+        assert!(started.elapsed().as_secs_f64() < 5.0, "{extra:?}: refused at once, not after running");
+        assert!(err.starts_with("error: ") && err.lines().count() == 1, "{extra:?}: {err}");
+        for n in needles {
+            assert!(err.contains(n), "{extra:?}: {n:?} not in {err}");
+        }
+        assert!(!err.contains("panicked"), "{err}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "{extra:?}: nothing written");
+    }
+}

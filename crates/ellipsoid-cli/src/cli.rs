@@ -18,7 +18,8 @@ pub enum Command {
     ///
     /// Exit status: 0 completed; 2 bad input (nothing written); 3 stopped early (lost
     /// contact, Painlevé, pure sliding reaching zero slip, solver failure, chattering,
-    /// non-finite state), with the trajectory up to the stop written; 1 output error.
+    /// non-finite state), with the trajectory up to the stop written; 1 output error
+    /// (nothing new written).
     Run(RunArgs),
     /// Validate a scenario and print its derived quantities, without simulating.
     Check(CheckArgs),
@@ -62,7 +63,9 @@ pub struct PrecisionArgs {
     #[arg(short, long, value_name = "DIR")]
     pub output: Option<PathBuf>,
     /// Simulated time per run (s). Default: the scenario's t_end, at most 10 s (RK4 at
-    /// h = 1e-6 s then takes 1e7 steps, a few seconds per run).
+    /// h = 1e-6 s then takes 1e7 steps, a few seconds per run). At least the largest RK4
+    /// step (1e-2 s); at most what the finest RK4 step covers in solver.max_steps steps
+    /// (10 s, or 1000 s with --quick, at the default 1e7).
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     pub t_end: Option<f64>,
     /// Three settings per method (RK4 h = 1e-2, 1e-3, 1e-4 s; rtol = 1e-4, 1e-7, 1e-10)
@@ -70,7 +73,7 @@ pub struct PrecisionArgs {
     #[arg(long)]
     pub quick: bool,
     /// Fewest timed runs per setting (more are made while a setting has taken under
-    /// 0.3 s, at most 15); the median is reported. Default 3 (1 with --quick).
+    /// 0.3 s, at most 15); the median is reported. At least 1; default 3 (1 with --quick).
     #[arg(long, value_name = "N")]
     pub repeats: Option<usize>,
     /// Override a scenario value before validation (as for `run`). Repeatable.

@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
+use ellipsoid_core::error::{number, ModelError};
 use ellipsoid_core::integrate::{self, Action, Direction, Event, Method, Options, StopReason};
 use ellipsoid_core::model::{Frictionless, System};
 use ellipsoid_core::reference::{self, Nutation};
@@ -160,12 +161,12 @@ pub struct Report {
 }
 
 pub fn precision(args: &PrecisionArgs) -> Result<ExitCode, CliError> {
-    let scenario = scenario::load(&args.scenario, &args.set)?;
-    if let Some(t) = args.t_end
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(CliError::Usage(format!("--t-end {t}: the end time must be positive and finite (s)")));
+    if args.repeats == Some(0) {
+        return Err(CliError::Usage("--repeats 0: at least one timed run per setting is needed; give --repeats 1 or more".into()));
     }
+    let scenario = scenario::load(&args.scenario, &args.set)?;
+    // Checked before the output directory is made or anything runs.
+    scene_for(&scenario, args.t_end, args.quick)?;
     let dir = args.output.clone().unwrap_or_else(|| Path::new("out").join("precision").join(scenario.stem()));
     let log = |s: &str| {
         if !args.quiet {
@@ -183,13 +184,13 @@ pub fn precision(args: &PrecisionArgs) -> Result<ExitCode, CliError> {
 /// Runs the grid on `scenario`.
 pub fn measure(scenario: &Scenario, t_end: Option<f64>, quick: bool, repeats: Option<usize>, log: &dyn Fn(&str)) -> Result<Report, CliError> {
     let base = &scenario.scene;
-    let t_end = t_end.unwrap_or(base.t_end.min(DEFAULT_T_END_CAP));
-    let mut scene = base.clone();
-    scene.t_end = t_end;
-    scene.sample_times = (0..=DRIFT_INTERVALS).map(|k| t_end * k as f64 / DRIFT_INTERVALS as f64).collect();
-    scene.solver.initial_step = None;
+    let scene = scene_for(scenario, t_end, quick)?;
+    let t_end = scene.t_end;
     let atol_ratio = base.solver.atol / base.solver.rtol;
-    let repeats = repeats.unwrap_or(if quick { 1 } else { 3 }).max(1);
+    let repeats = repeats.unwrap_or(if quick { 1 } else { 3 });
+    if repeats == 0 {
+        return Err(CliError::Usage("--repeats 0: at least one timed run per setting is needed; give --repeats 1 or more".into()));
+    }
 
     log(&format!("precision: {} (t_end = {t_end} s): establishing the reference", scenario.stem()));
     let reference = establish_reference(scenario, &scene, atol_ratio)?;
@@ -212,6 +213,66 @@ pub fn measure(scenario: &Scenario, t_end: Option<f64>, quick: bool, repeats: Op
     Ok(Report { scene_name: scenario.stem(), t_end, reference, rows })
 }
 
+/// The scene every setting runs: the scenario's, ending at `t_end` (default: the
+/// scenario's, at most [`DEFAULT_T_END_CAP`]) and sampled for the drifts. The end time must
+/// pass the rules `run` applies to a scenario's (see `Scene::validate`), be at least the
+/// grid's largest RK4 step, and leave the grid's smallest RK4 step within solver.max_steps.
+fn scene_for(scenario: &Scenario, t_end: Option<f64>, quick: bool) -> Result<Scene, CliError> {
+    let base = &scenario.scene;
+    let end = t_end.unwrap_or(base.t_end.min(DEFAULT_T_END_CAP));
+    // Name the option when the end time came from it; the scenario's was checked on load.
+    let what = match t_end {
+        Some(t) => format!("--t-end {}", number(t)),
+        None => format!("t_end = {} s (the scenario's output.t_end, at most {DEFAULT_T_END_CAP} s)", number(end)),
+    };
+    let mut scene = base.clone();
+    scene.t_end = end;
+    scene.sample_times = if end.is_finite() && end > 0.0 { (0..=DRIFT_INTERVALS).map(|k| end * k as f64 / DRIFT_INTERVALS as f64).collect() } else { Vec::new() };
+    scene.solver.initial_step = None;
+    if let Err(e) = scene.validate() {
+        return Err(match &e {
+            _ if t_end.is_none() => CliError::from(scenario.locate(&e)),
+            ModelError::Invalid { quantity, rule, .. } if quantity == "output.t_end" => CliError::Usage(format!("{what}: {rule}")),
+            _ => CliError::Usage(format!("{what}: with this end time, {e}")),
+        });
+    }
+    let (largest, smallest) = rk4_steps(quick);
+    if end < largest {
+        return Err(CliError::Usage(format!("{what}: shorter than the grid's largest RK4 step h = {} s; give --t-end {} or more", number(largest), number(largest))));
+    }
+    let needed = (end / smallest).ceil();
+    let max_steps = scene.solver.max_steps;
+    if needed > max_steps as f64 {
+        let longest = max_steps as f64 * smallest;
+        let hint = if longest < largest {
+            format!("raise solver.max_steps to at least {} (e.g. --set solver.max_steps={})", count(needed), count(needed))
+        } else if quick {
+            format!("give --t-end {} or less", number(longest))
+        } else {
+            format!("give --t-end {} or less, or use --quick (finest step {} s)", number(longest), number(rk4_steps(true).1))
+        };
+        return Err(CliError::Usage(format!(
+            "{what}: RK4 at the grid's finest step h = {} s would take {} steps, more than solver.max_steps = {max_steps}; {hint}",
+            number(smallest),
+            count(needed)
+        )));
+    }
+    Ok(scene)
+}
+
+/// A whole number of steps: in full below 1e15, else to two digits (1.0e304).
+fn count(n: f64) -> String {
+    if n < 1e15 { format!("{n}") } else { format!("{n:.1e}") }
+}
+
+/// The largest and the smallest RK4 step of the grid.
+fn rk4_steps(quick: bool) -> (f64, f64) {
+    grid(quick, 1.0)
+        .iter()
+        .filter_map(|s| if let Method::Rk4 { h } = s.method { Some(h) } else { None })
+        .fold((0.0, f64::INFINITY), |(hi, lo), h| (f64::max(hi, h), f64::min(lo, h)))
+}
+
 /// The scene with one setting's solver.
 fn with_setting(scene: &Scene, s: &Setting) -> Scene {
     let mut sc = scene.clone();
@@ -220,7 +281,8 @@ fn with_setting(scene: &Scene, s: &Setting) -> Scene {
     sc.solver.atol = s.atol;
     if let Method::Rk4 { h } = s.method {
         // RK4 takes t_end/h steps; the scene's step limit is meant for adaptive runs.
-        sc.solver.max_steps = sc.solver.max_steps.max((sc.t_end / h).ceil() as u64 + 10);
+        // (`as` saturates; `scene_for` has bounded t_end/h by max_steps anyway.)
+        sc.solver.max_steps = sc.solver.max_steps.max(((sc.t_end / h).ceil() as u64).saturating_add(10));
     }
     sc
 }
