@@ -1,7 +1,7 @@
 //! `ellipsoid`: simulate a rigid ellipsoid on a plane from a TOML scenario.
 //!
-//! Exit status: 0 success; 1 the output could not be written (or an internal error);
-//! 2 bad input (nothing written); 3 the simulation stopped early (trajectory and
+//! Exit status: 0 success; 1 the output could not be written, or an internal error
+//! (nothing new written); 2 bad input (nothing written); 3 the simulation stopped early (trajectory and
 //! summary up to the stop are written). See `docs/scenarios.md`.
 
 mod check;
