@@ -103,13 +103,14 @@ fn precision_rejects_a_bad_end_time_and_writes_nothing() {
 /// solver.max_steps steps, or too short for its largest step, and zero repeats.
 #[test]
 fn precision_rejects_an_end_time_or_repeats_it_cannot_run_quickly_and_writes_nothing() {
-    let cases: [(&[&str], &[&str]); 6] = [
+    let cases: [(&[&str], &[&str]); 7] = [
         (&["--quick", "--t-end", "1e300"], &["--t-end 1e300: ", "h = 0.0001 s would take 1.0e304 steps, more than solver.max_steps = 10000000; give --t-end 1000 or less"]),
         (&["--quick", "--t-end", "1e6"], &["--t-end 1000000: ", "give --t-end 1000 or less"]),
         (&["--t-end", "11"], &["--t-end 11: ", "h = 1e-6 s would take 11000000 steps", "give --t-end 10 or less, or use --quick"]),
         (&["--quick", "--t-end", "0.001"], &["--t-end 0.001: shorter than the grid's largest RK4 step h = 0.01 s"]),
         (&["--quick", "--t-end", "inf"], &["--t-end inf: the end time must be positive and finite (s)"]),
-        (&["--quick", "--t-end", "0.1", "--repeats", "0"], &["--repeats 0: at least one timed run per setting is needed"]),
+        (&["--quick", "--t-end", "0.1", "--repeats", "0"], &["--repeats 0: give 1 to 1000 timed runs per setting"]),
+        (&["--quick", "--t-end", "0.1", "--repeats", "1000000000"], &["--repeats 1000000000: give 1 to 1000"]),
     ];
     for (extra, needles) in cases {
         let dir = tempfile::tempdir().unwrap();

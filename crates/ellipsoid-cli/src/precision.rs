@@ -47,9 +47,10 @@ const REFERENCE_RTOL: f64 = 1e-14;
 const CHECK_RTOL: f64 = 3e-15;
 /// Invariant drifts are measured on this many equal intervals of [0, t_end].
 const DRIFT_INTERVALS: usize = 100;
-/// Timing: at least `repeats` runs, more while the total is below this \[s\] (at most 15).
+/// Timing: at least `repeats` runs, more while the total is below this \[s\] (at most
+/// `BUDGET_REPEATS`).
 const TIMING_BUDGET: f64 = 0.3;
-const MAX_REPEATS: usize = 15;
+const BUDGET_REPEATS: usize = 15;
 
 /// One point of the grid.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -161,9 +162,7 @@ pub struct Report {
 }
 
 pub fn precision(args: &PrecisionArgs) -> Result<ExitCode, CliError> {
-    if args.repeats == Some(0) {
-        return Err(CliError::Usage("--repeats 0: at least one timed run per setting is needed; give --repeats 1 or more".into()));
-    }
+    repeats_or_default(args.repeats, args.quick)?;
     let scenario = scenario::load(&args.scenario, &args.set)?;
     // Checked before the output directory is made or anything runs.
     scene_for(&scenario, args.t_end, args.quick)?;
@@ -187,10 +186,7 @@ pub fn measure(scenario: &Scenario, t_end: Option<f64>, quick: bool, repeats: Op
     let scene = scene_for(scenario, t_end, quick)?;
     let t_end = scene.t_end;
     let atol_ratio = base.solver.atol / base.solver.rtol;
-    let repeats = repeats.unwrap_or(if quick { 1 } else { 3 });
-    if repeats == 0 {
-        return Err(CliError::Usage("--repeats 0: at least one timed run per setting is needed; give --repeats 1 or more".into()));
-    }
+    let repeats = repeats_or_default(repeats, quick)?;
 
     log(&format!("precision: {} (t_end = {t_end} s): establishing the reference", scenario.stem()));
     let reference = establish_reference(scenario, &scene, atol_ratio)?;
@@ -211,6 +207,18 @@ pub fn measure(scenario: &Scenario, t_end: Option<f64>, quick: bool, repeats: Op
         rows.push(row);
     }
     Ok(Report { scene_name: scenario.stem(), t_end, reference, rows })
+}
+
+/// Most timed runs per setting `--repeats` may ask for.
+const MAX_REPEATS: usize = 1000;
+
+/// The timed runs per setting: `--repeats` (1 to [`MAX_REPEATS`]) or 3 (1 with `--quick`).
+fn repeats_or_default(repeats: Option<usize>, quick: bool) -> Result<usize, CliError> {
+    match repeats {
+        None => Ok(if quick { 1 } else { 3 }),
+        Some(n) if (1..=MAX_REPEATS).contains(&n) => Ok(n),
+        Some(n) => Err(CliError::Usage(format!("--repeats {n}: give 1 to {MAX_REPEATS} timed runs per setting"))),
+    }
 }
 
 /// The scene every setting runs: the scenario's, ending at `t_end` (default: the
@@ -323,7 +331,7 @@ fn measure_setting(scenario: &Scenario, scene: &Scene, setting: &Setting, refere
     let mut times = Vec::new();
     let mut outcome = None;
     let started = Instant::now();
-    while times.len() < repeats || (started.elapsed().as_secs_f64() < TIMING_BUDGET && times.len() < MAX_REPEATS) {
+    while times.len() < repeats || (started.elapsed().as_secs_f64() < TIMING_BUDGET && times.len() < BUDGET_REPEATS) {
         let t0 = Instant::now();
         let out = run(scenario, &sc)?;
         times.push(t0.elapsed().as_secs_f64());
