@@ -99,15 +99,15 @@ fn precision_rejects_a_bad_end_time_and_writes_nothing() {
     assert!(!dir.path().join("report").exists());
 }
 
-/// (arguments, what the one error line must contain): end times the grid cannot run in
-/// solver.max_steps steps, or too short for its largest step, and zero repeats.
+/// (arguments, what the one error line must contain): end times the grid's finest RK4
+/// step cannot reach within the report's step budget, non-finite ones, and repeats out
+/// of range.
 #[test]
 fn precision_rejects_an_end_time_or_repeats_it_cannot_run_quickly_and_writes_nothing() {
-    let cases: [(&[&str], &[&str]); 7] = [
-        (&["--quick", "--t-end", "1e300"], &["--t-end 1e300: ", "h = 0.0001 s would take 1.0e304 steps, more than solver.max_steps = 10000000; give --t-end 1000 or less"]),
+    let cases: [(&[&str], &[&str]); 6] = [
+        (&["--quick", "--t-end", "1e300"], &["--t-end 1e300: ", "h = 0.0001 s would take 1.0e304 steps, more than the report allows (10000000); give --t-end 1000 or less"]),
         (&["--quick", "--t-end", "1e6"], &["--t-end 1000000: ", "give --t-end 1000 or less"]),
         (&["--t-end", "11"], &["--t-end 11: ", "h = 1e-6 s would take 11000000 steps", "give --t-end 10 or less, or use --quick"]),
-        (&["--quick", "--t-end", "0.001"], &["--t-end 0.001: shorter than the grid's largest RK4 step h = 0.01 s"]),
         (&["--quick", "--t-end", "inf"], &["--t-end inf: the end time must be positive and finite (s)"]),
         (&["--quick", "--t-end", "0.1", "--repeats", "0"], &["--repeats 0: give 1 to 1000 timed runs per setting"]),
         (&["--quick", "--t-end", "0.1", "--repeats", "1000000000"], &["--repeats 1000000000: give 1 to 1000"]),
@@ -128,4 +128,33 @@ fn precision_rejects_an_end_time_or_repeats_it_cannot_run_quickly_and_writes_not
         assert!(!err.contains("panicked"), "{err}");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "{extra:?}: nothing written");
     }
+}
+
+/// A run shorter than the grid's longest RK4 step drops the settings it cannot take, and
+/// the scenario's own solver (here an RK4 step of 0.01 s, longer than the run) does not
+/// matter: the grid replaces it.
+#[test]
+fn precision_on_a_short_run_drops_steps_longer_than_it_and_ignores_the_scenarios_solver() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = scenario("paper-sliding.toml");
+    let args = [
+        "precision",
+        path.to_str().unwrap(),
+        "-o",
+        "report",
+        "-q",
+        "--quick",
+        "--t-end",
+        "0.005",
+        "--set",
+        "solver.method=\"rk4\"",
+        "--set",
+        "solver.step=0.01",
+    ];
+    let out = Command::new(BIN).args(args).current_dir(dir.path()).output().unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    let csv = std::fs::read_to_string(dir.path().join("report/precision.csv")).unwrap();
+    let settings: Vec<&str> = csv.lines().skip(1).map(|l| l.split(',').nth(4).unwrap()).collect();
+    assert!(!settings.contains(&"h=1e-2") && settings.contains(&"h=1e-3") && settings.contains(&"h=1e-4"), "{settings:?}");
+    assert_eq!(settings.len(), 8, "2 RK4 + 3 DOPRI5 + 3 DOP853 settings: {settings:?}");
 }

@@ -823,7 +823,7 @@ impl Scene {
             if h > self.t_end {
                 return Err(ModelError::invalid("solver.step", number(h), format!("the fixed step must not exceed output.t_end = {} s", number(self.t_end))));
             }
-            let steps = (self.t_end / h).ceil();
+            let steps = (self.t_end / h - (integrate::RK4_LAST_STRETCH - 1.0)).ceil();
             if steps > self.solver.max_steps as f64 {
                 return Err(ModelError::invalid(
                     "solver.step",

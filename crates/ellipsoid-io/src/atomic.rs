@@ -100,12 +100,22 @@ pub fn commit_all(files: Vec<Prepared>) -> Result<(), OutputError> {
     Ok(())
 }
 
-/// Refuses a target that is a directory (renaming a file over it would fail).
+/// Refuses a target that exists and is not a regular file: a directory (renaming over it
+/// fails), a symbolic link (the rename would replace the link, not the file it names) or
+/// a device, pipe or socket such as /dev/stdout (the rename would replace the special
+/// file itself).
 pub fn check_target(target: &Path) -> Result<(), OutputError> {
-    if target.is_dir() {
-        return Err(OutputError::io(target, io::Error::new(io::ErrorKind::IsADirectory, "is a directory, not a file")));
-    }
-    Ok(())
+    let Ok(meta) = std::fs::symlink_metadata(target) else { return Ok(()) };
+    let why = if meta.is_dir() {
+        (io::ErrorKind::IsADirectory, "is a directory, not a file")
+    } else if meta.file_type().is_symlink() {
+        (io::ErrorKind::InvalidInput, "is a symbolic link; give the path of the file itself")
+    } else if !meta.is_file() {
+        (io::ErrorKind::InvalidInput, "is a device, pipe or socket, not a regular file (for standard output give -)")
+    } else {
+        return Ok(());
+    };
+    Err(OutputError::io(target, io::Error::new(why.0, why.1)))
 }
 
 /// A hard link to the existing file at `target` (deleted on drop), to restore it with;
@@ -140,8 +150,10 @@ impl Write for AtomicFile {
     }
 }
 
-/// A temporary file in `target`'s directory, named after it.
+/// A temporary file in `target`'s directory, named after it; the target must pass
+/// [`check_target`].
 pub(crate) fn temporary(target: &Path) -> Result<NamedTempFile, OutputError> {
+    check_target(target)?;
     let dir = match target.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -183,6 +195,25 @@ mod tests {
         n
     }
 
+    #[cfg(unix)]
+    #[test]
+    fn special_files_and_symlinks_are_refused_before_anything_is_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let real = dir.path().join("real.csv");
+        std::fs::write(&real, "keep").unwrap();
+        let link = dir.path().join("link.csv");
+        std::os::unix::fs::symlink(&real, &link).unwrap();
+        let dangling = dir.path().join("dangling.csv");
+        std::os::unix::fs::symlink(dir.path().join("nowhere"), &dangling).unwrap();
+        for (target, why) in [(link.as_path(), "symbolic link"), (dangling.as_path(), "symbolic link"), (Path::new("/dev/null"), "device, pipe or socket")] {
+            let err = AtomicFile::create(target).err().expect("refused");
+            assert!(err.to_string().contains(why), "{}: {err}", target.display());
+        }
+        assert_eq!(std::fs::read_to_string(&real).unwrap(), "keep");
+        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
+        assert_eq!(names(dir.path()), ["dangling.csv", "link.csv", "real.csv"], "no temporary left");
+    }
+
     #[test]
     fn commit_all_puts_every_file_in_place() {
         let dir = tempfile::tempdir().unwrap();
@@ -198,8 +229,10 @@ mod tests {
     fn commit_all_refuses_a_directory_target_before_renaming_anything() {
         let dir = tempfile::tempdir().unwrap();
         let (a, d) = (dir.path().join("a.csv"), dir.path().join("d"));
+        let files = vec![prepare(&a, b"a").unwrap(), prepare(&d, b"d").unwrap()];
+        // the target became a directory after its file was prepared
         std::fs::create_dir(&d).unwrap();
-        let err = commit_all(vec![prepare(&a, b"a").unwrap(), prepare(&d, b"d").unwrap()]).unwrap_err();
+        let err = commit_all(files).unwrap_err();
         assert!(err.to_string().ends_with("d: is a directory, not a file"), "{err}");
         assert_eq!(names(dir.path()), ["d"]);
         assert_eq!(names(&d), Vec::<String>::new());

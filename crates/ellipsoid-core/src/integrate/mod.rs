@@ -28,6 +28,7 @@ mod stiffness;
 pub mod tableau;
 
 pub use driver::integrate;
+pub(crate) use rk4::RK4_LAST_STRETCH;
 pub use error::IntegrateError;
 pub use options::{Method, Options};
 pub use solution::{EventRecord, Solution, Stats, StopReason, Warning};

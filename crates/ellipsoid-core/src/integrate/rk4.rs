@@ -30,11 +30,14 @@ impl<const N: usize> Rk4<N> {
     }
 }
 
+/// RK4's last-step stretch: it only absorbs the round-off of t0 + n·h; the last step is
+/// otherwise never longer. A run of length T takes ⌈T/h − (RK4_LAST_STRETCH − 1)⌉ steps.
+pub(crate) const RK4_LAST_STRETCH: f64 = 1.0 + 1.0e-9;
+
 impl<const N: usize> Stepper<N> for Rk4<N> {
     const CONTROL: Option<super::controller::ControlParams> = None;
     const STIFF_LIMIT: Option<f64> = None;
-    // Only absorbs the round-off of t0 + n·h; the last step is otherwise never longer.
-    const LAST_STRETCH: f64 = 1.0 + 1.0e-9;
+    const LAST_STRETCH: f64 = RK4_LAST_STRETCH;
 
     fn start<S: OdeSystem<N>>(
         &mut self,

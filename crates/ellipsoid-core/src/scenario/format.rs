@@ -219,7 +219,7 @@ pub(super) fn read_solver(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<SolverSetting
     let atol = ctx.checked(&sec, "atol", "the absolute tolerance", |v| v > 0.0, "the absolute tolerance must be positive and finite")?.unwrap_or(DEFAULT_ATOL);
     let step = ctx.checked(&sec, "step", "the step (s)", |v| v > 0.0, "the step must be positive and finite (s)")?;
     let max_steps = ctx
-        .checked(&sec, "max_steps", "the most steps per run segment", |v| v >= 1.0 && v.fract() == 0.0 && v < u64::MAX as f64, "must be a whole number from 1 to 2^64 − 1")?
+        .checked(&sec, "max_steps", "the most steps per run segment", |v| v >= 1.0 && v.fract() == 0.0 && v < u64::MAX as f64, "must be a whole number, at least 1 and below 2^64")?
         .map_or(DEFAULT_MAX_STEPS, |v| v as u64);
     let (method, initial_step) = match method {
         "rk4" => {

@@ -213,8 +213,14 @@ impl Scenario {
 
     /// Places an error of the physics layer (e.g. from `simulate`) at the key it names:
     /// `body.com_offset` → the `com_offset` or `com_offset_vector` key, `initial state` →
-    /// the `[initial]` table, and so on.
+    /// the `[initial]` table, and so on. A quantity derived from several keys (`initial
+    /// state`) has no key of its own: when the scenario was changed by `--set`, the
+    /// overrides are named too, since one of them may be the cause.
     pub fn locate(&self, err: &ModelError) -> ScenarioError {
-        Ctx { source: &self.source, text: &self.text }.model(&self.tree, err)
+        let mut e = Ctx { source: &self.source, text: &self.text }.model(&self.tree, err);
+        if e.location.set.is_none() && !self.overrides.is_empty() {
+            e.rule = format!("{} (in the scenario as changed by --set {})", e.rule, self.overrides.join(", --set "));
+        }
+        e
     }
 }

@@ -199,6 +199,8 @@ fn overflowing_initial_state_is_rejected_by_name() {
         let s = ok(PAPER, &[set]);
         let e = s.scene.initial_state().expect_err(set).to_string();
         assert!(e.starts_with(&format!("initial state = {what}: ")) && e.contains("must be finite"), "{set}: {e}");
+        let located = s.locate(&s.scene.initial_state().unwrap_err()).to_string();
+        assert!(located.starts_with("x.toml:9:2: initial state = ") && located.ends_with(&format!("(in the scenario as changed by --set {set})")), "{located}");
     }
     assert!(ok(PAPER, &[]).scene.initial_state().is_ok());
 }
@@ -214,10 +216,12 @@ fn solver_settings_are_bounded() {
     assert!(e.contains("solver.step = 1e-300") && e.contains("more than solver.max_steps = 10000000"), "{e}");
     // exactly max_steps steps is allowed
     assert!(ok(PAPER, &["solver.method=\"rk4\"", "solver.step=1e-3", "solver.max_steps=10000"]).scene.solver.max_steps == 10_000);
+    // 0.07/0.01 = 7.000000000000001: the last step's stretch absorbs it (7 steps)
+    assert!(ok(PAPER, &["output.t_end=0.07", "solver.method=\"rk4\"", "solver.step=0.01", "solver.max_steps=7"]).scene.t_end == 0.07);
     let e = err(PAPER, &["solver.method=\"rk4\"", "solver.step=1e-3", "solver.max_steps=9999"]);
     assert!(e.contains("rk4 would take 10000 steps"), "{e}");
     let e = err(PAPER, &["solver.max_steps=99999999999999999999"]);
-    assert!(e.contains("solver.max_steps = 1e20: must be a whole number from 1 to 2^64 − 1"), "{e}");
+    assert!(e.contains("solver.max_steps = 1e20: must be a whole number, at least 1 and below 2^64"), "{e}");
 }
 
 #[test]
