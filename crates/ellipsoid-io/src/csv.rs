@@ -73,10 +73,6 @@ impl CsvFile {
         self.writer.rows()
     }
 
-    pub fn finish(self) -> Result<(), OutputError> {
-        self.prepare()?.commit()
-    }
-
     /// Completes the file without putting it in place.
     pub fn prepare(self) -> Result<Prepared, OutputError> {
         let path = self.path;

@@ -53,11 +53,6 @@ impl Hdf5File {
         self.modes.len() as u64
     }
 
-    /// Writes the datasets and attributes, then renames the file into place.
-    pub fn finish(self, meta: &Metadata<'_>) -> Result<(), OutputError> {
-        self.prepare(meta)?.commit()
-    }
-
     /// Writes the datasets and attributes, without putting the file in place.
     pub fn prepare(self, meta: &Metadata<'_>) -> Result<atomic::Prepared, OutputError> {
         let fail = |e: h5::Error| OutputError::Hdf5 { path: self.path.clone(), message: e.to_string() };
