@@ -6,7 +6,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::error::ModelError;
+use crate::error::{number, ModelError};
 
 /// A validated rigid ellipsoid. Construct with [`Body::new`].
 #[derive(Debug, Clone, PartialEq)]
@@ -38,11 +38,11 @@ impl Body {
     ) -> Result<Self, ModelError> {
         for (name, v) in ["a", "b", "c"].iter().zip(semi_axes.iter()) {
             if !(v.is_finite() && *v > 0.0) {
-                return Err(ModelError::invalid(format!("body.{name}"), v, "a semi-axis must be a positive, finite length in metres"));
+                return Err(ModelError::invalid(format!("body.{name}"), number(*v), "a semi-axis must be a positive, finite length in metres"));
             }
         }
         if !(mass.is_finite() && mass > 0.0) {
-            return Err(ModelError::invalid("body.mass", mass, "the mass must be positive and finite (kg)"));
+            return Err(ModelError::invalid("body.mass", number(mass), "the mass must be positive and finite (kg)"));
         }
         if inertia.iter().any(|v| !v.is_finite()) {
             return Err(ModelError::invalid("body.inertia", fmt_matrix(&inertia), "every entry must be finite (kg m^2)"));
@@ -117,11 +117,11 @@ pub fn uniform_inertia(semi_axes: Vector3<f64>, mass: f64) -> Matrix3<f64> {
 }
 
 fn fmt_vector(v: &Vector3<f64>) -> String {
-    format!("[{}, {}, {}]", v.x, v.y, v.z)
+    format!("[{}, {}, {}]", number(v.x), number(v.y), number(v.z))
 }
 
 fn fmt_matrix(m: &Matrix3<f64>) -> String {
-    let row = |i: usize| format!("[{}, {}, {}]", m[(i, 0)], m[(i, 1)], m[(i, 2)]);
+    let row = |i: usize| format!("[{}, {}, {}]", number(m[(i, 0)]), number(m[(i, 1)]), number(m[(i, 2)]));
     format!("[{}, {}, {}]", row(0), row(1), row(2))
 }
 

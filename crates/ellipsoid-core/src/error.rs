@@ -33,9 +33,51 @@ pub fn number(x: f64) -> String {
     }
 }
 
+/// `text` with every decimal number longer than 24 characters reprinted by [`number`]
+/// (a subnormal 5e-324 formatted with `{}` is 330 characters); shorter ones, and
+/// anything that is not a number, unchanged. For messages built by code that formats
+/// floats with `{}`.
+pub fn shorten_numbers(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        // Include a sign right before the digits.
+        let start = if start > 0 && rest.as_bytes()[start - 1] == b'-' { start - 1 } else { start };
+        out.push_str(&rest[..start]);
+        let tail = &rest[start..];
+        let mut end = tail.find(|c: char| !(c.is_ascii_digit() || "+-.eE".contains(c))).unwrap_or(tail.len());
+        // Trailing punctuation is not part of the number ("= 1.5." ends a sentence).
+        while end > 1 && !tail.as_bytes()[end - 1].is_ascii_digit() {
+            end -= 1;
+        }
+        let token = &tail[..end];
+        match token.parse::<f64>() {
+            Ok(x) if token.len() > 24 => out.push_str(&number(x)),
+            _ => out.push_str(token),
+        }
+        rest = &tail[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
 #[cfg(test)]
 mod tests {
-    use super::number;
+    use super::{number, shorten_numbers};
+
+    #[test]
+    fn long_numbers_in_text_are_reprinted_short() {
+        let subnormal = format!("{}", 5e-324);
+        assert!(subnormal.len() > 300);
+        assert_eq!(shorten_numbers(&format!("body.a = {subnormal}: a rule")), "body.a = 5e-324: a rule");
+        assert_eq!(shorten_numbers(&format!("[{subnormal}, -{subnormal}]")), "[5e-324, -5e-324]");
+        let big = format!("{}", 1e300);
+        assert_eq!(shorten_numbers(&format!("x = {big}.")), "x = 1e300.");
+        // Short numbers and non-numbers are kept as written.
+        for keep in ["g^T A^-2 g = 1.306122 must be < 1", "10·EPS ≈ 2.2e-15 and 1e-2", "N = -0.84 N", "dop853, rk4 step 1e-4", "2026-12-01"] {
+            assert_eq!(shorten_numbers(keep), keep);
+        }
+    }
 
     #[test]
     fn numbers_print_short_at_any_magnitude() {

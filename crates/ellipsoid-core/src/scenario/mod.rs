@@ -34,12 +34,15 @@ use crate::integrate::Method;
 use crate::simulate::{ContactModel, EffectSet, InitialState, Scene, SolverSettings};
 use crate::state::EulerAngles;
 
+mod collect;
 mod format;
 mod reader;
 #[cfg(test)]
 mod tests;
 mod tree;
 
+pub use collect::MAX_ERRORS;
+use collect::*;
 use format::*;
 use reader::*;
 use tree::*;
@@ -138,12 +141,12 @@ pub struct Location {
 
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        write!(f, "{}", self.source)?;
+        write!(f, "{}", cut(&self.source))?;
         if let (Some(line), Some(col)) = (self.line, self.column) {
             write!(f, ":{line}:{col}")?;
         }
         if let Some(set) = &self.set {
-            write!(f, ": --set {set}")?;
+            write!(f, ": --set {}", cut(set))?;
         }
         Ok(())
     }
@@ -165,43 +168,97 @@ pub struct ScenarioError {
 }
 
 impl ScenarioError {
+    /// One line; keys (which may be as long as the file) cut like values, numbers short.
     fn render(&self) -> String {
         let loc = &self.location;
-        match (&self.key, &self.value, self.kind) {
-            (Some(k), _, ErrorKind::Missing) => format!("{loc}: {k} is missing: {}", self.rule),
-            (Some(k), Some(v), _) => format!("{loc}: {k} = {v}: {}", self.rule),
-            (Some(k), None, _) => format!("{loc}: {k}: {}", self.rule),
-            (None, _, _) => format!("{loc}: {}", self.rule),
+        let rule = crate::error::shorten_numbers(&self.rule);
+        match (self.key.as_deref().map(cut), self.value.as_deref().map(crate::error::shorten_numbers), self.kind) {
+            (Some(k), _, ErrorKind::Missing) => format!("{loc}: {k} is missing: {rule}"),
+            (Some(k), Some(v), _) => format!("{loc}: {k} = {v}: {rule}"),
+            (Some(k), None, _) => format!("{loc}: {k}: {rule}"),
+            (None, _, _) => format!("{loc}: {rule}"),
         }
+    }
+}
+
+/// `text` on one line and at most 60 characters, as messages show keys and values.
+pub(crate) fn cut(text: &str) -> String {
+    let mut chars = text.chars().map(|c| if c.is_control() { ' ' } else { c });
+    let head: String = chars.by_ref().take(60).collect();
+    if chars.next().is_some() { format!("{}…", head.chars().take(59).collect::<String>()) } else { head }
+}
+
+/// Every independent error of one scenario (at least one, at most [`MAX_ERRORS`]), in
+/// file order; displays as one line per error.
+#[derive(Debug, Clone, PartialEq, thiserror::Error, Serialize)]
+#[error("{}", self.0.iter().map(ToString::to_string).collect::<Vec<_>>().join("\n"))]
+pub struct ScenarioErrors(pub Vec<ScenarioError>);
+
+impl ScenarioErrors {
+    /// The first error in the file.
+    pub fn first(self) -> ScenarioError {
+        self.0.into_iter().next().expect("at least one error")
+    }
+}
+
+impl From<ScenarioError> for ScenarioErrors {
+    fn from(e: ScenarioError) -> Self {
+        ScenarioErrors(vec![e])
     }
 }
 
 type Result<T> = std::result::Result<T, ScenarioError>;
 
 /// Reads and parses the scenario file at `path`, applying `overrides` (`key=value`).
+/// The error is the first in the file; [`load_all`] returns them all.
 pub fn load(path: &Path, overrides: &[impl AsRef<str>]) -> Result<Scenario> {
+    load_all(path, overrides).map_err(ScenarioErrors::first)
+}
+
+/// [`load`] with every independent error of the file, in file order.
+pub fn load_all(path: &Path, overrides: &[impl AsRef<str>]) -> std::result::Result<Scenario, ScenarioErrors> {
     let source = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
-        kind: ErrorKind::Io,
-        location: Location { source: source.clone(), line: None, column: None, set: None },
+    let io = |rule: String, line: Option<usize>, column: Option<usize>| ScenarioError {
+        kind: if line.is_some() { ErrorKind::Syntax } else { ErrorKind::Io },
+        location: Location { source: source.clone(), line, column, set: None },
         key: None,
         value: None,
-        rule: format!("cannot read the scenario file: {e}"),
+        rule,
+    };
+    let bytes = std::fs::read(path).map_err(|e| io(format!("cannot read the scenario file: {e}"), None, None))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        // Where the first bad byte is: line and column (in characters) of the valid text before it.
+        let bytes = e.as_bytes();
+        let good = std::str::from_utf8(&bytes[..e.utf8_error().valid_up_to()]).unwrap_or_default();
+        let line = good.matches('\n').count() + 1;
+        let column = good.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+        let offset = good.len();
+        io(format!("the file is not UTF-8 text, as TOML must be: byte 0x{:02x} at offset {offset} does not begin a UTF-8 character (save the file as UTF-8)", bytes[offset]), Some(line), Some(column))
     })?;
-    parse(&text, &source, overrides)
+    parse_all(&text, &source, overrides)
 }
 
 /// Parses scenario `text` (named `source` in messages), applying `overrides` (`key=value`,
-/// the value in TOML syntax; a bare word is taken as a string).
+/// the value in TOML syntax; a bare word is taken as a string). The error is the first in
+/// the file; [`parse_all`] returns them all.
 pub fn parse(text: &str, source: &str, overrides: &[impl AsRef<str>]) -> Result<Scenario> {
+    parse_all(text, source, overrides).map_err(ScenarioErrors::first)
+}
+
+/// [`parse`] with every independent error, in file order (at most [`MAX_ERRORS`]).
+pub fn parse_all(text: &str, source: &str, overrides: &[impl AsRef<str>]) -> std::result::Result<Scenario, ScenarioErrors> {
     let ctx = Ctx { source, text };
     let doc = DeTable::parse(text).map_err(|e| ctx.syntax(&e, None))?;
+    if let Some(span) = wide_integer_table(doc.get_ref()) {
+        let literal = text.get(span.clone()).unwrap_or_default();
+        return Err(ctx.error(ErrorKind::Syntax, &Origin::File(span), None, None, format!("{}: {WIDE_INTEGER}", cut(literal))).into());
+    }
     let mut tree = Node::from_table(doc.into_inner(), Origin::File(0..0));
     let overrides: Vec<String> = overrides.iter().map(|s| s.as_ref().to_owned()).collect();
     for set in &overrides {
         apply_override(&ctx, &mut tree, set)?;
     }
-    let (scene, check) = build(&ctx, &tree)?;
+    let (scene, check) = build_all(&ctx, &tree).map_err(ScenarioErrors)?;
     Ok(Scenario { scene, text: text.to_owned(), source: source.to_owned(), overrides, check, tree })
 }
 

@@ -18,7 +18,7 @@ impl Ctx<'_> {
                 let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
                 Location { source: self.source.to_owned(), line: Some(line), column: Some(column), set: None }
             }
-            Origin::Set(s) => Location { source: self.source.to_owned(), line: None, column: None, set: Some(s.clone()) },
+            Origin::Set(s) => Location { source: self.source.to_owned(), line: None, column: None, set: Some(s.to_string()) },
         }
     }
 
@@ -40,7 +40,7 @@ impl Ctx<'_> {
 
     pub(super) fn syntax(&self, e: &toml::de::Error, set: Option<&str>) -> ScenarioError {
         let origin = match set {
-            Some(s) => Origin::Set(s.to_owned()),
+            Some(s) => Origin::Set(s.into()),
             None => Origin::File(e.span().unwrap_or(0..0)),
         };
         self.error(ErrorKind::Syntax, &origin, None, None, format!("TOML syntax error: {}", e.message()))
@@ -235,7 +235,13 @@ pub(super) fn quoted(choices: &[&str]) -> String {
 /// The allowed name closest to `key` in edit distance, if close enough to be a typo.
 pub(super) fn suggest<'c>(key: &str, allowed: &[&'c str]) -> Option<&'c str> {
     let limit = (key.chars().count() / 3).clamp(1, 3);
-    allowed.iter().map(|c| (levenshtein(&key.to_lowercase(), c), *c)).filter(|(d, _)| *d <= limit).min_by_key(|(d, _)| *d).map(|(_, c)| c)
+    // No allowed name is within `limit` edits of a much longer key (a 20 MB key took 12 s).
+    let longest = allowed.iter().map(|c| c.chars().count()).max().unwrap_or(0);
+    if key.len() > 4 * (longest + limit) {
+        return None;
+    }
+    let key = key.to_lowercase();
+    allowed.iter().map(|c| (levenshtein(&key, c), *c)).filter(|(d, _)| *d <= limit).min_by_key(|(d, _)| *d).map(|(_, c)| c)
 }
 
 /// Edit distance (insertions, deletions, substitutions) between two strings.

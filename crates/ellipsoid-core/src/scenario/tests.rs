@@ -89,7 +89,7 @@ fn errors_name_file_line_column_key_value_and_rule() {
         (edit("\"frictionless\"", "\"sliding\""), "x.toml:13:1: contact.friction is missing: the sliding model needs μ, the Coulomb friction coefficient (e.g. friction = 0.3)"),
         (edit("t_end = 10.0", "t_end = 0"), "x.toml:22:1: output.t_end = 0: the end time must be positive and finite (s)"),
         (edit("com_offset = 0.003", "com_offset = 0.02"), "x.toml:6:1: body.com_offset = [0, 0, -0.02]: the centre of mass must lie inside the ellipsoid (g^T A^-2 g = 1.306122 must be < 1)"),
-        (edit("3.8e-6, 3.8e-6", "1e-6, 1e-6"), "x.toml:7:1: body.inertia = [0.000001, 0.000001, 0.00000625]: principal moments must satisfy the triangle inequality (each at most the sum of the other two)"),
+        (edit("3.8e-6, 3.8e-6", "1e-6, 1e-6"), "x.toml:7:1: body.inertia = [1e-6, 1e-6, 6.25e-6]: principal moments must satisfy the triangle inequality (each at most the sum of the other two)"),
         (edit("inertia = [3.8e-6, 3.8e-6, 6.25e-6]", "inertia = \"uniform\""), "x.toml:7:1: body.inertia = \"uniform\": \"uniform\" is a homogeneous body, whose centre of mass is the geometric centre; with a centre-of-mass offset give the moments about G"),
         (edit("method = \"dopri5\"", "method = \"rk4\""), "x.toml:16:1: solver.step is missing: the rk4 method needs its fixed step (s), e.g. step = 1e-4"),
         (edit("psi_dot = 60.0", "psi_dot = 60.0\nvelocity = [1, 0]"), "x.toml:12:1: initial.velocity = [1, 0]: not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it"),
@@ -221,6 +221,8 @@ fn solver_settings_are_bounded() {
     let e = err(PAPER, &["solver.method=\"rk4\"", "solver.step=1e-3", "solver.max_steps=9999"]);
     assert!(e.contains("rk4 would take 10000 steps"), "{e}");
     let e = err(PAPER, &["solver.max_steps=99999999999999999999"]);
+    assert!(e.contains("solver.max_steps = 99999999999999999999: integer out of TOML's range"), "{e}");
+    let e = err(PAPER, &["solver.max_steps=1e20"]);
     assert!(e.contains("solver.max_steps = 1e20: must be a whole number, at least 1 and below 2^64"), "{e}");
 }
 
@@ -236,4 +238,92 @@ fn output_times_messages_are_exact() {
     assert!(e.contains("not both"), "{e}");
     let e = err(PAPER, &["output.t_end=-1e-300"]);
     assert!(e.contains("output.t_end = -1e-300"), "{e}");
+}
+
+fn all(text: &str, sets: &[&str]) -> Vec<String> {
+    parse_all(text, "x.toml", sets).expect_err("should be rejected").0.iter().map(ToString::to_string).collect()
+}
+
+#[test]
+fn every_independent_error_is_reported_in_file_order() {
+    // Two typos in different tables, the later table read first by the parser, and a bad
+    // value in a third: all three, in file order.
+    let text = edit("mass = 0.05", "mas = 0.05").replace("psi_dot = 60.0", "psi_dott = 60.0").replace("t_end = 10.0", "t_end = -1");
+    let got = all(&text, &[]);
+    assert_eq!(
+        got,
+        [
+            "x.toml:5:1: body.mas = 0.05: unknown key in [body]; did you mean `mass`?",
+            "x.toml:11:1: initial.psi_dott = 60.0: unknown key in [initial]; did you mean `psi_dot`?",
+            "x.toml:22:1: output.t_end = -1: the end time must be positive and finite (s)",
+        ]
+    );
+    assert_eq!(err(&text, &[]), got[0]);
+    // `parse` gives the first in the file: [initial] (line 11) before [contact] (line 14),
+    // though [contact] is read first (before, its error was the one reported).
+    let text = edit("psi_dot = 60.0", "psi_dott = 60.0").replace("model = \"frictionless\"", "modl = \"frictionless\"");
+    assert!(err(&text, &[]).starts_with("x.toml:11:1: initial.psi_dott"), "{}", err(&text, &[]));
+    assert_eq!(all(&text, &[]).len(), 2, "psi_dott and modl ([contact] then misses model: a consequence)");
+    // Several unknown keys in one table, and a value error after them in the same table.
+    let text = edit("c = 0.0175", "cc = 0.0175\nd = 1").replace("mass = 0.05", "mass = -1");
+    let got = all(&text, &[]);
+    // With the unknown keys gone, [body] misses `c`: most likely `cc`, so not reported
+    // (and the reader stops there, before the mass).
+    assert_eq!(got.len(), 2, "{got:#?}");
+    assert!(got[0].starts_with("x.toml:4:1: body.cc = 0.0175: unknown key") && got[1].starts_with("x.toml:5:1: body.d = 1: unknown key"), "{got:#?}");
+}
+
+#[test]
+fn errors_are_capped() {
+    let mut text = PAPER.to_owned();
+    for i in 0..50 {
+        text = text.replace("[contact]", &format!("typo{i} = 1\n[contact]"));
+    }
+    let got = all(&text, &[]);
+    assert_eq!(got.len(), MAX_ERRORS);
+    assert!(got[0].contains("initial.typo0 = 1: unknown key") && got[1].contains("initial.typo1"), "{got:#?}");
+}
+
+#[test]
+fn a_file_that_is_not_utf8_is_located_at_its_first_bad_byte() {
+    let dir = std::env::temp_dir().join(format!("ellipsoid-utf8-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("latin1.toml");
+    let mut bytes = PAPER.as_bytes().to_vec();
+    // "# μ" in Latin-1 after `mass = 0.05 ` on line 5: é is 0xe9
+    let at = PAPER.find("mass = 0.05").unwrap() + "mass = 0.05".len();
+    bytes.splice(at..at, b" # caf\xe9".iter().copied());
+    std::fs::write(&path, &bytes).unwrap();
+    let e = load(&path, &[] as &[&str]).unwrap_err();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!((e.kind, e.location.line, e.location.column), (ErrorKind::Syntax, Some(5), Some(18)), "{e}");
+    assert!(e.to_string().contains(":5:18: the file is not UTF-8 text, as TOML must be: byte 0xe9 at offset"), "{e}");
+}
+
+#[test]
+fn integers_beyond_64_bits_are_rejected_as_toml_says() {
+    let e = err(&edit("dt = 1e-3", "dt = 9223372036854775808"), &[]);
+    assert_eq!(e, "x.toml:23:6: 9223372036854775808: integer out of TOML's range (-2^63 to 2^63 - 1, about ±9.2e18); write it as a float, e.g. 9.3e18");
+    assert!(err(&edit("dt = 1e-3", "dt = [1, -9223372036854775809]"), &[]).contains("-9223372036854775809: integer out of TOML's range"));
+    let e = err(PAPER, &["output.dt=9223372036854775808"]);
+    assert!(e.starts_with("x.toml: --set output.dt=9223372036854775808: output.dt = 9223372036854775808: integer out of TOML's range"), "{e}");
+    // The largest integer is an integer (and a valid, if long, sampling interval).
+    assert_eq!(ok(&edit("dt = 1e-3", "dt = 9223372036854775807"), &[]).scene.sample_times, [0.0, 10.0]);
+}
+
+#[test]
+fn long_keys_are_cut_in_messages_and_not_compared_for_suggestions() {
+    let key = "k".repeat(5_000_000);
+    let e = err(&edit("mass = 0.05", &format!("{key} = 1")), &[]);
+    assert!(e.len() < 300, "{} characters", e.len());
+    assert!(e.starts_with("x.toml:5:1: body.kkkk") && e.contains("…") && e.contains("unknown key in [body]; expected one of: a, b"), "{e}");
+    let e = err(PAPER, &[&format!("body.{key}=1")]);
+    assert!(e.len() < 300, "{} characters", e.len());
+}
+
+#[test]
+fn numbers_in_messages_are_short() {
+    // The physics layer's value (not the file's text): printed with `{}` it was 330 characters.
+    let e = err(&edit("a = 0.025", "a = -5e-324"), &[]);
+    assert_eq!(e, "x.toml:3:1: body.a = -5e-324: a semi-axis must be a positive, finite length in metres");
 }

@@ -1,6 +1,8 @@
 //! The spanned document tree: every key and value with where it came from (a byte
 //! span of the file or a `--set` override), and the overrides applied to it.
 
+use std::sync::Arc;
+
 use super::*;
 
 /// Where a key or value came from.
@@ -8,8 +10,9 @@ use super::*;
 pub(super) enum Origin {
     /// A byte range of the file.
     File(Range<usize>),
-    /// A `--set key=value` override (its text).
-    Set(String),
+    /// A `--set key=value` override (its text, shared by every node it made: a long
+    /// array given by one override must not copy the override once per element).
+    Set(Arc<str>),
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -54,9 +57,9 @@ impl Node {
     }
 
     /// Converts a parsed value; with `set`, every node's origin is that override.
-    pub(super) fn from_value(span: Range<usize>, value: DeValue<'_>, set: Option<&str>) -> Node {
+    pub(super) fn from_value(span: Range<usize>, value: DeValue<'_>, set: Option<&Arc<str>>) -> Node {
         let origin = match set {
-            Some(s) => Origin::Set(s.to_owned()),
+            Some(s) => Origin::Set(Arc::clone(s)),
             None => Origin::File(span),
         };
         let value = match value {
@@ -79,7 +82,7 @@ impl Node {
                 let mut node = Node::from_table(t, origin.clone());
                 if let (Some(s), Value::Table(entries)) = (set, &mut node.value) {
                     for e in entries.iter_mut() {
-                        e.key_origin = Origin::Set(s.to_owned());
+                        e.key_origin = Origin::Set(Arc::clone(s));
                         set_origin(&mut e.node, s);
                     }
                 }
@@ -137,12 +140,12 @@ impl Node {
     }
 }
 
-pub(super) fn set_origin(node: &mut Node, set: &str) {
-    node.origin = Origin::Set(set.to_owned());
+pub(super) fn set_origin(node: &mut Node, set: &Arc<str>) {
+    node.origin = Origin::Set(Arc::clone(set));
     match &mut node.value {
         Value::Array(a) => a.iter_mut().for_each(|n| set_origin(n, set)),
         Value::Table(t) => t.iter_mut().for_each(|e| {
-            e.key_origin = Origin::Set(set.to_owned());
+            e.key_origin = Origin::Set(Arc::clone(set));
             set_origin(&mut e.node, set);
         }),
         _ => {}
@@ -161,11 +164,15 @@ pub(super) fn apply_override(ctx: &Ctx<'_>, tree: &mut Node, set: &str) -> Resul
         return Err(fail(Some(key.trim().to_owned()), None, "the key must be a dotted path of names such as body.mass".into()));
     }
     let raw = raw.trim();
+    let shared: Arc<str> = Arc::from(set);
     let node = match DeValue::parse(raw) {
-        Ok(v) => Node::from_value(v.span(), v.into_inner(), Some(set)),
+        Ok(v) if super::collect::wide_integer(v.get_ref(), v.span()).is_some() => {
+            return Err(fail(Some(key.trim().to_owned()), Some(raw.to_owned()), super::collect::WIDE_INTEGER.to_owned()));
+        }
+        Ok(v) => Node::from_value(v.span(), v.into_inner(), Some(&shared)),
         // A bare word (`--set contact.model=rolling`) is a string.
         Err(_) if !raw.is_empty() && raw.chars().all(|c| c.is_ascii_alphanumeric() || "_-+.".contains(c)) => {
-            Node { value: Value::Str(raw.to_owned()), origin: Origin::Set(set.to_owned()) }
+            Node { value: Value::Str(raw.to_owned()), origin: Origin::Set(Arc::clone(&shared)) }
         }
         Err(e) => return Err(fail(Some(key.trim().to_owned()), Some(raw.to_owned()), format!("not a TOML value: {}", e.message()))),
     };
@@ -177,14 +184,14 @@ pub(super) fn apply_override(ctx: &Ctx<'_>, tree: &mut Node, set: &str) -> Resul
         let pos = match entries.iter().position(|e| e.key == *seg) {
             Some(p) => p,
             None => {
-                let empty = Node { value: Value::Table(Vec::new()), origin: Origin::Set(set.to_owned()) };
-                entries.push(Entry { key: (*seg).to_owned(), key_origin: Origin::Set(set.to_owned()), node: empty });
+                let empty = Node { value: Value::Table(Vec::new()), origin: Origin::Set(Arc::clone(&shared)) };
+                entries.push(Entry { key: (*seg).to_owned(), key_origin: Origin::Set(Arc::clone(&shared)), node: empty });
                 entries.len() - 1
             }
         };
         let entry = &mut entries[pos];
         if i + 1 == path.len() {
-            entry.key_origin = Origin::Set(set.to_owned());
+            entry.key_origin = Origin::Set(Arc::clone(&shared));
             entry.node = node;
             return Ok(());
         }
