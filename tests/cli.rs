@@ -511,8 +511,31 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
             Expect::Parts("error: bad.toml:8:2: initial normal force N = -", "the plane must push on the body at t = 0 (N > 0); with these angles and rates the body would leave the plane at once"),
         ),
         ("TOML syntax", Some(edit("mass = 0.05", "mass = 0.05.0").into()), vec![], Expect::Parts("error: bad.toml:4:12: TOML syntax error: ", "")),
-        ("empty file", Some(Vec::new()), vec![], Expect::Exact("error: bad.toml:1:1: body is missing: a scenario needs a [body] table (semi-axes a and c, mass, inertia)")),
-        ("not UTF-8", Some(vec![0xff, 0xfe, b'a']), vec![], Expect::Exact("error: bad.toml: cannot read the scenario file: stream did not contain valid UTF-8")),
+        (
+            "empty file",
+            Some(Vec::new()),
+            vec![],
+            Expect::Exact(
+                "error: bad.toml:1:1: body is missing: a scenario needs a [body] table (semi-axes a and c, mass, inertia)\n\
+                 error: bad.toml:1:1: contact is missing: a scenario needs a [contact] table with model = \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"\n\
+                 error: bad.toml:1:1: output is missing: a scenario needs an [output] table with t_end and dt (or times)",
+            ),
+        ),
+        (
+            "not UTF-8",
+            Some(b"[body]\na = 0.025 # \xb5m\n".to_vec()),
+            vec![],
+            Expect::Exact("error: bad.toml:2:13: the file is not UTF-8 text, as TOML must be: byte 0xb5 at offset 19 does not begin a UTF-8 character (save the file as UTF-8)"),
+        ),
+        (
+            "two typos, reported in file order",
+            Some(edit("psi_dot = 60.0", "psi_dott = 60.0").replace("model = \"frictionless\"", "modl = \"frictionless\"").into_bytes()),
+            vec![],
+            Expect::Exact(
+                "error: bad.toml:10:1: initial.psi_dott = 60.0: unknown key in [initial]; did you mean `psi_dot`?\n\
+                 error: bad.toml:13:1: contact.modl = \"frictionless\": unknown key in [contact]; did you mean `model`?",
+            ),
+        ),
         ("unreadable file", None, vec![], Expect::Exact("error: bad.toml: cannot read the scenario file: No such file or directory (os error 2)")),
         (
             "override without =",
@@ -540,7 +563,11 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
             Expect::Parts(start, end) => line.starts_with(start) && line.ends_with(end),
         };
         let left: Vec<String> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).filter(|n| n != "bad.toml").collect();
-        if code(&out) != 2 || !ok_line || line.contains('\n') || !left.is_empty() || !out.stdout.is_empty() {
+        let lines_expected = match expect {
+            Expect::Exact(e) => e.lines().count(),
+            Expect::Parts(..) => 1,
+        };
+        if code(&out) != 2 || !ok_line || line.lines().count() != lines_expected || !left.is_empty() || !out.stdout.is_empty() {
             failures.push(format!("{name}: exit {}, left {left:?}, stderr:\n{err}", code(&out)));
         }
     }

@@ -22,7 +22,7 @@ use crate::error::CliError;
 const LABEL_WIDTH: usize = 22;
 
 pub fn check(args: &CheckArgs) -> Result<ExitCode, CliError> {
-    let scenario = scenario::load(&args.scenario, &args.set)?;
+    let scenario = scenario::load_all(&args.scenario, &args.set)?;
     let (first, outcome) = first_sample(&scenario)?;
     print!("{}", describe(&scenario, first.as_ref(), &outcome));
     Ok(ExitCode::SUCCESS)

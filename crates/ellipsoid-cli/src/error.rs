@@ -1,13 +1,13 @@
 //! Errors of the command-line tool, each mapped to an exit status.
 
-use ellipsoid_core::scenario::ScenarioError;
+use ellipsoid_core::scenario::{ScenarioError, ScenarioErrors};
 use ellipsoid_io::OutputError;
 
 #[derive(Debug, thiserror::Error)]
 pub enum CliError {
-    /// The scenario is unreadable or invalid (exit 2).
+    /// The scenario is unreadable or invalid (exit 2): every independent error, one line each.
     #[error(transparent)]
-    Scenario(Box<ScenarioError>),
+    Scenario(Box<ScenarioErrors>),
     /// The trajectory or summary could not be written (exit 1; exit 2 for an output
     /// format this build cannot write).
     #[error(transparent)]
@@ -21,6 +21,9 @@ pub enum CliError {
     /// `precision` found no trustworthy reference (exit 3).
     #[error("no reference: {0}")]
     Reference(String),
+    /// A run stopped by SIGINT or SIGTERM (exit 128 + the signal's number).
+    #[error("{message}")]
+    Interrupted { signal: i32, message: String },
 }
 
 impl CliError {
@@ -32,12 +35,19 @@ impl CliError {
             CliError::Output(_) | CliError::Plot(_) => 1,
             CliError::Usage(_) => 2,
             CliError::Reference(_) => 3,
+            CliError::Interrupted { signal, .. } => u8::try_from(128 + signal).unwrap_or(130),
         }
     }
 }
 
 impl From<ScenarioError> for CliError {
     fn from(e: ScenarioError) -> Self {
+        CliError::Scenario(Box::new(e.into()))
+    }
+}
+
+impl From<ScenarioErrors> for CliError {
+    fn from(e: ScenarioErrors) -> Self {
         CliError::Scenario(Box::new(e))
     }
 }

@@ -7,6 +7,7 @@
 mod check;
 mod cli;
 mod error;
+mod interrupt;
 mod plot;
 mod precision;
 mod progress;
@@ -33,7 +34,10 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(e) => {
             let code = e.exit_code();
-            eprintln!("error: {}", error::message(&e));
+            // Several scenario errors: one `error:` line each.
+            for line in error::message(&e).lines() {
+                eprintln!("error: {line}");
+            }
             ExitCode::from(code)
         }
     }

@@ -162,7 +162,7 @@ pub struct Report {
 }
 
 pub fn precision(args: &PrecisionArgs) -> Result<ExitCode, CliError> {
-    let scenario = scenario::load(&args.scenario, &args.set)?;
+    let scenario = scenario::load_all(&args.scenario, &args.set)?;
     let dir = args.output.clone().unwrap_or_else(|| Path::new("out").join("precision").join(scenario.stem()));
     let log = |s: &str| {
         if !args.quiet {

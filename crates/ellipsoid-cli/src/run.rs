@@ -9,14 +9,18 @@ use ellipsoid_io::run::Failure;
 use ellipsoid_io::{atomic, Format, Metadata, OutputError, Summary, TrajectoryWriter};
 
 use crate::cli::RunArgs;
+use ellipsoid_core::error::number;
+
 use crate::error::CliError;
+use crate::interrupt::Interrupt;
 use crate::progress::Progress;
 
 /// Exit status of a run that stopped before t_end.
 const EARLY_STOP: u8 = 3;
 
 pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
-    let scenario = scenario::load(&args.scenario, &args.set)?;
+    let interrupt = Interrupt::install();
+    let scenario = scenario::load_all(&args.scenario, &args.set)?;
     let output = args.output.clone().unwrap_or_else(|| Path::new("out").join(format!("{}.csv", scenario.stem())));
     Format::from_path(&output)?;
     let summary_path = args.summary.as_ref().filter(|p| p.as_os_str() != "-");
@@ -37,18 +41,25 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
         }
         // Reserved first, so an unwritable summary fails before the run.
         let summary_file = summary_path.map(|p| atomic::AtomicFile::create(p)).transpose()?;
-        let (trajectory, summary, stop_note) = simulate_to(&scenario, &output)?;
+        let (trajectory, summary, stop_note) = simulate_to(&scenario, &output, &interrupt)?;
         let mut files = vec![trajectory];
         if let (Some(mut file), Some(path)) = (summary_file, summary_path) {
             file.write_all(summary.to_json().as_bytes()).map_err(|e| OutputError::Io { path: path.clone(), source: e })?;
             files.push(file.prepare()?);
         }
+        // The last moment to honour a signal: after it, the files are put in place.
+        stop_if_interrupted(&interrupt, &scenario, Some(&summary))?;
         if args.summary.as_ref().is_some_and(|p| p.as_os_str() == "-") {
             std::io::stdout().lock().write_all(summary.to_json().as_bytes()).map_err(|e| OutputError::Io { path: "<stdout>".into(), source: e })?;
         }
         atomic::commit_all(files)?;
         Ok((summary, stop_note))
     })();
+    // A signal during the writing (or during an error) still ends as an interruption.
+    let result = match (result, interrupt.received()) {
+        (Err(e), Some(_)) if !matches!(e, CliError::Interrupted { .. }) => Err(stop_if_interrupted(&interrupt, &scenario, None).err().unwrap_or(e)),
+        (r, _) => r,
+    };
     if result.is_err() {
         for dir in made.iter().rev() {
             let _ = std::fs::remove_dir(dir);
@@ -61,6 +72,18 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
         report(&summary, &output, stop_note.as_deref());
     }
     Ok(if completed { ExitCode::SUCCESS } else { ExitCode::from(EARLY_STOP) })
+}
+
+/// `Err(Interrupted)` if SIGINT or SIGTERM came: nothing is put in place (the temporaries
+/// are deleted when dropped), and the message says where the run stopped.
+fn stop_if_interrupted(interrupt: &Interrupt, scenario: &Scenario, summary: Option<&Summary>) -> Result<(), CliError> {
+    let Some((signal, name)) = interrupt.received() else { return Ok(()) };
+    let t_end = scenario.scene.t_end;
+    let at = summary.and_then(|s| s.final_state.get("t")).and_then(|v| v.as_f64()).map_or_else(String::new, |t| format!(" at t = {} s of {} s", number(t), number(t_end)));
+    Err(CliError::Interrupted {
+        signal,
+        message: format!("interrupted by {name}{at}: the run was stopped and nothing was written (its temporary files are removed; existing output files are untouched)"),
+    })
 }
 
 /// Refuses two of the named paths (scenario, trajectory, summary) that are one file.
@@ -111,10 +134,11 @@ fn identity(path: &Path) -> PathBuf {
 
 /// Runs the scene, writing the trajectory for `output` (complete, not yet in place);
 /// returns it, the summary and, if the run was stopped for a non-finite value, why.
-fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(atomic::Prepared, Summary, Option<String>), CliError> {
+fn simulate_to(scenario: &Scenario, output: &Path, interrupt: &Interrupt) -> Result<(atomic::Prepared, Summary, Option<String>), CliError> {
     let mut writer = TrajectoryWriter::create(output)?;
     let mut progress = Progress::new(scenario.scene.t_end);
-    let finished = ellipsoid_io::run::run(scenario, Some(output.display().to_string()), env!("CARGO_PKG_VERSION"), None, |s| {
+    let cancel = Some(std::sync::Arc::clone(&interrupt.any));
+    let finished = ellipsoid_io::run::run(scenario, Some(output.display().to_string()), env!("CARGO_PKG_VERSION"), cancel, |s| {
         progress.update(s.t);
         writer.write(s)
     });
@@ -122,9 +146,11 @@ fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(atomic::Prepared, 
     // Errors of the physics layer are input errors found late (e.g. N ≤ 0 at t = 0):
     // they are placed in the scenario file. The unfinished output is dropped, so deleted.
     let finished = finished.map_err(|f| match f {
-        Failure::Scenario(e) => CliError::Scenario(e),
+        Failure::Scenario(e) => CliError::from(*e),
         Failure::Sink(e) => CliError::from(e),
     })?;
+    // Stopped by a signal: no need to finish writing the file.
+    stop_if_interrupted(interrupt, scenario, Some(&finished.summary))?;
     let trajectory = writer.prepare(&Metadata { scenario_text: &scenario.text, summary: &finished.summary })?;
     Ok((trajectory, finished.summary, finished.non_finite))
 }

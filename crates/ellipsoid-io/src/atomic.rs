@@ -2,6 +2,12 @@
 //! rename it over the target. A reader never sees a half-written file, and a run that
 //! fails before [`AtomicFile::commit`] leaves nothing (the temporary is deleted on drop).
 //!
+//! Temporaries are named `.NAME.ellipsoid-PID-XXXXXX.tmp` (backups of replaced files
+//! `.NAME.ellipsoid-PID-backup-XXXXXX.tmp`), PID being the writing process. A process
+//! killed by SIGKILL leaves them behind; the next write into the same directory removes
+//! the stale ones, those whose process is gone, or is younger than the file (the PID was
+//! reused) — see [`remove_stale`].
+//!
 //! Several files that belong together (a trajectory and its summary) are first
 //! [prepared](AtomicFile::prepare), then put in place by [`commit_all`]: either all of
 //! them appear, or none does and the targets are as they were.
@@ -129,7 +135,9 @@ fn backup_of(target: &Path) -> Option<TempPath> {
         _ => Path::new("."),
     };
     // Reserve a unique name, then link the old file under it.
-    let path = tempfile::Builder::new().prefix(".backup.").suffix(".tmp").tempfile_in(dir).ok()?.into_temp_path();
+    let name = target.file_name().map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
+    let prefix = format!(".{name}.{MARK}{}-backup-", std::process::id());
+    let path = tempfile::Builder::new().prefix(&prefix).suffix(".tmp").tempfile_in(dir).ok()?.into_temp_path();
     std::fs::remove_file(&path).ok()?;
     match std::fs::hard_link(target, &path) {
         Ok(()) => Some(path),
@@ -158,8 +166,71 @@ pub(crate) fn temporary(target: &Path) -> Result<NamedTempFile, OutputError> {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
+    remove_stale(dir);
     let name = target.file_name().map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
-    tempfile::Builder::new().prefix(&format!(".{name}.")).suffix(".tmp").tempfile_in(dir).map_err(|e| OutputError::io(target, e))
+    let prefix = format!(".{name}.{MARK}{}-", std::process::id());
+    tempfile::Builder::new().prefix(&prefix).suffix(".tmp").tempfile_in(dir).map_err(|e| OutputError::io(target, e))
+}
+
+/// What marks a temporary of ours in its name: `.NAME.ellipsoid-PID-….tmp`.
+const MARK: &str = "ellipsoid-";
+
+/// The PID in the name of one of our temporaries, if `name` is one.
+fn temporary_pid(name: &str) -> Option<u32> {
+    if !(name.starts_with('.') && name.ends_with(".tmp")) {
+        return None;
+    }
+    let at = name.rfind(&format!(".{MARK}"))?;
+    let rest = &name[at + 1 + MARK.len()..];
+    let digits = rest.split('-').next()?;
+    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) || !rest[digits.len()..].starts_with('-') {
+        return None;
+    }
+    digits.parse().ok()
+}
+
+/// Removes the temporaries of ours in `dir` that no running process owns: their PID is
+/// not running, or the process with that PID started more than 2 s after the file was
+/// last written (it is another process that reused the PID). Only on systems with /proc;
+/// elsewhere nothing is removed. Returns what was removed. Errors are ignored (a file
+/// that cannot be removed stays, as harmless as before).
+pub fn remove_stale(dir: &Path) -> Vec<PathBuf> {
+    let mut removed = Vec::new();
+    if !Path::new("/proc/self/stat").exists() {
+        return removed;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else { return removed };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name.to_str().and_then(temporary_pid) else { continue };
+        let Ok(meta) = entry.metadata() else { continue };
+        if !meta.is_file() {
+            continue;
+        }
+        let written = meta.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map(|d| d.as_secs_f64());
+        let stale = match (process_start(pid), written) {
+            (None, _) => true,
+            (Some(start), Some(written)) => start > written + 2.0,
+            (Some(_), None) => false,
+        };
+        if stale && std::fs::remove_file(entry.path()).is_ok() {
+            removed.push(entry.path());
+        }
+    }
+    removed
+}
+
+/// When process `pid` started (seconds since the Unix epoch), or None if it is not running.
+/// From /proc/PID/stat (field 22, clock ticks since boot; USER_HZ is 100 on Linux) and
+/// the boot time in /proc/stat.
+fn process_start(pid: u32) -> Option<f64> {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).ok()?;
+    // The command name (field 2) is in parentheses and may hold spaces: count after it.
+    let after = &stat[stat.rfind(')')? + 1..];
+    let ticks: f64 = after.split_whitespace().nth(19)?.parse().ok()?;
+    let boot: f64 = std::fs::read_to_string("/proc/stat").ok()?.lines().find_map(|l| l.strip_prefix("btime ")).and_then(|v| v.trim().parse().ok())?;
+    // A running process whose start cannot be read counts as running from the boot.
+    Some(boot + ticks / 100.0)
 }
 
 /// Gives the temporary the permissions of an ordinary new file and renames it to `target`.
@@ -212,6 +283,36 @@ mod tests {
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "keep");
         assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
         assert_eq!(names(dir.path()), ["dangling.csv", "link.csv", "real.csv"], "no temporary left");
+    }
+
+    #[test]
+    fn temporaries_carry_the_pid_and_stale_ones_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("out.csv");
+        let live = AtomicFile::create(&target).unwrap();
+        let live_name = live.tmp.path().file_name().unwrap().to_string_lossy().into_owned();
+        assert_eq!(temporary_pid(&live_name), Some(std::process::id()), "{live_name}");
+        // A process that is gone: PID 0 is never a user process's.
+        let dead = dir.path().join(".out.csv.ellipsoid-0-abc123.tmp");
+        std::fs::write(&dead, "half").unwrap();
+        // Ours by PID but older than this process: left by an earlier process with our PID.
+        let reused = dir.path().join(format!(".out.csv.ellipsoid-{}-backup-old.tmp", std::process::id()));
+        std::fs::write(&reused, "old").unwrap();
+        std::fs::File::options().write(true).open(&reused).unwrap().set_modified(std::time::UNIX_EPOCH + std::time::Duration::from_secs(1_000_000)).unwrap();
+        // Not ours: another program's temporary, and a user's file.
+        let foreign = [dir.path().join(".out.csv.abc123.tmp"), dir.path().join("ellipsoid-1-x.tmp"), dir.path().join(".x.ellipsoid-12a-b.tmp")];
+        for f in &foreign {
+            std::fs::write(f, "keep").unwrap();
+        }
+        let mut removed = remove_stale(dir.path());
+        removed.sort();
+        let mut expected = vec![dead, reused];
+        expected.sort();
+        assert_eq!(removed, expected);
+        assert!(live.tmp.path().exists(), "a running process's temporary stays");
+        for f in &foreign {
+            assert!(f.exists(), "{}", f.display());
+        }
     }
 
     #[test]
