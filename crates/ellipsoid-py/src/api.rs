@@ -1,9 +1,8 @@
 //! `ellipsoid.simulate` and `ellipsoid.sweep`.
 
 use ellipsoid_core::scenario::Scenario;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyString};
 use rayon::prelude::*;
 
 use crate::convert;
@@ -29,7 +28,8 @@ use crate::trajectory::Trajectory;
 #[pyfunction]
 #[pyo3(signature = (scenario, /, **changes))]
 pub fn simulate(py: Python<'_>, scenario: &Bound<'_, PyAny>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Py<Trajectory>> {
-    let inner = resolve(py, scenario, convert::overrides(changes)?)?.inner;
+    let source = scenario.cast::<PyScenario>().map(|s| s.get().inner.source.clone()).unwrap_or_else(|_| "<changes>".into());
+    let inner = resolve(py, scenario, convert::Conv { source: &source }.overrides(changes)?)?.inner;
     let (result, interrupt) = run::detached(py, move |cancel| run::run_caught(inner, true, cancel))?;
     if let Some(e) = interrupt {
         return Err(e);
@@ -69,19 +69,38 @@ fn finish(py: Python<'_>, result: Result<Run, Failure>, summary_only: bool) -> P
 /// with `.trajectory`, ...) in the failed run's place instead. Ctrl-C stops every run at
 /// its next integration step and raises KeyboardInterrupt.
 #[pyfunction]
-#[pyo3(signature = (scenarios, workers = None, *, summaries_only = false, errors = "raise"))]
-pub fn sweep<'py>(py: Python<'py>, scenarios: &Bound<'py, PyAny>, workers: Option<usize>, summaries_only: bool, errors: &str) -> PyResult<Bound<'py, PyList>> {
-    let return_errors = match errors {
-        "raise" => false,
-        "return" => true,
-        other => return Err(PyValueError::new_err(format!("errors = {other:?}: expected \"raise\" or \"return\""))),
+#[pyo3(signature = (scenarios, workers = None, *, summaries_only = None, errors = None))]
+#[pyo3(text_signature = "(scenarios, workers=None, *, summaries_only=False, errors='raise')")]
+pub fn sweep<'py>(
+    py: Python<'py>,
+    scenarios: &Bound<'py, PyAny>,
+    workers: Option<Bound<'py, PyAny>>,
+    summaries_only: Option<Bound<'py, PyAny>>,
+    errors: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyList>> {
+    let return_errors = match errors.as_ref().filter(|e| !e.is_none()) {
+        None => false,
+        Some(e) => match e.cast::<PyString>().ok().and_then(|s| s.to_str().ok().map(str::to_owned)).as_deref() {
+            Some("raise") => false,
+            Some("return") => true,
+            _ => {
+                let shown = e.repr().map(|r| r.to_string_lossy().into_owned()).unwrap_or_default();
+                return Err(errors::value_error(py, "sweep", Some("errors"), Some(&shown), "expected \"raise\" or \"return\""));
+            }
+        },
     };
-    if workers == Some(0) {
-        return Err(PyValueError::new_err("workers = 0: give at least 1 worker thread, or None for one per CPU"));
-    }
+    let summaries_only = match summaries_only.as_ref().filter(|s| !s.is_none()) {
+        None => false,
+        Some(s) => s.cast::<PyBool>().map(|b| b.is_true()).map_err(|_| errors::type_error(py, "sweep", Some("summaries_only"), None, "expected True or False"))?,
+    };
+    let workers = worker_count(py, workers.as_ref())?;
     let mut slots: Vec<Option<PyResult<Bound<'py, PyAny>>>> = Vec::new();
     let mut jobs: Vec<(usize, Scenario)> = Vec::new();
-    for (i, item) in scenarios.try_iter()?.enumerate() {
+    let items = scenarios.try_iter().map_err(|_| {
+        let ty = scenarios.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+        errors::type_error(py, "sweep", Some("scenarios"), None, format!("expected an iterable of ellipsoid.Scenario objects or scenario file paths, found {ty}"))
+    })?;
+    for (i, item) in items.enumerate() {
         match resolve(py, &item?, Vec::new()) {
             Ok(PyScenario { inner }) => {
                 jobs.push((i, inner));
@@ -128,4 +147,28 @@ pub fn sweep<'py>(py: Python<'py>, scenarios: &Bound<'py, PyAny>, workers: Optio
         }
     }
     PyList::new(py, out)
+}
+
+/// Most worker threads a sweep may start: 4 per CPU, at least 8. More threads than CPUs
+/// only add overhead (each run is CPU-bound and takes an 8 MiB stack); 10⁶ of them used
+/// to take the machine down.
+pub fn max_workers() -> usize {
+    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    (4 * cpus).max(8)
+}
+
+/// The `workers` argument: None (one per CPU) or an integer in 1..=[`max_workers`].
+fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    let Some(w) = workers.filter(|w| !w.is_none()) else { return Ok(None) };
+    let max = max_workers();
+    let rule = format!("give 1 to {max} worker threads (4 per CPU, at least 8), or None for one per CPU");
+    if w.is_instance_of::<PyBool>() || !w.is_instance_of::<PyInt>() {
+        let ty = w.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+        return Err(errors::type_error(py, "sweep", Some("workers"), None, format!("expected an integer, found {ty}; {rule}")));
+    }
+    let shown = w.str().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    match w.extract::<i64>() {
+        Ok(n) if n >= 1 && n as u64 <= max as u64 => Ok(Some(n as usize)),
+        _ => Err(errors::value_error(py, "sweep", Some("workers"), Some(&shown), rule)),
+    }
 }

@@ -3,7 +3,10 @@
 //! ```text
 //! Exception
 //! └── EllipsoidError                       every error this package raises
-//!     ├── ScenarioError(…, ValueError)     bad input: file, TOML, key, value, physical rule
+//!     ├── ScenarioError(…, ValueError)     bad input: file, TOML, key, value, physical rule,
+//!     │   │                                and bad arguments (workers, errors=, …)
+//!     │   └── ScenarioTypeError(…, TypeError)  a Python value of a type a scenario
+//!     │                                    cannot hold, or an argument of the wrong type
 //!     ├── SimulationError(…, RuntimeError) Painlevé, solver failure, chattering, non-finite
 //!     │                                    state; `.trajectory` holds the run up to the stop
 //!     ├── OutputError(…, OSError)          a trajectory file could not be written
@@ -16,7 +19,7 @@
 use ellipsoid_core::scenario::{ErrorKind, ScenarioError};
 use ellipsoid_core::simulate::Status;
 use ellipsoid_io::OutputError;
-use pyo3::exceptions::{PyException, PyOSError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyException, PyOSError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyTuple, PyType};
@@ -31,20 +34,22 @@ reinstall it with `pip install ./crates/ellipsoid-py -C maturin.build-args=\"--f
 pub enum Class {
     Ellipsoid,
     Scenario,
+    ScenarioType,
     Simulation,
     Output,
     Internal,
 }
 
-static CLASSES: [PyOnceLock<Py<PyType>>; 5] = [const { PyOnceLock::new() }; 5];
+static CLASSES: [PyOnceLock<Py<PyType>>; 6] = [const { PyOnceLock::new() }; 6];
 
 impl Class {
-    pub const ALL: [Class; 5] = [Class::Ellipsoid, Class::Scenario, Class::Simulation, Class::Output, Class::Internal];
+    pub const ALL: [Class; 6] = [Class::Ellipsoid, Class::Scenario, Class::ScenarioType, Class::Simulation, Class::Output, Class::Internal];
 
     pub fn name(self) -> &'static str {
         match self {
             Class::Ellipsoid => "EllipsoidError",
             Class::Scenario => "ScenarioError",
+            Class::ScenarioType => "ScenarioTypeError",
             Class::Simulation => "SimulationError",
             Class::Output => "OutputError",
             Class::Internal => "InternalError",
@@ -61,6 +66,11 @@ impl Class {
                  (io | syntax | override | unknown_key | missing | type | conflict | invalid), `key` (dotted, e.g. \
                  'body.mass', or None), `value` (as written, or None), `rule`, `source` (file or name), `line` and \
                  `column` (1-based, or None), `override` (the `key=value` override the value came from, or None)."
+            }
+            Class::ScenarioType => {
+                "A ScenarioError (and a TypeError) for a Python value of a type a scenario cannot hold (None, an \
+                 object without a number or list form, a non-string key), or an argument of the wrong type. Same \
+                 attributes as ScenarioError."
             }
             Class::Simulation => {
                 "A run that stopped on an error: a Painlevé inconsistency, a solver failure, chattering at the \
@@ -79,6 +89,7 @@ impl Class {
         match self {
             Class::Ellipsoid => PyTuple::new(py, [py.get_type::<PyException>().into_any()]),
             Class::Scenario => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyValueError>().into_any()]),
+            Class::ScenarioType => PyTuple::new(py, [base(Class::Scenario)?, py.get_type::<PyTypeError>().into_any()]),
             Class::Simulation | Class::Internal => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyRuntimeError>().into_any()]),
             Class::Output => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyOSError>().into_any()]),
         }
@@ -112,6 +123,40 @@ impl Class {
 
 /// A scenario error, as `ellipsoid.ScenarioError` with its parts as attributes.
 pub fn scenario_error(py: Python<'_>, e: &ScenarioError) -> PyErr {
+    scenario_error_as(py, Class::Scenario, e)
+}
+
+/// An input error found on the Python side (a value or argument that never reached the
+/// parser), as `class` (ScenarioError or ScenarioTypeError) with the usual attributes.
+/// `key` and `value` are cut to one short line, as the parser cuts values.
+pub fn input_error(py: Python<'_>, class: Class, kind: ErrorKind, source: &str, key: Option<&str>, value: Option<&str>, rule: impl Into<String>) -> PyErr {
+    let e = ScenarioError {
+        kind,
+        location: ellipsoid_core::scenario::Location { source: short(source), line: None, column: None, set: None },
+        key: key.map(short),
+        value: value.map(short),
+        rule: rule.into(),
+    };
+    scenario_error_as(py, class, &e)
+}
+
+/// `text` on one line, at most 60 characters (the parser's rule for values in messages).
+pub fn short(text: &str) -> String {
+    let one_line: String = text.chars().take(200).map(|c| if c.is_control() { ' ' } else { c }).collect();
+    if text.chars().nth(60).is_some() { format!("{}…", one_line.chars().take(59).collect::<String>()) } else { one_line }
+}
+
+/// [`input_error`] for a wrong Python type: `ellipsoid.ScenarioTypeError` (also a TypeError).
+pub fn type_error(py: Python<'_>, source: &str, key: Option<&str>, value: Option<&str>, rule: impl Into<String>) -> PyErr {
+    input_error(py, Class::ScenarioType, ErrorKind::Type, source, key, value, rule)
+}
+
+/// [`input_error`] for a bad value: `ellipsoid.ScenarioError`.
+pub fn value_error(py: Python<'_>, source: &str, key: Option<&str>, value: Option<&str>, rule: impl Into<String>) -> PyErr {
+    input_error(py, Class::Scenario, ErrorKind::Invalid, source, key, value, rule)
+}
+
+fn scenario_error_as(py: Python<'_>, class: Class, e: &ScenarioError) -> PyErr {
     let kind = match e.kind {
         ErrorKind::Io => "io",
         ErrorKind::Syntax => "syntax",
@@ -135,7 +180,7 @@ pub fn scenario_error(py: Python<'_>, e: &ScenarioError) -> PyErr {
         ("column", num(loc.column)),
         ("override", any(loc.set.as_deref())),
     ];
-    Class::Scenario.error(py, &e.to_string(), &attrs)
+    class.error(py, &e.to_string(), &attrs)
 }
 
 /// A write failure, as `ellipsoid.OutputError`.

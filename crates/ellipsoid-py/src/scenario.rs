@@ -58,7 +58,8 @@ impl PyScenario {
 #[pymethods]
 impl PyScenario {
     #[new]
-    #[pyo3(signature = (*, body = None, initial = None, contact = None, effects = None, solver = None, output = None, check = None, name = "<scenario>"))]
+    #[pyo3(signature = (*, body = None, initial = None, contact = None, effects = None, solver = None, output = None, check = None, name = None, **unknown))]
+    #[pyo3(text_signature = "(*, body=None, initial=None, contact=None, effects=None, solver=None, output=None, check=None, name='<scenario>', **unknown)")]
     #[allow(clippy::too_many_arguments)] // one keyword per TOML table, as the issue asks
     fn new(
         py: Python<'_>,
@@ -69,26 +70,42 @@ impl PyScenario {
         solver: Option<Bound<'_, PyAny>>,
         output: Option<Bound<'_, PyAny>>,
         check: Option<Bound<'_, PyAny>>,
-        name: &str,
+        name: Option<Bound<'_, PyAny>>,
+        unknown: Option<&Bound<'_, PyDict>>,
     ) -> PyResult<Self> {
-        let text = convert::document(&[
-            ("body", body.as_ref()),
-            ("initial", initial.as_ref()),
-            ("contact", contact.as_ref()),
-            ("effects", effects.as_ref()),
-            ("solver", solver.as_ref()),
-            ("output", output.as_ref()),
-            ("check", check.as_ref()),
-        ])?;
-        Self::parse(py, &text, name, &[])
+        let name = name_arg(py, name.as_ref(), "<scenario>")?;
+        let conv = convert::Conv { source: &name };
+        let mut parts = vec![
+            ("body".to_owned(), body),
+            ("initial".to_owned(), initial),
+            ("contact".to_owned(), contact),
+            ("effects".to_owned(), effects),
+            ("solver".to_owned(), solver),
+            ("output".to_owned(), output),
+            ("check".to_owned(), check),
+        ];
+        // A misspelt table keyword reaches the parser, which names it with a suggestion
+        // ("unknown table at the top level; did you mean `body`?").
+        if let Some(unknown) = unknown {
+            for (k, v) in unknown.iter() {
+                let k = k.cast::<PyString>().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                parts.push((k, Some(v)));
+            }
+        }
+        let parts: Vec<(&str, Option<&Bound<'_, PyAny>>)> = parts.iter().map(|(k, v)| (k.as_str(), v.as_ref())).collect();
+        let text = conv.document(&parts)?;
+        Self::parse(py, &text, &name, &[])
     }
 
     /// Parses a scenario from TOML text; `name` stands for the file in messages and in
     /// the summary. Keyword arguments are changes, as for `replace`.
     #[staticmethod]
-    #[pyo3(signature = (text, name = "<string>", **changes))]
-    fn from_toml(py: Python<'_>, text: &str, name: &str, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        Self::parse(py, text, name, &convert::overrides(changes)?)
+    #[pyo3(signature = (text, name = None, **changes))]
+    #[pyo3(text_signature = "(text, name='<string>', **changes)")]
+    fn from_toml(py: Python<'_>, text: &Bound<'_, PyAny>, name: Option<Bound<'_, PyAny>>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let name = name_arg(py, name.as_ref(), "<string>")?;
+        let text = str_arg(py, text, &name, "text")?;
+        Self::parse(py, &text, &name, &convert::Conv { source: &name }.overrides(changes)?)
     }
 
     /// A copy with some values changed, like the command line's `--set key=value`:
@@ -98,7 +115,7 @@ impl PyScenario {
     /// naming the override. Keys cannot be removed.
     #[pyo3(signature = (**changes))]
     fn replace(&self, py: Python<'_>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        self.with_overrides(py, convert::overrides(changes)?)
+        self.with_overrides(py, convert::Conv { source: &self.inner.source }.overrides(changes)?)
     }
 
     /// Where the scenario came from: the file path as given, or the name of the text.
@@ -177,8 +194,34 @@ impl PyScenario {
 /// rule in the message) if it cannot be read or is invalid.
 #[pyfunction]
 #[pyo3(signature = (path, **changes))]
-pub fn load(py: Python<'_>, path: PathBuf, changes: Option<&Bound<'_, PyDict>>) -> PyResult<PyScenario> {
-    PyScenario::load(py, &path, &convert::overrides(changes)?)
+pub fn load(py: Python<'_>, path: &Bound<'_, PyAny>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<PyScenario> {
+    let path = path_arg(py, path)?;
+    PyScenario::load(py, &path, &convert::Conv { source: &path.display().to_string() }.overrides(changes)?)
+}
+
+/// A path argument (`str` or `os.PathLike`), or ScenarioTypeError.
+fn path_arg(py: Python<'_>, what: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
+    what.extract::<PathBuf>().map_err(|_| {
+        let ty = what.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+        errors::type_error(py, "<arguments>", None, None, format!("expected an ellipsoid.Scenario or the path of a scenario file, found {ty}"))
+    })
+}
+
+/// A string argument (`name`, `text`) as UTF-8, or ScenarioError / ScenarioTypeError.
+fn str_arg(py: Python<'_>, what: &Bound<'_, PyAny>, source: &str, arg: &str) -> PyResult<String> {
+    let Ok(s) = what.cast::<PyString>() else {
+        let ty = what.get_type().name().map(|n| n.to_string()).unwrap_or_default();
+        return Err(errors::type_error(py, source, Some(arg), None, format!("expected a string, found {ty}")));
+    };
+    s.to_str().map(str::to_owned).map_err(|_| errors::value_error(py, source, Some(arg), None, "not valid Unicode text (it holds a lone surrogate); give UTF-8 text"))
+}
+
+/// The `name` argument, `default` when None.
+fn name_arg(py: Python<'_>, name: Option<&Bound<'_, PyAny>>, default: &str) -> PyResult<String> {
+    match name.filter(|n| !n.is_none()) {
+        Some(n) => str_arg(py, n, default, "name"),
+        None => Ok(default.to_owned()),
+    }
 }
 
 /// A scenario from a `Scenario` or a path (`str` / `os.PathLike`), with `changes` applied.
@@ -186,11 +229,5 @@ pub fn resolve(py: Python<'_>, what: &Bound<'_, PyAny>, changes: Vec<String>) ->
     if let Ok(s) = what.cast::<PyScenario>() {
         return s.get().with_overrides(py, changes);
     }
-    match what.extract::<PathBuf>() {
-        Ok(path) => PyScenario::load(py, &path, &changes),
-        Err(_) => Err(pyo3::exceptions::PyTypeError::new_err(format!(
-            "expected an ellipsoid.Scenario or the path of a scenario file, found {}",
-            what.get_type().name()?
-        ))),
-    }
+    PyScenario::load(py, &path_arg(py, what)?, &changes)
 }

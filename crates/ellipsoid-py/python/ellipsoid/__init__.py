@@ -13,7 +13,8 @@ through the same parser, so every check and every message is the command-line to
 variants for a `sweep`, which runs them in parallel in Rust.
 
 Errors: every exception derives from `EllipsoidError`: `ScenarioError` (a ValueError) for
-bad input, `SimulationError` (a RuntimeError, with the partial `.trajectory`) for a run
+bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Python type),
+`SimulationError` (a RuntimeError, with the partial `.trajectory`) for a run
 that stops on an error, `OutputError` (an OSError) for files that cannot be written,
 `InternalError` for bugs.
 """
@@ -26,6 +27,7 @@ from ellipsoid._ellipsoid import (
     OutputError,
     Scenario,
     ScenarioError,
+    ScenarioTypeError,
     SimulationError,
     Trajectory,
     __version__,
@@ -42,6 +44,7 @@ __all__ = [
     "OutputError",
     "Scenario",
     "ScenarioError",
+    "ScenarioTypeError",
     "SimulationError",
     "Trajectory",
     "__version__",

@@ -18,6 +18,7 @@ __all__ = [
     "OutputError",
     "Scenario",
     "ScenarioError",
+    "ScenarioTypeError",
     "SimulationError",
     "Trajectory",
     "__version__",
@@ -53,6 +54,9 @@ class ScenarioError(EllipsoidError, ValueError):
     column: int | None
     override: str | None
 
+class ScenarioTypeError(ScenarioError, TypeError):
+    """A ScenarioError for a Python value of a type a scenario cannot hold, or an argument of the wrong type."""
+
 class SimulationError(EllipsoidError, RuntimeError):
     """A run that stopped on an error; `trajectory` holds it up to the stop."""
 
@@ -80,6 +84,7 @@ class Scenario:
         output: _Table | None = None,
         check: _Table | None = None,
         name: str = "<scenario>",
+        **unknown: _Table,
     ) -> Scenario: ...
     @staticmethod
     def from_toml(text: str, name: str = "<string>", **changes: _Value) -> Scenario: ...
