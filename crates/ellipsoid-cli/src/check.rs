@@ -47,7 +47,9 @@ fn describe(scenario: &Scenario, first: Option<&Sample>, outcome: &Outcome) -> S
     let (ax, i, g) = (body.semi_axes(), body.inertia(), body.com_offset());
     let mut o = String::new();
     // Labels are padded to a column of LABEL_WIDTH; a longer one still gets a space.
+    // Numbers printed short (a subnormal semi-axis is not spelt out in 330 digits).
     let mut line = |label: &str, text: String| {
+        let text = ellipsoid_core::error::shorten_numbers(&text);
         let _ = writeln!(o, "{label:<width$} {text}", width = LABEL_WIDTH - 1);
     };
     line("scenario", format!("{}{}", scenario.source, if scenario.overrides.is_empty() { String::new() } else { format!(" (--set {})", scenario.overrides.join(", --set ")) }));

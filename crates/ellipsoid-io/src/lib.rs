@@ -20,9 +20,9 @@ use ellipsoid_core::simulate::Sample;
 pub use summary::Summary;
 
 /// How to get a build that writes HDF5 (used in the error of a build without it).
-pub const HDF5_HINT: &str = "this ellipsoid was built without HDF5 support; install it with \
-`cargo install --path crates/ellipsoid-cli --features hdf5` (needs the HDF5 C library: \
-`apt-get install -y libhdf5-dev`), or write CSV with `-o FILE.csv`";
+pub const HDF5_HINT: &str = "this ellipsoid was built without HDF5 support; install the default \
+build, which includes it: `cargo install --path crates/ellipsoid-cli` (the HDF5 C library is \
+built from source; needs cmake >= 3.26), or write CSV with `-o FILE.csv`";
 
 /// Why an output could not be written.
 #[derive(Debug, thiserror::Error)]

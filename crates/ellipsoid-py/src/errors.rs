@@ -16,7 +16,7 @@
 //! exhaustive `match`, so a new error variant in the core or io crate fails to compile
 //! here until it is given its class.
 
-use ellipsoid_core::scenario::{ErrorKind, ScenarioError};
+use ellipsoid_core::scenario::{ErrorKind, ScenarioError, ScenarioErrors};
 use ellipsoid_core::simulate::Status;
 use ellipsoid_io::OutputError;
 use pyo3::exceptions::{PyException, PyOSError, PyRuntimeError, PyTypeError, PyValueError};
@@ -26,8 +26,8 @@ use pyo3::types::{PyDict, PyTuple, PyType};
 
 /// How to get a wheel that writes HDF5.
 pub const HDF5_HINT: &str = "this ellipsoid Python package was built without HDF5 support; \
-reinstall it with `pip install ./crates/ellipsoid-py -C maturin.build-args=\"--features hdf5\"` \
-(needs the HDF5 C library: `apt-get install -y libhdf5-dev`), or write CSV with to_csv()";
+reinstall it with the default features, which include it: `pip install ./crates/ellipsoid-py`, \
+or write CSV with to_csv()";
 
 /// The exception classes, created once at import.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -65,7 +65,9 @@ impl Class {
                  The message is the command-line tool's (`file:line:col: key = value: rule`). Attributes: `kind` \
                  (io | syntax | override | unknown_key | missing | type | conflict | invalid), `key` (dotted, e.g. \
                  'body.mass', or None), `value` (as written, or None), `rule`, `source` (file or name), `line` and \
-                 `column` (1-based, or None), `override` (the `key=value` override the value came from, or None)."
+                 `column` (1-based, or None), `override` (the `key=value` override the value came from, or None), \
+                 `errors` (every independent error of the scenario, in file order, each a ScenarioError; the message \
+                 then has one line per error and the other attributes are the first's)."
             }
             Class::ScenarioType => {
                 "A ScenarioError (and a TypeError) for a Python value of a type a scenario cannot hold (None, an \
@@ -126,6 +128,26 @@ pub fn scenario_error(py: Python<'_>, e: &ScenarioError) -> PyErr {
     scenario_error_as(py, Class::Scenario, e)
 }
 
+/// Every independent error of a scenario as one `ellipsoid.ScenarioError`: the message
+/// has one line per error, the attributes are the first error's, and `errors` lists each
+/// as a ScenarioError of its own (a single error's list holds the error itself).
+pub fn scenario_errors(py: Python<'_>, errs: &ScenarioErrors) -> PyErr {
+    let each: Vec<PyErr> = errs.0.iter().map(|e| scenario_error(py, e)).collect();
+    if each.len() == 1 {
+        return each.into_iter().next().expect("one");
+    }
+    let first = &errs.0[0];
+    let top = scenario_error_as(py, Class::Scenario, first);
+    let build = || -> PyResult<PyErr> {
+        let value = top.value(py);
+        value.setattr("args", (errs.to_string(),))?;
+        let list = pyo3::types::PyList::new(py, each.iter().map(|e| e.value(py)))?;
+        value.setattr("errors", list)?;
+        Ok(PyErr::from_value(value.clone().into_any()))
+    };
+    build().unwrap_or_else(|e| e)
+}
+
 /// An input error found on the Python side (a value or argument that never reached the
 /// parser), as `class` (ScenarioError or ScenarioTypeError) with the usual attributes.
 /// `key` and `value` are cut to one short line, as the parser cuts values.
@@ -157,6 +179,16 @@ pub fn value_error(py: Python<'_>, source: &str, key: Option<&str>, value: Optio
 }
 
 fn scenario_error_as(py: Python<'_>, class: Class, e: &ScenarioError) -> PyErr {
+    let err = scenario_error_bare(py, class, e);
+    // `errors`: this error alone (replaced by the full list for several).
+    let value = err.value(py);
+    if let Ok(list) = pyo3::types::PyList::new(py, [value]) {
+        let _ = value.setattr("errors", list);
+    }
+    err
+}
+
+fn scenario_error_bare(py: Python<'_>, class: Class, e: &ScenarioError) -> PyErr {
     let kind = match e.kind {
         ErrorKind::Io => "io",
         ErrorKind::Syntax => "syntax",

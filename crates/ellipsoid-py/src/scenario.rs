@@ -34,14 +34,14 @@ pub struct PyScenario {
 }
 
 impl PyScenario {
-    /// `scenario::parse` with errors as `ScenarioError`.
+    /// `scenario::parse_all` with its errors as one `ScenarioError`.
     pub fn parse(py: Python<'_>, text: &str, source: &str, overrides: &[String]) -> PyResult<Self> {
-        errors::guard(py, || scenario::parse(text, source, overrides).map(|inner| PyScenario { inner }).map_err(|e| errors::scenario_error(py, &e)))
+        errors::guard(py, || scenario::parse_all(text, source, overrides).map(|inner| PyScenario { inner }).map_err(|e| errors::scenario_errors(py, &e)))
     }
 
-    /// `scenario::load` with errors as `ScenarioError`.
+    /// `scenario::load_all` with its errors as one `ScenarioError`.
     pub fn load(py: Python<'_>, path: &std::path::Path, overrides: &[String]) -> PyResult<Self> {
-        errors::guard(py, || scenario::load(path, overrides).map(|inner| PyScenario { inner }).map_err(|e| errors::scenario_error(py, &e)))
+        errors::guard(py, || scenario::load_all(path, overrides).map(|inner| PyScenario { inner }).map_err(|e| errors::scenario_errors(py, &e)))
     }
 
     /// This scenario with more overrides (the text is parsed again, so every check runs).

@@ -36,6 +36,8 @@ def test_column_docstrings_state_units() -> None:
 def test_exception_tree() -> None:
     assert issubclass(ellipsoid.ScenarioError, (ellipsoid.EllipsoidError, ValueError))
     assert ellipsoid.ScenarioError.__mro__[1:3] == (ellipsoid.EllipsoidError, ValueError)
+    assert ellipsoid.ScenarioTypeError.__mro__[1:4] == (ellipsoid.ScenarioError, ellipsoid.EllipsoidError, ValueError)
+    assert issubclass(ellipsoid.ScenarioTypeError, TypeError)
     assert ellipsoid.SimulationError.__mro__[1:3] == (ellipsoid.EllipsoidError, RuntimeError)
     assert ellipsoid.OutputError.__mro__[1:3] == (ellipsoid.EllipsoidError, OSError)
     assert ellipsoid.InternalError.__mro__[1:3] == (ellipsoid.EllipsoidError, RuntimeError)

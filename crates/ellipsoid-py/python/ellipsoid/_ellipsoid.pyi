@@ -53,6 +53,8 @@ class ScenarioError(EllipsoidError, ValueError):
     line: int | None
     column: int | None
     override: str | None
+    #: Every independent error of the scenario, in file order (this one alone if it is the only one).
+    errors: list[ScenarioError]
 
 class ScenarioTypeError(ScenarioError, TypeError):
     """A ScenarioError for a Python value of a type a scenario cannot hold, or an argument of the wrong type."""

@@ -1,0 +1,185 @@
+"""Robustness (issue #17): inputs that crashed the interpreter, exhausted memory or
+threads, or raised outside the exception tree; and hypothesis over Scenario(...)."""
+
+from __future__ import annotations
+
+import math
+import os
+import resource
+import subprocess
+import sys
+from typing import Any
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import ellipsoid
+from conftest import NUTATION, oblate
+
+# ------------------------------------------------------------- found by the campaign
+
+
+def test_deep_nesting_is_a_scenario_error_not_a_crash() -> None:
+    """A list (or dict) nested 16,000 deep used to overflow the stack (SIGSEGV). Run in a
+    child, so that a regression fails this test instead of killing pytest."""
+    code = """
+import ellipsoid
+for make in (lambda v: [v], lambda v: {"x": v}):
+    v = 1.0
+    for _ in range(16000):
+        v = make(v)
+    for call in (lambda: ellipsoid.Scenario(body={"a": v}), lambda: ellipsoid.load(NUTATION).replace(**{"body.a": v})):
+        try:
+            call()
+        except ellipsoid.ScenarioError as e:
+            assert "nested more than 32 deep" in str(e), e
+        else:
+            raise AssertionError("accepted")
+cyclic = []
+cyclic.append(cyclic)
+try:
+    ellipsoid.Scenario(body={"a": cyclic})
+except ellipsoid.ScenarioError as e:
+    assert "nested" in str(e)
+print("ok")
+"""
+    out = subprocess.run([sys.executable, "-c", f"NUTATION = {str(NUTATION)!r}\n" + code], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", (out.returncode, out.stderr[-2000:])
+
+
+def test_a_long_list_as_a_change_takes_linear_memory() -> None:
+    """replace(**{"output.times": [...]}) took memory quadratic in the list's length
+    (10⁴ elements ≈ 0.5 GB). In a child with a 1 GB address-space limit, 10⁵ elements
+    (before: ~50 GB) must go through."""
+    text = "[body]\na = 0.025\nc = 0.0175\nmass = 0.05\ninertia = 'uniform'\n[contact]\nmodel = 'frictionless'\n[output]\nt_end = 1.0\n"
+    code = f"""
+import resource
+resource.setrlimit(resource.RLIMIT_AS, (2 << 30, 2 << 30))
+import ellipsoid
+times = [i * 1e-5 for i in range(100_000)]
+s = ellipsoid.Scenario.from_toml({text!r}).replace(**{{"output.times": times}})
+assert len(s.sample_times) == 100_000
+print("ok")
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0 and out.stdout.strip() == "ok", out.stderr[-2000:]
+
+
+def test_workers_are_capped() -> None:
+    good = ellipsoid.load(NUTATION, output={"t_end": 0.01})
+    cpus = os.cpu_count() or 1
+    cap = max(4 * cpus, 8)
+    assert len(ellipsoid.sweep([good, good], workers=cap)) == 2
+    for bad in (cap + 1, 4000, 10**6, 2**64, 10**400, 0, -1):
+        with pytest.raises(ellipsoid.ScenarioError, match=rf"workers = {bad}: give 1 to {cap} worker threads") as info:
+            ellipsoid.sweep([good], workers=bad)
+        assert info.value.key == "workers"
+    for bad_type in (1.5, "4", True):
+        with pytest.raises(ellipsoid.ScenarioTypeError, match="workers: expected an integer"):
+            ellipsoid.sweep([good], workers=bad_type)  # type: ignore[call-overload]
+
+
+@pytest.mark.parametrize(
+    ("call", "cls", "match"),
+    [
+        (lambda: oblate(body=dict(a=10**400, c=0.0175, mass=0.05, inertia="uniform")), ellipsoid.ScenarioError, r"body.a = an integer of 401 digits: beyond the range of a float"),
+        (lambda: oblate(contact=dict(model="roll\udc80ing")), ellipsoid.ScenarioError, r"contact.model = .*not valid Unicode text"),
+        (lambda: oblate(contact={"mo\udc80del": "rolling"}), ellipsoid.ScenarioError, r"not valid Unicode text"),
+        (lambda: oblate().replace(**{"contact.model": "\ud800"}), ellipsoid.ScenarioError, r"not valid Unicode text"),
+        (lambda: ellipsoid.Scenario.from_toml("x = 1\ud800"), ellipsoid.ScenarioError, r"text: not valid Unicode text"),
+        (lambda: ellipsoid.sweep([oblate()], errors="x"), ellipsoid.ScenarioError, r"errors = 'x': expected \"raise\" or \"return\""),
+        (lambda: ellipsoid.sweep([oblate()], summaries_only="yes"), ellipsoid.ScenarioTypeError, r"summaries_only: expected True or False"),
+        (lambda: ellipsoid.sweep(42), ellipsoid.ScenarioTypeError, r"scenarios: expected an iterable"),
+        (lambda: ellipsoid.simulate(42), ellipsoid.ScenarioTypeError, r"expected an ellipsoid.Scenario or the path"),
+        (lambda: ellipsoid.load(3.5), ellipsoid.ScenarioTypeError, r"expected an ellipsoid.Scenario or the path"),
+        (lambda: ellipsoid.Scenario(name=5), ellipsoid.ScenarioTypeError, r"name: expected a string"),
+        (lambda: ellipsoid.Scenario(bdy={"a": 1}), ellipsoid.ScenarioError, r"bdy: unknown table at the top level; did you mean `body`\?"),
+        (lambda: oblate(body=dict(a=Exploding(), c=0.0175, mass=0.05, inertia="uniform")), ellipsoid.ScenarioTypeError, r"body.a: __float__\(\) raised ZeroDivisionError"),
+    ],
+)
+def test_every_input_error_is_in_the_tree(call: Any, cls: type, match: str) -> None:
+    with pytest.raises(cls, match=match) as info:
+        call()
+    assert isinstance(info.value, ellipsoid.EllipsoidError)
+
+
+class Exploding:
+    def __float__(self) -> float:
+        raise ZeroDivisionError("boom")
+
+
+def test_several_errors_are_reported_at_once() -> None:
+    text = NUTATION.read_text().replace("psi_dot", "psi_dott", 1).replace("model", "modl", 1)
+    with pytest.raises(ellipsoid.ScenarioError) as info:
+        ellipsoid.Scenario.from_toml(text, "two.toml")
+    e = info.value
+    assert len(e.errors) == 2 and e.errors[0] is not e
+    assert [x.key for x in e.errors] == ["initial.psi_dott", "contact.modl"]
+    assert e.key == "initial.psi_dott" and e.line < e.errors[1].line
+    assert str(e).count("\n") == 1 and str(e).splitlines()[1] == str(e.errors[1])
+
+
+# ------------------------------------------------------------------------ hypothesis
+
+KEYS = {
+    "body": ["a", "b", "c", "mass", "com_offset", "com_offset_vector", "inertia", "bogus"],
+    "initial": ["theta", "theta_deg", "phi", "psi_dot", "omega_body", "rotation", "position", "velocity"],
+    "contact": ["model", "friction"],
+    "effects": ["gravity", "rolling_resistance", "spin_friction", "air_drag"],
+    "solver": ["method", "rtol", "atol", "step", "max_steps"],
+    "output": ["t_end", "dt", "times"],
+    "check": ["status", "energy"],
+}
+
+scalars = st.one_of(
+    st.none(),
+    st.booleans(),
+    st.integers(min_value=-(2**80), max_value=2**80),
+    st.integers(min_value=10**300, max_value=10**320),
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.text(max_size=12),
+    st.sampled_from(["uniform", "rolling", "coulomb", "rk4", "dop853", "x", "\udc80"]),
+    st.binary(max_size=4),
+    st.just(object()),
+)
+values = st.recursive(scalars, lambda inner: st.one_of(st.lists(inner, max_size=4), st.tuples(inner, inner), st.dictionaries(st.one_of(st.text(max_size=6), st.integers()), inner, max_size=3)), max_leaves=12)
+tables = st.one_of(values, st.fixed_dictionaries({}, optional={k: values for k in sum(KEYS.values(), [])}))
+
+
+@settings(max_examples=400, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.fixed_dictionaries({}, optional={name: tables for name in KEYS}))
+def test_hypothesis_no_input_escapes_the_exception_tree(kwargs: dict[str, Any]) -> None:
+    try:
+        s = ellipsoid.Scenario(**kwargs)
+    except ellipsoid.EllipsoidError as e:
+        assert isinstance(e, ellipsoid.ScenarioError), type(e)
+        assert "\n" not in str(e) or len(e.errors) > 1
+        return
+    assert math.isfinite(s.t_end) and len(s.sample_times) >= 1
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.dictionaries(st.sampled_from([f"{t}.{k}" for t, ks in KEYS.items() for k in ks] + ["body", "x.y", "a..b", ""]), values, max_size=3))
+def test_hypothesis_replace_stays_in_the_tree(changes: dict[str, Any]) -> None:
+    try:
+        oblate().replace(**changes)
+    except ellipsoid.EllipsoidError as e:
+        assert isinstance(e, ellipsoid.ScenarioError), type(e)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.one_of(st.none(), st.integers(), st.floats(), st.text(max_size=3), st.booleans()), st.one_of(st.none(), st.booleans(), st.integers()), st.one_of(st.none(), st.text(max_size=8), st.integers()))
+def test_hypothesis_sweep_arguments_stay_in_the_tree(workers: Any, summaries_only: Any, errors: Any) -> None:
+    base = oblate(output={"t_end": 0.001, "dt": 0.001})
+    try:
+        out = ellipsoid.sweep([base], workers=workers, summaries_only=summaries_only, errors=errors)
+    except ellipsoid.EllipsoidError as e:
+        assert isinstance(e, ellipsoid.ScenarioError), type(e)
+        return
+    assert len(out) == 1
+
+
+def test_resource_module_is_available() -> None:
+    """The memory test above limits a child's address space (POSIX only)."""
+    assert resource.RLIMIT_AS is not None

@@ -1,0 +1,137 @@
+//! The crash test (issue #17): `ellipsoid run` interrupted by SIGINT or killed by SIGKILL
+//! at random moments (a fixed seed, so every run of the test uses the same moments). The
+//! target path never holds a partial file, an existing output survives byte-identical,
+//! SIGINT exits 130 having removed its temporaries and the directories it made, and the
+//! temporaries a SIGKILL leaves are named after their process and removed by the next run
+//! into the same directory.
+
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
+
+fn nutation() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/nutation.toml").canonicalize().unwrap()
+}
+
+/// A run of several minutes (10⁴ s simulated, 10⁶ rows) into `out`, with a summary.
+fn long_run(dir: &Path, out: &str, summary: &str) -> Child {
+    Command::new(BIN)
+        .args(["run", nutation().to_str().unwrap(), "-o", out, "--summary", summary, "--set", "output.t_end=1e4", "--set", "output.dt=1e-2"])
+        .current_dir(dir)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs")
+}
+
+fn signal(child: &Child, sig: &str) {
+    let ok = Command::new("sh").args(["-c", &format!("kill -{sig} {}", child.id())]).status().expect("sh runs").success();
+    assert!(ok, "kill -{sig}");
+}
+
+/// Every file under `dir` (relative paths), sorted.
+fn tree(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_owned()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            out.push(p.strip_prefix(dir).unwrap().to_string_lossy().into_owned());
+            if p.is_dir() {
+                stack.push(p);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Waits until a temporary of ours appears in `dir` (the run is writing).
+fn wait_for_temporary(dir: &Path, child: &mut Child) {
+    let start = Instant::now();
+    while !tree(dir).iter().any(|n| n.contains(".ellipsoid-") && n.ends_with(".tmp")) {
+        assert!(child.try_wait().unwrap().is_none(), "the run ended before writing");
+        assert!(start.elapsed() < Duration::from_secs(60), "no temporary after 60 s");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+#[test]
+fn sigint_stops_the_run_removes_its_temporaries_and_directories_and_exits_130() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("summary.json"), "previous summary").unwrap();
+    let before = tree(dir.path());
+    let mut child = long_run(dir.path(), "new/deeper/traj.csv", "summary.json");
+    wait_for_temporary(dir.path(), &mut child);
+    std::thread::sleep(Duration::from_millis(200));
+    signal(&child, "INT");
+    let out = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    assert!(err.starts_with("error: interrupted by SIGINT at t = ") && err.contains("nothing was written"), "{err}");
+    assert_eq!(tree(dir.path()), before, "temporaries and the directories made for the output are gone");
+    assert_eq!(std::fs::read_to_string(dir.path().join("summary.json")).unwrap(), "previous summary");
+}
+
+#[test]
+fn sigterm_too_exits_143_and_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut child = long_run(dir.path(), "traj.csv", "s.json");
+    wait_for_temporary(dir.path(), &mut child);
+    signal(&child, "TERM");
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(out.status.code(), Some(143), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(tree(dir.path()), Vec::<String>::new());
+}
+
+#[test]
+fn killed_at_random_moments_the_target_is_never_partial_and_an_old_output_survives() {
+    let dir = tempfile::tempdir().unwrap();
+    let (old_traj, old_summary) = ("an earlier trajectory\n", "{\"an\": \"earlier summary\"}\n");
+    std::fs::write(dir.path().join("traj.csv"), old_traj).unwrap();
+    std::fs::write(dir.path().join("s.json"), old_summary).unwrap();
+    let mut rng: u64 = 0x9e37_79b9_7f4a_7c15;
+    let mut killed = Vec::new();
+    for round in 0..8 {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        // Anywhere from before the scenario is read to well into the writing.
+        let delay = Duration::from_millis(rng % 1200);
+        let sig = if round % 3 == 2 { "INT" } else { "KILL" };
+        let mut child = long_run(dir.path(), "traj.csv", "s.json");
+        std::thread::sleep(delay);
+        signal(&child, sig);
+        let pid = child.id();
+        let status = child.wait().unwrap();
+        match sig {
+            "INT" => assert!(status.code() == Some(130) || status.code().is_none(), "round {round}: {status:?}"),
+            _ => assert_eq!(status.code(), None, "round {round}: killed"),
+        }
+        assert_eq!(std::fs::read_to_string(dir.path().join("traj.csv")).unwrap(), old_traj, "round {round} ({sig} after {delay:?})");
+        assert_eq!(std::fs::read_to_string(dir.path().join("s.json")).unwrap(), old_summary, "round {round}");
+        for name in tree(dir.path()) {
+            let ours = name.starts_with(".traj.csv.ellipsoid-") || name.starts_with(".s.json.ellipsoid-");
+            assert!(name == "traj.csv" || name == "s.json" || (ours && name.ends_with(".tmp")), "round {round}: unexpected {name}");
+            // A leftover names the process that left it: one killed by SIGKILL.
+            if ours {
+                let leftover_pid: u32 = name.split(".ellipsoid-").nth(1).unwrap().split('-').next().unwrap().parse().unwrap();
+                assert!(killed.contains(&leftover_pid) || (sig == "KILL" && leftover_pid == pid), "round {round}: {name} from pid {leftover_pid}");
+            }
+        }
+        if sig == "KILL" {
+            killed.push(pid);
+        }
+    }
+    // The next complete run in the directory removes the leftovers and replaces the files.
+    let out = Command::new(BIN)
+        .args(["run", nutation().to_str().unwrap(), "-o", "traj.csv", "--summary", "s.json", "--set", "output.t_end=0.1", "-q"])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(tree(dir.path()), ["s.json", "traj.csv"]);
+    assert!(std::fs::read_to_string(dir.path().join("traj.csv")).unwrap().starts_with("t,x,y"));
+}
