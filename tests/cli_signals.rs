@@ -12,13 +12,27 @@ use std::time::{Duration, Instant};
 const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
 
 fn nutation() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/nutation.toml").canonicalize().unwrap()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/nutation.toml")
+        .canonicalize()
+        .unwrap()
 }
 
 /// A run of several minutes (10⁴ s simulated, 10⁶ rows) into `out`, with a summary.
 fn long_run(dir: &Path, out: &str, summary: &str) -> Child {
     Command::new(BIN)
-        .args(["run", nutation().to_str().unwrap(), "-o", out, "--summary", summary, "--set", "output.t_end=1e4", "--set", "output.dt=1e-2"])
+        .args([
+            "run",
+            nutation().to_str().unwrap(),
+            "-o",
+            out,
+            "--summary",
+            summary,
+            "--set",
+            "output.t_end=1e4",
+            "--set",
+            "output.dt=1e-2",
+        ])
         .current_dir(dir)
         .stdout(Stdio::null())
         .stderr(Stdio::piped())
@@ -27,7 +41,11 @@ fn long_run(dir: &Path, out: &str, summary: &str) -> Child {
 }
 
 fn signal(child: &Child, sig: &str) {
-    let ok = Command::new("sh").args(["-c", &format!("kill -{sig} {}", child.id())]).status().expect("sh runs").success();
+    let ok = Command::new("sh")
+        .args(["-c", &format!("kill -{sig} {}", child.id())])
+        .status()
+        .expect("sh runs")
+        .success();
     assert!(ok, "kill -{sig}");
 }
 
@@ -51,9 +69,18 @@ fn tree(dir: &Path) -> Vec<String> {
 /// Waits until a temporary of ours appears in `dir` (the run is writing).
 fn wait_for_temporary(dir: &Path, child: &mut Child) {
     let start = Instant::now();
-    while !tree(dir).iter().any(|n| n.contains(".ellipsoid-") && n.ends_with(".tmp")) {
-        assert!(child.try_wait().unwrap().is_none(), "the run ended before writing");
-        assert!(start.elapsed() < Duration::from_secs(60), "no temporary after 60 s");
+    while !tree(dir)
+        .iter()
+        .any(|n| n.contains(".ellipsoid-") && n.ends_with(".tmp"))
+    {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the run ended before writing"
+        );
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "no temporary after 60 s"
+        );
         std::thread::sleep(Duration::from_millis(5));
     }
 }
@@ -70,9 +97,20 @@ fn sigint_stops_the_run_removes_its_temporaries_and_directories_and_exits_130() 
     let out = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{err}");
-    assert!(err.starts_with("error: interrupted by SIGINT at t = ") && err.contains("nothing was written"), "{err}");
-    assert_eq!(tree(dir.path()), before, "temporaries and the directories made for the output are gone");
-    assert_eq!(std::fs::read_to_string(dir.path().join("summary.json")).unwrap(), "previous summary");
+    assert!(
+        err.starts_with("error: interrupted by SIGINT at t = ")
+            && err.contains("nothing was written"),
+        "{err}"
+    );
+    assert_eq!(
+        tree(dir.path()),
+        before,
+        "temporaries and the directories made for the output are gone"
+    );
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("summary.json")).unwrap(),
+        "previous summary"
+    );
 }
 
 #[test]
@@ -82,7 +120,12 @@ fn sigterm_too_exits_143_and_leaves_nothing() {
     wait_for_temporary(dir.path(), &mut child);
     signal(&child, "TERM");
     let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(143), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(143),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(tree(dir.path()), Vec::<String>::new());
 }
 
@@ -107,18 +150,44 @@ fn killed_at_random_moments_the_target_is_never_partial_and_an_old_output_surviv
         let pid = child.id();
         let status = child.wait().unwrap();
         match sig {
-            "INT" => assert!(status.code() == Some(130) || status.code().is_none(), "round {round}: {status:?}"),
+            "INT" => assert!(
+                status.code() == Some(130) || status.code().is_none(),
+                "round {round}: {status:?}"
+            ),
             _ => assert_eq!(status.code(), None, "round {round}: killed"),
         }
-        assert_eq!(std::fs::read_to_string(dir.path().join("traj.csv")).unwrap(), old_traj, "round {round} ({sig} after {delay:?})");
-        assert_eq!(std::fs::read_to_string(dir.path().join("s.json")).unwrap(), old_summary, "round {round}");
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("traj.csv")).unwrap(),
+            old_traj,
+            "round {round} ({sig} after {delay:?})"
+        );
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("s.json")).unwrap(),
+            old_summary,
+            "round {round}"
+        );
         for name in tree(dir.path()) {
-            let ours = name.starts_with(".traj.csv.ellipsoid-") || name.starts_with(".s.json.ellipsoid-");
-            assert!(name == "traj.csv" || name == "s.json" || (ours && name.ends_with(".tmp")), "round {round}: unexpected {name}");
+            let ours =
+                name.starts_with(".traj.csv.ellipsoid-") || name.starts_with(".s.json.ellipsoid-");
+            assert!(
+                name == "traj.csv" || name == "s.json" || (ours && name.ends_with(".tmp")),
+                "round {round}: unexpected {name}"
+            );
             // A leftover names the process that left it: one killed by SIGKILL.
             if ours {
-                let leftover_pid: u32 = name.split(".ellipsoid-").nth(1).unwrap().split('-').next().unwrap().parse().unwrap();
-                assert!(killed.contains(&leftover_pid) || (sig == "KILL" && leftover_pid == pid), "round {round}: {name} from pid {leftover_pid}");
+                let leftover_pid: u32 = name
+                    .split(".ellipsoid-")
+                    .nth(1)
+                    .unwrap()
+                    .split('-')
+                    .next()
+                    .unwrap()
+                    .parse()
+                    .unwrap();
+                assert!(
+                    killed.contains(&leftover_pid) || (sig == "KILL" && leftover_pid == pid),
+                    "round {round}: {name} from pid {leftover_pid}"
+                );
             }
         }
         if sig == "KILL" {
@@ -127,11 +196,30 @@ fn killed_at_random_moments_the_target_is_never_partial_and_an_old_output_surviv
     }
     // The next complete run in the directory removes the leftovers and replaces the files.
     let out = Command::new(BIN)
-        .args(["run", nutation().to_str().unwrap(), "-o", "traj.csv", "--summary", "s.json", "--set", "output.t_end=0.1", "-q"])
+        .args([
+            "run",
+            nutation().to_str().unwrap(),
+            "-o",
+            "traj.csv",
+            "--summary",
+            "s.json",
+            "--set",
+            "output.t_end=0.1",
+            "-q",
+        ])
         .current_dir(dir.path())
         .output()
         .unwrap();
-    assert_eq!(out.status.code(), Some(0), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     assert_eq!(tree(dir.path()), ["s.json", "traj.csv"]);
-    assert!(std::fs::read_to_string(dir.path().join("traj.csv")).unwrap().starts_with("t,x,y"));
+    assert!(
+        std::fs::read_to_string(dir.path().join("traj.csv"))
+            .unwrap()
+            .starts_with("t,x,y")
+    );
 }

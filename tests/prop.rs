@@ -26,25 +26,50 @@ fn body() -> impl Strategy<Value = Body> {
         (0.6..1.4f64, 0.6..1.4f64, 0.6..1.4f64),
         -0.3..0.3f64,
     )
-        .prop_filter_map("triangle inequality", |((a, b, c), m, (gx, gy, gz), (k1, k2, k3), tilt)| {
-            let axes = Vector3::new(a, b, c);
-            let g = Vector3::new(gx * a, gy * b, gz * c) / 3f64.sqrt();
-            let u = ellipsoid_core::body::uniform_inertia(axes, m);
-            let d = Vector3::new(u[(0, 0)] * k1, u[(1, 1)] * k2, u[(2, 2)] * k3);
-            let r = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), tilt);
-            let i = r.matrix() * Matrix3::from_diagonal(&d) * r.matrix().transpose();
-            let i = (i + i.transpose()) / 2.0;
-            Body::new(axes, m, i, g).ok()
-        })
+        .prop_filter_map(
+            "triangle inequality",
+            |((a, b, c), m, (gx, gy, gz), (k1, k2, k3), tilt)| {
+                let axes = Vector3::new(a, b, c);
+                let g = Vector3::new(gx * a, gy * b, gz * c) / 3f64.sqrt();
+                let u = ellipsoid_core::body::uniform_inertia(axes, m);
+                let d = Vector3::new(u[(0, 0)] * k1, u[(1, 1)] * k2, u[(2, 2)] * k3);
+                let r = nalgebra::Rotation3::from_axis_angle(&Vector3::z_axis(), tilt);
+                let i = r.matrix() * Matrix3::from_diagonal(&d) * r.matrix().transpose();
+                let i = (i + i.transpose()) / 2.0;
+                Body::new(axes, m, i, g).ok()
+            },
+        )
 }
 
 /// Angles away from the poles (θ in 0.05–3.09 rad) and rates up to 30 rad/s.
 fn angles_strategy() -> impl Strategy<Value = EulerAngles> {
-    (0.05..3.09f64, -3.1..3.1f64, -3.1..3.1f64, -30.0..30.0f64, -30.0..30.0f64, -30.0..30.0f64)
-        .prop_map(|(theta, phi, psi, theta_dot, phi_dot, psi_dot)| EulerAngles { theta, phi, psi, theta_dot, phi_dot, psi_dot })
+    (
+        0.05..3.09f64,
+        -3.1..3.1f64,
+        -3.1..3.1f64,
+        -30.0..30.0f64,
+        -30.0..30.0f64,
+        -30.0..30.0f64,
+    )
+        .prop_map(
+            |(theta, phi, psi, theta_dot, phi_dot, psi_dot)| EulerAngles {
+                theta,
+                phi,
+                psi,
+                theta_dot,
+                phi_dot,
+                psi_dot,
+            },
+        )
 }
 
-fn short(body: Body, contact: ContactModel, a: EulerAngles, v: Option<Vector2<f64>>, t_end: f64) -> Scene {
+fn short(
+    body: Body,
+    contact: ContactModel,
+    a: EulerAngles,
+    v: Option<Vector2<f64>>,
+    t_end: f64,
+) -> Scene {
     scene(body, contact, a, v, t_end, t_end / 20.0, 1e-12)
 }
 

@@ -51,5 +51,9 @@ fn a_long_array_given_by_an_override_takes_memory_linear_in_its_length() {
         let s = scenario::parse(SCENE, "<limits>", &[set.as_str()]).expect("valid");
         assert_eq!(s.scene.sample_times.len(), n);
     });
-    assert!(peak < 40 * set.len() + (8 << 20), "peak {peak} bytes for an override of {} bytes", set.len());
+    assert!(
+        peak < 40 * set.len() + (8 << 20),
+        "peak {peak} bytes for an override of {} bytes",
+        set.len()
+    );
 }

@@ -44,6 +44,11 @@ impl Interrupt {
         if !self.any.load(Ordering::SeqCst) {
             return None;
         }
-        SIGNALS.iter().zip(&self.each).find(|(_, f)| f.load(Ordering::SeqCst)).map(|(s, _)| *s).or(Some(SIGNALS[0]))
+        SIGNALS
+            .iter()
+            .zip(&self.each)
+            .find(|(_, f)| f.load(Ordering::SeqCst))
+            .map(|(s, _)| *s)
+            .or(Some(SIGNALS[0]))
     }
 }

@@ -44,13 +44,24 @@ pub struct Progress<C: Clock = Wall, W: Write = std::io::Stderr> {
 
 impl Progress {
     pub fn new(t_end: f64) -> Self {
-        Progress::with(std::io::stderr().is_terminal(), Wall(Instant::now()), std::io::stderr(), t_end)
+        Progress::with(
+            std::io::stderr().is_terminal(),
+            Wall(Instant::now()),
+            std::io::stderr(),
+            t_end,
+        )
     }
 }
 
 impl<C: Clock, W: Write> Progress<C, W> {
     pub fn with(enabled: bool, clock: C, out: W, t_end: f64) -> Self {
-        Progress { enabled, clock, out, t_end, last: None }
+        Progress {
+            enabled,
+            clock,
+            out,
+            t_end,
+            last: None,
+        }
     }
 
     /// Reports that simulated time has reached `t` \[s\].
@@ -59,7 +70,12 @@ impl<C: Clock, W: Write> Progress<C, W> {
             return;
         }
         let now = self.clock.elapsed();
-        if now < DELAY || self.last.as_ref().is_some_and(|(at, _)| now < *at + REFRESH) {
+        if now < DELAY
+            || self
+                .last
+                .as_ref()
+                .is_some_and(|(at, _)| now < *at + REFRESH)
+        {
             return;
         }
         let line = frame(now, t, self.t_end);
@@ -83,7 +99,11 @@ impl<C: Clock, W: Write> Progress<C, W> {
 
 /// The bar's text after `elapsed` wall time, at simulated `t` of `t_end`.
 pub fn frame(elapsed: Duration, t: f64, t_end: f64) -> String {
-    let f = if t_end > 0.0 && t.is_finite() { (t / t_end).clamp(0.0, 1.0) } else { 0.0 };
+    let f = if t_end > 0.0 && t.is_finite() {
+        (t / t_end).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
     let filled = (f * WIDTH as f64).floor() as usize;
     let bar: String = (0..WIDTH)
         .map(|i| match i.cmp(&filled) {
@@ -92,8 +112,16 @@ pub fn frame(elapsed: Duration, t: f64, t_end: f64) -> String {
             std::cmp::Ordering::Greater => ' ',
         })
         .collect();
-    let eta = if f > 0.0 { clock(elapsed.as_secs_f64() * (1.0 - f) / f) } else { "--:--:--".to_owned() };
-    format!("{} [{bar}] t = {t:.1} s of {t_end} s, {:.0}% (eta {eta})", clock(elapsed.as_secs_f64()), (f * 100.0).floor())
+    let eta = if f > 0.0 {
+        clock(elapsed.as_secs_f64() * (1.0 - f) / f)
+    } else {
+        "--:--:--".to_owned()
+    };
+    format!(
+        "{} [{bar}] t = {t:.1} s of {t_end} s, {:.0}% (eta {eta})",
+        clock(elapsed.as_secs_f64()),
+        (f * 100.0).floor()
+    )
 }
 
 /// Seconds as hh:mm:ss (rounded to the nearest second).
@@ -125,7 +153,12 @@ mod tests {
     }
 
     fn frames(out: &[u8]) -> Vec<String> {
-        String::from_utf8(out.to_vec()).unwrap().split(CLEAR).filter(|f| !f.is_empty()).map(str::to_owned).collect()
+        String::from_utf8(out.to_vec())
+            .unwrap()
+            .split(CLEAR)
+            .filter(|f| !f.is_empty())
+            .map(str::to_owned)
+            .collect()
     }
 
     #[test]
@@ -145,7 +178,11 @@ mod tests {
         assert_eq!(f.len(), 2, "{f:?}");
         // 2 s for 361 s simulated: 1139 s left take 6.3 s.
         assert!(f[0].starts_with("00:00:02 ["), "{}", f[0]);
-        assert!(f[0].ends_with("t = 361.0 s of 1500 s, 24% (eta 00:00:06)"), "{}", f[0]);
+        assert!(
+            f[0].ends_with("t = 361.0 s of 1500 s, 24% (eta 00:00:06)"),
+            "{}",
+            f[0]
+        );
         // 65 s for half the run: 65 s left.
         assert!(f[1].starts_with("00:01:05 [===============>"), "{}", f[1]);
         assert!(f[1].ends_with("50% (eta 00:01:05)"), "{}", f[1]);
@@ -165,7 +202,11 @@ mod tests {
         p.update(2.0);
         p.finish();
         let text = String::from_utf8(out).unwrap();
-        assert_eq!(text.matches(CLEAR).count(), 3, "two frames and the final clear: {text:?}");
+        assert_eq!(
+            text.matches(CLEAR).count(),
+            3,
+            "two frames and the final clear: {text:?}"
+        );
         assert_eq!(frames(text.as_bytes()).len(), 2);
     }
 

@@ -19,11 +19,11 @@
 //! A failing input is written to `target/fuzz/crashes/` and the run exits with status 1.
 
 use std::collections::HashSet;
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use ellipsoid_core::scenario::{self, ScenarioErrors, MAX_ERRORS};
+use ellipsoid_core::scenario::{self, MAX_ERRORS, ScenarioErrors};
 
 /// xorshift64*: small, fast, reproducible from the printed seed.
 struct Rng(u64);
@@ -36,7 +36,11 @@ impl Rng {
         self.0.wrapping_mul(0x2545_f491_4f6c_dd1d)
     }
     fn below(&mut self, n: usize) -> usize {
-        if n == 0 { 0 } else { (self.next() % n as u64) as usize }
+        if n == 0 {
+            0
+        } else {
+            (self.next() % n as u64) as usize
+        }
     }
     fn pick<'a, T>(&mut self, items: &'a [T]) -> &'a T {
         &items[self.below(items.len())]
@@ -45,22 +49,110 @@ impl Rng {
 
 /// Values that probe the rules: extremes, non-finite, wrong types, beyond 64 bits.
 const VALUES: &[&str] = &[
-    "0", "-0.0", "-1", "1", "1e308", "-1e308", "1e-308", "5e-324", "-5e-324", "nan", "inf", "-inf", "9223372036854775807",
-    "9223372036854775808", "-9223372036854775809", "0x7fffffffffffffff", "1e15", "1e20", "\"\"", "\"uniform\"", "\"rolling\"",
-    "\"coulomb\"", "\"rk4\"", "true", "[]", "[1, 2]", "[1, 2, 3]", "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]", "{}", "{ coefficient = 1e-4 }",
-    "1979-05-27T07:32:00Z", "[{ axis = \"x\", angle = 1 }]", "\"\\u00e9\"", "1e-9", "1e7", "3.0e-3",
+    "0",
+    "-0.0",
+    "-1",
+    "1",
+    "1e308",
+    "-1e308",
+    "1e-308",
+    "5e-324",
+    "-5e-324",
+    "nan",
+    "inf",
+    "-inf",
+    "9223372036854775807",
+    "9223372036854775808",
+    "-9223372036854775809",
+    "0x7fffffffffffffff",
+    "1e15",
+    "1e20",
+    "\"\"",
+    "\"uniform\"",
+    "\"rolling\"",
+    "\"coulomb\"",
+    "\"rk4\"",
+    "true",
+    "[]",
+    "[1, 2]",
+    "[1, 2, 3]",
+    "[[1, 0, 0], [0, 1, 0], [0, 0, 1]]",
+    "{}",
+    "{ coefficient = 1e-4 }",
+    "1979-05-27T07:32:00Z",
+    "[{ axis = \"x\", angle = 1 }]",
+    "\"\\u00e9\"",
+    "1e-9",
+    "1e7",
+    "3.0e-3",
 ];
 
 /// Fragments of the format and of TOML syntax.
 const FRAGMENTS: &[&str] = &[
-    "[body]\n", "[initial]\n", "[contact]\n", "[effects]\n", "[solver]\n", "[output]\n", "[check]\n", "[[body]]\n", "[body.x]\n",
-    "model = \"sliding\"\n", "friction = 0.3\n", "inertia = \"uniform\"\n", "theta_deg = 10\n", "omega_body = [0, 0, 1]\n",
-    "rotation = [{ axis = \"y\", angle_deg = 0.5 }]\n", "times = [0.1, 0.2]\n", "dt = 1e-3\n", "step = 1e-4\n", "method = \"rk4\"\n",
-    "velocity = [1, 0]\n", "air_drag = { linear = 1e-3 }\n", "status = \"completed\"\n", "energy = 1e-9\n", "=", "\"", "'", "[", "]",
-    "{", "}", ",", ".", "#", "\n", "\\", "\"\"\"", "_deg", "_vector", "é", "\u{200b}", "\r\n", "\t",
+    "[body]\n",
+    "[initial]\n",
+    "[contact]\n",
+    "[effects]\n",
+    "[solver]\n",
+    "[output]\n",
+    "[check]\n",
+    "[[body]]\n",
+    "[body.x]\n",
+    "model = \"sliding\"\n",
+    "friction = 0.3\n",
+    "inertia = \"uniform\"\n",
+    "theta_deg = 10\n",
+    "omega_body = [0, 0, 1]\n",
+    "rotation = [{ axis = \"y\", angle_deg = 0.5 }]\n",
+    "times = [0.1, 0.2]\n",
+    "dt = 1e-3\n",
+    "step = 1e-4\n",
+    "method = \"rk4\"\n",
+    "velocity = [1, 0]\n",
+    "air_drag = { linear = 1e-3 }\n",
+    "status = \"completed\"\n",
+    "energy = 1e-9\n",
+    "=",
+    "\"",
+    "'",
+    "[",
+    "]",
+    "{",
+    "}",
+    ",",
+    ".",
+    "#",
+    "\n",
+    "\\",
+    "\"\"\"",
+    "_deg",
+    "_vector",
+    "é",
+    "\u{200b}",
+    "\r\n",
+    "\t",
 ];
 
-const KEYS: &[&str] = &["a", "b", "c", "mass", "com_offset", "inertia", "theta", "psi_dot", "model", "friction", "gravity", "rtol", "atol", "step", "max_steps", "t_end", "dt", "times"];
+const KEYS: &[&str] = &[
+    "a",
+    "b",
+    "c",
+    "mass",
+    "com_offset",
+    "inertia",
+    "theta",
+    "psi_dot",
+    "model",
+    "friction",
+    "gravity",
+    "rtol",
+    "atol",
+    "step",
+    "max_steps",
+    "t_end",
+    "dt",
+    "times",
+];
 
 fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
     let len = input.len();
@@ -97,7 +189,10 @@ fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
             // A key misspelt or swapped for another.
             let text = String::from_utf8_lossy(input).into_owned();
             let k = rng.pick(KEYS);
-            let at: Vec<usize> = text.match_indices(&format!("\n{k} ")).map(|(i, _)| i + 1).collect();
+            let at: Vec<usize> = text
+                .match_indices(&format!("\n{k} "))
+                .map(|(i, _)| i + 1)
+                .collect();
             if !at.is_empty() {
                 let i = *rng.pick(&at);
                 let typo = match rng.below(3) {
@@ -110,7 +205,8 @@ fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
         }
         7 => {
             // Lines: duplicate, drop or swap one.
-            let mut lines: Vec<Vec<u8>> = input.split(|b| *b == b'\n').map(<[u8]>::to_vec).collect();
+            let mut lines: Vec<Vec<u8>> =
+                input.split(|b| *b == b'\n').map(<[u8]>::to_vec).collect();
             let (i, j) = (rng.below(lines.len()), rng.below(lines.len()));
             match rng.below(3) {
                 0 => {
@@ -127,7 +223,11 @@ fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
         8 => {
             // Deep nesting, of arrays or inline tables.
             let depth = [4, 40, 200, 3000][rng.below(4)];
-            let (open, close) = if rng.below(2) == 0 { ("[", "]") } else { ("{ x = ", " }") };
+            let (open, close) = if rng.below(2) == 0 {
+                ("[", "]")
+            } else {
+                ("{ x = ", " }")
+            };
             let v = format!("{}1{}", open.repeat(depth), close.repeat(depth));
             *input = format!("{}\nextra = {v}\n", String::from_utf8_lossy(input)).into_bytes();
         }
@@ -143,13 +243,20 @@ fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
             // A long key or value (messages must stay short and fast).
             let n = [100, 10_000, 1_000_000][rng.below(3)];
             let i = rng.below(len + 1);
-            let long = if rng.below(2) == 0 { format!("\n{} = 1\n", "k".repeat(n)) } else { format!("\nnote = \"{}\"\n", "v".repeat(n)) };
+            let long = if rng.below(2) == 0 {
+                format!("\n{} = 1\n", "k".repeat(n))
+            } else {
+                format!("\nnote = \"{}\"\n", "v".repeat(n))
+            };
             input.splice(i..i, long.into_bytes());
         }
         11 => {
             // Non-UTF-8 bytes.
             let i = rng.below(len + 1);
-            input.splice(i..i, [0xff, 0xc3, 0x28, 0xe9][..rng.below(4) + 1].iter().copied());
+            input.splice(
+                i..i,
+                [0xff, 0xc3, 0x28, 0xe9][..rng.below(4) + 1].iter().copied(),
+            );
         }
         12 if len > 0 => input.truncate(rng.below(len)),
         _ => {
@@ -163,9 +270,32 @@ fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
 /// Overrides sometimes given with an input.
 fn overrides(rng: &mut Rng) -> Vec<String> {
     match rng.below(6) {
-        0 => vec![format!("{}.{}={}", rng.pick(&["body", "initial", "contact", "effects", "solver", "output", "check"]), rng.pick(KEYS), rng.pick(VALUES))],
-        1 => vec![format!("output.times=[{}]", (0..rng.below(5000)).map(|i| (i as f64 * 1e-4).to_string()).collect::<Vec<_>>().join(","))],
-        2 => vec![rng.pick(&["x", "=1", "a..b=1", "body.mass", "body.mass.x=1", "output.dt=[1,"]).to_string()],
+        0 => vec![format!(
+            "{}.{}={}",
+            rng.pick(&[
+                "body", "initial", "contact", "effects", "solver", "output", "check"
+            ]),
+            rng.pick(KEYS),
+            rng.pick(VALUES)
+        )],
+        1 => vec![format!(
+            "output.times=[{}]",
+            (0..rng.below(5000))
+                .map(|i| (i as f64 * 1e-4).to_string())
+                .collect::<Vec<_>>()
+                .join(",")
+        )],
+        2 => vec![
+            rng.pick(&[
+                "x",
+                "=1",
+                "a..b=1",
+                "body.mass",
+                "body.mass.x=1",
+                "output.dt=[1,",
+            ])
+            .to_string(),
+        ],
         _ => Vec::new(),
     }
 }
@@ -173,13 +303,35 @@ fn overrides(rng: &mut Rng) -> Vec<String> {
 /// What an outcome looks like, for novelty: accepted, or each error's kind, key and rule head.
 fn outcome_shape(result: &Result<scenario::Scenario, ScenarioErrors>) -> String {
     match result {
-        Ok(s) => format!("ok {:?} {}", s.scene.contact, s.scene.sample_times.len().min(3)),
-        Err(errs) => errs.0.iter().map(|e| format!("{:?} {:?} {}", e.kind, e.key.as_deref().map(|k| k.chars().take(40).collect::<String>()), e.rule.chars().take(30).collect::<String>())).collect::<Vec<_>>().join("|"),
+        Ok(s) => format!(
+            "ok {:?} {}",
+            s.scene.contact,
+            s.scene.sample_times.len().min(3)
+        ),
+        Err(errs) => errs
+            .0
+            .iter()
+            .map(|e| {
+                format!(
+                    "{:?} {:?} {}",
+                    e.kind,
+                    e.key
+                        .as_deref()
+                        .map(|k| k.chars().take(40).collect::<String>()),
+                    e.rule.chars().take(30).collect::<String>()
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("|"),
     }
 }
 
 /// Checks an outcome; Err(why) if it breaks a property.
-fn check(text: Option<&str>, result: &Result<scenario::Scenario, ScenarioErrors>, took: Duration) -> Result<(), String> {
+fn check(
+    text: Option<&str>,
+    result: &Result<scenario::Scenario, ScenarioErrors>,
+    took: Duration,
+) -> Result<(), String> {
     if took > Duration::from_secs(2) {
         return Err(format!("took {took:?}"));
     }
@@ -189,8 +341,11 @@ fn check(text: Option<&str>, result: &Result<scenario::Scenario, ScenarioErrors>
             if !(s.scene.t_end.is_finite() && s.scene.t_end > 0.0) {
                 return Err(format!("accepted t_end = {}", s.scene.t_end));
             }
-            if t.is_empty() || t.iter().any(|x| !x.is_finite()) || t.windows(2).any(|w| w[0] > w[1]) {
-                return Err("accepted sample times that are empty, non-finite or decreasing".into());
+            if t.is_empty() || t.iter().any(|x| !x.is_finite()) || t.windows(2).any(|w| w[0] > w[1])
+            {
+                return Err(
+                    "accepted sample times that are empty, non-finite or decreasing".into(),
+                );
             }
         }
         Err(errs) => {
@@ -203,14 +358,22 @@ fn check(text: Option<&str>, result: &Result<scenario::Scenario, ScenarioErrors>
             for e in errs {
                 let msg = e.to_string();
                 if msg.contains('\n') || msg.chars().count() > 1000 {
-                    return Err(format!("message of {} characters or on several lines: {}", msg.chars().count(), msg.chars().take(300).collect::<String>()));
+                    return Err(format!(
+                        "message of {} characters or on several lines: {}",
+                        msg.chars().count(),
+                        msg.chars().take(300).collect::<String>()
+                    ));
                 }
                 if let (Some(line), Some(max)) = (e.location.line, lines)
                     && line > max
                 {
                     return Err(format!("line {line} beyond the file's {max}: {msg}"));
                 }
-                let place = (e.location.line.is_none(), e.location.line.unwrap_or(0), e.location.column.unwrap_or(0));
+                let place = (
+                    e.location.line.is_none(),
+                    e.location.line.unwrap_or(0),
+                    e.location.column.unwrap_or(0),
+                );
                 if place < last {
                     return Err(format!("errors out of file order at: {msg}"));
                 }
@@ -223,9 +386,22 @@ fn check(text: Option<&str>, result: &Result<scenario::Scenario, ScenarioErrors>
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let arg = |name: &str| args.iter().position(|a| a == name).and_then(|i| args.get(i + 1)).map(|v| v.parse::<u64>().unwrap_or_else(|_| panic!("{name} takes a number")));
+    let arg = |name: &str| {
+        args.iter()
+            .position(|a| a == name)
+            .and_then(|i| args.get(i + 1))
+            .map(|v| {
+                v.parse::<u64>()
+                    .unwrap_or_else(|_| panic!("{name} takes a number"))
+            })
+    };
     let seconds = arg("--seconds").unwrap_or(60);
-    let seed = arg("--seed").unwrap_or_else(|| std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(1, |d| d.as_nanos() as u64) | 1);
+    let seed = arg("--seed").unwrap_or_else(|| {
+        std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(1, |d| d.as_nanos() as u64)
+            | 1
+    });
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     let mut seeds: Vec<Vec<u8>> = Vec::new();
     let mut stack = vec![root.join("scenarios")];
@@ -244,7 +420,10 @@ fn main() {
     std::fs::create_dir_all(&scratch).expect("scratch dir");
     // Quiet panics: a panic is reported as a finding, with its message.
     std::panic::set_hook(Box::new(|_| {}));
-    println!("fuzz_scenario: {} seeds, seed {seed}, {seconds} s", seeds.len());
+    println!(
+        "fuzz_scenario: {} seeds, seed {seed}, {seconds} s",
+        seeds.len()
+    );
     let mut rng = Rng(seed);
     let mut corpus = seeds.clone();
     let mut seen: HashSet<String> = HashSet::new();
@@ -271,14 +450,23 @@ fn main() {
         runs += 1;
         let verdict = match &result {
             Ok(r) => check(text.as_deref(), r, took),
-            Err(p) => Err(format!("panic: {}", p.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| p.downcast_ref::<String>().cloned()).unwrap_or_default())),
+            Err(p) => Err(format!(
+                "panic: {}",
+                p.downcast_ref::<&str>()
+                    .map(|s| s.to_string())
+                    .or_else(|| p.downcast_ref::<String>().cloned())
+                    .unwrap_or_default()
+            )),
         };
         if let Err(why) = verdict {
             std::fs::create_dir_all(&crashes).expect("crash dir");
             let name: PathBuf = crashes.join(format!("crash-{seed}-{runs}.toml"));
             std::fs::write(&name, &input).expect("crash file");
             std::fs::write(name.with_extension("set"), sets.join("\n")).expect("crash overrides");
-            eprintln!("fuzz_scenario: FAILED after {runs} inputs: {why}\n  input: {} (overrides beside it, .set); reproduce with --seed {seed}", name.display());
+            eprintln!(
+                "fuzz_scenario: FAILED after {runs} inputs: {why}\n  input: {} (overrides beside it, .set); reproduce with --seed {seed}",
+                name.display()
+            );
             let _ = std::fs::remove_dir_all(&scratch);
             std::process::exit(1);
         }
@@ -290,5 +478,9 @@ fn main() {
         }
     }
     let _ = std::fs::remove_dir_all(&scratch);
-    println!("fuzz_scenario: {runs} inputs ({accepted} accepted), {} distinct outcomes, corpus {}: no failure", seen.len(), corpus.len());
+    println!(
+        "fuzz_scenario: {runs} inputs ({accepted} accepted), {} distinct outcomes, corpus {}: no failure",
+        seen.len(),
+        corpus.len()
+    );
 }

@@ -17,8 +17,16 @@ pub enum ModelError {
 
 impl ModelError {
     /// Shorthand for [`ModelError::Invalid`].
-    pub fn invalid(quantity: impl Into<String>, value: impl std::fmt::Display, rule: impl Into<String>) -> Self {
-        ModelError::Invalid { quantity: quantity.into(), value: value.to_string(), rule: rule.into() }
+    pub fn invalid(
+        quantity: impl Into<String>,
+        value: impl std::fmt::Display,
+        rule: impl Into<String>,
+    ) -> Self {
+        ModelError::Invalid {
+            quantity: quantity.into(),
+            value: value.to_string(),
+            rule: rule.into(),
+        }
     }
 }
 
@@ -42,10 +50,16 @@ pub fn shorten_numbers(text: &str) -> String {
     let mut rest = text;
     while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
         // Include a sign right before the digits.
-        let start = if start > 0 && rest.as_bytes()[start - 1] == b'-' { start - 1 } else { start };
+        let start = if start > 0 && rest.as_bytes()[start - 1] == b'-' {
+            start - 1
+        } else {
+            start
+        };
         out.push_str(&rest[..start]);
         let tail = &rest[start..];
-        let mut end = tail.find(|c: char| !(c.is_ascii_digit() || "+-.eE".contains(c))).unwrap_or(tail.len());
+        let mut end = tail
+            .find(|c: char| !(c.is_ascii_digit() || "+-.eE".contains(c)))
+            .unwrap_or(tail.len());
         // Trailing punctuation is not part of the number ("= 1.5." ends a sentence).
         while end > 1 && !tail.as_bytes()[end - 1].is_ascii_digit() {
             end -= 1;
@@ -69,12 +83,24 @@ mod tests {
     fn long_numbers_in_text_are_reprinted_short() {
         let subnormal = format!("{}", 5e-324);
         assert!(subnormal.len() > 300);
-        assert_eq!(shorten_numbers(&format!("body.a = {subnormal}: a rule")), "body.a = 5e-324: a rule");
-        assert_eq!(shorten_numbers(&format!("[{subnormal}, -{subnormal}]")), "[5e-324, -5e-324]");
+        assert_eq!(
+            shorten_numbers(&format!("body.a = {subnormal}: a rule")),
+            "body.a = 5e-324: a rule"
+        );
+        assert_eq!(
+            shorten_numbers(&format!("[{subnormal}, -{subnormal}]")),
+            "[5e-324, -5e-324]"
+        );
         let big = format!("{}", 1e300);
         assert_eq!(shorten_numbers(&format!("x = {big}.")), "x = 1e300.");
         // Short numbers and non-numbers are kept as written.
-        for keep in ["g^T A^-2 g = 1.306122 must be < 1", "10·EPS ≈ 2.2e-15 and 1e-2", "N = -0.84 N", "dop853, rk4 step 1e-4", "2026-12-01"] {
+        for keep in [
+            "g^T A^-2 g = 1.306122 must be < 1",
+            "10·EPS ≈ 2.2e-15 and 1e-2",
+            "N = -0.84 N",
+            "dop853, rk4 step 1e-4",
+            "2026-12-01",
+        ] {
             assert_eq!(shorten_numbers(keep), keep);
         }
     }

@@ -30,7 +30,10 @@ impl AtomicFile {
     /// Opens a temporary file beside `target` (whose directory must exist).
     pub fn create(target: &Path) -> Result<Self, OutputError> {
         let tmp = temporary(target)?;
-        Ok(AtomicFile { tmp, target: target.to_owned() })
+        Ok(AtomicFile {
+            tmp,
+            target: target.to_owned(),
+        })
     }
 
     /// The file being written.
@@ -46,8 +49,14 @@ impl AtomicFile {
     /// Flushes to disk: the file is complete, waiting to be renamed to its target.
     pub fn prepare(self) -> Result<Prepared, OutputError> {
         let target = self.target;
-        self.tmp.as_file().sync_all().map_err(|e| OutputError::io(&target, e))?;
-        Ok(Prepared { tmp: self.tmp.into_temp_path(), target })
+        self.tmp
+            .as_file()
+            .sync_all()
+            .map_err(|e| OutputError::io(&target, e))?;
+        Ok(Prepared {
+            tmp: self.tmp.into_temp_path(),
+            target,
+        })
     }
 }
 
@@ -61,7 +70,10 @@ pub struct Prepared {
 impl Prepared {
     #[cfg_attr(not(feature = "hdf5"), allow(dead_code))] // the HDF5 writer makes its own temporary
     pub(crate) fn new(tmp: TempPath, target: &Path) -> Self {
-        Prepared { tmp, target: target.to_owned() }
+        Prepared {
+            tmp,
+            target: target.to_owned(),
+        }
     }
 
     /// Where the file goes.
@@ -111,13 +123,21 @@ pub fn commit_all(files: Vec<Prepared>) -> Result<(), OutputError> {
 /// a device, pipe or socket such as /dev/stdout (the rename would replace the special
 /// file itself).
 pub fn check_target(target: &Path) -> Result<(), OutputError> {
-    let Ok(meta) = std::fs::symlink_metadata(target) else { return Ok(()) };
+    let Ok(meta) = std::fs::symlink_metadata(target) else {
+        return Ok(());
+    };
     let why = if meta.is_dir() {
         (io::ErrorKind::IsADirectory, "is a directory, not a file")
     } else if meta.file_type().is_symlink() {
-        (io::ErrorKind::InvalidInput, "is a symbolic link; give the path of the file itself")
+        (
+            io::ErrorKind::InvalidInput,
+            "is a symbolic link; give the path of the file itself",
+        )
     } else if !meta.is_file() {
-        (io::ErrorKind::InvalidInput, "is a device, pipe or socket, not a regular file (for standard output give -)")
+        (
+            io::ErrorKind::InvalidInput,
+            "is a device, pipe or socket, not a regular file (for standard output give -)",
+        )
     } else {
         return Ok(());
     };
@@ -135,9 +155,16 @@ fn backup_of(target: &Path) -> Option<TempPath> {
         _ => Path::new("."),
     };
     // Reserve a unique name, then link the old file under it.
-    let name = target.file_name().map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
+    let name = target
+        .file_name()
+        .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
     let prefix = format!(".{name}.{MARK}{}-backup-", std::process::id());
-    let path = tempfile::Builder::new().prefix(&prefix).suffix(".tmp").tempfile_in(dir).ok()?.into_temp_path();
+    let path = tempfile::Builder::new()
+        .prefix(&prefix)
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .ok()?
+        .into_temp_path();
     std::fs::remove_file(&path).ok()?;
     match std::fs::hard_link(target, &path) {
         Ok(()) => Some(path),
@@ -167,9 +194,15 @@ pub(crate) fn temporary(target: &Path) -> Result<NamedTempFile, OutputError> {
         _ => Path::new("."),
     };
     remove_stale(dir);
-    let name = target.file_name().map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
+    let name = target
+        .file_name()
+        .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
     let prefix = format!(".{name}.{MARK}{}-", std::process::id());
-    tempfile::Builder::new().prefix(&prefix).suffix(".tmp").tempfile_in(dir).map_err(|e| OutputError::io(target, e))
+    tempfile::Builder::new()
+        .prefix(&prefix)
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(|e| OutputError::io(target, e))
 }
 
 /// What marks a temporary of ours in its name: `.NAME.ellipsoid-PID-….tmp`.
@@ -183,7 +216,10 @@ fn temporary_pid(name: &str) -> Option<u32> {
     let at = name.rfind(&format!(".{MARK}"))?;
     let rest = &name[at + 1 + MARK.len()..];
     let digits = rest.split('-').next()?;
-    if digits.is_empty() || !digits.bytes().all(|b| b.is_ascii_digit()) || !rest[digits.len()..].starts_with('-') {
+    if digits.is_empty()
+        || !digits.bytes().all(|b| b.is_ascii_digit())
+        || !rest[digits.len()..].starts_with('-')
+    {
         return None;
     }
     digits.parse().ok()
@@ -199,15 +235,23 @@ pub fn remove_stale(dir: &Path) -> Vec<PathBuf> {
     if !Path::new("/proc/self/stat").exists() {
         return removed;
     }
-    let Ok(entries) = std::fs::read_dir(dir) else { return removed };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return removed;
+    };
     for entry in entries.flatten() {
         let name = entry.file_name();
-        let Some(pid) = name.to_str().and_then(temporary_pid) else { continue };
+        let Some(pid) = name.to_str().and_then(temporary_pid) else {
+            continue;
+        };
         let Ok(meta) = entry.metadata() else { continue };
         if !meta.is_file() {
             continue;
         }
-        let written = meta.modified().ok().and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok()).map(|d| d.as_secs_f64());
+        let written = meta
+            .modified()
+            .ok()
+            .and_then(|t| t.duration_since(std::time::UNIX_EPOCH).ok())
+            .map(|d| d.as_secs_f64());
         let stale = match (process_start(pid), written) {
             (None, _) => true,
             (Some(start), Some(written)) => start > written + 2.0,
@@ -228,7 +272,11 @@ fn process_start(pid: u32) -> Option<f64> {
     // The command name (field 2) is in parentheses and may hold spaces: count after it.
     let after = &stat[stat.rfind(')')? + 1..];
     let ticks: f64 = after.split_whitespace().nth(19)?.parse().ok()?;
-    let boot: f64 = std::fs::read_to_string("/proc/stat").ok()?.lines().find_map(|l| l.strip_prefix("btime ")).and_then(|v| v.trim().parse().ok())?;
+    let boot: f64 = std::fs::read_to_string("/proc/stat")
+        .ok()?
+        .lines()
+        .find_map(|l| l.strip_prefix("btime "))
+        .and_then(|v| v.trim().parse().ok())?;
     // A running process whose start cannot be read counts as running from the boot.
     Some(boot + ticks / 100.0)
 }
@@ -239,9 +287,11 @@ pub(crate) fn commit_path(tmp: TempPath, target: &Path) -> Result<(), OutputErro
     {
         use std::os::unix::fs::PermissionsExt;
         // tempfile creates 0600; results are meant to be shared like any output file.
-        std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o644)).map_err(|e| OutputError::io(target, e))?;
+        std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o644))
+            .map_err(|e| OutputError::io(target, e))?;
     }
-    tmp.persist(target).map_err(|e| OutputError::io(target, e.error))
+    tmp.persist(target)
+        .map_err(|e| OutputError::io(target, e.error))
 }
 
 /// Writes `bytes` to `target` atomically.
@@ -261,7 +311,10 @@ mod tests {
     use super::*;
 
     fn names(dir: &Path) -> Vec<String> {
-        let mut n: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        let mut n: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
         n.sort();
         n
     }
@@ -276,13 +329,26 @@ mod tests {
         std::os::unix::fs::symlink(&real, &link).unwrap();
         let dangling = dir.path().join("dangling.csv");
         std::os::unix::fs::symlink(dir.path().join("nowhere"), &dangling).unwrap();
-        for (target, why) in [(link.as_path(), "symbolic link"), (dangling.as_path(), "symbolic link"), (Path::new("/dev/null"), "device, pipe or socket")] {
+        for (target, why) in [
+            (link.as_path(), "symbolic link"),
+            (dangling.as_path(), "symbolic link"),
+            (Path::new("/dev/null"), "device, pipe or socket"),
+        ] {
             let err = AtomicFile::create(target).err().expect("refused");
             assert!(err.to_string().contains(why), "{}: {err}", target.display());
         }
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "keep");
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
-        assert_eq!(names(dir.path()), ["dangling.csv", "link.csv", "real.csv"], "no temporary left");
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(
+            names(dir.path()),
+            ["dangling.csv", "link.csv", "real.csv"],
+            "no temporary left"
+        );
     }
 
     #[test]
@@ -290,17 +356,39 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let target = dir.path().join("out.csv");
         let live = AtomicFile::create(&target).unwrap();
-        let live_name = live.tmp.path().file_name().unwrap().to_string_lossy().into_owned();
-        assert_eq!(temporary_pid(&live_name), Some(std::process::id()), "{live_name}");
+        let live_name = live
+            .tmp
+            .path()
+            .file_name()
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
+        assert_eq!(
+            temporary_pid(&live_name),
+            Some(std::process::id()),
+            "{live_name}"
+        );
         // A process that is gone: PID 0 is never a user process's.
         let dead = dir.path().join(".out.csv.ellipsoid-0-abc123.tmp");
         std::fs::write(&dead, "half").unwrap();
         // Ours by PID but older than this process: left by an earlier process with our PID.
-        let reused = dir.path().join(format!(".out.csv.ellipsoid-{}-backup-old.tmp", std::process::id()));
+        let reused = dir.path().join(format!(
+            ".out.csv.ellipsoid-{}-backup-old.tmp",
+            std::process::id()
+        ));
         std::fs::write(&reused, "old").unwrap();
-        std::fs::File::options().write(true).open(&reused).unwrap().set_modified(std::time::UNIX_EPOCH + std::time::Duration::from_secs(1_000_000)).unwrap();
+        std::fs::File::options()
+            .write(true)
+            .open(&reused)
+            .unwrap()
+            .set_modified(std::time::UNIX_EPOCH + std::time::Duration::from_secs(1_000_000))
+            .unwrap();
         // Not ours: another program's temporary, and a user's file.
-        let foreign = [dir.path().join(".out.csv.abc123.tmp"), dir.path().join("ellipsoid-1-x.tmp"), dir.path().join(".x.ellipsoid-12a-b.tmp")];
+        let foreign = [
+            dir.path().join(".out.csv.abc123.tmp"),
+            dir.path().join("ellipsoid-1-x.tmp"),
+            dir.path().join(".x.ellipsoid-12a-b.tmp"),
+        ];
         for f in &foreign {
             std::fs::write(f, "keep").unwrap();
         }
@@ -309,7 +397,10 @@ mod tests {
         let mut expected = vec![dead, reused];
         expected.sort();
         assert_eq!(removed, expected);
-        assert!(live.tmp.path().exists(), "a running process's temporary stays");
+        assert!(
+            live.tmp.path().exists(),
+            "a running process's temporary stays"
+        );
         for f in &foreign {
             assert!(f.exists(), "{}", f.display());
         }
@@ -320,10 +411,18 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let (a, b) = (dir.path().join("a.csv"), dir.path().join("b.json"));
         std::fs::write(&a, "old").unwrap();
-        commit_all(vec![prepare(&a, b"new a").unwrap(), prepare(&b, b"new b").unwrap()]).unwrap();
+        commit_all(vec![
+            prepare(&a, b"new a").unwrap(),
+            prepare(&b, b"new b").unwrap(),
+        ])
+        .unwrap();
         assert_eq!(std::fs::read_to_string(&a).unwrap(), "new a");
         assert_eq!(std::fs::read_to_string(&b).unwrap(), "new b");
-        assert_eq!(names(dir.path()), ["a.csv", "b.json"], "no temporary or backup left");
+        assert_eq!(
+            names(dir.path()),
+            ["a.csv", "b.json"],
+            "no temporary or backup left"
+        );
     }
 
     #[test]
@@ -334,7 +433,10 @@ mod tests {
         // the target became a directory after its file was prepared
         std::fs::create_dir(&d).unwrap();
         let err = commit_all(files).unwrap_err();
-        assert!(err.to_string().ends_with("d: is a directory, not a file"), "{err}");
+        assert!(
+            err.to_string().ends_with("d: is a directory, not a file"),
+            "{err}"
+        );
         assert_eq!(names(dir.path()), ["d"]);
         assert_eq!(names(&d), Vec::<String>::new());
     }
@@ -348,8 +450,23 @@ mod tests {
         std::fs::create_dir(&sub).unwrap();
         let doomed = prepare(&sub.join("s.json"), b"s").unwrap();
         std::fs::remove_dir_all(&sub).unwrap(); // its temporary goes with it: the rename fails
-        assert!(commit_all(vec![prepare(&old, b"replaced").unwrap(), prepare(&new, b"n").unwrap(), doomed]).is_err());
-        assert_eq!(std::fs::read_to_string(&old).unwrap(), "keep", "the replaced file is restored");
-        assert_eq!(names(dir.path()), ["old.csv"], "the new file is removed, no backup left");
+        assert!(
+            commit_all(vec![
+                prepare(&old, b"replaced").unwrap(),
+                prepare(&new, b"n").unwrap(),
+                doomed
+            ])
+            .is_err()
+        );
+        assert_eq!(
+            std::fs::read_to_string(&old).unwrap(),
+            "keep",
+            "the replaced file is restored"
+        );
+        assert_eq!(
+            names(dir.path()),
+            ["old.csv"],
+            "the new file is removed, no backup left"
+        );
     }
 }

@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use crate::convert;
 use crate::errors::{self, Class};
 use crate::run::{self, Failure, Run};
-use crate::scenario::{resolve, PyScenario};
+use crate::scenario::{PyScenario, resolve};
 use crate::trajectory::Trajectory;
 
 /// Simulates a scenario and returns its Trajectory.
@@ -27,18 +27,38 @@ use crate::trajectory::Trajectory;
 /// inconsistency, a solver failure, chattering, or a non-finite state.
 #[pyfunction]
 #[pyo3(signature = (scenario, /, **changes))]
-pub fn simulate(py: Python<'_>, scenario: &Bound<'_, PyAny>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Py<Trajectory>> {
-    let source = scenario.cast::<PyScenario>().map(|s| s.get().inner.source.clone()).unwrap_or_else(|_| "<changes>".into());
-    let inner = resolve(py, scenario, convert::Conv { source: &source }.overrides(changes)?)?.inner;
-    let (result, interrupt) = run::detached(py, move |cancel| run::run_caught(inner, true, cancel))?;
+pub fn simulate(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    changes: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Py<Trajectory>> {
+    let source = scenario
+        .cast::<PyScenario>()
+        .map(|s| s.get().inner.source.clone())
+        .unwrap_or_else(|_| "<changes>".into());
+    let inner = resolve(
+        py,
+        scenario,
+        convert::Conv { source: &source }.overrides(changes)?,
+    )?
+    .inner;
+    let (result, interrupt) =
+        run::detached(py, move |cancel| run::run_caught(inner, true, cancel))?;
     if let Some(e) = interrupt {
         return Err(e);
     }
-    finish(py, result, false)?.cast_into::<Trajectory>().map(Bound::unbind).map_err(|e| errors::internal_error(py, &e.to_string()))
+    finish(py, result, false)?
+        .cast_into::<Trajectory>()
+        .map(Bound::unbind)
+        .map_err(|e| errors::internal_error(py, &e.to_string()))
 }
 
 /// A run's result as a Trajectory (or its summary dict), or its error as an exception.
-fn finish(py: Python<'_>, result: Result<Run, Failure>, summary_only: bool) -> PyResult<Bound<'_, PyAny>> {
+fn finish(
+    py: Python<'_>,
+    result: Result<Run, Failure>,
+    summary_only: bool,
+) -> PyResult<Bound<'_, PyAny>> {
     let run = match result {
         Ok(run) => run,
         Err(Failure::Model(e)) => return Err(errors::scenario_error(py, &e)),
@@ -53,7 +73,14 @@ fn finish(py: Python<'_>, result: Result<Run, Failure>, summary_only: bool) -> P
     match failure {
         None if summary_only => traj.getattr("summary"),
         None => Ok(traj.into_any()),
-        Some(message) => Err(Class::Simulation.error(py, &message, &[("status", status.into_pyobject(py)?.into_any().unbind()), ("trajectory", traj.into_any().unbind())])),
+        Some(message) => Err(Class::Simulation.error(
+            py,
+            &message,
+            &[
+                ("status", status.into_pyobject(py)?.into_any().unbind()),
+                ("trajectory", traj.into_any().unbind()),
+            ],
+        )),
     }
 }
 
@@ -80,18 +107,40 @@ pub fn sweep<'py>(
 ) -> PyResult<Bound<'py, PyList>> {
     let return_errors = match errors.as_ref().filter(|e| !e.is_none()) {
         None => false,
-        Some(e) => match e.cast::<PyString>().ok().and_then(|s| s.to_str().ok().map(str::to_owned)).as_deref() {
+        Some(e) => match e
+            .cast::<PyString>()
+            .ok()
+            .and_then(|s| s.to_str().ok().map(str::to_owned))
+            .as_deref()
+        {
             Some("raise") => false,
             Some("return") => true,
             _ => {
-                let shown = e.repr().map(|r| r.to_string_lossy().into_owned()).unwrap_or_default();
-                return Err(errors::value_error(py, "sweep", Some("errors"), Some(&shown), "expected \"raise\" or \"return\""));
+                let shown = e
+                    .repr()
+                    .map(|r| r.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                return Err(errors::value_error(
+                    py,
+                    "sweep",
+                    Some("errors"),
+                    Some(&shown),
+                    "expected \"raise\" or \"return\"",
+                ));
             }
         },
     };
     let summaries_only = match summaries_only.as_ref().filter(|s| !s.is_none()) {
         None => false,
-        Some(s) => s.cast::<PyBool>().map(|b| b.is_true()).map_err(|_| errors::type_error(py, "sweep", Some("summaries_only"), None, "expected True or False"))?,
+        Some(s) => s.cast::<PyBool>().map(|b| b.is_true()).map_err(|_| {
+            errors::type_error(
+                py,
+                "sweep",
+                Some("summaries_only"),
+                None,
+                "expected True or False",
+            )
+        })?,
     };
     let workers = worker_count(py, workers.as_ref())?;
     let mut slots: Vec<Option<PyResult<Bound<'py, PyAny>>>> = Vec::new();
@@ -134,7 +183,8 @@ pub fn sweep<'py>(
     }
     let results = results.map_err(|msg| errors::internal_error(py, &msg))?;
     for (i, result) in results {
-        let result = result.ok_or_else(|| errors::internal_error(py, "a run was skipped without an interrupt"))?;
+        let result = result
+            .ok_or_else(|| errors::internal_error(py, "a run was skipped without an interrupt"))?;
         slots[i] = Some(finish(py, result, summaries_only));
     }
     let mut out = Vec::with_capacity(slots.len());
@@ -159,16 +209,38 @@ pub fn max_workers() -> usize {
 
 /// The `workers` argument: None (one per CPU) or an integer in 1..=[`max_workers`].
 fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
-    let Some(w) = workers.filter(|w| !w.is_none()) else { return Ok(None) };
+    let Some(w) = workers.filter(|w| !w.is_none()) else {
+        return Ok(None);
+    };
     let max = max_workers();
-    let rule = format!("give 1 to {max} worker threads (4 per CPU, at least 8), or None for one per CPU");
+    let rule =
+        format!("give 1 to {max} worker threads (4 per CPU, at least 8), or None for one per CPU");
     if w.is_instance_of::<PyBool>() || !w.is_instance_of::<PyInt>() {
-        let ty = w.get_type().name().map(|n| n.to_string()).unwrap_or_default();
-        return Err(errors::type_error(py, "sweep", Some("workers"), None, format!("expected an integer, found {ty}; {rule}")));
+        let ty = w
+            .get_type()
+            .name()
+            .map(|n| n.to_string())
+            .unwrap_or_default();
+        return Err(errors::type_error(
+            py,
+            "sweep",
+            Some("workers"),
+            None,
+            format!("expected an integer, found {ty}; {rule}"),
+        ));
     }
-    let shown = w.str().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let shown = w
+        .str()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
     match w.extract::<i64>() {
         Ok(n) if n >= 1 && n as u64 <= max as u64 => Ok(Some(n as usize)),
-        _ => Err(errors::value_error(py, "sweep", Some("workers"), Some(&shown), rule)),
+        _ => Err(errors::value_error(
+            py,
+            "sweep",
+            Some("workers"),
+            Some(&shown),
+            rule,
+        )),
     }
 }

@@ -31,18 +31,47 @@ pub struct Conv<'a> {
 }
 
 impl Conv<'_> {
-    fn type_error(&self, py: Python<'_>, key: &str, value: Option<&str>, rule: impl Into<String>) -> PyErr {
-        errors::type_error(py, self.source, Some(key).filter(|k| !k.is_empty()), value, rule)
+    fn type_error(
+        &self,
+        py: Python<'_>,
+        key: &str,
+        value: Option<&str>,
+        rule: impl Into<String>,
+    ) -> PyErr {
+        errors::type_error(
+            py,
+            self.source,
+            Some(key).filter(|k| !k.is_empty()),
+            value,
+            rule,
+        )
     }
 
-    fn value_error(&self, py: Python<'_>, key: &str, value: Option<&str>, rule: impl Into<String>) -> PyErr {
-        errors::value_error(py, self.source, Some(key).filter(|k| !k.is_empty()), value, rule)
+    fn value_error(
+        &self,
+        py: Python<'_>,
+        key: &str,
+        value: Option<&str>,
+        rule: impl Into<String>,
+    ) -> PyErr {
+        errors::value_error(
+            py,
+            self.source,
+            Some(key).filter(|k| !k.is_empty()),
+            value,
+            rule,
+        )
     }
 
     /// An exception raised by a value's own conversion method, as a ScenarioTypeError
     /// (the original as its `__cause__`).
     fn raised(&self, py: Python<'_>, key: &str, what: &str, e: PyErr) -> PyErr {
-        let err = self.type_error(py, key, None, format!("{what} raised {}", errors::short(&e.to_string())));
+        let err = self.type_error(
+            py,
+            key,
+            None,
+            format!("{what} raised {}", errors::short(&e.to_string())),
+        );
         err.set_cause(py, Some(e));
         err
     }
@@ -55,7 +84,14 @@ impl Conv<'_> {
     fn value_at(&self, key: &str, value: &Bound<'_, PyAny>, depth: usize) -> PyResult<toml::Value> {
         let py = value.py();
         if depth > MAX_DEPTH {
-            return Err(self.value_error(py, key, None, format!("lists and dicts nested more than {MAX_DEPTH} deep cannot be scenario values")));
+            return Err(self.value_error(
+                py,
+                key,
+                None,
+                format!(
+                    "lists and dicts nested more than {MAX_DEPTH} deep cannot be scenario values"
+                ),
+            ));
         }
         if let Ok(b) = value.cast::<PyBool>() {
             return Ok(toml::Value::Boolean(b.is_true()));
@@ -69,7 +105,10 @@ impl Conv<'_> {
             return match i.extract::<f64>() {
                 Ok(v) => Ok(toml::Value::Float(v)),
                 Err(_) => {
-                    let digits = i.str().map(|s| s.to_string_lossy().trim_start_matches('-').len()).unwrap_or(0);
+                    let digits = i
+                        .str()
+                        .map(|s| s.to_string_lossy().trim_start_matches('-').len())
+                        .unwrap_or(0);
                     Err(self.value_error(py, key, Some(&format!("an integer of {digits} digits")), "beyond the range of a float (about ±1.8e308); a scenario number must be finite"))
                 }
             };
@@ -81,13 +120,20 @@ impl Conv<'_> {
             return Ok(toml::Value::String(self.text(key, s)?));
         }
         if value.is_none() {
-            return Err(self.type_error(py, key, Some("None"), "None is not a scenario value (leave the key out instead)"));
+            return Err(self.type_error(
+                py,
+                key,
+                Some("None"),
+                "None is not a scenario value (leave the key out instead)",
+            ));
         }
         if let Ok(m) = value.cast::<PyMapping>() {
             let mut table = toml::Table::new();
             let items = m.items().map_err(|e| self.raised(py, key, "items()", e))?;
             for item in items.iter() {
-                let (k, v): (Bound<'_, PyAny>, Bound<'_, PyAny>) = item.extract().map_err(|e| self.raised(py, key, "items()", e))?;
+                let (k, v): (Bound<'_, PyAny>, Bound<'_, PyAny>) = item
+                    .extract()
+                    .map_err(|e| self.raised(py, key, "items()", e))?;
                 let k = self.key_str(key, &k)?;
                 if v.is_none() {
                     continue;
@@ -106,7 +152,9 @@ impl Conv<'_> {
         }
         if value.hasattr("tolist").unwrap_or(false) {
             // numpy arrays and scalars: plain Python lists and numbers.
-            let plain = value.call_method0("tolist").map_err(|e| self.raised(py, key, "tolist()", e))?;
+            let plain = value
+                .call_method0("tolist")
+                .map_err(|e| self.raised(py, key, "tolist()", e))?;
             if !plain.is(value) {
                 return self.value_at(key, &plain, depth + 1);
             }
@@ -118,9 +166,17 @@ impl Conv<'_> {
             return self.value_at(key, &i, depth + 1);
         }
         if value.hasattr("__float__").unwrap_or(false) {
-            return Ok(toml::Value::Float(value.extract::<f64>().map_err(|e| self.raised(py, key, "__float__()", e))?));
+            return Ok(toml::Value::Float(
+                value
+                    .extract::<f64>()
+                    .map_err(|e| self.raised(py, key, "__float__()", e))?,
+            ));
         }
-        let ty = value.get_type().name().map(|n| n.to_string()).unwrap_or_else(|_| "?".into());
+        let ty = value
+            .get_type()
+            .name()
+            .map(|n| n.to_string())
+            .unwrap_or_else(|_| "?".into());
         Err(self.type_error(py, key, None, format!("a value of type {ty} cannot be put in a scenario (use numbers, strings, booleans, lists and dicts)")))
     }
 
@@ -144,8 +200,20 @@ impl Conv<'_> {
         match k.cast::<PyString>() {
             Ok(s) => self.text(&join(parent, &s.to_string_lossy()), s),
             Err(_) => {
-                let shown = k.repr().map(|r| r.to_string_lossy().into_owned()).unwrap_or_else(|_| "?".into());
-                Err(self.type_error(k.py(), if parent.is_empty() { "scenario" } else { parent }, Some(&shown), "keys must be strings"))
+                let shown = k
+                    .repr()
+                    .map(|r| r.to_string_lossy().into_owned())
+                    .unwrap_or_else(|_| "?".into());
+                Err(self.type_error(
+                    k.py(),
+                    if parent.is_empty() {
+                        "scenario"
+                    } else {
+                        parent
+                    },
+                    Some(&shown),
+                    "keys must be strings",
+                ))
             }
         }
     }
@@ -157,7 +225,9 @@ impl Conv<'_> {
         let mut head = String::new();
         let mut tables = String::new();
         for (name, value) in parts {
-            let Some(value) = value.filter(|v| !v.is_none()) else { continue };
+            let Some(value) = value.filter(|v| !v.is_none()) else {
+                continue;
+            };
             match value.cast::<PyDict>() {
                 Ok(dict) => {
                     tables.push_str(&format!("\n[{}]\n", toml_key(name)));
@@ -167,13 +237,23 @@ impl Conv<'_> {
                             continue;
                         }
                         let full = join(name, &k);
-                        tables.push_str(&format!("{} = {}\n", toml_key(&k), self.value_at(&full, &v, 1)?));
+                        tables.push_str(&format!(
+                            "{} = {}\n",
+                            toml_key(&k),
+                            self.value_at(&full, &v, 1)?
+                        ));
                     }
                 }
-                Err(_) => head.push_str(&format!("{} = {}\n", toml_key(name), self.toml_value(name, value)?)),
+                Err(_) => head.push_str(&format!(
+                    "{} = {}\n",
+                    toml_key(name),
+                    self.toml_value(name, value)?
+                )),
             }
         }
-        Ok(format!("# built by ellipsoid.Scenario(...)\n{head}{tables}"))
+        Ok(format!(
+            "# built by ellipsoid.Scenario(...)\n{head}{tables}"
+        ))
     }
 
     /// `key=value` overrides (the command line's `--set`) from keyword arguments: a dict value
@@ -189,7 +269,13 @@ impl Conv<'_> {
         Ok(out)
     }
 
-    fn flatten(&self, key: &str, value: &Bound<'_, PyAny>, out: &mut Vec<String>, depth: usize) -> PyResult<()> {
+    fn flatten(
+        &self,
+        key: &str,
+        value: &Bound<'_, PyAny>,
+        out: &mut Vec<String>,
+        depth: usize,
+    ) -> PyResult<()> {
         let py = value.py();
         if value.is_none() {
             return Err(self.type_error(
@@ -200,7 +286,12 @@ impl Conv<'_> {
             ));
         }
         if depth > MAX_DEPTH {
-            return Err(self.value_error(py, key, None, format!("dicts nested more than {MAX_DEPTH} deep cannot be scenario changes")));
+            return Err(self.value_error(
+                py,
+                key,
+                None,
+                format!("dicts nested more than {MAX_DEPTH} deep cannot be scenario changes"),
+            ));
         }
         match value.cast::<PyDict>() {
             Ok(dict) if !dict.is_empty() => {
@@ -219,12 +310,20 @@ impl Conv<'_> {
 }
 
 fn join(prefix: &str, key: &str) -> String {
-    if prefix.is_empty() { key.to_owned() } else { format!("{prefix}.{key}") }
+    if prefix.is_empty() {
+        key.to_owned()
+    } else {
+        format!("{prefix}.{key}")
+    }
 }
 
 /// A key as TOML writes it: bare when it can be, else quoted.
 fn toml_key(key: &str) -> String {
-    if !key.is_empty() && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+    if !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
         key.to_owned()
     } else {
         toml::Value::String(key.to_owned()).to_string()

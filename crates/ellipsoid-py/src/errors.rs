@@ -43,7 +43,14 @@ pub enum Class {
 static CLASSES: [PyOnceLock<Py<PyType>>; 6] = [const { PyOnceLock::new() }; 6];
 
 impl Class {
-    pub const ALL: [Class; 6] = [Class::Ellipsoid, Class::Scenario, Class::ScenarioType, Class::Simulation, Class::Output, Class::Internal];
+    pub const ALL: [Class; 6] = [
+        Class::Ellipsoid,
+        Class::Scenario,
+        Class::ScenarioType,
+        Class::Simulation,
+        Class::Output,
+        Class::Internal,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -80,8 +87,12 @@ impl Class {
                  Attributes: `status` (the summary's status name: painleve | solver_failure | chattering | cancelled), \
                  `trajectory` (the Trajectory up to the stop, with its summary)."
             }
-            Class::Output => "A trajectory file could not be written (file system, HDF5 library, or a format this build lacks).",
-            Class::Internal => "A bug in ellipsoid (a Rust panic caught at the Python boundary); please report it with the message.",
+            Class::Output => {
+                "A trajectory file could not be written (file system, HDF5 library, or a format this build lacks)."
+            }
+            Class::Internal => {
+                "A bug in ellipsoid (a Rust panic caught at the Python boundary); please report it with the message."
+            }
         }
     }
 
@@ -90,10 +101,34 @@ impl Class {
         let base = |c: Class| c.get(py).map(|t| t.into_any());
         match self {
             Class::Ellipsoid => PyTuple::new(py, [py.get_type::<PyException>().into_any()]),
-            Class::Scenario => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyValueError>().into_any()]),
-            Class::ScenarioType => PyTuple::new(py, [base(Class::Scenario)?, py.get_type::<PyTypeError>().into_any()]),
-            Class::Simulation | Class::Internal => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyRuntimeError>().into_any()]),
-            Class::Output => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyOSError>().into_any()]),
+            Class::Scenario => PyTuple::new(
+                py,
+                [
+                    base(Class::Ellipsoid)?,
+                    py.get_type::<PyValueError>().into_any(),
+                ],
+            ),
+            Class::ScenarioType => PyTuple::new(
+                py,
+                [
+                    base(Class::Scenario)?,
+                    py.get_type::<PyTypeError>().into_any(),
+                ],
+            ),
+            Class::Simulation | Class::Internal => PyTuple::new(
+                py,
+                [
+                    base(Class::Ellipsoid)?,
+                    py.get_type::<PyRuntimeError>().into_any(),
+                ],
+            ),
+            Class::Output => PyTuple::new(
+                py,
+                [
+                    base(Class::Ellipsoid)?,
+                    py.get_type::<PyOSError>().into_any(),
+                ],
+            ),
         }
     }
 
@@ -104,7 +139,9 @@ impl Class {
             let ns = PyDict::new(py);
             ns.set_item("__module__", "ellipsoid")?;
             ns.set_item("__doc__", self.doc())?;
-            let ty = py.get_type::<PyType>().call1((self.name(), self.bases(py)?, ns))?;
+            let ty = py
+                .get_type::<PyType>()
+                .call1((self.name(), self.bases(py)?, ns))?;
             Ok(ty.cast_into::<PyType>()?.unbind())
         })?;
         Ok(ty.bind(py).clone())
@@ -151,10 +188,23 @@ pub fn scenario_errors(py: Python<'_>, errs: &ScenarioErrors) -> PyErr {
 /// An input error found on the Python side (a value or argument that never reached the
 /// parser), as `class` (ScenarioError or ScenarioTypeError) with the usual attributes.
 /// `key` and `value` are cut to one short line, as the parser cuts values.
-pub fn input_error(py: Python<'_>, class: Class, kind: ErrorKind, source: &str, key: Option<&str>, value: Option<&str>, rule: impl Into<String>) -> PyErr {
+pub fn input_error(
+    py: Python<'_>,
+    class: Class,
+    kind: ErrorKind,
+    source: &str,
+    key: Option<&str>,
+    value: Option<&str>,
+    rule: impl Into<String>,
+) -> PyErr {
     let e = ScenarioError {
         kind,
-        location: ellipsoid_core::scenario::Location { source: short(source), line: None, column: None, set: None },
+        location: ellipsoid_core::scenario::Location {
+            source: short(source),
+            line: None,
+            column: None,
+            set: None,
+        },
         key: key.map(short),
         value: value.map(short),
         rule: rule.into(),
@@ -164,18 +214,54 @@ pub fn input_error(py: Python<'_>, class: Class, kind: ErrorKind, source: &str, 
 
 /// `text` on one line, at most 60 characters (the parser's rule for values in messages).
 pub fn short(text: &str) -> String {
-    let one_line: String = text.chars().take(200).map(|c| if c.is_control() { ' ' } else { c }).collect();
-    if text.chars().nth(60).is_some() { format!("{}…", one_line.chars().take(59).collect::<String>()) } else { one_line }
+    let one_line: String = text
+        .chars()
+        .take(200)
+        .map(|c| if c.is_control() { ' ' } else { c })
+        .collect();
+    if text.chars().nth(60).is_some() {
+        format!("{}…", one_line.chars().take(59).collect::<String>())
+    } else {
+        one_line
+    }
 }
 
 /// [`input_error`] for a wrong Python type: `ellipsoid.ScenarioTypeError` (also a TypeError).
-pub fn type_error(py: Python<'_>, source: &str, key: Option<&str>, value: Option<&str>, rule: impl Into<String>) -> PyErr {
-    input_error(py, Class::ScenarioType, ErrorKind::Type, source, key, value, rule)
+pub fn type_error(
+    py: Python<'_>,
+    source: &str,
+    key: Option<&str>,
+    value: Option<&str>,
+    rule: impl Into<String>,
+) -> PyErr {
+    input_error(
+        py,
+        Class::ScenarioType,
+        ErrorKind::Type,
+        source,
+        key,
+        value,
+        rule,
+    )
 }
 
 /// [`input_error`] for a bad value: `ellipsoid.ScenarioError`.
-pub fn value_error(py: Python<'_>, source: &str, key: Option<&str>, value: Option<&str>, rule: impl Into<String>) -> PyErr {
-    input_error(py, Class::Scenario, ErrorKind::Invalid, source, key, value, rule)
+pub fn value_error(
+    py: Python<'_>,
+    source: &str,
+    key: Option<&str>,
+    value: Option<&str>,
+    rule: impl Into<String>,
+) -> PyErr {
+    input_error(
+        py,
+        Class::Scenario,
+        ErrorKind::Invalid,
+        source,
+        key,
+        value,
+        rule,
+    )
 }
 
 fn scenario_error_as(py: Python<'_>, class: Class, e: &ScenarioError) -> PyErr {
@@ -200,8 +286,16 @@ fn scenario_error_bare(py: Python<'_>, class: Class, e: &ScenarioError) -> PyErr
         ErrorKind::Invalid => "invalid",
     };
     let loc = &e.location;
-    let any = |v: Option<&str>| v.into_pyobject(py).map(|o| o.into_any().unbind()).unwrap_or_else(|_| py.None());
-    let num = |v: Option<usize>| v.into_pyobject(py).map(|o| o.into_any().unbind()).unwrap_or_else(|_| py.None());
+    let any = |v: Option<&str>| {
+        v.into_pyobject(py)
+            .map(|o| o.into_any().unbind())
+            .unwrap_or_else(|_| py.None())
+    };
+    let num = |v: Option<usize>| {
+        v.into_pyobject(py)
+            .map(|o| o.into_any().unbind())
+            .unwrap_or_else(|_| py.None())
+    };
     let attrs = [
         ("kind", any(Some(kind))),
         ("key", any(e.key.as_deref())),
@@ -219,16 +313,25 @@ fn scenario_error_bare(py: Python<'_>, class: Class, e: &ScenarioError) -> PyErr
 pub fn output_error(py: Python<'_>, e: &OutputError) -> PyErr {
     let message = match e {
         OutputError::Hdf5Unavailable { path } => format!("{}: {HDF5_HINT}", path.display()),
-        OutputError::UnknownFormat { .. } | OutputError::Io { .. } | OutputError::Hdf5 { .. } => e.to_string(),
+        OutputError::UnknownFormat { .. } | OutputError::Io { .. } | OutputError::Hdf5 { .. } => {
+            e.to_string()
+        }
     };
     // `err.errno`: the OS error number, or for errors that wrap one without it (the
     // temporary file's), the number of its kind. No `filename`, which would make OSError
     // rewrite the message.
     let errno = match e {
-        OutputError::Io { source, .. } => source.raw_os_error().or_else(|| errno_of(py, source.kind())),
-        OutputError::UnknownFormat { .. } | OutputError::Hdf5Unavailable { .. } | OutputError::Hdf5 { .. } => None,
+        OutputError::Io { source, .. } => source
+            .raw_os_error()
+            .or_else(|| errno_of(py, source.kind())),
+        OutputError::UnknownFormat { .. }
+        | OutputError::Hdf5Unavailable { .. }
+        | OutputError::Hdf5 { .. } => None,
     };
-    let errno = errno.into_pyobject(py).map(|o| o.into_any().unbind()).unwrap_or_else(|_| py.None());
+    let errno = errno
+        .into_pyobject(py)
+        .map(|o| o.into_any().unbind())
+        .unwrap_or_else(|_| py.None());
     Class::Output.error(py, &message, &[("errno", errno)])
 }
 
@@ -245,7 +348,10 @@ fn errno_of(py: Python<'_>, kind: std::io::ErrorKind) -> Option<i32> {
         K::StorageFull => "ENOSPC",
         _ => return None,
     };
-    py.import("errno").and_then(|m| m.getattr(name)).and_then(|v| v.extract()).ok()
+    py.import("errno")
+        .and_then(|m| m.getattr(name))
+        .and_then(|v| v.extract())
+        .ok()
 }
 
 /// Whether a run that ended with `status` is an error (`Some(message)`) or an outcome.
@@ -261,7 +367,8 @@ pub fn status_error(status: &Status) -> Option<&str> {
 /// Runs `f`, turning a panic into `ellipsoid.InternalError` (pyo3 would raise its
 /// `PanicException`, a BaseException that `except Exception` does not catch).
 pub fn guard<T>(py: Python<'_>, f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|p| Err(internal_error(py, &crate::run::panic_message(&*p))))
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
+        .unwrap_or_else(|p| Err(internal_error(py, &crate::run::panic_message(&*p))))
 }
 
 /// A caught panic, as `ellipsoid.InternalError`.

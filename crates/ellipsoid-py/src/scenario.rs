@@ -36,12 +36,20 @@ pub struct PyScenario {
 impl PyScenario {
     /// `scenario::parse_all` with its errors as one `ScenarioError`.
     pub fn parse(py: Python<'_>, text: &str, source: &str, overrides: &[String]) -> PyResult<Self> {
-        errors::guard(py, || scenario::parse_all(text, source, overrides).map(|inner| PyScenario { inner }).map_err(|e| errors::scenario_errors(py, &e)))
+        errors::guard(py, || {
+            scenario::parse_all(text, source, overrides)
+                .map(|inner| PyScenario { inner })
+                .map_err(|e| errors::scenario_errors(py, &e))
+        })
     }
 
     /// `scenario::load_all` with its errors as one `ScenarioError`.
     pub fn load(py: Python<'_>, path: &std::path::Path, overrides: &[String]) -> PyResult<Self> {
-        errors::guard(py, || scenario::load_all(path, overrides).map(|inner| PyScenario { inner }).map_err(|e| errors::scenario_errors(py, &e)))
+        errors::guard(py, || {
+            scenario::load_all(path, overrides)
+                .map(|inner| PyScenario { inner })
+                .map_err(|e| errors::scenario_errors(py, &e))
+        })
     }
 
     /// This scenario with more overrides (the text is parsed again, so every check runs).
@@ -59,7 +67,9 @@ impl PyScenario {
 impl PyScenario {
     #[new]
     #[pyo3(signature = (*, body = None, initial = None, contact = None, effects = None, solver = None, output = None, check = None, name = None, **unknown))]
-    #[pyo3(text_signature = "(*, body=None, initial=None, contact=None, effects=None, solver=None, output=None, check=None, name='<scenario>', **unknown)")]
+    #[pyo3(
+        text_signature = "(*, body=None, initial=None, contact=None, effects=None, solver=None, output=None, check=None, name='<scenario>', **unknown)"
+    )]
     #[allow(clippy::too_many_arguments)] // one keyword per TOML table, as the issue asks
     fn new(
         py: Python<'_>,
@@ -88,11 +98,17 @@ impl PyScenario {
         // ("unknown table at the top level; did you mean `body`?").
         if let Some(unknown) = unknown {
             for (k, v) in unknown.iter() {
-                let k = k.cast::<PyString>().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+                let k = k
+                    .cast::<PyString>()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
                 parts.push((k, Some(v)));
             }
         }
-        let parts: Vec<(&str, Option<&Bound<'_, PyAny>>)> = parts.iter().map(|(k, v)| (k.as_str(), v.as_ref())).collect();
+        let parts: Vec<(&str, Option<&Bound<'_, PyAny>>)> = parts
+            .iter()
+            .map(|(k, v)| (k.as_str(), v.as_ref()))
+            .collect();
         let text = conv.document(&parts)?;
         Self::parse(py, &text, &name, &[])
     }
@@ -102,10 +118,20 @@ impl PyScenario {
     #[staticmethod]
     #[pyo3(signature = (text, name = None, **changes))]
     #[pyo3(text_signature = "(text, name='<string>', **changes)")]
-    fn from_toml(py: Python<'_>, text: &Bound<'_, PyAny>, name: Option<Bound<'_, PyAny>>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+    fn from_toml(
+        py: Python<'_>,
+        text: &Bound<'_, PyAny>,
+        name: Option<Bound<'_, PyAny>>,
+        changes: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
         let name = name_arg(py, name.as_ref(), "<string>")?;
         let text = str_arg(py, text, &name, "text")?;
-        Self::parse(py, &text, &name, &convert::Conv { source: &name }.overrides(changes)?)
+        Self::parse(
+            py,
+            &text,
+            &name,
+            &convert::Conv { source: &name }.overrides(changes)?,
+        )
     }
 
     /// A copy with some values changed, like the command line's `--set key=value`:
@@ -115,7 +141,13 @@ impl PyScenario {
     /// naming the override. Keys cannot be removed.
     #[pyo3(signature = (**changes))]
     fn replace(&self, py: Python<'_>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        self.with_overrides(py, convert::Conv { source: &self.inner.source }.overrides(changes)?)
+        self.with_overrides(
+            py,
+            convert::Conv {
+                source: &self.inner.source,
+            }
+            .overrides(changes)?,
+        )
     }
 
     /// Where the scenario came from: the file path as given, or the name of the text.
@@ -177,7 +209,9 @@ impl PyScenario {
     }
 
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
-        other.cast::<PyScenario>().is_ok_and(|o| o.get().inner == self.inner)
+        other
+            .cast::<PyScenario>()
+            .is_ok_and(|o| o.get().inner == self.inner)
     }
 
     fn __copy__(&self) -> Self {
@@ -194,26 +228,65 @@ impl PyScenario {
 /// rule in the message) if it cannot be read or is invalid.
 #[pyfunction]
 #[pyo3(signature = (path, **changes))]
-pub fn load(py: Python<'_>, path: &Bound<'_, PyAny>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<PyScenario> {
+pub fn load(
+    py: Python<'_>,
+    path: &Bound<'_, PyAny>,
+    changes: Option<&Bound<'_, PyDict>>,
+) -> PyResult<PyScenario> {
     let path = path_arg(py, path)?;
-    PyScenario::load(py, &path, &convert::Conv { source: &path.display().to_string() }.overrides(changes)?)
+    PyScenario::load(
+        py,
+        &path,
+        &convert::Conv {
+            source: &path.display().to_string(),
+        }
+        .overrides(changes)?,
+    )
 }
 
 /// A path argument (`str` or `os.PathLike`), or ScenarioTypeError.
 fn path_arg(py: Python<'_>, what: &Bound<'_, PyAny>) -> PyResult<PathBuf> {
     what.extract::<PathBuf>().map_err(|_| {
-        let ty = what.get_type().name().map(|n| n.to_string()).unwrap_or_default();
-        errors::type_error(py, "<arguments>", None, None, format!("expected an ellipsoid.Scenario or the path of a scenario file, found {ty}"))
+        let ty = what
+            .get_type()
+            .name()
+            .map(|n| n.to_string())
+            .unwrap_or_default();
+        errors::type_error(
+            py,
+            "<arguments>",
+            None,
+            None,
+            format!("expected an ellipsoid.Scenario or the path of a scenario file, found {ty}"),
+        )
     })
 }
 
 /// A string argument (`name`, `text`) as UTF-8, or ScenarioError / ScenarioTypeError.
 fn str_arg(py: Python<'_>, what: &Bound<'_, PyAny>, source: &str, arg: &str) -> PyResult<String> {
     let Ok(s) = what.cast::<PyString>() else {
-        let ty = what.get_type().name().map(|n| n.to_string()).unwrap_or_default();
-        return Err(errors::type_error(py, source, Some(arg), None, format!("expected a string, found {ty}")));
+        let ty = what
+            .get_type()
+            .name()
+            .map(|n| n.to_string())
+            .unwrap_or_default();
+        return Err(errors::type_error(
+            py,
+            source,
+            Some(arg),
+            None,
+            format!("expected a string, found {ty}"),
+        ));
     };
-    s.to_str().map(str::to_owned).map_err(|_| errors::value_error(py, source, Some(arg), None, "not valid Unicode text (it holds a lone surrogate); give UTF-8 text"))
+    s.to_str().map(str::to_owned).map_err(|_| {
+        errors::value_error(
+            py,
+            source,
+            Some(arg),
+            None,
+            "not valid Unicode text (it holds a lone surrogate); give UTF-8 text",
+        )
+    })
 }
 
 /// The `name` argument, `default` when None.
@@ -225,7 +298,11 @@ fn name_arg(py: Python<'_>, name: Option<&Bound<'_, PyAny>>, default: &str) -> P
 }
 
 /// A scenario from a `Scenario` or a path (`str` / `os.PathLike`), with `changes` applied.
-pub fn resolve(py: Python<'_>, what: &Bound<'_, PyAny>, changes: Vec<String>) -> PyResult<PyScenario> {
+pub fn resolve(
+    py: Python<'_>,
+    what: &Bound<'_, PyAny>,
+    changes: Vec<String>,
+) -> PyResult<PyScenario> {
     if let Ok(s) = what.cast::<PyScenario>() {
         return s.get().with_overrides(py, changes);
     }

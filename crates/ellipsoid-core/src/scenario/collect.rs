@@ -15,30 +15,56 @@ pub const MAX_ERRORS: usize = 20;
 
 /// Builds the scene, or returns every independent error (sorted by position; errors of
 /// `--set` values after those in the file).
-pub(super) fn build_all(ctx: &Ctx<'_>, tree: &Node) -> std::result::Result<(Scene, Check), Vec<ScenarioError>> {
+pub(super) fn build_all(
+    ctx: &Ctx<'_>,
+    tree: &Node,
+) -> std::result::Result<(Scene, Check), Vec<ScenarioError>> {
     // The scene is built by `build` alone; the passes below only look for more errors.
     let first = match build(ctx, tree) {
         Ok(v) => return Ok(v),
         Err(e) => e,
     };
-    let mut found = Found { errs: vec![first], emptied: Vec::new() };
+    let mut found = Found {
+        errs: vec![first],
+        emptied: Vec::new(),
+    };
     let mut clean = tree.clone();
     // The top level: unknown tables and keys.
-    retry(ctx, &mut clean, &mut found, |t| ctx.table_of("", t, &t.origin, &TOP_KEYS, "the scenario").map(|_| ()));
-    retry(ctx, &mut clean, &mut found, |t| read_body(ctx, t, &root(t)).map(|_| ()));
+    retry(ctx, &mut clean, &mut found, |t| {
+        ctx.table_of("", t, &t.origin, &TOP_KEYS, "the scenario")
+            .map(|_| ())
+    });
+    retry(ctx, &mut clean, &mut found, |t| {
+        read_body(ctx, t, &root(t)).map(|_| ())
+    });
     let contact = retry(ctx, &mut clean, &mut found, |t| read_contact(ctx, &root(t)));
     // With the contact model unknown, read the state as for a model without extra rules.
-    retry(ctx, &mut clean, &mut found, |t| read_initial(ctx, &root(t), contact.unwrap_or(ContactModel::Frictionless)).map(|_| ()));
-    retry(ctx, &mut clean, &mut found, |t| read_effects(ctx, &root(t)).map(|_| ()));
-    retry(ctx, &mut clean, &mut found, |t| read_solver(ctx, &root(t)).map(|_| ()));
-    retry(ctx, &mut clean, &mut found, |t| read_output(ctx, &root(t)).map(|_| ()));
-    retry(ctx, &mut clean, &mut found, |t| read_check(ctx, &root(t)).map(|_| ()));
+    retry(ctx, &mut clean, &mut found, |t| {
+        read_initial(ctx, &root(t), contact.unwrap_or(ContactModel::Frictionless)).map(|_| ())
+    });
+    retry(ctx, &mut clean, &mut found, |t| {
+        read_effects(ctx, &root(t)).map(|_| ())
+    });
+    retry(ctx, &mut clean, &mut found, |t| {
+        read_solver(ctx, &root(t)).map(|_| ())
+    });
+    retry(ctx, &mut clean, &mut found, |t| {
+        read_output(ctx, &root(t)).map(|_| ())
+    });
+    retry(ctx, &mut clean, &mut found, |t| {
+        read_check(ctx, &root(t)).map(|_| ())
+    });
     // A key missing from a table that had an unknown key is most likely that key,
     // misspelt (`mas` for `mass`): not an error of its own. (The first error, `build`'s,
     // is never such a consequence: it stops at the unknown key.)
     let emptied = found.emptied;
     let mut errs = found.errs;
-    errs.retain(|e| !(e.kind == ErrorKind::Missing && emptied.iter().any(|p| Some(p.as_str()) == e.key.as_deref().map(parent))));
+    errs.retain(|e| {
+        !(e.kind == ErrorKind::Missing
+            && emptied
+                .iter()
+                .any(|p| Some(p.as_str()) == e.key.as_deref().map(parent)))
+    });
     Err(ordered(errs))
 }
 
@@ -55,14 +81,21 @@ fn parent(key: &str) -> &str {
 
 /// Runs `read` on `tree`; an unknown-key error is recorded, the key removed and `read`
 /// run again, until it succeeds or fails otherwise (that error recorded too).
-fn retry<T>(ctx: &Ctx<'_>, tree: &mut Node, found: &mut Found, read: impl Fn(&Node) -> Result<T>) -> Option<T> {
+fn retry<T>(
+    ctx: &Ctx<'_>,
+    tree: &mut Node,
+    found: &mut Found,
+    read: impl Fn(&Node) -> Result<T>,
+) -> Option<T> {
     for _ in 0..=MAX_ERRORS {
         match read(tree) {
             Ok(v) => return Some(v),
             Err(e) => {
                 let again = e.kind == ErrorKind::UnknownKey && remove(ctx, tree, &e);
                 if again {
-                    found.emptied.push(parent(e.key.as_deref().unwrap_or("")).to_owned());
+                    found
+                        .emptied
+                        .push(parent(e.key.as_deref().unwrap_or("")).to_owned());
                 }
                 if !found.errs.contains(&e) {
                     found.errs.push(e);
@@ -82,7 +115,9 @@ fn remove(ctx: &Ctx<'_>, node: &mut Node, e: &ScenarioError) -> bool {
     let key = e.key.as_deref().unwrap_or("");
     match &mut node.value {
         Value::Table(entries) => {
-            if let Some(i) = entries.iter().position(|en| key.ends_with(en.key.as_str()) && ctx.locate(&en.key_origin) == e.location) {
+            if let Some(i) = entries.iter().position(|en| {
+                key.ends_with(en.key.as_str()) && ctx.locate(&en.key_origin) == e.location
+            }) {
                 entries.remove(i);
                 return true;
             }
@@ -95,7 +130,13 @@ fn remove(ctx: &Ctx<'_>, node: &mut Node, e: &ScenarioError) -> bool {
 
 /// Sorted by place in the file (`--set` values last, in order), at most [`MAX_ERRORS`].
 fn ordered(mut errs: Vec<ScenarioError>) -> Vec<ScenarioError> {
-    errs.sort_by_key(|e| (e.location.line.is_none(), e.location.line, e.location.column));
+    errs.sort_by_key(|e| {
+        (
+            e.location.line.is_none(),
+            e.location.line,
+            e.location.column,
+        )
+    });
     errs.truncate(MAX_ERRORS);
     errs
 }
@@ -103,12 +144,16 @@ fn ordered(mut errs: Vec<ScenarioError>) -> Vec<ScenarioError> {
 /// The first integer of the document beyond TOML's 64-bit range (the spec: "If an
 /// integer cannot be represented losslessly, an error must be thrown"): its span.
 pub(super) fn wide_integer_table(table: &DeTable<'_>) -> Option<Range<usize>> {
-    table.iter().find_map(|(_, v)| wide_integer(v.get_ref(), v.span()))
+    table
+        .iter()
+        .find_map(|(_, v)| wide_integer(v.get_ref(), v.span()))
 }
 
 pub(super) fn wide_integer(value: &DeValue<'_>, span: Range<usize>) -> Option<Range<usize>> {
     match value {
-        DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix()).is_err().then_some(span),
+        DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix())
+            .is_err()
+            .then_some(span),
         DeValue::Array(a) => a.iter().find_map(|e| wide_integer(e.get_ref(), e.span())),
         DeValue::Table(t) => wide_integer_table(t),
         _ => None,
@@ -120,5 +165,8 @@ pub(super) const WIDE_INTEGER: &str = "integer out of TOML's range (-2^63 to 2^6
 
 /// The document's root as a table to read from.
 fn root(tree: &Node) -> Sec<'_> {
-    Sec { path: String::new(), node: tree }
+    Sec {
+        path: String::new(),
+        node: tree,
+    }
 }

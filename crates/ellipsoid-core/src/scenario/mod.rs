@@ -27,7 +27,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector2, Vector3};
 use serde::Serialize;
 use toml::de::{DeTable, DeValue};
 
-use crate::body::{uniform_inertia, Body};
+use crate::body::{Body, uniform_inertia};
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
 use crate::integrate::Method;
@@ -62,15 +62,55 @@ pub const DEFAULT_REGULARISATION: f64 = 1e-3;
 /// Most output samples a scenario may ask for (10⁷ rows of CSV is already ~3 GB).
 pub const MAX_SAMPLES: usize = 10_000_000;
 /// The invariants a `[check]` table may bound (the fields of `simulate::Drift`).
-pub const DRIFT_NAMES: [&str; 6] = ["energy", "energy_plus_work", "momentum", "angular_momentum_z", "axial_spin", "jellett"];
+pub const DRIFT_NAMES: [&str; 6] = [
+    "energy",
+    "energy_plus_work",
+    "momentum",
+    "angular_momentum_z",
+    "axial_spin",
+    "jellett",
+];
 /// The run statuses a `[check]` table may expect (the `status` names of `simulate::Status`).
-pub const STATUS_NAMES: [&str; 7] = ["completed", "lost_contact", "slip_stopped", "painleve", "solver_failure", "chattering", "cancelled"];
+pub const STATUS_NAMES: [&str; 7] = [
+    "completed",
+    "lost_contact",
+    "slip_stopped",
+    "painleve",
+    "solver_failure",
+    "chattering",
+    "cancelled",
+];
 
-const TOP_KEYS: [&str; 7] = ["body", "initial", "contact", "effects", "solver", "output", "check"];
-const BODY_KEYS: [&str; 7] = ["a", "b", "c", "mass", "com_offset", "com_offset_vector", "inertia"];
+const TOP_KEYS: [&str; 7] = [
+    "body", "initial", "contact", "effects", "solver", "output", "check",
+];
+const BODY_KEYS: [&str; 7] = [
+    "a",
+    "b",
+    "c",
+    "mass",
+    "com_offset",
+    "com_offset_vector",
+    "inertia",
+];
 const INITIAL_KEYS: [&str; 17] = [
-    "theta", "theta_deg", "phi", "phi_deg", "psi", "psi_deg", "theta_dot", "theta_dot_deg", "phi_dot", "phi_dot_deg", "psi_dot", "psi_dot_deg",
-    "omega_body", "omega_body_deg", "rotation", "position", "velocity",
+    "theta",
+    "theta_deg",
+    "phi",
+    "phi_deg",
+    "psi",
+    "psi_deg",
+    "theta_dot",
+    "theta_dot_deg",
+    "phi_dot",
+    "phi_dot_deg",
+    "psi_dot",
+    "psi_dot_deg",
+    "omega_body",
+    "omega_body_deg",
+    "rotation",
+    "position",
+    "velocity",
 ];
 const CONTACT_KEYS: [&str; 2] = ["model", "friction"];
 const CONTACT_MODELS: [&str; 4] = ["frictionless", "sliding", "rolling", "coulomb"];
@@ -172,7 +212,11 @@ impl ScenarioError {
     fn render(&self) -> String {
         let loc = &self.location;
         let rule = crate::error::shorten_numbers(&self.rule);
-        match (self.key.as_deref().map(cut), self.value.as_deref().map(crate::error::shorten_numbers), self.kind) {
+        match (
+            self.key.as_deref().map(cut),
+            self.value.as_deref().map(crate::error::shorten_numbers),
+            self.kind,
+        ) {
             (Some(k), _, ErrorKind::Missing) => format!("{loc}: {k} is missing: {rule}"),
             (Some(k), Some(v), _) => format!("{loc}: {k} = {v}: {rule}"),
             (Some(k), None, _) => format!("{loc}: {k}: {rule}"),
@@ -185,7 +229,11 @@ impl ScenarioError {
 pub(crate) fn cut(text: &str) -> String {
     let mut chars = text.chars().map(|c| if c.is_control() { ' ' } else { c });
     let head: String = chars.by_ref().take(60).collect();
-    if chars.next().is_some() { format!("{}…", head.chars().take(59).collect::<String>()) } else { head }
+    if chars.next().is_some() {
+        format!("{}…", head.chars().take(59).collect::<String>())
+    } else {
+        head
+    }
 }
 
 /// Every independent error of one scenario (at least one, at most [`MAX_ERRORS`]), in
@@ -216,16 +264,29 @@ pub fn load(path: &Path, overrides: &[impl AsRef<str>]) -> Result<Scenario> {
 }
 
 /// [`load`] with every independent error of the file, in file order.
-pub fn load_all(path: &Path, overrides: &[impl AsRef<str>]) -> std::result::Result<Scenario, ScenarioErrors> {
+pub fn load_all(
+    path: &Path,
+    overrides: &[impl AsRef<str>],
+) -> std::result::Result<Scenario, ScenarioErrors> {
     let source = path.display().to_string();
     let io = |rule: String, line: Option<usize>, column: Option<usize>| ScenarioError {
-        kind: if line.is_some() { ErrorKind::Syntax } else { ErrorKind::Io },
-        location: Location { source: source.clone(), line, column, set: None },
+        kind: if line.is_some() {
+            ErrorKind::Syntax
+        } else {
+            ErrorKind::Io
+        },
+        location: Location {
+            source: source.clone(),
+            line,
+            column,
+            set: None,
+        },
         key: None,
         value: None,
         rule,
     };
-    let bytes = std::fs::read(path).map_err(|e| io(format!("cannot read the scenario file: {e}"), None, None))?;
+    let bytes = std::fs::read(path)
+        .map_err(|e| io(format!("cannot read the scenario file: {e}"), None, None))?;
     let text = String::from_utf8(bytes).map_err(|e| {
         // Where the first bad byte is: line and column (in characters) of the valid text before it.
         let bytes = e.as_bytes();
@@ -246,12 +307,24 @@ pub fn parse(text: &str, source: &str, overrides: &[impl AsRef<str>]) -> Result<
 }
 
 /// [`parse`] with every independent error, in file order (at most [`MAX_ERRORS`]).
-pub fn parse_all(text: &str, source: &str, overrides: &[impl AsRef<str>]) -> std::result::Result<Scenario, ScenarioErrors> {
+pub fn parse_all(
+    text: &str,
+    source: &str,
+    overrides: &[impl AsRef<str>],
+) -> std::result::Result<Scenario, ScenarioErrors> {
     let ctx = Ctx { source, text };
     let doc = DeTable::parse(text).map_err(|e| ctx.syntax(&e, None))?;
     if let Some(span) = wide_integer_table(doc.get_ref()) {
         let literal = text.get(span.clone()).unwrap_or_default();
-        return Err(ctx.error(ErrorKind::Syntax, &Origin::File(span), None, None, format!("{}: {WIDE_INTEGER}", cut(literal))).into());
+        return Err(ctx
+            .error(
+                ErrorKind::Syntax,
+                &Origin::File(span),
+                None,
+                None,
+                format!("{}: {WIDE_INTEGER}", cut(literal)),
+            )
+            .into());
     }
     let mut tree = Node::from_table(doc.into_inner(), Origin::File(0..0));
     let overrides: Vec<String> = overrides.iter().map(|s| s.as_ref().to_owned()).collect();
@@ -259,13 +332,23 @@ pub fn parse_all(text: &str, source: &str, overrides: &[impl AsRef<str>]) -> std
         apply_override(&ctx, &mut tree, set)?;
     }
     let (scene, check) = build_all(&ctx, &tree).map_err(ScenarioErrors)?;
-    Ok(Scenario { scene, text: text.to_owned(), source: source.to_owned(), overrides, check, tree })
+    Ok(Scenario {
+        scene,
+        text: text.to_owned(),
+        source: source.to_owned(),
+        overrides,
+        check,
+        tree,
+    })
 }
 
 impl Scenario {
     /// The file name without its extension (`nutation` for `scenarios/nutation.toml`).
     pub fn stem(&self) -> String {
-        Path::new(&self.source).file_stem().map_or_else(|| "scenario".to_owned(), |s| s.to_string_lossy().into_owned())
+        Path::new(&self.source).file_stem().map_or_else(
+            || "scenario".to_owned(),
+            |s| s.to_string_lossy().into_owned(),
+        )
     }
 
     /// Places an error of the physics layer (e.g. from `simulate`) at the key it names:
@@ -274,9 +357,17 @@ impl Scenario {
     /// state`) has no key of its own: when the scenario was changed by `--set`, the
     /// overrides are named too, since one of them may be the cause.
     pub fn locate(&self, err: &ModelError) -> ScenarioError {
-        let mut e = Ctx { source: &self.source, text: &self.text }.model(&self.tree, err);
+        let mut e = Ctx {
+            source: &self.source,
+            text: &self.text,
+        }
+        .model(&self.tree, err);
         if e.location.set.is_none() && !self.overrides.is_empty() {
-            e.rule = format!("{} (in the scenario as changed by --set {})", e.rule, self.overrides.join(", --set "));
+            e.rule = format!(
+                "{} (in the scenario as changed by --set {})",
+                e.rule,
+                self.overrides.join(", --set ")
+            );
         }
         e
     }
