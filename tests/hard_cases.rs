@@ -321,7 +321,7 @@ fn hard_7_millimetres_and_kilometres_give_the_same_dimensionless_motion() {
 
 // 8 ------------------------------------------------------------ the paper's Euler-angle equations
 
-/// The paper's frictionless equations (14)–(16) with C = −H (PAPER-NOTES.md), state
+/// The paper's frictionless equations (14)–(16) with C = −H (docs/paper-notes.md), state
 /// (θ, φ, ψ, θ̇, φ̇, ψ̇); G stays on a vertical line (zero horizontal momentum).
 struct PaperEuler {
     a: f64,
