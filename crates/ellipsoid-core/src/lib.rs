@@ -6,11 +6,11 @@
 // `!(x > 0.0)` is how this crate rejects NaN along with non-positive values.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-pub mod integrate;
 pub mod body;
 pub mod effects;
 pub mod error;
 pub mod geometry;
+pub mod integrate;
 pub mod invariants;
 pub mod model;
 pub mod reference;
