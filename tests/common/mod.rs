@@ -1,4 +1,4 @@
-//! Bodies and scenes from PHYSICS.md shared by the physics tests.
+//! Bodies and scenes from docs/physics.md shared by the physics tests.
 #![allow(dead_code)] // each test binary uses a different subset
 
 use std::ops::ControlFlow;

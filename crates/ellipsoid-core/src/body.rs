@@ -1,7 +1,7 @@
 //! The rigid body: an ellipsoid with semi-axes (a, b, c) along its principal body axes,
 //! centre of mass G offset from the geometric centre C0, central inertia about G.
 //!
-//! PHYSICS.md, "Body, frames, conventions". The paper's body is a = b, c, with
+//! docs/physics.md, "Body, frames, conventions". The paper's body is a = b, c, with
 //! `com_offset = (0, 0, −D2)` (paper eq. 7) and `I_b = diag(I, I, I3)`.
 
 use nalgebra::{Matrix3, Vector3};

@@ -1,6 +1,6 @@
 //! Exact contact geometry of an ellipsoid touching the plane z = 0, for any semi-axes.
 //!
-//! PHYSICS.md, "Contact geometry". With ζ = Rᵀe3 (world up in body axes) and
+//! docs/physics.md, "Contact geometry". With ζ = Rᵀe3 (world up in body axes) and
 //! A = diag(a, b, c):
 //! ```text
 //!   s    = sqrt(ζᵀA²ζ)                      height of C0 (paper eq. 8: D1)

@@ -1,4 +1,4 @@
-//! Conserved and balanced quantities (PHYSICS.md, "Invariants").
+//! Conserved and balanced quantities (docs/physics.md, "Invariants").
 //!
 //! ```text
 //!   E   = ½ m |v_G|² + ½ ω_bᵀ I ω_b + m g z_G          energy

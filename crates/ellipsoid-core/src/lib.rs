@@ -1,6 +1,6 @@
 //! `ellipsoid-core`: a rigid, non-homogeneous ellipsoid on a horizontal plane.
 //!
-//! SI units throughout (m, kg, s, rad). The physics reference is `PHYSICS.md`
+//! SI units throughout (m, kg, s, rad). The physics reference is `docs/physics.md`
 //! (shipped as `docs/physics.md`); integrators live in [`integrate`].
 
 // `!(x > 0.0)` is how this crate rejects NaN along with non-positive values.

@@ -1,5 +1,5 @@
 //! Exact references for accuracy measurements: the nutation period of a frictionless
-//! body of revolution from the one-degree-of-freedom reduction (PHYSICS.md,
+//! body of revolution from the one-degree-of-freedom reduction (docs/physics.md,
 //! "Invariants"), by Gauss–Legendre quadrature.
 //!
 //! ```text

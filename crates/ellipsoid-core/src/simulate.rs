@@ -1,4 +1,4 @@
-//! Runs a scene: the contact model's modes (PHYSICS.md models 1–5), their transitions
+//! Runs a scene: the contact model's modes (docs/physics.md models 1–5), their transitions
 //! located as events on the dense output, sampling and invariant bookkeeping.
 //!
 //! Each mode is a monomorphised [`System`] over the scene's effects; the Coulomb model

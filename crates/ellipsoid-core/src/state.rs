@@ -1,5 +1,5 @@
 //! The integration state, declared once, and conversions to and from the paper's
-//! z-x-z Euler angles (paper eq. 1; PHYSICS.md "Body, frames, conventions").
+//! z-x-z Euler angles (paper eq. 1; docs/physics.md "Body, frames, conventions").
 //!
 //! ```text
 //! index  symbol        unit    meaning

@@ -1,4 +1,4 @@
-//! Frictionless contact (paper §2; PHYSICS.md model 1): F = N e3,
+//! Frictionless contact (paper §2; docs/physics.md model 1): F = N e3,
 //! N = m (g + u·I⁻¹(ω × Iω) − κ) / (1 + m u·I⁻¹u) (with effects, see [`super::unilateral`]).
 
 use nalgebra::Vector3;

@@ -1,5 +1,5 @@
 //! Newton–Euler dynamics of the ellipsoid on the plane, generic over the contact law
-//! and the optional effects (PHYSICS.md, "Equations of motion").
+//! and the optional effects (docs/physics.md, "Equations of motion").
 //!
 //! ```text
 //!   m a_G   = F + f − m g e3                 F: contact force at C, f: effects' force
@@ -184,7 +184,7 @@ impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
 /// ```text
 ///   N (1 + m u·I⁻¹ℓ) = m g − f_z − m u·I⁻¹T − m κ
 /// ```
-/// (PHYSICS.md, models 1 and 2; d = e3 gives the frictionless law.)
+/// (docs/physics.md, models 1 and 2; d = e3 gives the frictionless law.)
 #[inline]
 pub(crate) fn unilateral(
     body: &Body,

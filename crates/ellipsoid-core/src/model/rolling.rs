@@ -1,4 +1,4 @@
-//! Rolling without slipping (paper §4, corrected; PHYSICS.md model 3). v_C = 0, so
+//! Rolling without slipping (paper §4, corrected; docs/physics.md model 3). v_C = 0, so
 //! v_G = −ω × r and the contact force F (body frame F_b) solves the 3×3 system
 //! ```text
 //!   (I₃ − m [r]× I⁻¹ ([r]× + τ_N ζᵀ)) F_b = m g ζ − f_b + m [r]× I⁻¹ T − m ω × ṙ_tot
@@ -7,7 +7,7 @@
 //! body: omitting ṙ_surface is the classic error that breaks energy conservation).
 //! Without effects the matrix is I₃ + m [r]×ᵀ I⁻¹ [r]×, symmetric positive definite.
 //! The paper's own §4 substitutes this nonholonomic constraint into the Lagrangian and
-//! is wrong (PAPER-NOTES.md); this is the Newton–Euler form.
+//! is wrong (docs/paper-notes.md); this is the Newton–Euler form.
 
 use nalgebra::{Matrix3, Vector3};
 

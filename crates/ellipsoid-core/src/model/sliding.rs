@@ -1,4 +1,4 @@
-//! Coulomb sliding friction (paper §3; PHYSICS.md model 2): F = N d with
+//! Coulomb sliding friction (paper §3; docs/physics.md model 2): F = N d with
 //! d = e3 − μ ŝ, ŝ the unit slip direction of the material contact point,
 //! N = m (g + u·I⁻¹(ω × Iω) − κ) / (1 + m u·I⁻¹(r × d_b)).
 //!
