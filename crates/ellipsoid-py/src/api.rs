@@ -229,10 +229,19 @@ fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<
             format!("expected an integer, found {ty}; {rule}"),
         ));
     }
-    let shown = w
+    let digits = w
         .str()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
+    // An integer too long to read in a message is described, not cut.
+    let shown = if digits.len() > 24 {
+        format!(
+            "an integer of {} digits",
+            digits.trim_start_matches('-').len()
+        )
+    } else {
+        digits
+    };
     match w.extract::<i64>() {
         Ok(n) if n >= 1 && n as u64 <= max as u64 => Ok(Some(n as usize)),
         _ => Err(errors::value_error(

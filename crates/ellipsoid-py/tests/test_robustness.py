@@ -75,8 +75,8 @@ def test_workers_are_capped() -> None:
     cap = max(4 * cpus, 8)
     assert len(ellipsoid.sweep([good, good], workers=cap)) == 2
     for bad in (cap + 1, 4000, 10**6, 2**64, 10**400, 0, -1):
-        shown = re.escape(str(bad)[:20])
-        with pytest.raises(ellipsoid.ScenarioError, match=rf"workers = {shown}.*: give 1 to {cap} worker threads") as info:
+        shown = str(bad) if len(str(bad)) <= 24 else f"an integer of {len(str(bad))} digits"
+        with pytest.raises(ellipsoid.ScenarioError, match=rf"workers = {re.escape(shown)}: give 1 to {cap} worker threads") as info:
             ellipsoid.sweep([good], workers=bad)
         assert info.value.key == "workers"
     for bad_type in (1.5, "4", True):
