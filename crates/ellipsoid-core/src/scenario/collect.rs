@@ -54,6 +54,9 @@ pub(super) fn build_all(
     retry(ctx, &mut clean, &mut found, |t| {
         read_check(ctx, &root(t)).map(|_| ())
     });
+    retry(ctx, &mut clean, &mut found, |t| {
+        read_observe(ctx, &root(t)).map(|_| ())
+    });
     // A key missing from a table that had an unknown key is most likely that key,
     // misspelt (`mas` for `mass`): not an error of its own. (The first error, `build`'s,
     // is never such a consequence: it stops at the unknown key.)
