@@ -760,46 +760,78 @@ pub fn state_error(scene: &Scene, out: &Outcome, reference: &Outcome) -> f64 {
 /// Column names of `precision.csv`.
 pub const CSV_HEADER: &str = "scene,t_end,measure,method,setting,h,rtol,atol,status,t_final,error,period_error,state_error,energy_drift,invariant_drift,wall_time_median_s,wall_time_min_s,repeats,rhs_evals,steps,rejected";
 
-fn opt(v: Option<f64>) -> String {
-    v.map_or_else(String::new, |x| format!("{x:e}"))
+/// One column of the report's table, a value per row.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Column {
+    Text(Vec<String>),
+    /// `None` where the CSV cell is empty (h of the adaptive methods, rtol and atol of
+    /// RK4, the error measures and drifts that do not apply).
+    Float(Vec<Option<f64>>),
+    Count(Vec<u64>),
+}
+
+impl Column {
+    /// The CSV cell of row `i`: floats in the shortest form that reads back exactly
+    /// (`{:e}`), absent values empty.
+    fn cell(&self, i: usize) -> String {
+        match self {
+            Column::Text(v) => v[i].clone(),
+            Column::Float(v) => v[i].map_or_else(String::new, |x| format!("{x:e}")),
+            Column::Count(v) => v[i].to_string(),
+        }
+    }
+}
+
+/// The table of the report by column, named and ordered as in [`CSV_HEADER`]: the one
+/// declaration the CSV and Python's `PrecisionTable` are both built from.
+pub fn columns(report: &Report) -> Vec<(&'static str, Column)> {
+    let rows = &report.rows;
+    let text = |f: &dyn Fn(&Row) -> String| Column::Text(rows.iter().map(f).collect());
+    let float = |f: &dyn Fn(&Row) -> Option<f64>| Column::Float(rows.iter().map(f).collect());
+    let count = |f: &dyn Fn(&Row) -> u64| Column::Count(rows.iter().map(f).collect());
+    let h = |r: &Row| match r.setting.method {
+        Method::Rk4 { h } => Some(h),
+        _ => None,
+    };
+    let adaptive = |r: &Row, v: f64| match r.setting.method {
+        Method::Rk4 { .. } => None,
+        _ => Some(v),
+    };
+    vec![
+        ("scene", text(&|_| report.scene_name.clone())),
+        ("t_end", float(&|_| Some(report.t_end))),
+        ("measure", text(&|_| report.reference.measure().to_owned())),
+        ("method", text(&|r| r.setting.method.name().to_owned())),
+        ("setting", text(&|r| r.setting.label())),
+        ("h", float(&h)),
+        ("rtol", float(&|r| adaptive(r, r.setting.rtol))),
+        ("atol", float(&|r| adaptive(r, r.setting.atol))),
+        ("status", text(&|r| r.status.to_owned())),
+        ("t_final", float(&|r| Some(r.t_final))),
+        ("error", float(&|r| Some(r.error))),
+        ("period_error", float(&|r| r.period_error)),
+        ("state_error", float(&|r| r.state_error)),
+        ("energy_drift", float(&|r| r.energy_drift)),
+        ("invariant_drift", float(&|r| r.invariant_drift)),
+        ("wall_time_median_s", float(&|r| Some(r.wall_median))),
+        ("wall_time_min_s", float(&|r| Some(r.wall_min))),
+        ("repeats", count(&|r| r.repeats as u64)),
+        ("rhs_evals", count(&|r| r.rhs_evals)),
+        ("steps", count(&|r| r.accepted)),
+        ("rejected", count(&|r| r.rejected)),
+    ]
 }
 
 /// The CSV text.
 pub fn csv(report: &Report) -> String {
+    let columns = columns(report);
     let mut s = String::new();
     s.push_str(CSV_HEADER);
     s.push('\n');
-    for r in &report.rows {
-        let (h, rtol, atol) = match r.setting.method {
-            Method::Rk4 { h } => (format!("{h:e}"), String::new(), String::new()),
-            _ => (
-                String::new(),
-                format!("{:e}", r.setting.rtol),
-                format!("{:e}", r.setting.atol),
-            ),
-        };
-        let _ = writeln!(
-            s,
-            "{},{:e},{},{},{},{h},{rtol},{atol},{},{:e},{:e},{},{},{},{},{:e},{:e},{},{},{},{}",
-            report.scene_name,
-            report.t_end,
-            report.reference.measure(),
-            r.setting.method.name(),
-            r.setting.label(),
-            r.status,
-            r.t_final,
-            r.error,
-            opt(r.period_error),
-            opt(r.state_error),
-            opt(r.energy_drift),
-            opt(r.invariant_drift),
-            r.wall_median,
-            r.wall_min,
-            r.repeats,
-            r.rhs_evals,
-            r.accepted,
-            r.rejected
-        );
+    for i in 0..report.rows.len() {
+        let cells: Vec<String> = columns.iter().map(|(_, c)| c.cell(i)).collect();
+        s.push_str(&cells.join(","));
+        s.push('\n');
     }
     s
 }
@@ -1026,6 +1058,48 @@ mod tests {
             assert!(r.iter().all(|s| s.atol == s.rtol * 1e-2));
         }
         assert_eq!(grid(true, 1e-2).len(), 9);
+    }
+
+    #[test]
+    fn the_csv_header_names_the_columns() {
+        let report = Report {
+            scene_name: "x".into(),
+            t_end: 1.0,
+            reference: Reference::State {
+                outcome: Box::new(
+                    run(
+                        &nutation_scenario(),
+                        &nutation_scenario().scene,
+                        &Hooks::SILENT,
+                    )
+                    .unwrap(),
+                ),
+                rtol: REFERENCE_RTOL,
+                uncertainty: 0.0,
+            },
+            rows: Vec::new(),
+            notes: Vec::new(),
+        };
+        let names: Vec<&str> = columns(&report).iter().map(|c| c.0).collect();
+        assert_eq!(names.join(","), CSV_HEADER);
+        assert_eq!(csv(&report), format!("{CSV_HEADER}\n"));
+    }
+
+    #[test]
+    fn cancelling_stops_the_study_with_its_own_error() {
+        let cancel = Arc::new(AtomicBool::new(true));
+        let hooks = Hooks {
+            cancel: Some(cancel),
+            ..Hooks::SILENT
+        };
+        let options = StudyOptions {
+            quick: true,
+            ..StudyOptions::default()
+        };
+        let e = measure(&nutation_scenario(), &options, &Spelling::CLI, &hooks)
+            .err()
+            .expect("cancelled");
+        assert!(matches!(e, StudyError::Cancelled), "{e}");
     }
 
     #[test]
