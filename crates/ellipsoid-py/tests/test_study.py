@@ -170,6 +170,29 @@ def test_precision_output_error_is_an_oserror(tmp_path: Path) -> None:
         ellipsoid.precision(SLIDING, quick=True, t_end=0.02, out=tmp_path / "file" / "sub")
 
 
+def test_precision_without_an_exact_period_says_why_and_measures_the_final_state() -> None:
+    # A frictionless triaxial body: no one-degree-of-freedom reduction, so no exact period.
+    t = ellipsoid.precision(NUTATION, quick=True, t_end=0.2, body={"b": 0.02, "inertia": [9e-6, 8e-6, 1.2e-5]})
+    assert set(t.measure) == {"final_state"}
+    assert len(t.notes) == 1 and "no exact period reference (not a body of revolution" in t.notes[0]
+
+
+def test_precision_without_a_clean_reference_is_a_simulation_error() -> None:
+    # The needle of test_run.py: sliding with mu = 1 reaches a Painleve inconsistency at
+    # t = 0.034 s, so the DOP853 reference run cannot finish.
+    needle = ellipsoid.Scenario(
+        body=dict(a=0.005, c=0.1, mass=0.1, inertia="uniform"),
+        initial=dict(theta=0.3, velocity=[1.0, 0.0]),
+        contact=dict(model="sliding", friction=1.0),
+        output=dict(t_end=0.2, dt=1e-3),
+    )
+    with pytest.raises(ellipsoid.SimulationError, match=r"^no reference: the DOP853 reference run at rtol = 1e-14 did not finish cleanly \(painleve\)") as info:
+        ellipsoid.precision(needle, quick=True, t_end=0.1)
+    e = info.value
+    assert e.status == "painleve" and e.trajectory.status == "painleve" and len(e.trajectory) == 0
+    assert 0.03 < e.trajectory.summary["final"]["t"] < 0.04
+
+
 def test_ctrl_c_interrupts_the_precision_study() -> None:
     # The full grid over 10 s takes minutes (RK4 alone makes 10^7 steps at h = 1e-6 s);
     # the interrupt comes once another thread sees it running (see conftest).
