@@ -190,7 +190,6 @@ fn study_error(py: Python<'_>, scenario: &Scenario, e: StudyError) -> PyErr {
                 samples: Vec::new(),
                 summary,
                 status: outcome.status.clone(),
-                non_finite: None,
             });
             let attrs = (|| -> PyResult<Vec<(&str, Py<PyAny>)>> {
                 Ok(vec![

@@ -257,7 +257,7 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
         invariants: drift_entries(&outcome.drift)
             .into_iter()
             .filter(|(_, v)| v.is_some())
-            .map(|(k, _)| k)
+            .map(|(k, _)| k.to_owned())
             .collect(),
         solver: SolverData {
             method: s.method.name(),

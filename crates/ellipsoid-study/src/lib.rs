@@ -13,13 +13,7 @@ pub mod precision;
 use ellipsoid_core::simulate::Drift;
 
 /// Each invariant's drift by its summary name, in summary order (`None` where the scene
-/// does not conserve it). The one place this crate reads [`Drift`]'s fields: through its
-/// serialised form, the summary's `drift` map.
-pub fn drift_entries(drift: &Drift) -> Vec<(String, Option<f64>)> {
-    match serde_json::to_value(drift) {
-        Ok(serde_json::Value::Object(map)) => {
-            map.into_iter().map(|(k, v)| (k, v.as_f64())).collect()
-        }
-        _ => Vec::new(),
-    }
+/// does not conserve it).
+pub fn drift_entries(drift: &Drift) -> Vec<(&'static str, Option<f64>)> {
+    drift.iter().map(|(which, d)| (which.name(), d)).collect()
 }

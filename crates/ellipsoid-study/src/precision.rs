@@ -26,6 +26,7 @@ use std::time::Instant;
 
 use ellipsoid_core::error::{ModelError, number};
 use ellipsoid_core::integrate::{self, Action, Direction, Event, Method, Options, StopReason};
+use ellipsoid_core::invariants::Invariant;
 use ellipsoid_core::model::{Frictionless, System};
 use ellipsoid_core::reference::{self, Nutation};
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
@@ -34,7 +35,6 @@ use ellipsoid_core::state::{self, State};
 use ellipsoid_io::{OutputError, atomic};
 use nalgebra::Vector3;
 
-use crate::drift_entries;
 use crate::plot::{self, Series};
 
 /// Default end time: the scenario's, but at most this \[s\] (RK4 at h = 1e-6 s costs
@@ -560,10 +560,7 @@ fn establish_reference(
         )
     };
     let reference = run(scenario, &tight(REFERENCE_RTOL), hooks)?;
-    if matches!(
-        reference.status,
-        Status::SolverFailure(_) | Status::Chattering(_) | Status::Cancelled | Status::Painleve(_)
-    ) {
+    if reference.status.is_error() || reference.status == Status::Cancelled {
         return Err(StudyError::Reference {
             message: format!(
                 "the DOP853 reference run at rtol = {REFERENCE_RTOL:e} did not finish cleanly ({}): {:?}",
@@ -663,17 +660,13 @@ fn median(sorted: &[f64]) -> f64 {
 
 /// The largest relative drift of the invariants the scene conserves.
 fn max_drift(d: &Drift) -> Option<f64> {
-    drift_entries(d)
-        .into_iter()
-        .filter_map(|(_, v)| v)
-        .reduce(f64::max)
+    d.max()
 }
 
 /// The drift of E (conservative scenes), else of E + W.
 fn energy_drift(d: &Drift) -> Option<f64> {
-    let entries = drift_entries(d);
-    let named = |name: &str| entries.iter().find(|(k, _)| k == name).and_then(|e| e.1);
-    named("energy").or_else(|| named("energy_plus_work"))
+    d.get(Invariant::Energy)
+        .or(d.get(Invariant::EnergyPlusWork))
 }
 
 /// |T_run − T|/T with T_run the mean period between the first and last maxima of θ,
