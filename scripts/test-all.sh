@@ -13,7 +13,11 @@ if ! pkg-config --exists hdf5 2>/dev/null; then
     || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends libhdf5-dev pkg-config; }
 fi
 
-# 2. Rust: every crate but the Python extension (tested below through its wheel).
+# 2. Rust: formatting and lints first (cheap, and a red CI should say why at once), then
+#    every crate but the Python extension (tested below through its wheel).
+echo "== cargo fmt --check, cargo clippy"
+cargo fmt --all --check
+cargo clippy --release --all-targets --features ellipsoid-cli/hdf5 -- -D warnings
 echo "== cargo test"
 cargo test --release --features ellipsoid-cli/hdf5
 

@@ -97,3 +97,62 @@ impl<'o> Recorder<'o> {
         }))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simulate::outcome::Mode;
+    use nalgebra::{Vector2, Vector3};
+
+    /// A sample holding NaN is never handed on: the recorder stops the run and says which
+    /// column held what.
+    #[test]
+    fn a_non_finite_sample_stops_the_run_by_name() {
+        let mut seen = 0;
+        let mut observer = |_: &Sample| {
+            seen += 1;
+            ControlFlow::Continue(())
+        };
+        let inv = Invariants {
+            energy: 1.0,
+            energy_plus_work: 1.0,
+            momentum: [0.0; 2],
+            angular_momentum_z: 0.0,
+            axial_spin: 0.0,
+            jellett: 0.0,
+        };
+        let all = Conservation {
+            conservative: true,
+            frictionless: true,
+            energy: true,
+            revolution: true,
+            sphere: false,
+        };
+        let mut rec = Recorder::new(&mut observer, all, &inv, [1.0; 6], EulerAngles::default());
+        let mut s = Sample {
+            t: 0.1,
+            position: Vector3::zeros(),
+            angles: EulerAngles::default(),
+            omega: Vector3::new(0.0, 0.0, 1.0),
+            omega_world: Vector3::new(0.0, 0.0, 1.0),
+            velocity: Vector3::zeros(),
+            contact: Vector2::zeros(),
+            energy: 1.0,
+            work: 0.0,
+            normal_force: 1.0,
+            slip_speed: 0.0,
+            drift: 0.0,
+            mode: Mode::Rolling,
+        };
+        assert!(rec.emit(s, inv).is_continue());
+        s.omega.y = f64::NAN;
+        assert!(rec.emit(s, inv).is_break());
+        let Some(Status::NonFinite { column, value }) = rec.stopped else {
+            panic!("{:?}", rec.stopped)
+        };
+        assert_eq!(column, "omega_y");
+        assert!(value.is_nan());
+        drop(rec);
+        assert_eq!(seen, 1, "the NaN sample reached the observer");
+    }
+}

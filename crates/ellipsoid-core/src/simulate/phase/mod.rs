@@ -1,6 +1,8 @@
-//! Contact phases: each declares its ODE system (a contact law over the scene's effects),
-//! its watch functions, and for each watch the phase that follows and the state map at
-//! the switch. The hybrid machine (`machine`) runs any of them; adding a phase is a new
+//! Contact phases: each declares its ODE system (a contact law over the scene's effects;
+//! the law's `ContactLaw::ROLLING` is its kinematics kind — whether v_G is a state or
+//! follows from the no-slip constraint; z_G and v_Gz follow from the contact constraint in
+//! every phase so far), its watch functions, and for each watch the phase that follows
+//! and the state map at the switch. The hybrid machine (`machine`) runs any of them; adding a phase is a new
 //! module here and one line in [`phase`], the registry.
 //!
 //! | phase | law | watches (g falling through 0) | on the event |
