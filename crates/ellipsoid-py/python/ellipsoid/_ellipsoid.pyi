@@ -206,9 +206,7 @@ class Trajectory:
     def summary(self) -> dict[str, Any]:
         """The command-line tool's summary dict (a fresh copy)."""
     @property
-    def status(
-        self,
-    ) -> Literal["completed", "observed", "lost_contact", "slip_stopped", "painleve", "solver_failure", "chattering", "non_finite", "cancelled"]: ...
+    def status(self) -> Literal["completed", "observed", "lost_contact", "slip_stopped", "painleve", "solver_failure", "chattering", "non_finite", "cancelled"]: ...
     @property
     def message(self) -> str: ...
     @property
