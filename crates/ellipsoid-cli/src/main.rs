@@ -7,7 +7,6 @@
 mod check;
 mod cli;
 mod error;
-mod plot;
 mod precision;
 mod progress;
 mod run;
