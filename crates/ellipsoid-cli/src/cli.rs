@@ -76,7 +76,7 @@ pub struct PrecisionArgs {
     /// Fewest timed runs per setting (more are made while a setting has taken under
     /// 0.3 s, at most 15); the median is reported. At least 1; default 3 (1 with --quick).
     #[arg(long, value_name = "N")]
-    pub repeats: Option<usize>,
+    pub repeats: Option<u64>,
     /// Override a scenario value before validation (as for `run`). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,

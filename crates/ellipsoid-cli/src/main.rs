@@ -8,7 +8,6 @@ mod check;
 mod cli;
 mod error;
 mod interrupt;
-mod plot;
 mod precision;
 mod progress;
 mod run;

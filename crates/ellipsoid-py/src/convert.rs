@@ -309,6 +309,22 @@ impl Conv<'_> {
     }
 }
 
+/// [`Conv::overrides`] for the changes given with `scenario` (an `ellipsoid.Scenario`, named
+/// by its source in messages, or a path).
+pub fn changes_for(
+    scenario: &Bound<'_, PyAny>,
+    changes: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Vec<String>> {
+    let source = match scenario.cast::<crate::scenario::PyScenario>() {
+        Ok(s) => s.get().inner.source.clone(),
+        Err(_) => scenario
+            .str()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|_| "<changes>".into()),
+    };
+    Conv { source: &source }.overrides(changes)
+}
+
 fn join(prefix: &str, key: &str) -> String {
     if prefix.is_empty() {
         key.to_owned()

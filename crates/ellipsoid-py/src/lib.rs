@@ -4,6 +4,8 @@
 //! - [`api`]: `simulate`, `sweep` (runs without the GIL in [`run`], interruptible);
 //! - [`trajectory`]: `Trajectory` (numpy columns named like the CSV, summary, writers from
 //!   `ellipsoid-io`, so files are the command-line tool's byte for byte);
+//! - [`study`]: `precision` (`PrecisionTable`) and `check`, from `ellipsoid-study` (the code
+//!   behind `ellipsoid precision` and `ellipsoid check`);
 //! - [`errors`]: the exception tree, one base class `EllipsoidError`.
 //!
 //! The Python sources (`python/ellipsoid/`) re-export these names and carry the stubs.
@@ -13,6 +15,7 @@ mod convert;
 mod errors;
 mod run;
 mod scenario;
+mod study;
 mod trajectory;
 
 use pyo3::prelude::*;
@@ -29,8 +32,11 @@ fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     }
     m.add_class::<scenario::PyScenario>()?;
     m.add_class::<trajectory::Trajectory>()?;
+    m.add_class::<study::PrecisionTable>()?;
     m.add_function(wrap_pyfunction!(scenario::load, m)?)?;
     m.add_function(wrap_pyfunction!(api::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(api::sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(study::precision, m)?)?;
+    m.add_function(wrap_pyfunction!(study::check, m)?)?;
     Ok(())
 }

@@ -28,12 +28,13 @@ pub(crate) const SCAN_POINTS: usize = 8;
 /// `direction` starts from; no crossing can start from g(t) = 0), a = σ g(t), b = σ g(t_new),
 /// it answers yes when
 /// ```text
-///   min(a, b) ≤ 2 (|b − a| + |a − σ g(t_before)| h/h_prev + dip)
+///   min(a, b) ≤ |b − a| + 2 dip
 /// ```
 /// where dip is how far the parabola through the three values falls below min(a, b)
-/// inside the step: g is then within twice its own variation per step of zero, or
-/// curving towards it. Far from zero (the usual case) the answer is no and the step
-/// costs nothing more; near zero the step is scanned at [`SCAN_POINTS`] points.
+/// inside the step: g is within one step's change of zero, or curving towards it by at
+/// least half the way. A g that changes monotonically between positive ends cannot hide
+/// a crossing, and far from zero (the usual case) the step costs nothing more; near zero
+/// the step is scanned at [`SCAN_POINTS`] points.
 #[inline]
 pub(crate) fn may_cross_inside(
     direction: Direction,
@@ -51,11 +52,10 @@ pub(crate) fn may_cross_inside(
     if low <= 0.0 {
         return true;
     }
-    let mut reach = (b - a).abs();
+    let mut dip = 0.0;
     if t_before < t {
         let c = sigma * g_before;
         let (h_prev, h) = (t - t_before, t_new - t);
-        reach += (a - c).abs() * h / h_prev;
         // Newton form q(s) = c + d1 (s − t_b) + q2 (s − t_b)(s − t); vertex where q' = 0.
         let d1 = (a - c) / h_prev;
         let q2 = ((b - a) / h - d1) / (t_new - t_before);
@@ -63,11 +63,11 @@ pub(crate) fn may_cross_inside(
             let s = 0.5 * (t_before + t) - d1 / (2.0 * q2);
             if s > t && s < t_new {
                 let q_min = c + d1 * (s - t_before) + q2 * (s - t_before) * (s - t);
-                reach += (low - q_min).max(0.0);
+                dip = (low - q_min).max(0.0);
             }
         }
     }
-    low <= 2.0 * reach
+    low <= (b - a).abs() + 2.0 * dip
 }
 
 /// Golden-section search (Kiefer 1953) for the minimum of f on [a, b], stopping as soon

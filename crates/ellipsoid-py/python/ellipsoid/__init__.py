@@ -12,6 +12,12 @@ through the same parser, so every check and every message is the command-line to
 `Scenario.replace(contact={"friction": 0.2})` (or `**{"contact.friction": 0.2}`) makes
 variants for a `sweep`, which runs them in parallel in Rust.
 
+`check(scenario)` returns as a dict what `ellipsoid check` prints (derived quantities,
+the state at t = 0); `precision(scenario, quick=True, out="report")` runs the
+work–precision study of `ellipsoid precision` and returns a `PrecisionTable` (numpy
+columns named like its `precision.csv`, `to_pandas()`), writing the same CSV and plots
+when `out` is given.
+
 Errors: every exception derives from `EllipsoidError`: `ScenarioError` (a ValueError) for
 bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Python type),
 `SimulationError` (a RuntimeError, with the partial `.trajectory`) for a run
@@ -25,13 +31,16 @@ from ellipsoid._ellipsoid import (
     EllipsoidError,
     InternalError,
     OutputError,
+    PrecisionTable,
     Scenario,
     ScenarioError,
     ScenarioTypeError,
     SimulationError,
     Trajectory,
     __version__,
+    check,
     load,
+    precision,
     simulate,
     sweep,
 )
@@ -42,13 +51,16 @@ __all__ = [
     "EllipsoidError",
     "InternalError",
     "OutputError",
+    "PrecisionTable",
     "Scenario",
     "ScenarioError",
     "ScenarioTypeError",
     "SimulationError",
     "Trajectory",
     "__version__",
+    "check",
     "load",
+    "precision",
     "simulate",
     "sweep",
 ]

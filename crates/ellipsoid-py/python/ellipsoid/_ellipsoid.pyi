@@ -4,6 +4,7 @@ SI units and radians throughout; the unit of every column and argument is in its
 """
 
 import os
+import pathlib
 from collections.abc import Iterable, Mapping
 from typing import Any, ClassVar, Final, Literal, final, overload
 
@@ -16,13 +17,16 @@ __all__ = [
     "EllipsoidError",
     "InternalError",
     "OutputError",
+    "PrecisionTable",
     "Scenario",
     "ScenarioError",
     "ScenarioTypeError",
     "SimulationError",
     "Trajectory",
     "__version__",
+    "check",
     "load",
+    "precision",
     "simulate",
     "sweep",
 ]
@@ -60,9 +64,12 @@ class ScenarioTypeError(ScenarioError, TypeError):
     """A ScenarioError for a Python value of a type a scenario cannot hold, or an argument of the wrong type."""
 
 class SimulationError(EllipsoidError, RuntimeError):
-    """A run that stopped on an error; `trajectory` holds it up to the stop."""
+    """A run that stopped on an error; `trajectory` holds it up to the stop.
 
-    status: Literal["painleve", "solver_failure", "chattering", "cancelled"]
+    From `precision`: the reference run did not finish cleanly; `trajectory` holds its
+    summary (no samples)."""
+
+    status: Literal["painleve", "solver_failure", "chattering", "non_finite", "cancelled"]
     trajectory: Trajectory
 
 class OutputError(EllipsoidError, OSError):
@@ -223,8 +230,108 @@ class Trajectory:
     def to_hdf5(self, path: _Path) -> None: ...
     def save(self, path: _Path) -> None: ...
 
+@final
+class PrecisionTable:
+    """The table of a work–precision study: one row per setting, read-only numpy columns
+    named and ordered like the `precision.csv` of `ellipsoid precision`."""
+
+    #: Column names in the CSV file's order.
+    columns: ClassVar[list[str]]
+
+    @property
+    def scene(self) -> npt.NDArray[np.str_]:
+        """The scenario's name, per row."""
+    @property
+    def t_end(self) -> _FloatArray:
+        """Simulated time of every run [s]."""
+    @property
+    def measure(self) -> npt.NDArray[np.str_]:
+        """The error measure: "period" or "final_state"."""
+    @property
+    def method(self) -> npt.NDArray[np.str_]:
+        """ "rk4", "dopri5" or "dop853"."""
+    @property
+    def setting(self) -> npt.NDArray[np.str_]:
+        """ "h=1e-4" (RK4) or "rtol=1e-10"."""
+    @property
+    def h(self) -> _FloatArray:
+        """RK4's fixed step [s]; NaN for the adaptive methods."""
+    @property
+    def rtol(self) -> _FloatArray:
+        """Relative tolerance [1]; NaN for RK4."""
+    @property
+    def atol(self) -> _FloatArray:
+        """Absolute tolerance [1]; NaN for RK4."""
+    @property
+    def status(self) -> npt.NDArray[np.str_]:
+        """How each run ended (the summary's status name)."""
+    @property
+    def t_final(self) -> _FloatArray:
+        """Time at which the run ended [s]."""
+    @property
+    def error(self) -> _FloatArray:
+        """The headline error [1] (inf where it could not be measured)."""
+    @property
+    def period_error(self) -> _FloatArray:
+        """|T_run − T|/T [1] (measure "period"); NaN otherwise."""
+    @property
+    def state_error(self) -> _FloatArray:
+        """Final-state error against the reference run [1]; NaN for measure "period"."""
+    @property
+    def energy_drift(self) -> _FloatArray:
+        """Relative drift of E (conservative scenes) or E + W [1]."""
+    @property
+    def invariant_drift(self) -> _FloatArray:
+        """Largest relative drift of the conserved invariants [1]."""
+    @property
+    def wall_time_median_s(self) -> _FloatArray:
+        """Median wall time of the timed runs [s]."""
+    @property
+    def wall_time_min_s(self) -> _FloatArray:
+        """Shortest wall time of the timed runs [s]."""
+    @property
+    def repeats(self) -> npt.NDArray[np.int64]:
+        """Timed runs made of each setting."""
+    @property
+    def rhs_evals(self) -> npt.NDArray[np.int64]:
+        """Right-hand-side evaluations of the integrator."""
+    @property
+    def steps(self) -> npt.NDArray[np.int64]:
+        """Accepted steps."""
+    @property
+    def rejected(self) -> npt.NDArray[np.int64]:
+        """Rejected steps."""
+    @property
+    def reference(self) -> dict[str, Any]:
+        """What the errors are measured against (`measure`, `description`, `status`, and
+        `period` [s] … or `rtol`, `uncertainty`, `t_final` [s])."""
+    @property
+    def summary(self) -> str:
+        """The table and the cheapest settings, as `ellipsoid precision` prints them."""
+    @property
+    def notes(self) -> list[str]: ...
+    def __len__(self) -> int: ...
+    def to_dict(self) -> dict[str, npt.NDArray[Any]]: ...
+    def to_pandas(self) -> Any:
+        """A pandas.DataFrame of the columns (needs pandas)."""
+    def to_csv(self, path: _Path) -> None: ...
+    def write(self, dir: _Path) -> list[pathlib.Path]: ...
+
 def load(path: _Path, **changes: _Value) -> Scenario: ...
 def simulate(scenario: Scenario | _Path, /, **changes: _Value) -> Trajectory: ...
+def check(scenario: Scenario | _Path, /, **changes: _Value) -> dict[str, Any]:
+    """What `ellipsoid check` prints, as a dict (SI units, radians)."""
+def precision(
+    scenario: Scenario | _Path,
+    /,
+    *,
+    t_end: float | None = None,
+    quick: bool = False,
+    repeats: int | None = None,
+    out: _Path | None = None,
+    **changes: _Value,
+) -> PrecisionTable:
+    """The work–precision study of `ellipsoid precision`; `out` also writes its CSV and plots."""
 @overload
 def sweep(
     scenarios: Iterable[Scenario | _Path],

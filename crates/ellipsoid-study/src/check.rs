@@ -1,0 +1,358 @@
+//! What follows from a scenario without simulating it: the data `ellipsoid check` prints
+//! and Python's `ellipsoid.check` returns (one function, [`derive`], builds it for both).
+//!
+//! The initial normal force, the initial contact regime and the list of tracked
+//! invariants come from `simulate` itself, stopped at its first sample, so that they are
+//! exactly what a run would use (and every check a run makes at t = 0 is made here).
+
+use std::ops::ControlFlow;
+
+use ellipsoid_core::geometry::Contact;
+use ellipsoid_core::integrate::Method;
+use ellipsoid_core::scenario::{Scenario, ScenarioError};
+use ellipsoid_core::simulate::{self, ContactModel, Sample};
+use nalgebra::{Matrix3, Vector3};
+use serde::Serialize;
+
+use crate::drift_entries;
+
+/// Everything `ellipsoid check` prints, as data (SI units, radians; vectors in body axes
+/// unless named `_world`). Serialises to the dict Python's `ellipsoid.check` returns.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Derived {
+    /// The scenario file (or the name of its text).
+    pub scenario: String,
+    /// `--set` overrides applied, in order.
+    pub overrides: Vec<String>,
+    pub body: BodyData,
+    /// g [m/s²].
+    pub gravity: f64,
+    pub contact: ContactData,
+    pub effects: EffectsData,
+    pub initial: InitialData,
+    /// The invariants the run tracks (conserved in this scene), in summary order.
+    pub invariants: Vec<String>,
+    pub solver: SolverData,
+    pub output: OutputData,
+    /// The scenario's `[check]` table.
+    pub check: CheckData,
+}
+
+/// The body.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BodyData {
+    /// a, b, c \[m\].
+    pub semi_axes: [f64; 3],
+    /// "sphere", "oblate spheroid", "prolate spheroid" or "triaxial ellipsoid".
+    pub shape: &'static str,
+    /// m \[kg\].
+    pub mass: f64,
+    /// Inertia tensor about G in body axes, by rows [kg m²].
+    pub inertia: [[f64; 3]; 3],
+    /// Its eigenvalues, ascending [kg m²].
+    pub principal_moments: [f64; 3],
+    /// G − C0 in body axes \[m\].
+    pub com_offset: [f64; 3],
+    /// gᵀA⁻²g (< 1: G inside the body).
+    pub com_offset_radial: f64,
+    /// m g \[N\].
+    pub weight: f64,
+}
+
+/// The contact model.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContactData {
+    /// "frictionless", "sliding", "rolling" or "coulomb".
+    pub model: &'static str,
+    /// μ (sliding and coulomb), else None.
+    pub friction: Option<f64>,
+}
+
+/// The effects present (None where absent).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EffectsData {
+    pub rolling_resistance: Option<Regularised>,
+    pub spin_friction: Option<Regularised>,
+    pub air_drag: Option<AirDragData>,
+}
+
+/// A rolling-resistance or spin-friction coefficient and its regularisation.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Regularised {
+    /// c_r or c_s \[m\].
+    pub coefficient: f64,
+    /// ε [rad/s].
+    pub regularisation: f64,
+}
+
+/// Air drag.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AirDragData {
+    /// k [kg/s].
+    pub linear: f64,
+    /// k_ω [kg m²/s].
+    pub angular: f64,
+}
+
+/// The initial state and what follows from it at t = 0.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct InitialData {
+    /// z-x-z Euler angles \[rad\].
+    pub theta: f64,
+    pub phi: f64,
+    pub psi: f64,
+    /// θ in degrees.
+    pub theta_deg: f64,
+    /// The Euler-angle rates [rad/s]; None when `omega_body` was given instead.
+    pub rates: Option<Rates>,
+    /// Body angular velocity [rad/s] (given, or from the rates).
+    pub omega_body: [f64; 3],
+    /// Whether `omega_body` was given in the scenario.
+    pub omega_body_given: bool,
+    /// Contact point C relative to C0, body axes \[m\].
+    pub contact_point: [f64; 3],
+    /// Contact point in the world frame (z = 0 on the plane, to round-off) \[m\].
+    pub contact_point_world: [f64; 3],
+    /// Height of G above the plane \[m\].
+    pub height: f64,
+    /// The first sample of a run (None if the run produced none at t = 0).
+    pub mode: Option<&'static str>,
+    /// N \[N\].
+    pub normal_force: Option<f64>,
+    /// E \[J\].
+    pub energy: Option<f64>,
+    /// Speed of the contact point [m/s].
+    pub slip_speed: Option<f64>,
+}
+
+/// θ̇, φ̇, ψ̇ [rad/s].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Rates {
+    pub theta_dot: f64,
+    pub phi_dot: f64,
+    pub psi_dot: f64,
+}
+
+/// The solver settings.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SolverData {
+    /// "rk4", "dopri5" or "dop853".
+    pub method: &'static str,
+    /// RK4's fixed step \[s\]; None for the adaptive methods.
+    pub step: Option<f64>,
+    /// rtol and atol of the adaptive methods; None for RK4.
+    pub rtol: Option<f64>,
+    pub atol: Option<f64>,
+    /// Initial step hint of the adaptive methods \[s\].
+    pub initial_step: Option<f64>,
+}
+
+/// The sampling.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OutputData {
+    /// \[s\].
+    pub t_end: f64,
+    /// Number of output times.
+    pub samples: usize,
+}
+
+/// The `[check]` table.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CheckData {
+    /// Expected status.
+    pub status: Option<String>,
+    /// Invariant name → largest allowed relative drift, in name order.
+    pub drift: std::collections::BTreeMap<String, f64>,
+}
+
+/// The derived quantities of `scenario`: validates it, including every check a run
+/// makes at t = 0 (a failing one is the error, placed in the scenario file).
+pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
+    let scene = &scenario.scene;
+    let mut first_scene = scene.clone();
+    first_scene.sample_times = vec![0.0];
+    let mut first: Option<Sample> = None;
+    let outcome = simulate::simulate(&first_scene, &mut |s| {
+        first.get_or_insert(*s);
+        ControlFlow::Break(())
+    })
+    .map_err(|e| Box::new(scenario.locate(&e)))?;
+
+    let body = &scene.body;
+    let (ax, i, g) = (body.semi_axes(), body.inertia(), body.com_offset());
+    let mut moments: Vec<f64> = i.symmetric_eigenvalues().iter().copied().collect();
+    moments.sort_by(f64::total_cmp);
+    let radial = g.component_div(&ax).norm();
+    let (model, friction) = match scene.contact {
+        ContactModel::Frictionless => ("frictionless", None),
+        ContactModel::Sliding { friction } => ("sliding", Some(friction)),
+        ContactModel::Rolling => ("rolling", None),
+        ContactModel::Coulomb { friction } => ("coulomb", Some(friction)),
+    };
+    let e = &scene.effects;
+    let init = &scene.initial;
+    let a = &init.angles;
+    let omega = init.omega_body.unwrap_or_else(|| a.omega_body());
+    let rot = a.rotation().to_rotation_matrix().into_inner();
+    let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
+    let contact = Contact::new(body, zeta, omega);
+    let world_c = Vector3::new(init.position.x, init.position.y, contact.height) + rot * contact.r;
+    let s = &scene.solver;
+    let (step, rtol, atol, initial_step) = match s.method {
+        Method::Rk4 { h } => (Some(h), None, None, None),
+        _ => (None, Some(s.rtol), Some(s.atol), s.initial_step),
+    };
+    Ok(Derived {
+        scenario: scenario.source.clone(),
+        overrides: scenario.overrides.clone(),
+        body: BodyData {
+            semi_axes: arr(&ax),
+            shape: shape(&ax),
+            mass: body.mass(),
+            inertia: rows(i),
+            principal_moments: [moments[0], moments[1], moments[2]],
+            com_offset: arr(&g),
+            com_offset_radial: radial * radial,
+            weight: body.mass() * scene.gravity,
+        },
+        gravity: scene.gravity,
+        contact: ContactData { model, friction },
+        effects: EffectsData {
+            rolling_resistance: e.rolling_resistance.map(|r| Regularised {
+                coefficient: r.coefficient,
+                regularisation: r.regularisation,
+            }),
+            spin_friction: e.spin_friction.map(|r| Regularised {
+                coefficient: r.coefficient,
+                regularisation: r.regularisation,
+            }),
+            air_drag: e.air_drag.map(|d| AirDragData {
+                linear: d.linear,
+                angular: d.angular,
+            }),
+        },
+        initial: InitialData {
+            theta: a.theta,
+            phi: a.phi,
+            psi: a.psi,
+            theta_deg: a.theta.to_degrees(),
+            rates: match init.omega_body {
+                Some(_) => None,
+                None => Some(Rates {
+                    theta_dot: a.theta_dot,
+                    phi_dot: a.phi_dot,
+                    psi_dot: a.psi_dot,
+                }),
+            },
+            omega_body: arr(&omega),
+            omega_body_given: init.omega_body.is_some(),
+            contact_point: arr(&contact.p_c),
+            contact_point_world: arr(&world_c),
+            height: contact.height,
+            mode: first.map(|s| s.mode.name()),
+            normal_force: first.map(|s| s.normal_force),
+            energy: first.map(|s| s.energy),
+            slip_speed: first.map(|s| s.slip_speed),
+        },
+        invariants: drift_entries(&outcome.drift)
+            .into_iter()
+            .filter(|(_, v)| v.is_some())
+            .map(|(k, _)| k.to_owned())
+            .collect(),
+        solver: SolverData {
+            method: s.method.name(),
+            step,
+            rtol,
+            atol,
+            initial_step,
+        },
+        output: OutputData {
+            t_end: scene.t_end,
+            samples: scene.sample_times.len(),
+        },
+        check: CheckData {
+            status: scenario.check.status.clone(),
+            drift: scenario.check.drift.clone(),
+        },
+    })
+}
+
+fn shape(ax: &Vector3<f64>) -> &'static str {
+    if ax.x == ax.y && ax.y == ax.z {
+        "sphere"
+    } else if ax.x == ax.y {
+        if ax.z < ax.x {
+            "oblate spheroid"
+        } else {
+            "prolate spheroid"
+        }
+    } else {
+        "triaxial ellipsoid"
+    }
+}
+
+fn arr(v: &Vector3<f64>) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+fn rows(m: &Matrix3<f64>) -> [[f64; 3]; 3] {
+    [0, 1, 2].map(|i| [m[(i, 0)], m[(i, 1)], m[(i, 2)]])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::Path;
+
+    fn load(name: &str, set: &[&str]) -> Scenario {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenarios")
+            .join(name);
+        ellipsoid_core::scenario::load(&path, set).unwrap()
+    }
+
+    #[test]
+    fn nutation_derives_its_body_contact_and_first_sample() {
+        let d = derive(&load("nutation.toml", &[])).unwrap();
+        assert_eq!(d.body.shape, "oblate spheroid");
+        assert_eq!(d.body.principal_moments, [9.3125e-6, 9.3125e-6, 1.25e-5]);
+        assert_eq!(d.contact.model, "frictionless");
+        assert_eq!(d.initial.mode, Some("frictionless"));
+        // N < m g: the body is tilted and G accelerates downwards at t = 0.
+        let n = d.initial.normal_force.unwrap();
+        assert!(n > 0.0 && n < d.body.weight, "{n}");
+        assert!(d.initial.contact_point_world[2].abs() < 1e-15);
+        assert_eq!(
+            d.invariants,
+            [
+                "energy",
+                "energy_plus_work",
+                "momentum",
+                "angular_momentum_z",
+                "axial_spin"
+            ]
+        );
+        assert_eq!((d.solver.method, d.solver.step), ("dop853", None));
+        assert_eq!(d.output.samples, 10001);
+    }
+
+    #[test]
+    fn friction_effects_and_a_fixed_step_are_reported() {
+        let d = derive(&load(
+            "spin-friction.toml",
+            &["solver.method=\"rk4\"", "solver.step=1e-4"],
+        ))
+        .unwrap();
+        assert_eq!(d.contact.model, "coulomb");
+        assert!(d.contact.friction.is_some_and(|mu| mu > 0.0));
+        let s = d.effects.spin_friction.expect("spin friction");
+        assert_eq!(s.coefficient, 3e-4);
+        assert!(d.effects.rolling_resistance.is_none() && d.effects.air_drag.is_none());
+        assert_eq!(
+            (d.solver.method, d.solver.step, d.solver.rtol),
+            ("rk4", Some(1e-4), None)
+        );
+        assert!(d.invariants.contains(&"energy_plus_work".to_owned()));
+        assert!(!d.invariants.contains(&"energy".to_owned()));
+    }
+}
