@@ -16,11 +16,12 @@ function f32(b64) {
 const src = $('three-src').textContent;
 const THREE = await import(URL.createObjectURL(new Blob([src], { type: 'text/javascript' })));
 
-let now = T0, dirty = true;
+let now = 0, dirty = true;
 const F = {};
 for (const k of ['t', 'x', 'y', 'z', 'theta', 'phi', 'psi', 'cx', 'cy', 'mode']) if (D.frames[k]) F[k] = f32(D.frames[k]);
 const N = D.frames.n;
 const T0 = D.t0, T1 = D.t1;
+now = T0;
 const shape = D.shape || null;
 const semi = shape ? shape.semi_axes : null;
 const gOff = shape ? shape.com_offset : [0, 0, 0];

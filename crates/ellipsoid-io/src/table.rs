@@ -406,7 +406,7 @@ fn read_hdf5(path: &Path) -> Result<Table, ReadError> {
         return Err(ReadError::format(path, None, "not a regular file"));
     }
     let fail = |e: h5::Error| ReadError::format(path, None, format!("HDF5: {e}"));
-    let file = h5::silence_errors(|| h5::File::open(path)).map_err(|e| ReadError::format(path, None, format!("not an HDF5 file written by `ellipsoid run` ({e})")))?;
+    let file = h5::File::open(path).map_err(|e| ReadError::format(path, None, format!("not an HDF5 file written by `ellipsoid run` ({e})")))?;
     let attr = |name: &str| -> Option<String> { file.attr(name).ok()?.read_scalar::<VarLenUnicode>().ok().map(|v| v.as_str().to_owned()) };
     let names = attr("columns").ok_or_else(|| ReadError::format(path, None, "no `columns` attribute: not a trajectory written by `ellipsoid run`"))?;
     let mut columns = Vec::new();
