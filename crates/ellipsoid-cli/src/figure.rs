@@ -157,8 +157,10 @@ fn time_chart(area: &Area<'_>, table: &Table, title: &str, y_desc: &str, series:
         }
     }
     let decade = |v: &f64| if (v - v.round()).abs() < 1e-9 { format!("1e{}", v.round() as i64) } else { String::new() };
+    let yscale = y0.abs().max(y1.abs());
     let linear = |v: &f64| tick(*v);
-    let ylab: &dyn Fn(&f64) -> String = if log { &decade } else { &linear };
+    let ylinear = move |v: &f64| tick(if v.abs() < 1e-9 * yscale { 0.0 } else { *v });
+    let ylab: &dyn Fn(&f64) -> String = if log { &decade } else { &ylinear };
     chart
         .configure_mesh()
         .x_desc("time t (s)")
@@ -262,6 +264,7 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
     let (w, h) = area.dim_in_pixel();
     let side = h.min(w) as i32;
     let pad = ((w as i32 - side) / 2).max(0);
+    let row = area;
     let area = area.margin(0, 0, pad, pad);
     let mut xs: Vec<&f64> = x.iter().collect();
     let mut ys: Vec<&f64> = y.iter().collect();
@@ -281,7 +284,8 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
         .y_label_area_size(84)
         .build_cartesian_2d(x0..x1, y0..y1)
         .map_err(err)?;
-    let fmt = |v: &f64| tick(*v);
+    let scale = x0.abs().max(x1.abs()).max(y0.abs()).max(y1.abs());
+    let fmt = move |v: &f64| tick(if v.abs() < 1e-9 * scale { 0.0 } else { *v });
     chart
         .configure_mesh()
         .x_desc("x (m)")
@@ -289,6 +293,7 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
         .x_label_formatter(&fmt)
         .y_label_formatter(&fmt)
         .x_labels(5)
+        .y_labels(6)
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 16))
         .light_line_style(WHITE.mix(0.0))
@@ -301,27 +306,27 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
         p.push((xs[xs.len() - 1], ys[ys.len() - 1]));
         p
     };
-    chart
-        .draw_series(LineSeries::new(decimate(x, y), GREY.stroke_width(2)))
-        .map_err(err)?
-        .label("G")
-        .legend(|(a, b)| PathElement::new([(a, b), (a + 22, b)], GREY.stroke_width(2)));
+    chart.draw_series(LineSeries::new(decimate(x, y), GREY.stroke_width(2))).map_err(err)?;
     if let Some((cx, cy)) = &contact {
-        chart
-            .draw_series(LineSeries::new(decimate(cx, cy), BLUE.stroke_width(1)))
-            .map_err(err)?
-            .label("contact point")
-            .legend(|(a, b)| PathElement::new([(a, b), (a + 22, b)], BLUE.stroke_width(2)));
+        chart.draw_series(LineSeries::new(decimate(cx, cy), BLUE.stroke_width(1))).map_err(err)?;
     }
-    chart.draw_series([Circle::new((x[0], y[0]), 5, GREEN.filled())]).map_err(err)?.label("start").legend(|(a, b)| Circle::new((a + 11, b), 5, GREEN.filled()));
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK.mix(0.4))
-        .label_font(("sans-serif", 15))
-        .draw()
-        .map_err(err)
+    chart.draw_series([Circle::new((x[0], y[0]), 5, GREEN.filled())]).map_err(err)?;
+    // The legend beside the square, where it hides nothing.
+    let (lx, ly) = (pad + side + 10, 60);
+    let mut entries = vec![("G", GREY), ("start", GREEN)];
+    if contact.is_some() {
+        entries.insert(1, ("contact point", BLUE));
+    }
+    for (k, (name, color)) in entries.into_iter().enumerate() {
+        let y = ly + 24 * k as i32;
+        if name == "start" {
+            row.draw(&Circle::new((lx + 11, y), 5, color.filled())).map_err(err)?;
+        } else {
+            row.draw(&Rectangle::new([(lx, y - 1), (lx + 22, y + 1)], color.filled())).map_err(err)?;
+        }
+        row.draw(&Text::new(name, (lx + 30, y - 9), ("sans-serif", 15).into_font())).map_err(err)?;
+    }
+    Ok(())
 }
 
 /// The figure as SVG text: one row per panel, a title line on top.

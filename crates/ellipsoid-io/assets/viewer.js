@@ -300,4 +300,5 @@ window.ellipsoidViewer = {
   // The plot's box in canvas pixels and where time t falls in it.
   plotX: (name, t) => { const s = plots.find((p) => p.name === name); return s ? xOf(s.canvas, t) : null; },
 };
+window.ellipsoidViewer.readyAt = performance.now();
 document.body.dataset.ready = '1';

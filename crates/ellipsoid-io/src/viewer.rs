@@ -168,7 +168,6 @@ pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
     let shape = table.shape.map(|s| serde_json::json!({ "semi_axes": s.semi_axes, "com_offset": s.com_offset }));
     let data = serde_json::json!({
         "title": title,
-        "source": table.source,
         "rows": table.rows(),
         "t0": t[0],
         "t1": t[t.len() - 1],
