@@ -13,29 +13,22 @@ use crate::cli::{PlotArgs, ViewArgs};
 use crate::error::CliError;
 use crate::figure;
 
-/// Reads the trajectory and, if given, the summary; notes on stderr what is missing.
-fn load(input: &Path, summary: Option<&Path>, quiet: bool) -> Result<Table, CliError> {
+/// Reads the trajectory and, if given, the summary.
+fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliError> {
     let mut t = table::read(input).map_err(|e| CliError::Usage(e.to_string()))?;
     if let Some(p) = summary {
         let s = table::read_summary(p).map_err(|e| CliError::Usage(e.to_string()))?;
         t.apply_summary(&s, None);
     }
-    if t.shape.is_none() && !quiet {
-        eprintln!("note: {}", t.shape_note);
-    }
     Ok(t)
 }
 
-/// Refuses an output that is the input, or has an extension other than `allowed`.
-fn check_output(input: &Path, output: &Path, allowed: &[&str], what: &str) -> Result<String, CliError> {
+/// Refuses an output whose extension is not one of `allowed` (so it cannot be the
+/// input), or that is not a regular file.
+fn check_output(output: &Path, allowed: &[&str], what: &str) -> Result<String, CliError> {
     let ext = output.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
     if !allowed.contains(&ext.as_str()) {
         return Err(CliError::Usage(format!("{}: unknown {what} format {ext:?}; use {}", output.display(), allowed.iter().map(|e| format!(".{e}")).collect::<Vec<_>>().join(" or "))));
-    }
-    if let (Ok(a), Ok(b)) = (std::fs::canonicalize(input), std::fs::canonicalize(output))
-        && a == b
-    {
-        return Err(CliError::Usage(format!("{}: the output would overwrite the input", output.display())));
     }
     atomic::check_target(output)?;
     Ok(ext)
@@ -51,10 +44,13 @@ fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
 }
 
 pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
-    let ext = check_output(&args.input, &args.output, &["svg", "png"], "figure")?;
+    let ext = check_output(&args.output, &["svg", "png"], "figure")?;
     let panels = figure::parse_panels(&args.panels).map_err(CliError::Usage)?;
-    let table = load(&args.input, args.summary.as_deref(), args.quiet || !panels.contains(&"path"))?;
+    let table = load(&args.input, args.summary.as_deref())?;
     figure::check_columns(&table, &panels).map_err(CliError::Usage)?;
+    if table.shape.is_none() && table.contact_path().is_none() && panels.contains(&"path") && !args.quiet {
+        eprintln!("note: {}", table.shape_note);
+    }
     let title = args.title.clone().unwrap_or_else(|| table.source.clone());
     let svg = figure::svg(&table, &panels, &title).map_err(CliError::Plot)?;
     let bytes = if ext == "png" { figure::png(&svg).map_err(CliError::Plot)? } else { svg.into_bytes() };
@@ -66,10 +62,13 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
 }
 
 pub fn view(args: &ViewArgs) -> Result<ExitCode, CliError> {
-    check_output(&args.input, &args.output, &["html", "htm"], "page")?;
-    let table = load(&args.input, args.summary.as_deref(), args.quiet)?;
+    check_output(&args.output, &["html", "htm"], "page")?;
+    let table = load(&args.input, args.summary.as_deref())?;
     let title = args.title.clone().unwrap_or_else(|| table.source.clone());
     let page = ellipsoid_io::viewer::html(&table, &title).map_err(|e| CliError::Usage(e.to_string()))?;
+    if table.shape.is_none() && !args.quiet {
+        eprintln!("note: {}", table.shape_note);
+    }
     put(&args.output, page.as_bytes())?;
     if !args.quiet {
         let frames = ellipsoid_io::viewer::frame_indices(&table, ellipsoid_io::viewer::MAX_FRAMES).len();
