@@ -13,6 +13,14 @@ if ! pkg-config --exists hdf5 2>/dev/null; then
     || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends libhdf5-dev pkg-config; }
 fi
 
+# 1b. Headless Chromium for the viewer's browser tests, and a font for the PNG figures
+#     (Debian packages; the tests never download a browser).
+if ! command -v chromium >/dev/null 2>&1 || [ ! -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ]; then
+  sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo"
+  $sudo apt-get install -y --no-install-recommends chromium fonts-dejavu-core \
+    || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends chromium fonts-dejavu-core; }
+fi
+
 # 2. Rust: every crate but the Python extension (tested below through its wheel).
 echo "== cargo test"
 cargo test --release --features ellipsoid-cli/hdf5
@@ -28,8 +36,12 @@ export ELLIPSOID_CLI="$target/release/ellipsoid"
 export ELLIPSOID_EXPECT_HDF5=1
 rm -rf .venv
 python3 -m venv .venv
-.venv/bin/python -m pip install --quiet --disable-pip-version-check maturin numpy pytest scipy h5py pandas mypy
+.venv/bin/python -m pip install --quiet --disable-pip-version-check maturin numpy pytest scipy h5py pandas mypy matplotlib websocket-client pillow
 .venv/bin/python -m pip install --quiet --disable-pip-version-check ./crates/ellipsoid-py -C maturin.build-args="--features hdf5"
 .venv/bin/python -m pytest -q crates/ellipsoid-py/tests
+
+# 4. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
+echo "== browser"
+ELLIPSOID_EXPECT_BROWSER=1 .venv/bin/python -m pytest -q tests/browser
 
 echo "all tests passed"
