@@ -197,11 +197,7 @@ impl Table {
     /// The shape comes from `scenario_text` if given, else from the scenario file the
     /// summary names (with its overrides), if it can be read.
     pub fn apply_summary(&mut self, summary: &Value, scenario_text: Option<&str>) {
-        if let Some(events) = summary.get("events").and_then(Value::as_array) {
-            self.events = events.iter().filter_map(event).collect();
-            self.events.sort_by(|a, b| a.t.total_cmp(&b.t));
-        }
-        self.status = summary.get("status").and_then(Value::as_str).map(str::to_owned);
+        self.apply_events(summary);
         let source = summary.get("scenario").and_then(Value::as_str).unwrap_or("the scenario");
         let overrides: Vec<String> =
             summary.get("overrides").and_then(Value::as_array).map(|a| a.iter().filter_map(|v| v.as_str().map(str::to_owned)).collect()).unwrap_or_default();
@@ -214,6 +210,15 @@ impl Table {
             Ok(s) => self.set_body(&s.scene.body, &format!("body from {source}")),
             Err(e) => self.shape_note = format!("body unknown (the scenario could not be read: {e})"),
         }
+    }
+
+    /// Sets the events and status from a run summary, nothing else.
+    pub fn apply_events(&mut self, summary: &Value) {
+        if let Some(events) = summary.get("events").and_then(Value::as_array) {
+            self.events = events.iter().filter_map(event).collect();
+            self.events.sort_by(|a, b| a.t.total_cmp(&b.t));
+        }
+        self.status = summary.get("status").and_then(Value::as_str).map(str::to_owned);
     }
 
     /// Sets the shape from a body.
