@@ -22,22 +22,43 @@ use rayon::prelude::*;
 /// The oblate top of the nutation scene.
 fn top() -> Body {
     let (a, c, m) = (0.025, 0.0175, 0.05);
-    Body::of_revolution(a, c, m, m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0, 0.003).unwrap()
+    Body::of_revolution(
+        a,
+        c,
+        m,
+        m * (a * a + c * c) / 5.0,
+        2.0 * m * a * a / 5.0,
+        0.003,
+    )
+    .unwrap()
 }
 
 /// A tilted, spinning, sliding state (slip along x).
 fn state() -> State {
-    let angles = EulerAngles { theta: 0.3, phi: 0.2, psi: 0.1, theta_dot: 1.0, phi_dot: 3.0, psi_dot: 60.0 };
+    let angles = EulerAngles {
+        theta: 0.3,
+        phi: 0.2,
+        psi: 0.1,
+        theta_dot: 1.0,
+        phi_dot: 3.0,
+        psi_dot: 60.0,
+    };
     let mut y = State::zeros();
     state::set_quaternion(&mut y, &angles.rotation());
-    y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&angles.omega_body());
+    y.fixed_rows_mut::<3>(state::OMEGA)
+        .copy_from(&angles.omega_body());
     y[state::VEL] = 0.3;
     y[state::SLIP_REF] = 1.0;
     y
 }
 
 fn system<C: ContactLaw>(contact: C) -> System<C, ()> {
-    System { body: top(), gravity: 9.81, contact, effects: () }
+    System {
+        body: top(),
+        gravity: 9.81,
+        contact,
+        effects: (),
+    }
 }
 
 fn rhs(c: &mut Criterion) {
@@ -45,11 +66,17 @@ fn rhs(c: &mut Criterion) {
     let mut group = c.benchmark_group("rhs");
     group.throughput(Throughput::Elements(1));
     let free = system(Frictionless);
-    group.bench_function("frictionless", |b| b.iter(|| black_box(&free).rhs(0.0, black_box(&y))));
+    group.bench_function("frictionless", |b| {
+        b.iter(|| black_box(&free).rhs(0.0, black_box(&y)))
+    });
     let slide = system(Sliding { friction: 0.3 });
-    group.bench_function("sliding", |b| b.iter(|| black_box(&slide).rhs(0.0, black_box(&y))));
+    group.bench_function("sliding", |b| {
+        b.iter(|| black_box(&slide).rhs(0.0, black_box(&y)))
+    });
     let roll = system(Rolling);
-    group.bench_function("rolling", |b| b.iter(|| black_box(&roll).rhs(0.0, black_box(&y))));
+    group.bench_function("rolling", |b| {
+        b.iter(|| black_box(&roll).rhs(0.0, black_box(&y)))
+    });
     group.finish();
 }
 
@@ -63,7 +90,20 @@ fn steps(c: &mut Criterion) {
         (Method::Dopri5, Options::new(1e-10, 1e-12)),
         (Method::Dop853, Options::new(1e-12, 1e-12)),
     ] {
-        let run = || integrate(method, &sys, 0.0, y, 1.0, &options, &[], &[], &mut |_, _| ControlFlow::Continue(())).unwrap();
+        let run = || {
+            integrate(
+                method,
+                &sys,
+                0.0,
+                y,
+                1.0,
+                &options,
+                &[],
+                &[],
+                &mut |_, _| ControlFlow::Continue(()),
+            )
+            .unwrap()
+        };
         let steps = run().stats.accepted;
         group.throughput(Throughput::Elements(steps));
         group.bench_function(method.name(), |b| b.iter(|| black_box(run())));
@@ -73,9 +113,21 @@ fn steps(c: &mut Criterion) {
 
 fn bundled() -> Vec<(String, Scene)> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
-    let mut files: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).filter(|p| p.extension().is_some_and(|e| e == "toml")).collect();
+    let mut files: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
     files.sort();
-    files.iter().map(|p| (p.file_stem().unwrap().to_string_lossy().into_owned(), scenario::load(p, &[] as &[&str]).unwrap().scene)).collect()
+    files
+        .iter()
+        .map(|p| {
+            (
+                p.file_stem().unwrap().to_string_lossy().into_owned(),
+                scenario::load(p, &[] as &[&str]).unwrap().scene,
+            )
+        })
+        .collect()
 }
 
 fn run(scene: &Scene) -> usize {
@@ -100,7 +152,11 @@ fn scenarios(c: &mut Criterion) {
 
 /// 16 nutation runs (1 s each, tilts 0.05–0.8 rad): one core against all cores.
 fn sweep(c: &mut Criterion) {
-    let base = bundled().into_iter().find(|(n, _)| n == "nutation").unwrap().1;
+    let base = bundled()
+        .into_iter()
+        .find(|(n, _)| n == "nutation")
+        .unwrap()
+        .1;
     let scenes: Vec<Scene> = (0..16)
         .map(|k| {
             let mut s = base.clone();
@@ -113,13 +169,22 @@ fn sweep(c: &mut Criterion) {
     let mut group = c.benchmark_group("sweep16");
     group.sample_size(10);
     group.throughput(Throughput::Elements(scenes.len() as u64));
-    group.bench_function("one_core", |b| b.iter_batched(|| scenes.clone(), |s| s.iter().map(run).sum::<usize>(), BatchSize::SmallInput));
-    group.bench_function("all_cores", |b| b.iter_batched(|| scenes.clone(), |s| s.par_iter().map(run).sum::<usize>(), BatchSize::SmallInput));
+    group.bench_function("one_core", |b| {
+        b.iter_batched(
+            || scenes.clone(),
+            |s| s.iter().map(run).sum::<usize>(),
+            BatchSize::SmallInput,
+        )
+    });
+    group.bench_function("all_cores", |b| {
+        b.iter_batched(
+            || scenes.clone(),
+            |s| s.par_iter().map(run).sum::<usize>(),
+            BatchSize::SmallInput,
+        )
+    });
     group.finish();
 }
 
 criterion_group!(benches, rhs, steps, scenarios, sweep);
 criterion_main!(benches);
-
-
-

@@ -24,16 +24,37 @@ use ellipsoid_core::state::{self, DIM, EulerAngles, State};
 
 fn top() -> System<Frictionless, ()> {
     let (a, c, m) = (0.025, 0.0175, 0.05);
-    let body = Body::of_revolution(a, c, m, m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0, 0.003).unwrap();
-    System { body, gravity: 9.81, contact: Frictionless, effects: () }
+    let body = Body::of_revolution(
+        a,
+        c,
+        m,
+        m * (a * a + c * c) / 5.0,
+        2.0 * m * a * a / 5.0,
+        0.003,
+    )
+    .unwrap();
+    System {
+        body,
+        gravity: 9.81,
+        contact: Frictionless,
+        effects: (),
+    }
 }
 
 /// The nutation scene's start, tilted and precessing a little so no component is zero.
 fn start() -> State {
-    let angles = EulerAngles { theta: 0.3, phi: 0.2, psi: 0.1, theta_dot: 1.0, phi_dot: 3.0, psi_dot: 60.0 };
+    let angles = EulerAngles {
+        theta: 0.3,
+        phi: 0.2,
+        psi: 0.1,
+        theta_dot: 1.0,
+        phi_dot: 3.0,
+        psi_dot: 60.0,
+    };
     let mut y = State::zeros();
     state::set_quaternion(&mut y, &angles.rotation());
-    y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&angles.omega_body());
+    y.fixed_rows_mut::<3>(state::OMEGA)
+        .copy_from(&angles.omega_body());
     y
 }
 
@@ -57,14 +78,35 @@ impl<S: OdeSystem<DIM>> OdeSystem<DIM> for Recording<'_, S> {
 /// spans that keep the recorded states within L2 (≤ ~1 MB).
 fn cases() -> Vec<(&'static str, Method, Options<DIM>, f64)> {
     vec![
-        ("rk4", Method::Rk4 { h: 1e-4 }, Options::new(1e-10, 1e-12), 0.1),
+        (
+            "rk4",
+            Method::Rk4 { h: 1e-4 },
+            Options::new(1e-10, 1e-12),
+            0.1,
+        ),
         ("dopri5", Method::Dopri5, Options::new(1e-10, 1e-12), 0.5),
         ("dop853", Method::Dop853, Options::new(1e-12, 1e-12), 1.0),
     ]
 }
 
-fn run<S: OdeSystem<DIM>>(sys: &S, method: Method, options: &Options<DIM>, t_end: f64) -> Solution<DIM> {
-    integrate(method, sys, 0.0, start(), t_end, options, &[], &[], &mut |_, _| ControlFlow::Continue(())).unwrap()
+fn run<S: OdeSystem<DIM>>(
+    sys: &S,
+    method: Method,
+    options: &Options<DIM>,
+    t_end: f64,
+) -> Solution<DIM> {
+    integrate(
+        method,
+        sys,
+        0.0,
+        start(),
+        t_end,
+        options,
+        &[],
+        &[],
+        &mut |_, _| ControlFlow::Continue(()),
+    )
+    .unwrap()
 }
 
 /// The recorded calls, independent of one another: the CPU overlaps consecutive
@@ -91,7 +133,10 @@ fn replay_chained<S: OdeSystem<DIM>>(sys: &S, calls: &[(f64, State)]) -> f64 {
 
 fn recorded(method: Method, options: &Options<DIM>, t_end: f64) -> Vec<(f64, State)> {
     let sys = top();
-    let rec = Recording { inner: &sys, calls: RefCell::new(Vec::new()) };
+    let rec = Recording {
+        inner: &sys,
+        calls: RefCell::new(Vec::new()),
+    };
     let sol = run(&rec, method, options, t_end);
     let calls = rec.calls.into_inner();
     assert_eq!(calls.len() as u64, sol.stats.rhs_evals);
@@ -104,9 +149,15 @@ fn groups(c: &mut Criterion) {
         let calls = recorded(method, &options, t_end);
         let mut group = c.benchmark_group("overhead");
         group.throughput(Throughput::Elements(calls.len() as u64));
-        group.bench_function(format!("run/{name}"), |b| b.iter(|| black_box(run(black_box(&sys), method, &options, t_end))));
-        group.bench_function(format!("rhs_replay/{name}"), |b| b.iter(|| replay(black_box(&sys), black_box(&calls))));
-        group.bench_function(format!("rhs_replay_chained/{name}"), |b| b.iter(|| replay_chained(black_box(&sys), black_box(&calls))));
+        group.bench_function(format!("run/{name}"), |b| {
+            b.iter(|| black_box(run(black_box(&sys), method, &options, t_end)))
+        });
+        group.bench_function(format!("rhs_replay/{name}"), |b| {
+            b.iter(|| replay(black_box(&sys), black_box(&calls)))
+        });
+        group.bench_function(format!("rhs_replay_chained/{name}"), |b| {
+            b.iter(|| replay_chained(black_box(&sys), black_box(&calls)))
+        });
         group.finish();
     }
 }
@@ -119,10 +170,22 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Interleaved timing; prints one line per method.
 fn table() {
     let sys = top();
-    println!("\nstepper overhead, interleaved medians of 31 (run, chained replay, independent replay) triples:");
+    println!(
+        "\nstepper overhead, interleaved medians of 31 (run, chained replay, independent replay) triples:"
+    );
     println!(
         "{:<8} {:>6} {:>6} {:>10} {:>10} {:>10} {:>8} {:>8} {:>9} {:>10} {:>10}",
-        "method", "steps", "rhs", "run", "chained", "indep.", "ns/rhs", "ns/rhs", "ns/step", "overhead", "vs indep."
+        "method",
+        "steps",
+        "rhs",
+        "run",
+        "chained",
+        "indep.",
+        "ns/rhs",
+        "ns/rhs",
+        "ns/step",
+        "overhead",
+        "vs indep."
     );
     for (name, method, options, t_end) in cases() {
         let calls = recorded(method, &options, t_end);
@@ -175,11 +238,24 @@ fn bookkeeping() {
         let mut steps = 0;
         for _ in 0..15 {
             let t0 = Instant::now();
-            let sol = integrate(method, black_box(&Shift), 0.0, y0, 20.0, &options, &[], &[], &mut |_, _| ControlFlow::Continue(()));
+            let sol = integrate(
+                method,
+                black_box(&Shift),
+                0.0,
+                y0,
+                20.0,
+                &options,
+                &[],
+                &[],
+                &mut |_, _| ControlFlow::Continue(()),
+            );
             best = best.min(t0.elapsed().as_secs_f64());
             steps = sol.unwrap().stats.accepted;
         }
-        println!("{name:<8} {steps:>7} steps {:>8.1} ns/step", best / steps as f64 * 1e9);
+        println!(
+            "{name:<8} {steps:>7} steps {:>8.1} ns/step",
+            best / steps as f64 * 1e9
+        );
     }
 }
 

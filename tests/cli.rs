@@ -10,12 +10,19 @@ use serde_json::Value;
 const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
 
 fn scenarios() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios").canonicalize().expect("scenarios/ exists")
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .canonicalize()
+        .expect("scenarios/ exists")
 }
 
 /// Runs the binary in `dir`.
 fn ellipsoid(dir: &Path, args: &[&str]) -> Output {
-    Command::new(BIN).args(args).current_dir(dir).output().expect("the binary runs")
+    Command::new(BIN)
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
 }
 
 fn stderr(o: &Output) -> String {
@@ -28,25 +35,44 @@ fn code(o: &Output) -> i32 {
 
 fn assert_no_panic(o: &Output) {
     let text = format!("{}{}", String::from_utf8_lossy(&o.stdout), stderr(o));
-    assert!(!text.contains("panicked") && !text.contains("RUST_BACKTRACE"), "panic text in output:\n{text}");
+    assert!(
+        !text.contains("panicked") && !text.contains("RUST_BACKTRACE"),
+        "panic text in output:\n{text}"
+    );
 }
 
 fn read_json(path: &Path) -> Value {
-    serde_json::from_str(&std::fs::read_to_string(path).expect("summary written")).expect("summary is JSON")
+    serde_json::from_str(&std::fs::read_to_string(path).expect("summary written"))
+        .expect("summary is JSON")
 }
 
 /// Header and rows of a CSV trajectory, numbers parsed.
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).expect("trajectory written");
     let mut lines = text.lines();
-    let header: Vec<String> = lines.next().expect("header").split(',').map(str::to_owned).collect();
-    let rows: Vec<Vec<String>> = lines.map(|l| l.split(',').map(str::to_owned).collect()).collect();
+    let header: Vec<String> = lines
+        .next()
+        .expect("header")
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
     (header, rows)
 }
 
 fn column(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
-    let i = header.iter().position(|h| h == name).unwrap_or_else(|| panic!("no column {name}"));
-    rows.iter().map(|r| r[i].parse::<f64>().unwrap_or_else(|_| panic!("{name} = {:?} is not a number", r[i]))).collect()
+    let i = header
+        .iter()
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name}"));
+    rows.iter()
+        .map(|r| {
+            r[i].parse::<f64>()
+                .unwrap_or_else(|_| panic!("{name} = {:?} is not a number", r[i]))
+        })
+        .collect()
 }
 
 /// The CSV header, exactly (docs/scenarios.md).
@@ -57,12 +83,24 @@ const HEADER: &str = "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,om
 /// Runs a bundled scenario (shortened to `t_end` when given) and checks what every run
 /// must satisfy: the exit status for its run status, a well-formed CSV that ends where
 /// the summary says, and the scenario's `[check]` drift tolerances.
-fn run_scenario(name: &str, t_end: Option<f64>, status: &str) -> (Value, Vec<String>, Vec<Vec<String>>) {
+fn run_scenario(
+    name: &str,
+    t_end: Option<f64>,
+    status: &str,
+) -> (Value, Vec<String>, Vec<Vec<String>>) {
     let dir = tempfile::tempdir().unwrap();
     let file = scenarios().join(format!("{name}.toml"));
     let (csv, json) = (dir.path().join("out.csv"), dir.path().join("summary.json"));
     let set = t_end.map(|t| format!("output.t_end={t}"));
-    let mut args = vec!["run", file.to_str().unwrap(), "-o", csv.to_str().unwrap(), "--summary", json.to_str().unwrap(), "-q"];
+    let mut args = vec![
+        "run",
+        file.to_str().unwrap(),
+        "-o",
+        csv.to_str().unwrap(),
+        "--summary",
+        json.to_str().unwrap(),
+        "-q",
+    ];
     if let Some(s) = &set {
         args.extend(["--set", s]);
     }
@@ -79,17 +117,31 @@ fn run_scenario(name: &str, t_end: Option<f64>, status: &str) -> (Value, Vec<Str
     }
     let (header, rows) = read_csv(&csv);
     assert_eq!(header.join(","), HEADER, "{name}: header");
-    assert_eq!(rows.len() as u64, summary["samples"].as_u64().unwrap(), "{name}");
-    assert!(rows.iter().all(|r| r.len() == header.len()), "{name}: ragged rows");
+    assert_eq!(
+        rows.len() as u64,
+        summary["samples"].as_u64().unwrap(),
+        "{name}"
+    );
+    assert!(
+        rows.iter().all(|r| r.len() == header.len()),
+        "{name}: ragged rows"
+    );
     let t = column(&header, &rows, "t");
     assert_eq!(t[0], 0.0);
-    assert_eq!(*t.last().unwrap(), summary["final"]["t"].as_f64().unwrap(), "{name}: the trajectory ends where the run did");
+    assert_eq!(
+        *t.last().unwrap(),
+        summary["final"]["t"].as_f64().unwrap(),
+        "{name}: the trajectory ends where the run did"
+    );
     assert!(t.windows(2).all(|w| w[1] > w[0]), "{name}: times increase");
     // Every numeric column (all but `mode`, which is not last: `work` follows it).
     let numeric: Vec<&String> = header.iter().filter(|h| *h != "mode").collect();
     assert_eq!(numeric.len(), header.len() - 1);
     for h in numeric {
-        assert!(column(&header, &rows, h).iter().all(|v| v.is_finite()), "{name}: {h} finite");
+        assert!(
+            column(&header, &rows, h).iter().all(|v| v.is_finite()),
+            "{name}: {h} finite"
+        );
     }
     (summary, header, rows)
 }
@@ -97,13 +149,26 @@ fn run_scenario(name: &str, t_end: Option<f64>, status: &str) -> (Value, Vec<Str
 #[test]
 fn every_bundled_scenario_has_a_test() {
     let tested = [
-        "nutation", "paper-sliding", "paper-rolling", "tippe-top", "egg", "billiard", "disc", "rattleback", "rolling-resistance", "spin-friction", "air-drag",
+        "nutation",
+        "paper-sliding",
+        "paper-rolling",
+        "tippe-top",
+        "egg",
+        "billiard",
+        "disc",
+        "rattleback",
+        "rolling-resistance",
+        "spin-friction",
+        "air-drag",
     ];
     for entry in std::fs::read_dir(scenarios()).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "toml") {
             let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
-            assert!(tested.contains(&stem.as_str()), "scenarios/{stem}.toml has no test in tests/cli.rs");
+            assert!(
+                tested.contains(&stem.as_str()),
+                "scenarios/{stem}.toml has no test in tests/cli.rs"
+            );
         }
     }
 }
@@ -112,13 +177,22 @@ fn every_bundled_scenario_has_a_test() {
 fn scenario_nutation_conserves_its_invariants() {
     let (s, h, rows) = run_scenario("nutation", Some(2.0), "completed");
     for k in ["energy", "momentum", "angular_momentum_z", "axial_spin"] {
-        assert!(s["drift"][k].as_f64().unwrap() < 1e-9, "{k}: {}", s["drift"][k]);
+        assert!(
+            s["drift"][k].as_f64().unwrap() < 1e-9,
+            "{k}: {}",
+            s["drift"][k]
+        );
     }
     assert!(s["drift"]["jellett"].is_null(), "not a sphere");
     // θ nutates: it returns close to θ0 = 10° after dipping.
     let theta = column(&h, &rows, "theta");
-    let (lo, hi) = theta.iter().fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
-    assert!(lo < 0.16 && (hi - 10f64.to_radians()).abs() < 1e-6, "θ in [{lo}, {hi}]");
+    let (lo, hi) = theta
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+    assert!(
+        lo < 0.16 && (hi - 10f64.to_radians()).abs() < 1e-6,
+        "θ in [{lo}, {hi}]"
+    );
 }
 
 #[test]
@@ -126,14 +200,23 @@ fn scenario_paper_sliding_rises_until_the_slip_stops() {
     let (s, h, rows) = run_scenario("paper-sliding", None, "slip_stopped");
     assert_eq!(s["events"][0]["kind"], "slip_stop");
     let theta = column(&h, &rows, "theta");
-    assert!(theta.last().unwrap().to_degrees() > 135.0, "θ_final = {}°", theta.last().unwrap().to_degrees());
+    assert!(
+        theta.last().unwrap().to_degrees() > 135.0,
+        "θ_final = {}°",
+        theta.last().unwrap().to_degrees()
+    );
 }
 
 #[test]
 fn scenario_paper_rolling_conserves_energy() {
     let (s, h, rows) = run_scenario("paper-rolling", Some(2.0), "completed");
     assert!(s["drift"]["energy"].as_f64().unwrap() < 1e-9);
-    assert!(column(&h, &rows, "slip_speed").iter().all(|v| v.abs() < 1e-12), "no slip while rolling");
+    assert!(
+        column(&h, &rows, "slip_speed")
+            .iter()
+            .all(|v| v.abs() < 1e-12),
+        "no slip while rolling"
+    );
 }
 
 #[test]
@@ -148,16 +231,30 @@ fn scenario_tippe_top_turns_over() {
 fn scenario_egg_rises_then_stops_slipping() {
     let (_, h, rows) = run_scenario("egg", None, "slip_stopped");
     let theta = column(&h, &rows, "theta");
-    assert!(theta[0].to_degrees() > 79.0 && theta.last().unwrap().to_degrees() < 25.0, "θ from {} to {}", theta[0], theta.last().unwrap());
+    assert!(
+        theta[0].to_degrees() > 79.0 && theta.last().unwrap().to_degrees() < 25.0,
+        "θ from {} to {}",
+        theta[0],
+        theta.last().unwrap()
+    );
 }
 
 #[test]
 fn scenario_billiard_matches_the_analytic_slip_time_and_rolling_speed() {
     let (s, h, rows) = run_scenario("billiard", None, "completed");
     let (v0, mu, g) = (2.0, 0.2, 9.81);
-    let slip_stop = s["events"].as_array().unwrap().iter().find(|e| e["kind"] == "slip_stop").expect("slip stops");
+    let slip_stop = s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["kind"] == "slip_stop")
+        .expect("slip stops");
     let t_star = 2.0 * v0 / (7.0 * mu * g);
-    assert!((slip_stop["t"].as_f64().unwrap() - t_star).abs() < 1e-9, "t* = {} vs {t_star}", slip_stop["t"]);
+    assert!(
+        (slip_stop["t"].as_f64().unwrap() - t_star).abs() < 1e-9,
+        "t* = {} vs {t_star}",
+        slip_stop["t"]
+    );
     let vx = column(&h, &rows, "vx");
     assert!((vx.last().unwrap() - 5.0 * v0 / 7.0).abs() < 1e-9);
     assert_eq!(rows.last().unwrap()[19], "rolling");
@@ -182,8 +279,14 @@ fn scenario_rattleback_reverses_its_spin() {
 #[test]
 fn scenario_rolling_resistance_dissipates() {
     let (s, _, _) = run_scenario("rolling-resistance", Some(2.0), "completed");
-    assert!(s["final_invariants"]["energy"].as_f64().unwrap() < s["initial_invariants"]["energy"].as_f64().unwrap());
-    assert!(s["drift"]["energy"].is_null(), "energy is not conserved with rolling resistance");
+    assert!(
+        s["final_invariants"]["energy"].as_f64().unwrap()
+            < s["initial_invariants"]["energy"].as_f64().unwrap()
+    );
+    assert!(
+        s["drift"]["energy"].is_null(),
+        "energy is not conserved with rolling resistance"
+    );
 }
 
 #[test]
@@ -208,24 +311,55 @@ fn scenario_air_drag_slows_the_body() {
 fn summary_has_every_documented_field_and_goes_to_stdout() {
     let dir = tempfile::tempdir().unwrap();
     let file = scenarios().join("nutation.toml");
-    let out = ellipsoid(dir.path(), &["run", file.to_str().unwrap(), "--set", "output.t_end=0.1", "--summary", "-"]);
+    let out = ellipsoid(
+        dir.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "--set",
+            "output.t_end=0.1",
+            "--summary",
+            "-",
+        ],
+    );
     assert_eq!(code(&out), 0, "{}", stderr(&out));
     let s: Value = serde_json::from_slice(&out.stdout).expect("stdout is the JSON summary alone");
-    for key in ["status", "message", "events", "stats", "wall_time_s", "final", "drift", "initial_invariants", "final_invariants", "warnings", "units", "scenario", "version"] {
+    for key in [
+        "status",
+        "message",
+        "events",
+        "stats",
+        "wall_time_s",
+        "final",
+        "drift",
+        "initial_invariants",
+        "final_invariants",
+        "warnings",
+        "units",
+        "scenario",
+        "version",
+    ] {
         assert!(s.get(key).is_some(), "summary lacks {key}");
     }
     for key in ["accepted", "rejected", "rhs_evals", "events"] {
         assert!(s["stats"][key].is_u64(), "stats.{key}");
     }
     for col in HEADER.split(',') {
-        assert!(s["final"].get(col).is_some() && s["units"].get(col).is_some(), "final/units lack {col}");
+        assert!(
+            s["final"].get(col).is_some() && s["units"].get(col).is_some(),
+            "final/units lack {col}"
+        );
     }
     assert_eq!(s["units"]["theta_dot"], "rad/s");
     assert_eq!(s["version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(s["overrides"][0], "output.t_end=0.1");
     // The default trajectory path is out/<stem>.csv, relative to the working directory.
     assert!(dir.path().join("out/nutation.csv").is_file());
-    assert!(stderr(&out).contains("completed at t = 0.1 s"), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("completed at t = 0.1 s"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]
@@ -234,16 +368,35 @@ fn csv_numbers_round_trip_exactly() {
     let file = scenarios().join("paper-rolling.toml");
     let csv = dir.path().join("r.csv");
     let json = dir.path().join("r.json");
-    let out = ellipsoid(dir.path(), &["run", file.to_str().unwrap(), "--set", "output.t_end=0.05", "-o", csv.to_str().unwrap(), "--summary", json.to_str().unwrap()]);
+    let out = ellipsoid(
+        dir.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "--set",
+            "output.t_end=0.05",
+            "-o",
+            csv.to_str().unwrap(),
+            "--summary",
+            json.to_str().unwrap(),
+        ],
+    );
     assert_eq!(code(&out), 0, "{}", stderr(&out));
     let s = read_json(&json);
     let (header, rows) = read_csv(&csv);
     for (i, name) in header.iter().enumerate() {
         if name == "mode" {
-            assert_eq!(rows.last().unwrap()[i], s["final"]["mode"].as_str().unwrap());
+            assert_eq!(
+                rows.last().unwrap()[i],
+                s["final"]["mode"].as_str().unwrap()
+            );
         } else {
             let v: f64 = rows.last().unwrap()[i].parse().unwrap();
-            assert_eq!(v.to_bits(), s["final"][name].as_f64().unwrap().to_bits(), "{name}");
+            assert_eq!(
+                v.to_bits(),
+                s["final"][name].as_f64().unwrap().to_bits(),
+                "{name}"
+            );
         }
     }
 }
@@ -252,9 +405,22 @@ fn csv_numbers_round_trip_exactly() {
 fn quiet_run_prints_nothing_and_no_progress_bar_off_a_terminal() {
     let dir = tempfile::tempdir().unwrap();
     let file = scenarios().join("nutation.toml");
-    let out = ellipsoid(dir.path(), &["run", file.to_str().unwrap(), "-q", "--set", "output.t_end=0.5"]);
+    let out = ellipsoid(
+        dir.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "-q",
+            "--set",
+            "output.t_end=0.5",
+        ],
+    );
     assert_eq!(code(&out), 0);
-    assert!(out.stderr.is_empty() && out.stdout.is_empty(), "{}", stderr(&out));
+    assert!(
+        out.stderr.is_empty() && out.stdout.is_empty(),
+        "{}",
+        stderr(&out)
+    );
 }
 
 #[test]
@@ -276,21 +442,44 @@ fn check_prints_derived_quantities_without_writing() {
         assert!(text.contains(needle), "missing {needle:?} in\n{text}");
     }
     // Every label is separated from its value, however long (the [check] drift keys).
-    assert!(text.contains("\n[check] angular_momentum_z relative drift <= 1e-9\n"), "{text}");
+    assert!(
+        text.contains("\n[check] angular_momentum_z relative drift <= 1e-9\n"),
+        "{text}"
+    );
     for l in text.lines() {
         let padded = l.as_bytes().get(21) == Some(&b' ');
-        let long_check_label = l.strip_prefix("[check] ").and_then(|r| r.split_once(' ')).is_some_and(|(_, v)| v.starts_with("relative drift <= "));
-        assert!(padded || long_check_label, "label run into its value: {l:?}");
+        let long_check_label = l
+            .strip_prefix("[check] ")
+            .and_then(|r| r.split_once(' '))
+            .is_some_and(|(_, v)| v.starts_with("relative drift <= "));
+        assert!(
+            padded || long_check_label,
+            "label run into its value: {l:?}"
+        );
     }
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0, "check writes nothing");
-    let out = ellipsoid(dir.path(), &["check", file.to_str().unwrap(), "--set", "body.mass=0"]);
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "check writes nothing"
+    );
+    let out = ellipsoid(
+        dir.path(),
+        &["check", file.to_str().unwrap(), "--set", "body.mass=0"],
+    );
     assert_eq!(code(&out), 2);
-    assert!(stderr(&out).contains("--set body.mass=0: body.mass = 0: the mass must be positive"), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("--set body.mass=0: body.mass = 0: the mass must be positive"),
+        "{}",
+        stderr(&out)
+    );
 }
 
 /// File names in `dir`, sorted.
 fn listing(dir: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
     names.sort();
     names
 }
@@ -307,16 +496,39 @@ fn an_unwritable_summary_exits_1_and_writes_nothing_new() {
     }
     for summary in summaries {
         for output in ["keep.csv", "made/new.csv"] {
-            let out = ellipsoid(dir.path(), &["run", file.to_str().unwrap(), "-q", "--set", "output.t_end=0.1", "-o", output, "--summary", summary]);
+            let out = ellipsoid(
+                dir.path(),
+                &[
+                    "run",
+                    file.to_str().unwrap(),
+                    "-q",
+                    "--set",
+                    "output.t_end=0.1",
+                    "-o",
+                    output,
+                    "--summary",
+                    summary,
+                ],
+            );
             assert_no_panic(&out);
             let err = stderr(&out);
             assert_eq!(code(&out), 1, "-o {output} --summary {summary}: {err}");
-            assert!(err.starts_with(&format!("error: {summary}: ")) && err.lines().count() == 1, "{err}");
+            assert!(
+                err.starts_with(&format!("error: {summary}: ")) && err.lines().count() == 1,
+                "{err}"
+            );
             // The OS's reason is given once, not repeated by the error chain.
             let reason = err.trim_end().rsplit(": ").next().unwrap();
             assert_eq!(err.matches(reason).count(), 1, "{err}");
-            assert_eq!(listing(dir.path()), ["d", "keep.csv"], "-o {output} --summary {summary}: nothing new, no directory made");
-            assert_eq!(std::fs::read_to_string(dir.path().join("keep.csv")).unwrap(), "keep");
+            assert_eq!(
+                listing(dir.path()),
+                ["d", "keep.csv"],
+                "-o {output} --summary {summary}: nothing new, no directory made"
+            );
+            assert_eq!(
+                std::fs::read_to_string(dir.path().join("keep.csv")).unwrap(),
+                "keep"
+            );
             assert!(listing(&dir.path().join("d")).is_empty());
         }
     }
@@ -333,11 +545,31 @@ fn outputs_that_are_the_same_file_as_each_other_or_the_scenario_are_refused() {
     let abs_v = abs.join("v.toml").to_string_lossy().into_owned();
     let abs_names = format!("the scenario file {abs_v} and --summary v.toml");
     let cases: [(&[&str], &str, &str); 6] = [
-        (&["v.toml", "-o", "x.csv", "--summary", "x.csv"], "-o x.csv and --summary x.csv", "x.csv"),
-        (&["v.toml", "-o", "keep.csv", "--summary", "./keep.csv"], "-o keep.csv and --summary ./keep.csv", "keep.csv"),
-        (&["v.toml", "-o", "sub/../x.csv", "--summary", "x.csv"], "-o sub/../x.csv and --summary x.csv", "x.csv"),
-        (&["v.toml", "-o", "w.csv", "--summary", "v.toml"], "the scenario file v.toml and --summary v.toml", "v.toml"),
-        (&["v.csv", "-o", "out/../v.csv", "--summary", "s.json"], "the scenario file v.csv and -o out/../v.csv", "v.csv"),
+        (
+            &["v.toml", "-o", "x.csv", "--summary", "x.csv"],
+            "-o x.csv and --summary x.csv",
+            "x.csv",
+        ),
+        (
+            &["v.toml", "-o", "keep.csv", "--summary", "./keep.csv"],
+            "-o keep.csv and --summary ./keep.csv",
+            "keep.csv",
+        ),
+        (
+            &["v.toml", "-o", "sub/../x.csv", "--summary", "x.csv"],
+            "-o sub/../x.csv and --summary x.csv",
+            "x.csv",
+        ),
+        (
+            &["v.toml", "-o", "w.csv", "--summary", "v.toml"],
+            "the scenario file v.toml and --summary v.toml",
+            "v.toml",
+        ),
+        (
+            &["v.csv", "-o", "out/../v.csv", "--summary", "s.json"],
+            "the scenario file v.csv and -o out/../v.csv",
+            "v.csv",
+        ),
         (&[&abs_v, "--summary", "v.toml"], &abs_names, "v.toml"),
     ];
     for (extra, names, file) in cases {
@@ -347,12 +579,31 @@ fn outputs_that_are_the_same_file_as_each_other_or_the_scenario_are_refused() {
         assert_no_panic(&out);
         let err = stderr(&out);
         assert_eq!(code(&out), 2, "{extra:?}: {err}");
-        let expected = format!("error: {names} are the same file ({})", abs.join(file).display());
-        assert!(err.starts_with(&expected) && err.lines().count() == 1, "{extra:?}: {err}\nexpected {expected}");
-        assert_eq!(listing(dir.path()), ["keep.csv", "v.csv", "v.toml"], "{extra:?}: nothing written");
-        assert_eq!(std::fs::read_to_string(dir.path().join("v.toml")).unwrap(), text);
-        assert_eq!(std::fs::read_to_string(dir.path().join("v.csv")).unwrap(), text);
-        assert_eq!(std::fs::read_to_string(dir.path().join("keep.csv")).unwrap(), "keep");
+        let expected = format!(
+            "error: {names} are the same file ({})",
+            abs.join(file).display()
+        );
+        assert!(
+            err.starts_with(&expected) && err.lines().count() == 1,
+            "{extra:?}: {err}\nexpected {expected}"
+        );
+        assert_eq!(
+            listing(dir.path()),
+            ["keep.csv", "v.csv", "v.toml"],
+            "{extra:?}: nothing written"
+        );
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("v.toml")).unwrap(),
+            text
+        );
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("v.csv")).unwrap(),
+            text
+        );
+        assert_eq!(
+            std::fs::read_to_string(dir.path().join("keep.csv")).unwrap(),
+            "keep"
+        );
     }
 }
 
@@ -361,10 +612,27 @@ fn an_input_error_does_not_touch_an_existing_output() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::write(dir.path().join("keep.csv"), "keep").unwrap();
     let file = scenarios().join("nutation.toml");
-    let out = ellipsoid(dir.path(), &["run", file.to_str().unwrap(), "-o", "keep.csv", "--set", "body.mass=-1"]);
+    let out = ellipsoid(
+        dir.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "-o",
+            "keep.csv",
+            "--set",
+            "body.mass=-1",
+        ],
+    );
     assert_eq!(code(&out), 2);
-    assert_eq!(std::fs::read_to_string(dir.path().join("keep.csv")).unwrap(), "keep");
-    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "no temporary left behind");
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("keep.csv")).unwrap(),
+        "keep"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "no temporary left behind"
+    );
 }
 
 #[cfg(feature = "hdf5")]
@@ -374,20 +642,39 @@ fn hdf5_round_trip_matches_the_csv() {
     let file = scenarios().join("billiard.toml");
     let (h5, csv) = (dir.path().join("b.h5"), dir.path().join("b.csv"));
     for out in [&h5, &csv] {
-        let o = ellipsoid(dir.path(), &["run", file.to_str().unwrap(), "-q", "--set", "output.t_end=0.5", "-o", out.to_str().unwrap()]);
+        let o = ellipsoid(
+            dir.path(),
+            &[
+                "run",
+                file.to_str().unwrap(),
+                "-q",
+                "--set",
+                "output.t_end=0.5",
+                "-o",
+                out.to_str().unwrap(),
+            ],
+        );
         assert_eq!(code(&o), 0, "{}", stderr(&o));
     }
     let traj = ellipsoid_io::hdf5::read(&h5).expect("readable HDF5");
     let (header, rows) = read_csv(&csv);
     for name in header.iter().filter(|h| *h != "mode") {
         let from_csv = column(&header, &rows, name);
-        let from_h5 = traj.column(name).unwrap_or_else(|| panic!("no dataset {name}"));
+        let from_h5 = traj
+            .column(name)
+            .unwrap_or_else(|| panic!("no dataset {name}"));
         assert_eq!(from_csv, from_h5, "{name}");
     }
     let modes: Vec<&str> = rows.iter().map(|r| r[19].as_str()).collect();
     assert_eq!(traj.modes, modes);
-    assert_eq!(traj.columns.iter().find(|c| c.0 == "theta").unwrap().1, "rad");
-    assert_eq!(traj.attributes["scenario"], std::fs::read_to_string(&file).unwrap());
+    assert_eq!(
+        traj.columns.iter().find(|c| c.0 == "theta").unwrap().1,
+        "rad"
+    );
+    assert_eq!(
+        traj.attributes["scenario"],
+        std::fs::read_to_string(&file).unwrap()
+    );
     assert_eq!(traj.attributes["version"], env!("CARGO_PKG_VERSION"));
     assert_eq!(traj.attributes["status"], "completed");
     let summary: Value = serde_json::from_str(&traj.attributes["summary"]).unwrap();
@@ -402,7 +689,12 @@ fn hdf5_without_the_feature_says_how_to_get_it() {
     let out = ellipsoid(dir.path(), &["run", file.to_str().unwrap(), "-o", "x.h5"]);
     assert_eq!(code(&out), 2);
     let err = stderr(&out);
-    assert!(err.starts_with("error: x.h5: this ellipsoid was built without HDF5 support") && err.contains("cargo install --path crates/ellipsoid-cli --features hdf5") && err.contains("libhdf5-dev"), "{err}");
+    assert!(
+        err.starts_with("error: x.h5: this ellipsoid was built without HDF5 support")
+            && err.contains("cargo install --path crates/ellipsoid-cli --features hdf5")
+            && err.contains("libhdf5-dev"),
+        "{err}"
+    );
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
 }
 
@@ -445,83 +737,188 @@ type Case = (&'static str, Option<Vec<u8>>, Vec<&'static str>, Expect);
 #[test]
 fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
     let cases: Vec<Case> = vec![
-        ("missing key", Some(edit("mass = 0.05\n", "").into()), vec![], Expect::Exact("error: bad.toml:1:1: body.mass is missing: give the mass (kg)")),
-        ("wrong type", Some(edit("mass = 0.05", "mass = \"heavy\"").into()), vec![], Expect::Exact("error: bad.toml:4:1: body.mass = \"heavy\": expected a number: the mass (kg), found a string")),
-        ("negative mass", Some(edit("mass = 0.05", "mass = -0.05").into()), vec![], Expect::Exact("error: bad.toml:4:1: body.mass = -0.05: the mass must be positive and finite (kg)")),
+        (
+            "missing key",
+            Some(edit("mass = 0.05\n", "").into()),
+            vec![],
+            Expect::Exact("error: bad.toml:1:1: body.mass is missing: give the mass (kg)"),
+        ),
+        (
+            "wrong type",
+            Some(edit("mass = 0.05", "mass = \"heavy\"").into()),
+            vec![],
+            Expect::Exact(
+                "error: bad.toml:4:1: body.mass = \"heavy\": expected a number: the mass (kg), found a string",
+            ),
+        ),
+        (
+            "negative mass",
+            Some(edit("mass = 0.05", "mass = -0.05").into()),
+            vec![],
+            Expect::Exact(
+                "error: bad.toml:4:1: body.mass = -0.05: the mass must be positive and finite (kg)",
+            ),
+        ),
         (
             "unknown model",
             Some(edit("\"frictionless\"", "\"roling\"").into()),
             vec![],
-            Expect::Exact("error: bad.toml:13:1: contact.model = \"roling\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"; did you mean \"rolling\"?"),
+            Expect::Exact(
+                "error: bad.toml:13:1: contact.model = \"roling\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"; did you mean \"rolling\"?",
+            ),
         ),
         (
             "friction missing for sliding",
             Some(edit("\"frictionless\"", "\"sliding\"").into()),
             vec![],
-            Expect::Exact("error: bad.toml:12:1: contact.friction is missing: the sliding model needs μ, the Coulomb friction coefficient (e.g. friction = 0.3)"),
+            Expect::Exact(
+                "error: bad.toml:12:1: contact.friction is missing: the sliding model needs μ, the Coulomb friction coefficient (e.g. friction = 0.3)",
+            ),
         ),
         (
             "friction given for rolling",
             Some(edit("\"frictionless\"", "\"rolling\"\nfriction = 0.3").into()),
             vec![],
-            Expect::Exact("error: bad.toml:14:1: contact.friction = 0.3: the rolling model takes no friction coefficient (rolling assumes unlimited friction); remove it, or use model = \"coulomb\""),
+            Expect::Exact(
+                "error: bad.toml:14:1: contact.friction = 0.3: the rolling model takes no friction coefficient (rolling assumes unlimited friction); remove it, or use model = \"coulomb\"",
+            ),
         ),
         (
             "inertia violating the triangle inequality",
             Some(edit("[9.3125e-6, 9.3125e-6, 1.25e-5]", "[1e-6, 1e-6, 1.25e-5]").into()),
             vec![],
-            Expect::Parts("error: bad.toml:6:1: body.inertia = [", "]: principal moments must satisfy the triangle inequality (each at most the sum of the other two)"),
+            Expect::Parts(
+                "error: bad.toml:6:1: body.inertia = [",
+                "]: principal moments must satisfy the triangle inequality (each at most the sum of the other two)",
+            ),
         ),
         (
             "centre of mass outside the body",
             Some(edit("com_offset = 0.003", "com_offset = 0.02").into()),
             vec![],
-            Expect::Exact("error: bad.toml:5:1: body.com_offset = [0, 0, -0.02]: the centre of mass must lie inside the ellipsoid (g^T A^-2 g = 1.306122 must be < 1)"),
+            Expect::Exact(
+                "error: bad.toml:5:1: body.com_offset = [0, 0, -0.02]: the centre of mass must lie inside the ellipsoid (g^T A^-2 g = 1.306122 must be < 1)",
+            ),
         ),
-        ("t_end zero", Some(edit("t_end = 0.1", "t_end = 0.0").into()), vec![], Expect::Exact("error: bad.toml:16:1: output.t_end = 0.0: the end time must be positive and finite (s)")),
-        ("t_end negative", Some(edit("t_end = 0.1", "t_end = -1").into()), vec![], Expect::Exact("error: bad.toml:16:1: output.t_end = -1: the end time must be positive and finite (s)")),
+        (
+            "t_end zero",
+            Some(edit("t_end = 0.1", "t_end = 0.0").into()),
+            vec![],
+            Expect::Exact(
+                "error: bad.toml:16:1: output.t_end = 0.0: the end time must be positive and finite (s)",
+            ),
+        ),
+        (
+            "t_end negative",
+            Some(edit("t_end = 0.1", "t_end = -1").into()),
+            vec![],
+            Expect::Exact(
+                "error: bad.toml:16:1: output.t_end = -1: the end time must be positive and finite (s)",
+            ),
+        ),
         (
             "unknown key",
             Some(edit("theta = 0.1745", "thetta = 0.1745").into()),
             vec![],
-            Expect::Exact("error: bad.toml:9:1: initial.thetta = 0.1745: unknown key in [initial]; did you mean `theta`?"),
+            Expect::Exact(
+                "error: bad.toml:9:1: initial.thetta = 0.1745: unknown key in [initial]; did you mean `theta`?",
+            ),
         ),
         (
             "unknown table",
             Some(edit("[contact]", "[contakt]").into()),
             vec![],
-            Expect::Exact("error: bad.toml:12:2: contakt: unknown table at the top level; did you mean `contact`?"),
+            Expect::Exact(
+                "error: bad.toml:12:2: contakt: unknown table at the top level; did you mean `contact`?",
+            ),
         ),
         (
             "both degree twins",
             Some(edit("theta = 0.1745", "theta = 0.1745\ntheta_deg = 10").into()),
             vec![],
-            Expect::Exact("error: bad.toml:10:1: initial.theta_deg = 10: give either initial.theta or initial.theta_deg, not both (radians or degrees)"),
+            Expect::Exact(
+                "error: bad.toml:10:1: initial.theta_deg = 10: give either initial.theta or initial.theta_deg, not both (radians or degrees)",
+            ),
         ),
         (
             "velocity for rolling",
-            Some(edit("\"frictionless\"", "\"rolling\"").replace("psi_dot = 60.0", "psi_dot = 60.0\nvelocity = [1.0, 0.0]").into_bytes()),
+            Some(
+                edit("\"frictionless\"", "\"rolling\"")
+                    .replace("psi_dot = 60.0", "psi_dot = 60.0\nvelocity = [1.0, 0.0]")
+                    .into_bytes(),
+            ),
             vec![],
-            Expect::Exact("error: bad.toml:11:1: initial.velocity = [1.0, 0.0]: not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it"),
+            Expect::Exact(
+                "error: bad.toml:11:1: initial.velocity = [1.0, 0.0]: not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it",
+            ),
         ),
         (
             "body leaves the plane at t = 0 (found by simulate)",
-            Some(edit("theta = 0.1745\npsi_dot = 60.0", "theta = 1.2\nphi_dot = 3000.0").into()),
+            Some(
+                edit(
+                    "theta = 0.1745\npsi_dot = 60.0",
+                    "theta = 1.2\nphi_dot = 3000.0",
+                )
+                .into(),
+            ),
             vec![],
-            Expect::Parts("error: bad.toml:8:2: initial normal force N = -", "the plane must push on the body at t = 0 (N > 0); with these angles and rates the body would leave the plane at once"),
+            Expect::Parts(
+                "error: bad.toml:8:2: initial normal force N = -",
+                "the plane must push on the body at t = 0 (N > 0); with these angles and rates the body would leave the plane at once",
+            ),
         ),
-        ("TOML syntax", Some(edit("mass = 0.05", "mass = 0.05.0").into()), vec![], Expect::Parts("error: bad.toml:4:12: TOML syntax error: ", "")),
-        ("empty file", Some(Vec::new()), vec![], Expect::Exact("error: bad.toml:1:1: body is missing: a scenario needs a [body] table (semi-axes a and c, mass, inertia)")),
-        ("not UTF-8", Some(vec![0xff, 0xfe, b'a']), vec![], Expect::Exact("error: bad.toml: cannot read the scenario file: stream did not contain valid UTF-8")),
-        ("unreadable file", None, vec![], Expect::Exact("error: bad.toml: cannot read the scenario file: No such file or directory (os error 2)")),
+        (
+            "TOML syntax",
+            Some(edit("mass = 0.05", "mass = 0.05.0").into()),
+            vec![],
+            Expect::Parts("error: bad.toml:4:12: TOML syntax error: ", ""),
+        ),
+        (
+            "empty file",
+            Some(Vec::new()),
+            vec![],
+            Expect::Exact(
+                "error: bad.toml:1:1: body is missing: a scenario needs a [body] table (semi-axes a and c, mass, inertia)",
+            ),
+        ),
+        (
+            "not UTF-8",
+            Some(vec![0xff, 0xfe, b'a']),
+            vec![],
+            Expect::Exact(
+                "error: bad.toml: cannot read the scenario file: stream did not contain valid UTF-8",
+            ),
+        ),
+        (
+            "unreadable file",
+            None,
+            vec![],
+            Expect::Exact(
+                "error: bad.toml: cannot read the scenario file: No such file or directory (os error 2)",
+            ),
+        ),
         (
             "override without =",
             Some(BASE.into()),
             vec!["--set", "output.t_end"],
-            Expect::Exact("error: bad.toml: --set output.t_end: an override must have the form key=value, e.g. --set output.t_end=1.0"),
+            Expect::Exact(
+                "error: bad.toml: --set output.t_end: an override must have the form key=value, e.g. --set output.t_end=1.0",
+            ),
         ),
-        ("override breaking a rule", Some(BASE.into()), vec!["--set", "body.mass=-1"], Expect::Exact("error: bad.toml: --set body.mass=-1: body.mass = -1: the mass must be positive and finite (kg)")),
-        ("unknown output format", Some(BASE.into()), vec!["-o", "out/x.txt"], Expect::Exact("error: out/x.txt: unknown output format \"txt\"; use .csv or .h5")),
+        (
+            "override breaking a rule",
+            Some(BASE.into()),
+            vec!["--set", "body.mass=-1"],
+            Expect::Exact(
+                "error: bad.toml: --set body.mass=-1: body.mass = -1: the mass must be positive and finite (kg)",
+            ),
+        ),
+        (
+            "unknown output format",
+            Some(BASE.into()),
+            vec!["-o", "out/x.txt"],
+            Expect::Exact("error: out/x.txt: unknown output format \"txt\"; use .csv or .h5"),
+        ),
     ];
     let mut failures = Vec::new();
     for (name, content, extra, expect) in cases {
@@ -539,9 +936,21 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
             Expect::Exact(e) => line == e,
             Expect::Parts(start, end) => line.starts_with(start) && line.ends_with(end),
         };
-        let left: Vec<String> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).filter(|n| n != "bad.toml").collect();
-        if code(&out) != 2 || !ok_line || line.contains('\n') || !left.is_empty() || !out.stdout.is_empty() {
-            failures.push(format!("{name}: exit {}, left {left:?}, stderr:\n{err}", code(&out)));
+        let left: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n != "bad.toml")
+            .collect();
+        if code(&out) != 2
+            || !ok_line
+            || line.contains('\n')
+            || !left.is_empty()
+            || !out.stdout.is_empty()
+        {
+            failures.push(format!(
+                "{name}: exit {}, left {left:?}, stderr:\n{err}",
+                code(&out)
+            ));
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -550,7 +959,12 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
 #[test]
 fn usage_errors_exit_2_without_panic() {
     let dir = tempfile::tempdir().unwrap();
-    for args in [vec![], vec!["run"], vec!["frobnicate"], vec!["run", "x.toml", "--bogus"]] {
+    for args in [
+        vec![],
+        vec!["run"],
+        vec!["frobnicate"],
+        vec!["run", "x.toml", "--bogus"],
+    ] {
         let out = ellipsoid(dir.path(), &args);
         assert_no_panic(&out);
         assert_eq!(code(&out), 2, "{args:?}");

@@ -8,8 +8,10 @@ use std::f64::consts::PI;
 use std::ops::ControlFlow;
 
 use common::*;
-use ellipsoid_core::body::{uniform_inertia, Body};
-use ellipsoid_core::integrate::{self, Action, Direction, Event, Method, OdeSystem, Options, StopReason};
+use ellipsoid_core::body::{Body, uniform_inertia};
+use ellipsoid_core::integrate::{
+    self, Action, Direction, Event, Method, OdeSystem, Options, StopReason,
+};
 use ellipsoid_core::model::{Frictionless, System};
 use ellipsoid_core::simulate::{ContactModel, EventKind, Mode, Sample, Scene, Status};
 use ellipsoid_core::state::{self, EulerAngles, State};
@@ -35,26 +37,60 @@ fn axis(s: &Sample) -> Vector3<f64> {
 #[test]
 fn hard_1_upright_and_nearly_upright_fast_spin() {
     let mut worst: f64 = 0.0;
-    for contact in [ContactModel::Frictionless, ContactModel::Rolling, ContactModel::Coulomb { friction: 0.3 }] {
-        let run_at = |theta0: f64| run(&scene(oblate(), contact, angles(theta0, 0.0, 0.0, 0.0, 0.0, 100.0), velocity_for(contact), 2.0, 1e-3, TOL));
+    for contact in [
+        ContactModel::Frictionless,
+        ContactModel::Rolling,
+        ContactModel::Coulomb { friction: 0.3 },
+    ] {
+        let run_at = |theta0: f64| {
+            run(&scene(
+                oblate(),
+                contact,
+                angles(theta0, 0.0, 0.0, 0.0, 0.0, 100.0),
+                velocity_for(contact),
+                2.0,
+                1e-3,
+                TOL,
+            ))
+        };
         let (out0, upright) = run_at(0.0);
         let (out1, tilted) = run_at(1e-9);
         assert_eq!(out0.status, Status::Completed, "{contact:?}");
         assert_eq!(out1.status, Status::Completed, "{contact:?}");
-        assert!(upright.iter().all(|s| s.angles.theta == 0.0 && s.normal_force.is_finite()), "{contact:?}: upright spin tilts");
+        assert!(
+            upright
+                .iter()
+                .all(|s| s.angles.theta == 0.0 && s.normal_force.is_finite()),
+            "{contact:?}: upright spin tilts"
+        );
         for (a, b) in upright.iter().zip(&tilted) {
             let d = (axis(a) - axis(b)).norm();
             worst = worst.max(d);
-            assert!(d < 1e-8, "{contact:?}: axis differs by {d:e} at t = {}", a.t);
+            assert!(
+                d < 1e-8,
+                "{contact:?}: axis differs by {d:e} at t = {}",
+                a.t
+            );
             assert!(b.angles.phi_dot.is_finite() && b.angles.psi_dot.is_finite());
         }
     }
     // Pure sliding: a body spinning upright about its axis has no slip (ω ∥ r), which the
     // sliding model reports as a stop at t = 0 instead of dividing by |v_C| = 0.
-    let (out, _) = run(&scene(oblate(), ContactModel::Sliding { friction: 0.3 }, angles(0.0, 0.0, 0.0, 0.0, 0.0, 100.0), Some(Vector2::zeros()), 1.0, 1e-3, TOL));
+    let (out, _) = run(&scene(
+        oblate(),
+        ContactModel::Sliding { friction: 0.3 },
+        angles(0.0, 0.0, 0.0, 0.0, 0.0, 100.0),
+        Some(Vector2::zeros()),
+        1.0,
+        1e-3,
+        TOL,
+    ));
     assert_eq!(out.status, Status::SlipStopped);
     assert_eq!(out.events[0].t, 0.0);
-    measured("1 upright", format!("axis difference between θ0 = 0 and θ0 = 1e-9 over 2 s: {worst:.1e}"));
+    measured(
+        "1 upright",
+        format!("axis difference between θ0 = 0 and θ0 = 1e-9 over 2 s: {worst:.1e}"),
+    );
 }
 
 // 2 ------------------------------------------------------------ slip speed reaching zero
@@ -66,23 +102,89 @@ fn hard_2_slip_stop_without_chattering() {
         Body::new(ax, 0.05, uniform_inertia(ax, 0.05), Vector3::zeros()).unwrap()
     };
     let cases: [(&str, Scene); 4] = [
-        ("billiard", scene(ball(0.028575, 0.17), ContactModel::Coulomb { friction: 0.2 }, angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0), Some(Vector2::new(2.0, 0.0)), 2.0, 1e-3, TOL)),
-        ("tippe top (axis)", scene(tippe_top(), ContactModel::Coulomb { friction: 0.3 }, angles(0.1, 0.0, 0.0, 0.0, 0.0, 180.0), Some(Vector2::zeros()), 4.0, 1e-3, TOL)),
-        ("tippe top (vertical)", scene(tippe_top(), ContactModel::Coulomb { friction: 0.3 }, angles(0.1, 0.0, 0.0, 0.0, 180.0, 0.0), Some(Vector2::zeros()), 4.0, 1e-3, TOL)),
-        ("egg", scene(egg, ContactModel::Coulomb { friction: 0.3 }, angles(1.4, 0.0, 0.0, 0.0, 60.0, 0.0), Some(Vector2::zeros()), 4.0, 1e-3, TOL)),
+        (
+            "billiard",
+            scene(
+                ball(0.028575, 0.17),
+                ContactModel::Coulomb { friction: 0.2 },
+                angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+                Some(Vector2::new(2.0, 0.0)),
+                2.0,
+                1e-3,
+                TOL,
+            ),
+        ),
+        (
+            "tippe top (axis)",
+            scene(
+                tippe_top(),
+                ContactModel::Coulomb { friction: 0.3 },
+                angles(0.1, 0.0, 0.0, 0.0, 0.0, 180.0),
+                Some(Vector2::zeros()),
+                4.0,
+                1e-3,
+                TOL,
+            ),
+        ),
+        (
+            "tippe top (vertical)",
+            scene(
+                tippe_top(),
+                ContactModel::Coulomb { friction: 0.3 },
+                angles(0.1, 0.0, 0.0, 0.0, 180.0, 0.0),
+                Some(Vector2::zeros()),
+                4.0,
+                1e-3,
+                TOL,
+            ),
+        ),
+        (
+            "egg",
+            scene(
+                egg,
+                ContactModel::Coulomb { friction: 0.3 },
+                angles(1.4, 0.0, 0.0, 0.0, 60.0, 0.0),
+                Some(Vector2::zeros()),
+                4.0,
+                1e-3,
+                TOL,
+            ),
+        ),
     ];
     for (name, s) in cases {
         let (out, samples) = run(&s);
-        assert!(matches!(out.status, Status::Completed | Status::LostContact), "{name}: {:?}", out.status);
-        let switches = out.events.iter().filter(|e| matches!(e.kind, EventKind::ModeSwitch { .. })).count();
+        assert!(
+            matches!(out.status, Status::Completed | Status::LostContact),
+            "{name}: {:?}",
+            out.status
+        );
+        let switches = out
+            .events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::ModeSwitch { .. }))
+            .count();
         assert!(switches <= 4, "{name}: {switches} mode switches");
         let balance = out.drift.energy_plus_work.unwrap();
         assert!(balance < 1e-9, "{name}: E + W drift {balance:e}");
         let steps = out.stats.accepted + out.stats.rejected;
-        assert!(out.stats.rejected * 4 < steps, "{name}: {} of {steps} steps rejected", out.stats.rejected);
-        assert!(out.stats.min_step > 1e-12, "{name}: step size collapsed to {:e} s", out.stats.min_step);
+        assert!(
+            out.stats.rejected * 4 < steps,
+            "{name}: {} of {steps} steps rejected",
+            out.stats.rejected
+        );
+        assert!(
+            out.stats.min_step > 1e-12,
+            "{name}: step size collapsed to {:e} s",
+            out.stats.min_step
+        );
         assert!(samples.iter().all(|s| s.slip_speed.is_finite()));
-        measured("2 slip stop", format!("{name}: {switches} switches, E+W drift {balance:.1e}, {} accepted / {} rejected steps, smallest step {:.1e} s", out.stats.accepted, out.stats.rejected, out.stats.min_step));
+        measured(
+            "2 slip stop",
+            format!(
+                "{name}: {switches} switches, E+W drift {balance:.1e}, {} accepted / {} rejected steps, smallest step {:.1e} s",
+                out.stats.accepted, out.stats.rejected, out.stats.min_step
+            ),
+        );
     }
 }
 
@@ -95,19 +197,51 @@ fn hard_2_fixed_step_rk4_stops_the_slip_without_chattering() {
     let t_star = 2.0 * v0 / (7.0 * mu * G);
     let mut errors = Vec::new();
     for h in [1e-3, 1e-4, 1e-5] {
-        let mut s = scene(ball(0.028575, 0.17), ContactModel::Coulomb { friction: mu }, angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0), Some(Vector2::new(v0, 0.0)), 0.5, 1e-2, TOL);
+        let mut s = scene(
+            ball(0.028575, 0.17),
+            ContactModel::Coulomb { friction: mu },
+            angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            Some(Vector2::new(v0, 0.0)),
+            0.5,
+            1e-2,
+            TOL,
+        );
         s.solver.method = Method::Rk4 { h };
         let (out, samples) = run(&s);
         assert_eq!(out.status, Status::Completed);
-        let stop = out.events.iter().find(|e| e.kind == EventKind::SlipStop).expect("slip stops").t;
-        assert!((t_star - stop) < 20.0 * h && stop <= t_star + 1e-12, "h = {h}: stop at {stop} vs {t_star}");
+        let stop = out
+            .events
+            .iter()
+            .find(|e| e.kind == EventKind::SlipStop)
+            .expect("slip stops")
+            .t;
+        assert!(
+            (t_star - stop) < 20.0 * h && stop <= t_star + 1e-12,
+            "h = {h}: stop at {stop} vs {t_star}"
+        );
         errors.push(t_star - stop);
         let v = samples.last().unwrap().velocity.norm();
-        assert!((v - 5.0 * v0 / 7.0).abs() < 1e-12 * v0, "h = {h}: rolls at {v}");
-        assert!(out.drift.energy_plus_work.unwrap() < 1e-12, "h = {h}: E + W {:e}", out.drift.energy_plus_work.unwrap());
+        assert!(
+            (v - 5.0 * v0 / 7.0).abs() < 1e-12 * v0,
+            "h = {h}: rolls at {v}"
+        );
+        assert!(
+            out.drift.energy_plus_work.unwrap() < 1e-12,
+            "h = {h}: E + W {:e}",
+            out.drift.energy_plus_work.unwrap()
+        );
     }
-    assert!(errors[0] > 5.0 * errors[1] && errors[1] > 5.0 * errors[2], "stop error not first order in h: {errors:?}");
-    measured("2 slip stop", format!("RK4 billiard: stop early by {:.1e} / {:.1e} / {:.1e} s at h = 1e-3 / 1e-4 / 1e-5, rolls at 5v0/7 to 1e-12", errors[0], errors[1], errors[2]));
+    assert!(
+        errors[0] > 5.0 * errors[1] && errors[1] > 5.0 * errors[2],
+        "stop error not first order in h: {errors:?}"
+    );
+    measured(
+        "2 slip stop",
+        format!(
+            "RK4 billiard: stop early by {:.1e} / {:.1e} / {:.1e} s at h = 1e-3 / 1e-4 / 1e-5, rolls at 5v0/7 to 1e-12",
+            errors[0], errors[1], errors[2]
+        ),
+    );
 }
 
 /// At loose tolerances a step can turn the slip direction by more than 90°, so
@@ -119,8 +253,12 @@ fn hard_2_loose_tolerances_take_no_false_slip_stop() {
     let mut rows = Vec::new();
     for name in ["egg", "paper-sliding"] {
         let stop_at = |tol: f64| {
-            let set = [format!("solver.rtol={tol:e}"), format!("solver.atol={tol:e}")];
-            let sc = ellipsoid_core::scenario::load(&dir.join(format!("{name}.toml")), &set).unwrap();
+            let set = [
+                format!("solver.rtol={tol:e}"),
+                format!("solver.atol={tol:e}"),
+            ];
+            let sc =
+                ellipsoid_core::scenario::load(&dir.join(format!("{name}.toml")), &set).unwrap();
             let (out, _) = run(&sc.scene);
             assert_eq!(out.status, Status::SlipStopped, "{name} at {tol:e}");
             out.events[0].t
@@ -128,7 +266,10 @@ fn hard_2_loose_tolerances_take_no_false_slip_stop() {
         let exact = stop_at(1e-12);
         for tol in [1e-3, 1e-5, 1e-7] {
             let t = stop_at(tol);
-            assert!((t - exact).abs() < 0.05 * exact, "{name} at rtol {tol:e}: slip stop at {t} s, exact {exact} s");
+            assert!(
+                (t - exact).abs() < 0.05 * exact,
+                "{name} at rtol {tol:e}: slip stop at {t} s, exact {exact} s"
+            );
             rows.push(format!("{name} rtol {tol:e}: {t:.4} s (exact {exact:.4})"));
         }
     }
@@ -141,21 +282,55 @@ fn hard_2_loose_tolerances_take_no_false_slip_stop() {
 /// stalled the integrator near |v_C| = 0 (steps of 1e-11 s for ever).
 #[test]
 fn hard_2_grazing_slip_and_repeated_stick_slip_complete() {
-    let body = |m: f64, i3: f64| Body::of_revolution(0.025, 0.0225, m, 3.075e-6, i3, 0.003).unwrap();
-    let mut grazing = scene(body(0.0136, 3.4e-6), ContactModel::Coulomb { friction: 0.15 }, angles(2f64.to_radians(), 0.0, 0.0, 0.0, 120.0, 0.0), Some(Vector2::zeros()), 1.0, 1e-3, 1e-11);
+    let body =
+        |m: f64, i3: f64| Body::of_revolution(0.025, 0.0225, m, 3.075e-6, i3, 0.003).unwrap();
+    let mut grazing = scene(
+        body(0.0136, 3.4e-6),
+        ContactModel::Coulomb { friction: 0.15 },
+        angles(2f64.to_radians(), 0.0, 0.0, 0.0, 120.0, 0.0),
+        Some(Vector2::zeros()),
+        1.0,
+        1e-3,
+        1e-11,
+    );
     grazing.solver.atol = 1e-13;
-    let mut repeated = scene(body(0.02, 5e-6), ContactModel::Coulomb { friction: 0.05 }, angles(10f64.to_radians(), 0.0, 0.0, 0.0, 150.0, 0.0), Some(Vector2::zeros()), 2.0, 1e-3, 1e-10);
+    let mut repeated = scene(
+        body(0.02, 5e-6),
+        ContactModel::Coulomb { friction: 0.05 },
+        angles(10f64.to_radians(), 0.0, 0.0, 0.0, 150.0, 0.0),
+        Some(Vector2::zeros()),
+        2.0,
+        1e-3,
+        1e-10,
+    );
     repeated.solver.atol = 1e-12;
-    for (name, s, max_steps) in [("grazing", grazing, 20_000), ("repeated", repeated, 600_000)] {
+    for (name, s, max_steps) in [
+        ("grazing", grazing, 20_000),
+        ("repeated", repeated, 600_000),
+    ] {
         let (out, _) = run(&s);
         assert_eq!(out.status, Status::Completed, "{name}");
         let steps = out.stats.accepted + out.stats.rejected;
-        let switches = out.events.iter().filter(|e| matches!(e.kind, EventKind::ModeSwitch { .. })).count();
+        let switches = out
+            .events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::ModeSwitch { .. }))
+            .count();
         assert!(steps < max_steps, "{name}: {steps} steps");
-        assert!(out.stats.min_step > 1e-12, "{name}: step size collapsed to {:e} s", out.stats.min_step);
+        assert!(
+            out.stats.min_step > 1e-12,
+            "{name}: step size collapsed to {:e} s",
+            out.stats.min_step
+        );
         let balance = out.drift.energy_plus_work.unwrap();
         assert!(balance < 1e-9, "{name}: E + W drift {balance:e}");
-        measured("2 slip stop", format!("{name}: {switches} switches, {steps} steps, smallest {:.1e} s, E+W drift {balance:.1e}", out.stats.min_step));
+        measured(
+            "2 slip stop",
+            format!(
+                "{name}: {switches} switches, {steps} steps, smallest {:.1e} s, E+W drift {balance:.1e}",
+                out.stats.min_step
+            ),
+        );
     }
 }
 
@@ -166,7 +341,15 @@ fn hard_2_grazing_slip_and_repeated_stick_slip_complete() {
 fn tumbling(theta_dot: f64, t_end: f64, tol: f64) -> Scene {
     let ax = Vector3::new(0.02, 0.02, 0.04);
     let body = Body::new(ax, 0.1, uniform_inertia(ax, 0.1), Vector3::zeros()).unwrap();
-    scene(body, ContactModel::Frictionless, angles(1.5, 0.0, 0.0, -theta_dot, 0.0, 0.0), Some(Vector2::zeros()), t_end, 1e-4, tol)
+    scene(
+        body,
+        ContactModel::Frictionless,
+        angles(1.5, 0.0, 0.0, -theta_dot, 0.0, 0.0),
+        Some(Vector2::zeros()),
+        t_end,
+        1e-4,
+        tol,
+    )
 }
 
 #[test]
@@ -174,11 +357,18 @@ fn hard_3_near_loss_of_contact_stays_on_the_plane() {
     let (out, samples) = run(&tumbling(35.0, 1.0, TOL));
     assert_eq!(out.status, Status::Completed);
     let mg = 0.1 * G;
-    let n_min = samples.iter().map(|s| s.normal_force).fold(f64::MAX, f64::min) / mg;
+    let n_min = samples
+        .iter()
+        .map(|s| s.normal_force)
+        .fold(f64::MAX, f64::min)
+        / mg;
     assert!((0.01..0.1).contains(&n_min), "N dips to {n_min} m g");
     let e = out.drift.energy.unwrap();
     assert!(e < 1e-10, "energy drift {e:e}");
-    measured("3 near loss", format!("N_min = {n_min:.3} m g, energy drift {e:.1e}"));
+    measured(
+        "3 near loss",
+        format!("N_min = {n_min:.3} m g, energy drift {e:.1e}"),
+    );
 }
 
 #[test]
@@ -186,14 +376,38 @@ fn hard_3_loss_of_contact_is_located_and_stops_the_run() {
     let at = |tol: f64| run(&tumbling(45.0, 1.0, tol));
     let (out, samples) = at(1e-12);
     assert_eq!(out.status, Status::LostContact);
-    let t = out.events.iter().find(|e| e.kind == EventKind::LostContact).unwrap().t;
+    let t = out
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::LostContact)
+        .unwrap()
+        .t;
     let last = samples.last().unwrap();
     assert_eq!(last.t, t, "the trajectory ends at the event");
-    assert!(last.normal_force.abs() < 1e-9 * 0.1 * G, "N at the event {}", last.normal_force);
+    assert!(
+        last.normal_force.abs() < 1e-9 * 0.1 * G,
+        "N at the event {}",
+        last.normal_force
+    );
     let (out13, _) = at(1e-13);
-    let t13 = out13.events.iter().find(|e| e.kind == EventKind::LostContact).unwrap().t;
-    assert!((t - t13).abs() < 1e-9, "event time moved {:e} s between rtol 1e-12 and 1e-13", (t - t13).abs());
-    measured("3 loss of contact", format!("t = {t:.12} s; moves {:.1e} s between rtol 1e-12 and 1e-13", (t - t13).abs()));
+    let t13 = out13
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::LostContact)
+        .unwrap()
+        .t;
+    assert!(
+        (t - t13).abs() < 1e-9,
+        "event time moved {:e} s between rtol 1e-12 and 1e-13",
+        (t - t13).abs()
+    );
+    measured(
+        "3 loss of contact",
+        format!(
+            "t = {t:.12} s; moves {:.1e} s between rtol 1e-12 and 1e-13",
+            (t - t13).abs()
+        ),
+    );
 }
 
 // 4 ------------------------------------------------------------ extreme shapes
@@ -204,13 +418,34 @@ fn hard_4_flat_and_long_bodies_conserve_energy() {
         let ax = Vector3::new(a, a, c);
         Body::new(ax, 0.1, uniform_inertia(ax, 0.1), Vector3::zeros()).unwrap()
     };
-    for (name, body, theta0) in [("flat c/a = 0.02", uniform(0.05, 0.001), 1.3), ("long c/a = 20", uniform(0.005, 0.1), 0.3)] {
+    for (name, body, theta0) in [
+        ("flat c/a = 0.02", uniform(0.05, 0.001), 1.3),
+        ("long c/a = 20", uniform(0.005, 0.1), 0.3),
+    ] {
         for contact in [ContactModel::Frictionless, ContactModel::Rolling] {
-            let (out, _) = run(&scene(body.clone(), contact, angles(theta0, 0.0, 0.0, 0.0, 3.0, 30.0), velocity_for(contact), 2.0, 1e-3, TOL));
-            assert!(matches!(out.status, Status::Completed | Status::LostContact), "{name} {contact:?}: {:?}", out.status);
+            let (out, _) = run(&scene(
+                body.clone(),
+                contact,
+                angles(theta0, 0.0, 0.0, 0.0, 3.0, 30.0),
+                velocity_for(contact),
+                2.0,
+                1e-3,
+                TOL,
+            ));
+            assert!(
+                matches!(out.status, Status::Completed | Status::LostContact),
+                "{name} {contact:?}: {:?}",
+                out.status
+            );
             let e = out.drift.energy.unwrap();
             assert!(e < 1e-10, "{name} {contact:?}: energy drift {e:e}");
-            measured("4 shapes", format!("{name}, {contact:?}: energy drift {e:.1e}, {:?}", out.status));
+            measured(
+                "4 shapes",
+                format!(
+                    "{name}, {contact:?}: energy drift {e:.1e}, {:?}",
+                    out.status
+                ),
+            );
         }
     }
 }
@@ -224,24 +459,70 @@ fn hard_4_near_sphere_keeps_full_precision() {
         let th = k as f64 * PI / 49.0;
         let zeta = Vector3::new(th.sin() * 0.6, th.sin() * 0.8, th.cos());
         let c = ellipsoid_core::geometry::Contact::new(&near, zeta, Vector3::zeros());
-        assert!((c.p_c + a * zeta).norm() < 2e-10 * a, "contact point off by {:e}", (c.p_c + a * zeta).norm());
+        assert!(
+            (c.p_c + a * zeta).norm() < 2e-10 * a,
+            "contact point off by {:e}",
+            (c.p_c + a * zeta).norm()
+        );
     }
     let init = angles(0.1, 0.0, 0.0, 0.0, 0.0, 180.0);
-    let (_, s_near) = run(&scene(near, ContactModel::Coulomb { friction: 0.3 }, init, Some(Vector2::zeros()), 2.0, 1e-3, TOL));
-    let (_, s_top) = run(&scene(tippe_top(), ContactModel::Coulomb { friction: 0.3 }, init, Some(Vector2::zeros()), 2.0, 1e-3, TOL));
-    let worst = s_near.iter().zip(&s_top).map(|(x, y)| (axis(x) - axis(y)).norm()).fold(0.0, f64::max);
-    assert!(worst < 1e-7, "near-sphere departs from the sphere by {worst:e}");
-    measured("4 near-sphere", format!("axis differs from the exact sphere by {worst:.1e} over 2 s (geometry differs by 1e-10)"));
+    let (_, s_near) = run(&scene(
+        near,
+        ContactModel::Coulomb { friction: 0.3 },
+        init,
+        Some(Vector2::zeros()),
+        2.0,
+        1e-3,
+        TOL,
+    ));
+    let (_, s_top) = run(&scene(
+        tippe_top(),
+        ContactModel::Coulomb { friction: 0.3 },
+        init,
+        Some(Vector2::zeros()),
+        2.0,
+        1e-3,
+        TOL,
+    ));
+    let worst = s_near
+        .iter()
+        .zip(&s_top)
+        .map(|(x, y)| (axis(x) - axis(y)).norm())
+        .fold(0.0, f64::max);
+    assert!(
+        worst < 1e-7,
+        "near-sphere departs from the sphere by {worst:e}"
+    );
+    measured(
+        "4 near-sphere",
+        format!(
+            "axis differs from the exact sphere by {worst:.1e} over 2 s (geometry differs by 1e-10)"
+        ),
+    );
 }
 
 // 5 ------------------------------------------------------------ fast spin, slow motion
 
 #[test]
 fn hard_5_fast_spin_conserves_energy() {
-    let (out, _) = run(&scene(oblate(), ContactModel::Frictionless, angles(0.2, 0.0, 0.0, 0.0, 0.0, 1e4), Some(Vector2::zeros()), 0.2, 1e-4, 1e-10));
-    let (e, lz) = (out.drift.energy.unwrap(), out.drift.angular_momentum_z.unwrap());
+    let (out, _) = run(&scene(
+        oblate(),
+        ContactModel::Frictionless,
+        angles(0.2, 0.0, 0.0, 0.0, 0.0, 1e4),
+        Some(Vector2::zeros()),
+        0.2,
+        1e-4,
+        1e-10,
+    ));
+    let (e, lz) = (
+        out.drift.energy.unwrap(),
+        out.drift.angular_momentum_z.unwrap(),
+    );
     assert!(e < 1e-9 && lz < 1e-9, "energy {e:e}, L_z {lz:e}");
-    measured("5 fast spin", format!("ψ̇ = 1e4 rad/s, rtol 1e-10: energy drift {e:.1e}, L_z drift {lz:.1e}"));
+    measured(
+        "5 fast spin",
+        format!("ψ̇ = 1e4 rad/s, rtol 1e-10: energy drift {e:.1e}, L_z drift {lz:.1e}"),
+    );
 }
 
 #[test]
@@ -253,20 +534,49 @@ fn hard_5_slow_rocking_matches_the_small_oscillation_period() {
     let body = Body::of_revolution(a, c, m, i, 2.0 * m * a * a / 5.0, d2).unwrap();
     let omega = (m * G * (a * a / c - c + d2) / i).sqrt();
     let theta0 = 1e-6;
-    let sys = System { body: body.clone(), gravity: G, contact: Frictionless, effects: () };
+    let sys = System {
+        body: body.clone(),
+        gravity: G,
+        contact: Frictionless,
+        effects: (),
+    };
     let mut y = State::zeros();
     state::set_quaternion(&mut y, &angles(theta0, 0.0, 0.0, 0.0, 0.0, 0.0).rotation());
-    let events = [Event { g: Box::new(|_t, y: &State| y[state::OMEGA]), direction: Direction::Either, action: Action::Continue }];
+    let events = [Event {
+        g: Box::new(|_t, y: &State| y[state::OMEGA]),
+        direction: Direction::Either,
+        action: Action::Continue,
+    }];
     let mut opts = Options::new(1e-10, 1e-12);
     opts.h0 = None;
-    let sol = integrate::integrate(Method::Dop853, &sys, 0.0, y, 10.0, &opts, &events, &[], &mut |_, _| ControlFlow::Continue(())).unwrap();
+    let sol = integrate::integrate(
+        Method::Dop853,
+        &sys,
+        0.0,
+        y,
+        10.0,
+        &opts,
+        &events,
+        &[],
+        &mut |_, _| ControlFlow::Continue(()),
+    )
+    .unwrap();
     assert_eq!(sol.stop, StopReason::Reached);
     let t: Vec<f64> = sol.events.iter().map(|e| e.t).collect();
     let period = 2.0 * (t[t.len() - 1] - t[0]) / (t.len() - 1) as f64;
     let expected = 2.0 * PI / omega;
     let rel = (period - expected).abs() / expected;
-    assert!(rel < 1e-6, "rocking period {period} vs {expected} (rel {rel:e})");
-    measured("5 slow motion", format!("θ0 = 1e-6 rad (rates ~{:.0e} rad/s), rtol 1e-10: period off the linear theory by {rel:.1e}", theta0 * omega));
+    assert!(
+        rel < 1e-6,
+        "rocking period {period} vs {expected} (rel {rel:e})"
+    );
+    measured(
+        "5 slow motion",
+        format!(
+            "θ0 = 1e-6 rad (rates ~{:.0e} rad/s), rtol 1e-10: period off the linear theory by {rel:.1e}",
+            theta0 * omega
+        ),
+    );
 }
 
 // 6 ------------------------------------------------------------ long runs
@@ -281,13 +591,27 @@ fn hard_6_long_run_energy_drift_per_method() {
         ("DOPRI5 rtol 1e-10", Method::Dopri5, 1e-10, 3e-8),
         ("DOP853 rtol 1e-12", Method::Dop853, 1e-12, 1e-11),
     ] {
-        let mut s = scene(oblate(), ContactModel::Frictionless, angles(0.1745, 0.0, 0.0, 0.0, 0.0, 60.0), Some(Vector2::zeros()), t_end, 1.0, tol);
+        let mut s = scene(
+            oblate(),
+            ContactModel::Frictionless,
+            angles(0.1745, 0.0, 0.0, 0.0, 0.0, 60.0),
+            Some(Vector2::zeros()),
+            t_end,
+            1.0,
+            tol,
+        );
         s.solver.method = method;
         let (out, _) = run(&s);
         assert_eq!(out.status, Status::Completed, "{name}");
         let e = out.drift.energy.unwrap();
-        assert!(e < bound, "{name}: energy drift {e:e} over 1e4 periods exceeds {bound:e}");
-        results.push(format!("{name}: {e:.1e} ({} rhs evals)", out.stats.rhs_evals));
+        assert!(
+            e < bound,
+            "{name}: energy drift {e:e} over 1e4 periods exceeds {bound:e}"
+        );
+        results.push(format!(
+            "{name}: {e:.1e} ({} rhs evals)",
+            out.stats.rhs_evals
+        ));
     }
     measured("6 long run", results.join("; "));
 }
@@ -301,7 +625,15 @@ fn hard_7_millimetres_and_kilometres_give_the_same_dimensionless_motion() {
     let at = |k: f64, contact: ContactModel| {
         let body = Body::of_revolution(k * a, k * c, m, k * k * i, k * k * i3, k * d2).unwrap();
         let r = 1.0 / k.sqrt();
-        let mut s = scene(body, contact, angles(0.3, 0.0, 0.0, 0.5 * r, 2.0 * r, 50.0 * r), velocity_for(contact), k.sqrt(), 1e-2 * k.sqrt(), 1e-12);
+        let mut s = scene(
+            body,
+            contact,
+            angles(0.3, 0.0, 0.0, 0.5 * r, 2.0 * r, 50.0 * r),
+            velocity_for(contact),
+            k.sqrt(),
+            1e-2 * k.sqrt(),
+            1e-12,
+        );
         // Absolute tolerances in the body's own units: the same scene, the same settings.
         s.solver.atol = 1e-12 * k.min(1.0);
         run(&s).1
@@ -311,17 +643,26 @@ fn hard_7_millimetres_and_kilometres_give_the_same_dimensionless_motion() {
         let (mm, km) = (at(1e-3, contact), at(1e3, contact));
         assert_eq!(mm.len(), km.len());
         for (x, y) in mm.iter().zip(&km) {
-            let d = (x.angles.theta - y.angles.theta).abs().max((axis(x) - axis(y)).norm());
+            let d = (x.angles.theta - y.angles.theta)
+                .abs()
+                .max((axis(x) - axis(y)).norm());
             worst = worst.max(d);
-            assert!(d < 1e-9, "{contact:?}: mm and km differ by {d:e} at scaled t = {}", x.t);
+            assert!(
+                d < 1e-9,
+                "{contact:?}: mm and km differ by {d:e} at scaled t = {}",
+                x.t
+            );
         }
     }
-    measured("7 units", format!("largest angle difference mm vs km: {worst:.1e}"));
+    measured(
+        "7 units",
+        format!("largest angle difference mm vs km: {worst:.1e}"),
+    );
 }
 
 // 8 ------------------------------------------------------------ the paper's Euler-angle equations
 
-/// The paper's frictionless equations (14)–(16) with C = −H (PAPER-NOTES.md), state
+/// The paper's frictionless equations (14)–(16) with C = −H (docs/paper-notes.md), state
 /// (θ, φ, ψ, θ̇, φ̇, ψ̇); G stays on a vertical line (zero horizontal momentum).
 struct PaperEuler {
     a: f64,
@@ -338,26 +679,58 @@ impl OdeSystem<6> for PaperEuler {
         let (st, ct) = th.sin_cos();
         let k = self.a * self.a - self.c * self.c;
         let s = (self.a * self.a * st * st + self.c * self.c * ct * ct).sqrt();
-        let f = G + k * td * td / s * ((2.0 * ct * ct - 1.0) - k * (st * ct / s).powi(2)) + self.d2 * td * td * ct; // (10)
+        let f = G
+            + k * td * td / s * ((2.0 * ct * ct - 1.0) - k * (st * ct / s).powi(2))
+            + self.d2 * td * td * ct; // (10)
         let h = st * (k * ct / s + self.d2); // (11)
-        let tdd = -(self.m * f * h + self.i3 * pd * sd * st + (self.i3 - self.i) * pd * pd * st * ct) / (self.i + self.m * h * h); // (14)
+        let tdd =
+            -(self.m * f * h + self.i3 * pd * sd * st + (self.i3 - self.i) * pd * pd * st * ct)
+                / (self.i + self.m * h * h); // (14)
         let pdd = (-(2.0 * self.i - self.i3) * pd * td * ct + td * sd * self.i3) / (self.i * st); // (15)
         let sdd = td * pd * st - pdd * ct; // (16)
         SVector::<f64, 6>::from([td, pd, sd, tdd, pdd, sdd])
     }
 }
 
-fn paper_euler_run(init: EulerAngles, t_end: f64, times: &[f64]) -> (StopReason, Vec<SVector<f64, 6>>) {
+fn paper_euler_run(
+    init: EulerAngles,
+    t_end: f64,
+    times: &[f64],
+) -> (StopReason, Vec<SVector<f64, 6>>) {
     let (a, c, m) = (0.025, 0.0175, 0.05);
-    let sys = PaperEuler { a, c, d2: 0.003, m, i: m * (a * a + c * c) / 5.0, i3: 2.0 * m * a * a / 5.0 };
-    let y0 = SVector::<f64, 6>::from([init.theta, init.phi, init.psi, init.theta_dot, init.phi_dot, init.psi_dot]);
+    let sys = PaperEuler {
+        a,
+        c,
+        d2: 0.003,
+        m,
+        i: m * (a * a + c * c) / 5.0,
+        i3: 2.0 * m * a * a / 5.0,
+    };
+    let y0 = SVector::<f64, 6>::from([
+        init.theta,
+        init.phi,
+        init.psi,
+        init.theta_dot,
+        init.phi_dot,
+        init.psi_dot,
+    ]);
     let mut out = Vec::new();
     let mut opts = Options::new(1e-12, 1e-12);
     opts.max_steps = 2_000_000;
-    let sol = integrate::integrate(Method::Dop853, &sys, 0.0, y0, t_end, &opts, &[], times, &mut |_, y| {
-        out.push(*y);
-        ControlFlow::Continue(())
-    })
+    let sol = integrate::integrate(
+        Method::Dop853,
+        &sys,
+        0.0,
+        y0,
+        t_end,
+        &opts,
+        &[],
+        times,
+        &mut |_, y| {
+            out.push(*y);
+            ControlFlow::Continue(())
+        },
+    )
     .unwrap();
     (sol.stop, out)
 }
@@ -368,14 +741,28 @@ fn hard_8_paper_euler_equations_agree_away_from_upright_and_fail_near_it() {
     let times: Vec<f64> = (0..=100).map(|k| k as f64 * 0.01).collect();
     let (stop, euler) = paper_euler_run(init, 1.0, &times);
     assert_eq!(stop, StopReason::Reached);
-    let s = scene(oblate(), ContactModel::Frictionless, init, Some(Vector2::zeros()), 1.0, 0.01, 1e-12);
+    let s = scene(
+        oblate(),
+        ContactModel::Frictionless,
+        init,
+        Some(Vector2::zeros()),
+        1.0,
+        0.01,
+        1e-12,
+    );
     let (_, quat) = run(&s);
     let mut worst: f64 = 0.0;
     for (e, q) in euler.iter().zip(&quat) {
-        let d = (e[0] - q.angles.theta).abs().max((e[1] - q.angles.phi).abs()).max((e[2] - q.angles.psi).abs());
+        let d = (e[0] - q.angles.theta)
+            .abs()
+            .max((e[1] - q.angles.phi).abs())
+            .max((e[2] - q.angles.psi).abs());
         worst = worst.max(d);
     }
-    assert!(worst < 1e-8, "Euler-angle and quaternion formulations differ by {worst:e} rad");
+    assert!(
+        worst < 1e-8,
+        "Euler-angle and quaternion formulations differ by {worst:e} rad"
+    );
 
     // Through the upright position the Euler-angle form divides by sin θ → 0. Choose
     // φ̇0 so that L_z = I3 n: the axis then swings exactly through the vertical, where
@@ -384,20 +771,43 @@ fn hard_8_paper_euler_equations_agree_away_from_upright_and_fail_near_it() {
     let (i, i3) = (m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0);
     let (th0, psi_dot) = (1e-3f64, 60.0);
     let one_minus_cos = 2.0 * (th0 / 2.0).sin().powi(2);
-    let phi_dot = i3 * one_minus_cos * psi_dot / (i * th0.sin().powi(2) - i3 * one_minus_cos * th0.cos());
+    let phi_dot =
+        i3 * one_minus_cos * psi_dot / (i * th0.sin().powi(2) - i3 * one_minus_cos * th0.cos());
     let through = angles(th0, 0.0, 0.0, -1.0, phi_dot, psi_dot);
     let (stop, euler) = paper_euler_run(through, 0.01, &times[..2]);
-    let s = scene(oblate(), ContactModel::Frictionless, through, Some(Vector2::zeros()), 0.01, 0.01, 1e-12);
+    let s = scene(
+        oblate(),
+        ContactModel::Frictionless,
+        through,
+        Some(Vector2::zeros()),
+        0.01,
+        0.01,
+        1e-12,
+    );
     let (out, quat) = run(&s);
     assert_eq!(out.status, Status::Completed);
-    assert!(quat.iter().all(|q| q.angles.theta.is_finite() && q.angles.phi_dot.is_finite()));
-    let e_axis = |y: &SVector<f64, 6>| angles(y[0], y[1], y[2], 0.0, 0.0, 0.0).rotation() * Vector3::z();
+    assert!(
+        quat.iter()
+            .all(|q| q.angles.theta.is_finite() && q.angles.phi_dot.is_finite())
+    );
+    let e_axis =
+        |y: &SVector<f64, 6>| angles(y[0], y[1], y[2], 0.0, 0.0, 0.0).rotation() * Vector3::z();
     let euler_error = match (&stop, euler.last()) {
-        (StopReason::Reached, Some(y)) if euler.len() == 2 => (e_axis(y) - axis(quat.last().unwrap())).norm(),
+        (StopReason::Reached, Some(y)) if euler.len() == 2 => {
+            (e_axis(y) - axis(quat.last().unwrap())).norm()
+        }
         _ => f64::INFINITY,
     };
-    assert!(euler_error > 1e-6, "the Euler-angle form should break down through θ = 0, error {euler_error:e}");
-    measured("8 paper Euler equations", format!("agree to {worst:.1e} rad over 1 s at θ0 = 10°; through θ = 0: {stop:?}, axis error {euler_error:.1e}"));
+    assert!(
+        euler_error > 1e-6,
+        "the Euler-angle form should break down through θ = 0, error {euler_error:e}"
+    );
+    measured(
+        "8 paper Euler equations",
+        format!(
+            "agree to {worst:.1e} rad over 1 s at θ0 = 10°; through θ = 0: {stop:?}, axis error {euler_error:.1e}"
+        ),
+    );
 }
 
 // 9 ------------------------------------------------------------ friction limits
@@ -406,16 +816,63 @@ fn hard_8_paper_euler_equations_agree_away_from_upright_and_fail_near_it() {
 fn hard_9_friction_limits_reduce_to_the_other_models() {
     let init = angles(0.5, 0.0, 0.0, 0.0, 3.0, 80.0);
     let v = Some(Vector2::new(0.3, 0.0));
-    let (_, free) = run(&scene(oblate(), ContactModel::Frictionless, init, v, 2.0, 1e-2, TOL));
-    let (_, zero) = run(&scene(oblate(), ContactModel::Sliding { friction: 0.0 }, init, v, 2.0, 1e-2, TOL));
-    let d0 = free.iter().zip(&zero).map(|(a, b)| (axis(a) - axis(b)).norm() + (a.position - b.position).norm()).fold(0.0, f64::max);
+    let (_, free) = run(&scene(
+        oblate(),
+        ContactModel::Frictionless,
+        init,
+        v,
+        2.0,
+        1e-2,
+        TOL,
+    ));
+    let (_, zero) = run(&scene(
+        oblate(),
+        ContactModel::Sliding { friction: 0.0 },
+        init,
+        v,
+        2.0,
+        1e-2,
+        TOL,
+    ));
+    let d0 = free
+        .iter()
+        .zip(&zero)
+        .map(|(a, b)| (axis(a) - axis(b)).norm() + (a.position - b.position).norm())
+        .fold(0.0, f64::max);
     assert!(d0 < 1e-12, "μ = 0 differs from frictionless by {d0:e}");
     // Large μ, starting without slip (no velocity given): Coulomb never leaves rolling,
     // and equals it.
-    let (out, sticky) = run(&scene(oblate(), ContactModel::Coulomb { friction: 50.0 }, init, None, 2.0, 1e-2, TOL));
-    let (_, rolling) = run(&scene(oblate(), ContactModel::Rolling, init, None, 2.0, 1e-2, TOL));
-    assert!(sticky.iter().all(|s| s.mode == Mode::Rolling), "{:?}", out.events);
-    let d1 = sticky.iter().zip(&rolling).map(|(a, b)| (axis(a) - axis(b)).norm() + (a.position - b.position).norm()).fold(0.0, f64::max);
+    let (out, sticky) = run(&scene(
+        oblate(),
+        ContactModel::Coulomb { friction: 50.0 },
+        init,
+        None,
+        2.0,
+        1e-2,
+        TOL,
+    ));
+    let (_, rolling) = run(&scene(
+        oblate(),
+        ContactModel::Rolling,
+        init,
+        None,
+        2.0,
+        1e-2,
+        TOL,
+    ));
+    assert!(
+        sticky.iter().all(|s| s.mode == Mode::Rolling),
+        "{:?}",
+        out.events
+    );
+    let d1 = sticky
+        .iter()
+        .zip(&rolling)
+        .map(|(a, b)| (axis(a) - axis(b)).norm() + (a.position - b.position).norm())
+        .fold(0.0, f64::max);
     assert!(d1 < 1e-12, "μ = 50 differs from rolling by {d1:e}");
-    measured("9 friction limits", format!("μ = 0 vs frictionless {d0:.1e}; μ = 50 vs rolling {d1:.1e}"));
+    measured(
+        "9 friction limits",
+        format!("μ = 0 vs frictionless {d0:.1e}; μ = 50 vs rolling {d1:.1e}"),
+    );
 }

@@ -34,13 +34,21 @@ const TABLE1: [(f64, f64); 14] = [
     (0.010, 3.085e-6),
 ];
 /// Table 2's values of D2 [m].
-const TABLE2_D2: [f64; 11] = [0.0001, 0.001, 0.002, 0.003, 0.004, 0.005, 0.006, 0.007, 0.008, 0.009, 0.01];
-const DOP853: [&str; 3] = ["solver.method=dop853", "solver.rtol=1e-11", "solver.atol=1e-13"];
+const TABLE2_D2: [f64; 11] = [
+    0.0001, 0.001, 0.002, 0.003, 0.004, 0.005, 0.006, 0.007, 0.008, 0.009, 0.01,
+];
+const DOP853: [&str; 3] = [
+    "solver.method=dop853",
+    "solver.rtol=1e-11",
+    "solver.atol=1e-13",
+];
 
 // ---------------------------------------------------------------- helpers
 
 fn load(name: &str, sets: &[String]) -> Scenario {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/paper").join(name);
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios/paper")
+        .join(name);
     scenario::load(&path, sets).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -72,7 +80,11 @@ fn maxima(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
         if y[i] > y[i - 1] && y[i] >= y[i + 1] {
             let (y0, y1, y2) = (y[i - 1], y[i], y[i + 1]);
             let den = y0 - 2.0 * y1 + y2;
-            let off = if den != 0.0 { 0.5 * (y0 - y2) / den } else { 0.0 };
+            let off = if den != 0.0 {
+                0.5 * (y0 - y2) / den
+            } else {
+                0.0
+            };
             out.push((t[i] + off * (t[i + 1] - t[i]), y1 - 0.25 * (y0 - y2) * off));
         }
     }
@@ -86,32 +98,48 @@ fn minima(t: &[f64], y: &[f64]) -> Vec<(f64, f64)> {
 
 /// Mean spacing of the maxima, and the largest deviation of a spacing from it [s].
 fn period_of(peaks: &[(f64, f64)]) -> (f64, f64) {
-    assert!(peaks.len() >= 3, "need three maxima to measure a period, got {}", peaks.len());
+    assert!(
+        peaks.len() >= 3,
+        "need three maxima to measure a period, got {}",
+        peaks.len()
+    );
     let gaps: Vec<f64> = peaks.windows(2).map(|w| w[1].0 - w[0].0).collect();
     let mean = gaps.iter().sum::<f64>() / gaps.len() as f64;
-    (mean, gaps.iter().map(|g| (g - mean).abs()).fold(0.0, f64::max))
+    (
+        mean,
+        gaps.iter().map(|g| (g - mean).abs()).fold(0.0, f64::max),
+    )
 }
 
 /// Largest difference between the values at the maxima.
 fn value_spread(peaks: &[(f64, f64)]) -> f64 {
-    let (lo, hi) = peaks.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| (lo.min(p.1), hi.max(p.1)));
+    let (lo, hi) = peaks.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+        (lo.min(p.1), hi.max(p.1))
+    });
     hi - lo
 }
 
 fn range(y: &[f64]) -> (f64, f64) {
-    y.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &v| (lo.min(v), hi.max(v)))
+    y.iter()
+        .fold((f64::MAX, f64::MIN), |(lo, hi), &v| (lo.min(v), hi.max(v)))
 }
 
 /// The geometric centre C0 = G + D2 e3*, e3* = (sin φ sin θ, −cos φ sin θ, cos θ) (paper eq. 1).
 fn c0(s: &Sample, d2: f64) -> [f64; 3] {
     let (st, ct) = s.angles.theta.sin_cos();
     let (sp, cp) = s.angles.phi.sin_cos();
-    [s.position.x + d2 * sp * st, s.position.y - d2 * cp * st, s.position.z + d2 * ct]
+    [
+        s.position.x + d2 * sp * st,
+        s.position.y - d2 * cp * st,
+        s.position.z + d2 * ct,
+    ]
 }
 
 /// Proper crossings between non-adjacent segments of the polyline.
 fn self_intersections(p: &[[f64; 2]]) -> usize {
-    let orient = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let orient = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
     let mut n = 0;
     for i in 0..p.len().saturating_sub(1) {
         for j in i + 2..p.len() - 1 {
@@ -142,7 +170,8 @@ fn initial_state(sc: &Scenario) -> State {
     let a = sc.scene.initial.angles;
     let mut y = State::zeros();
     state::set_quaternion(&mut y, &a.rotation());
-    y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&a.omega_body());
+    y.fixed_rows_mut::<3>(state::OMEGA)
+        .copy_from(&a.omega_body());
     y
 }
 
@@ -157,7 +186,8 @@ fn val_fig07_theta_periodic_amplitude_and_period_grow_with_c() {
     for c in C_VALUES {
         let sets = [set("body.c", c)];
         let sc = load("fig07-frictionless-theta.toml", &sets);
-        let exact = reference::nutation(&sc.scene.body, sc.scene.gravity, &initial_state(&sc)).unwrap();
+        let exact =
+            reference::nutation(&sc.scene.body, sc.scene.gravity, &initial_state(&sc)).unwrap();
         let (out, s) = run("fig07-frictionless-theta.toml", &sets);
         assert_eq!(out.status, Status::Completed);
         let (t, th) = series(&s, |x| x.angles.theta);
@@ -165,22 +195,51 @@ fn val_fig07_theta_periodic_amplitude_and_period_grow_with_c() {
         let troughs = minima(&t, &th);
         let (period, jitter) = period_of(&peaks);
         // Periodic: the same maximum and minimum every cycle, at a regular spacing.
-        assert!(value_spread(&peaks) < 1e-7 && value_spread(&troughs) < 1e-7, "c = {c}: extrema vary");
+        assert!(
+            value_spread(&peaks) < 1e-7 && value_spread(&troughs) < 1e-7,
+            "c = {c}: extrema vary"
+        );
         assert!(jitter < 1e-6, "c = {c}: period jitter {jitter:e} s");
         // … and they are the exact turning points and period.
-        assert!((peaks[0].1 - exact.theta_max).abs() < 1e-7, "c = {c}: θmax {} vs {}", peaks[0].1, exact.theta_max);
-        assert!((troughs[0].1 - exact.theta_min).abs() < 1e-7, "c = {c}: θmin {} vs {}", troughs[0].1, exact.theta_min);
-        assert!((period - exact.period).abs() < 1e-6, "c = {c}: T {period} vs {}", exact.period);
+        assert!(
+            (peaks[0].1 - exact.theta_max).abs() < 1e-7,
+            "c = {c}: θmax {} vs {}",
+            peaks[0].1,
+            exact.theta_max
+        );
+        assert!(
+            (troughs[0].1 - exact.theta_min).abs() < 1e-7,
+            "c = {c}: θmin {} vs {}",
+            troughs[0].1,
+            exact.theta_min
+        );
+        assert!(
+            (period - exact.period).abs() < 1e-6,
+            "c = {c}: T {period} vs {}",
+            exact.period
+        );
         // Within the paper's 2°–12°.
         let (lo, hi) = range(&th);
-        assert!(lo.to_degrees() > 1.999 && hi.to_degrees() < 12.01, "c = {c}: θ in [{}, {}]°", lo.to_degrees(), hi.to_degrees());
+        assert!(
+            lo.to_degrees() > 1.999 && hi.to_degrees() < 12.01,
+            "c = {c}: θ in [{}, {}]°",
+            lo.to_degrees(),
+            hi.to_degrees()
+        );
         // Amplitude and period grow with c.
         let amplitude = exact.theta_max - exact.theta_min;
-        assert!(amplitude > last.0 && period > last.1, "c = {c}: amplitude {amplitude}, period {period} do not grow ({last:?})");
+        assert!(
+            amplitude > last.0 && period > last.1,
+            "c = {c}: amplitude {amplitude}, period {period} do not grow ({last:?})"
+        );
         last = (amplitude, period);
     }
     // The largest c spans the paper's whole range.
-    assert!(last.0.to_degrees() > 9.5, "amplitude at c = 0.0225 m: {}°", last.0.to_degrees());
+    assert!(
+        last.0.to_degrees() > 9.5,
+        "amplitude at c = 0.0225 m: {}°",
+        last.0.to_degrees()
+    );
 }
 
 /// Fig. 7 with Table 1's mass m = 1e-4 kg (docs/paper-reproduction.md, "Parameters"):
@@ -194,11 +253,21 @@ fn val_fig07_table1_mass_makes_the_curves_independent_of_c() {
             sets.push(set("body.mass", m));
         }
         let sc = load("fig07-frictionless-theta.toml", &sets);
-        reference::nutation(&sc.scene.body, sc.scene.gravity, &initial_state(&sc)).unwrap().theta_max
+        reference::nutation(&sc.scene.body, sc.scene.gravity, &initial_state(&sc))
+            .unwrap()
+            .theta_max
     };
     let spread = |mass| theta_max(0.0225, mass) / theta_max(0.0125, mass) - 1.0;
-    assert!(spread(Some(1e-4)) < 0.05, "m = 1e-4 kg: θmax grows by {:.3}", spread(Some(1e-4)));
-    assert!(spread(None) > 0.9, "m = 0.0136 kg: θmax grows by {:.3}", spread(None));
+    assert!(
+        spread(Some(1e-4)) < 0.05,
+        "m = 1e-4 kg: θmax grows by {:.3}",
+        spread(Some(1e-4))
+    );
+    assert!(
+        spread(None) > 0.9,
+        "m = 0.0136 kg: θmax grows by {:.3}",
+        spread(None)
+    );
 }
 
 /// Fig. 8: θ̇, φ̇ and ψ̇ share the period of θ (without friction they are functions of θ).
@@ -207,13 +276,24 @@ fn val_fig08_euler_rates_share_the_period_of_theta() {
     let (_, s) = run("fig08-frictionless-rates.toml", &[]);
     let (t, th) = series(&s, |x| x.angles.theta);
     let (period, _) = period_of(&maxima(&t, &th));
-    for (name, f) in [("θ̇", (|x: &Sample| x.angles.theta_dot) as fn(&Sample) -> f64), ("φ̇", |x| x.angles.phi_dot), ("ψ̇", |x| x.angles.psi_dot)] {
+    for (name, f) in [
+        ("θ̇", (|x: &Sample| x.angles.theta_dot) as fn(&Sample) -> f64),
+        ("φ̇", |x| x.angles.phi_dot),
+        ("ψ̇", |x| x.angles.psi_dot),
+    ] {
         let (_, y) = series(&s, f);
         let peaks = maxima(&t, &y);
         let (p, jitter) = period_of(&peaks);
-        assert!((p - period).abs() < 1e-6 && jitter < 1e-5, "{name}: period {p} (jitter {jitter:e}) vs θ's {period}");
+        assert!(
+            (p - period).abs() < 1e-6 && jitter < 1e-5,
+            "{name}: period {p} (jitter {jitter:e}) vs θ's {period}"
+        );
         let scale = y.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        assert!(value_spread(&peaks) < 1e-5 * scale, "{name}: its maxima differ by {:e} of {scale}", value_spread(&peaks));
+        assert!(
+            value_spread(&peaks) < 1e-5 * scale,
+            "{name}: its maxima differ by {:e} of {scale}",
+            value_spread(&peaks)
+        );
     }
 }
 
@@ -243,25 +323,55 @@ fn val_fig10_sliding_body_stands_up_without_turning_over() {
     assert_eq!(out.status, Status::Completed);
     let (t, th) = series(&s, |x| x.angles.theta.to_degrees());
     assert!((th[0] - 10.0).abs() < 1e-9);
-    let t90 = s.iter().find(|x| x.angles.theta > std::f64::consts::FRAC_PI_2).expect("θ never passes 90°").t;
+    let t90 = s
+        .iter()
+        .find(|x| x.angles.theta > std::f64::consts::FRAC_PI_2)
+        .expect("θ never passes 90°")
+        .t;
     assert!((1.5..3.0).contains(&t90), "θ passes 90° at t = {t90} s");
     let (_, hi) = range(&th);
-    assert!((140.0..170.0).contains(&hi), "θmax = {hi}°: stands up, does not turn over");
+    assert!(
+        (140.0..170.0).contains(&hi),
+        "θmax = {hi}°: stands up, does not turn over"
+    );
     // The slip stops once, after the rise; the body rolls from there.
-    let stops: Vec<f64> = out.events.iter().filter(|e| e.kind == EventKind::SlipStop).map(|e| e.t).collect();
+    let stops: Vec<f64> = out
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::SlipStop)
+        .map(|e| e.t)
+        .collect();
     assert_eq!(stops.len(), 1, "{:?}", out.events);
-    assert!(stops[0] > t90 && stops[0] < 5.0, "slip stops at {} s", stops[0]);
-    assert!(s.iter().filter(|x| x.t > stops[0]).all(|x| x.mode == Mode::Rolling));
+    assert!(
+        stops[0] > t90 && stops[0] < 5.0,
+        "slip stops at {} s",
+        stops[0]
+    );
+    assert!(
+        s.iter()
+            .filter(|x| x.t > stops[0])
+            .all(|x| x.mode == Mode::Rolling)
+    );
     // After t = 5 s: θ near 160°, oscillating with a regular period.
     let late: Vec<usize> = (0..s.len()).filter(|&i| t[i] >= 5.0).collect();
     let (lt, lth): (Vec<f64>, Vec<f64>) = late.iter().map(|&i| (t[i], th[i])).unzip();
     let (lo, hi) = range(&lth);
-    assert!(lo > 140.0 && hi < 170.0 && hi - lo > 0.1, "θ after 5 s in [{lo}, {hi}]°");
+    assert!(
+        lo > 140.0 && hi < 170.0 && hi - lo > 0.1,
+        "θ after 5 s in [{lo}, {hi}]°"
+    );
     let (period, jitter) = period_of(&maxima(&lt, &lth));
-    assert!(jitter < 0.02 * period, "late oscillation not periodic: T = {period}, jitter {jitter}");
+    assert!(
+        jitter < 0.02 * period,
+        "late oscillation not periodic: T = {period}, jitter {jitter}"
+    );
     // Energy: dissipated, and accounted for.
     assert!(out.final_invariants.energy < 0.7 * out.initial_invariants.energy);
-    assert!(out.drift.energy_plus_work.unwrap() < 1e-9, "E + W drift {:e}", out.drift.energy_plus_work.unwrap());
+    assert!(
+        out.drift.energy_plus_work.unwrap() < 1e-9,
+        "E + W drift {:e}",
+        out.drift.energy_plus_work.unwrap()
+    );
     // |θ̇| stays far below the paper's 1400°/s in this scene (Fig. 11).
     let (_, thd) = series(&s, |x| x.angles.theta_dot.to_degrees().abs());
     assert!(range(&thd).1 < 400.0);
@@ -272,10 +382,25 @@ fn val_fig10_sliding_body_stands_up_without_turning_over() {
 #[test]
 fn val_fig10_pure_sliding_ends_when_the_slip_stops() {
     let (coulomb, _) = run("fig10-sliding-theta.toml", &["output.t_end=5.0".into()]);
-    let (sliding, s) = run("fig10-sliding-theta.toml", &["contact.model=\"sliding\"".into(), "output.t_end=5.0".into()]);
+    let (sliding, s) = run(
+        "fig10-sliding-theta.toml",
+        &[
+            "contact.model=\"sliding\"".into(),
+            "output.t_end=5.0".into(),
+        ],
+    );
     assert_eq!(sliding.status, Status::SlipStopped);
-    let stop = coulomb.events.iter().find(|e| e.kind == EventKind::SlipStop).unwrap().t;
-    assert!((s.last().unwrap().t - stop).abs() < 1e-9, "{} vs {stop}", s.last().unwrap().t);
+    let stop = coulomb
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::SlipStop)
+        .unwrap()
+        .t;
+    assert!(
+        (s.last().unwrap().t - stop).abs() < 1e-9,
+        "{} vs {stop}",
+        s.last().unwrap().t
+    );
     assert!(s.last().unwrap().angles.theta.to_degrees() > 150.0);
 }
 
@@ -288,7 +413,10 @@ fn val_table1_is_the_parallel_axis_moment_with_m_1e_4() {
     for (d2, i) in TABLE1 {
         let fit = 3.075e-6 + 1.0e-4 * d2 * d2;
         let unit = if d2 == 0.0001 { 1e-12 } else { 1e-10 };
-        assert!(fit - i >= -1e-18 && fit - i < unit, "D2 = {d2}: I = {i:e}, fit {fit:e}");
+        assert!(
+            fit - i >= -1e-18 && fit - i < unit,
+            "D2 = {d2}: I = {i:e}, fit {fit:e}"
+        );
     }
     // The scenario's body: the same intercept about G, and its own mass.
     let sc = load("table1-inertia.toml", &[]);
@@ -306,8 +434,14 @@ fn val_fig12_rolling_theta_periodic_for_every_d2() {
         let peaks = maxima(&t, &th);
         let (period, jitter) = period_of(&peaks);
         assert!(value_spread(&peaks) < 1e-7, "D2 = {d2}: maxima differ");
-        assert!(value_spread(&minima(&t, &th)) < 1e-7, "D2 = {d2}: minima differ");
-        assert!(jitter < 1e-6, "D2 = {d2}: jitter {jitter:e} of T = {period}");
+        assert!(
+            value_spread(&minima(&t, &th)) < 1e-7,
+            "D2 = {d2}: minima differ"
+        );
+        assert!(
+            jitter < 1e-6,
+            "D2 = {d2}: jitter {jitter:e} of T = {period}"
+        );
         let (lo, hi) = range(&th);
         assert!(lo > 0.199 && hi < 0.45, "D2 = {d2}: θ in [{lo}, {hi}]");
         assert!(out.drift.energy.unwrap() < 1e-9);
@@ -324,7 +458,11 @@ fn val_fig13_rolling_amplitude_and_period_fall_with_d2() {
         let (t, th) = series(&s, |x| x.angles.theta);
         let (lo, hi) = range(&th);
         let (period, _) = period_of(&maxima(&t, &th));
-        assert!(hi - lo < last.0 && period < last.1, "D2 = {d2}: amplitude {}, period {period} after {last:?}", hi - lo);
+        assert!(
+            hi - lo < last.0 && period < last.1,
+            "D2 = {d2}: amplitude {}, period {period} after {last:?}",
+            hi - lo
+        );
         last = (hi - lo, period);
     }
 }
@@ -336,10 +474,17 @@ fn val_fig14_rolling_rates_share_the_period_of_theta() {
         let (_, s) = run("fig14-rolling-rates.toml", &[set("body.com_offset", d2)]);
         let (t, th) = series(&s, |x| x.angles.theta);
         let (period, _) = period_of(&maxima(&t, &th));
-        for (name, f) in [("θ̇", (|x: &Sample| x.angles.theta_dot) as fn(&Sample) -> f64), ("φ̇", |x| x.angles.phi_dot), ("ψ̇", |x| x.angles.psi_dot)] {
+        for (name, f) in [
+            ("θ̇", (|x: &Sample| x.angles.theta_dot) as fn(&Sample) -> f64),
+            ("φ̇", |x| x.angles.phi_dot),
+            ("ψ̇", |x| x.angles.psi_dot),
+        ] {
             let (_, y) = series(&s, f);
             let (p, jitter) = period_of(&maxima(&t, &y));
-            assert!((p - period).abs() < 1e-6 && jitter < 1e-5, "D2 = {d2}, {name}: period {p} vs θ's {period}");
+            assert!(
+                (p - period).abs() < 1e-6 && jitter < 1e-5,
+                "D2 = {d2}, {name}: period {p} vs θ's {period}"
+            );
         }
     }
 }
@@ -374,7 +519,13 @@ fn val_fig15_c0_path_loops_once_per_period() {
     let (_, s) = run("fig15-rolling-c0-d2-0.01.toml", &[]);
     let (t, th) = series(&s, |x| x.angles.theta);
     let (period, _) = period_of(&maxima(&t, &th));
-    let xy = |n: f64| s.iter().filter(|x| x.t <= n * period).map(|x| c0(x, d2)).map(|p| [p[0], p[1]]).collect::<Vec<_>>();
+    let xy = |n: f64| {
+        s.iter()
+            .filter(|x| x.t <= n * period)
+            .map(|x| c0(x, d2))
+            .map(|p| [p[0], p[1]])
+            .collect::<Vec<_>>()
+    };
     assert_eq!(self_intersections(&xy(1.0)), 0, "one period: an open petal");
     let three = self_intersections(&xy(3.0));
     assert!(three >= 2, "three periods: {three} crossings");
@@ -386,31 +537,56 @@ fn val_fig15_c0_path_loops_once_per_period() {
 /// inside, and the truncated-cone envelope of the XZ and YZ projections.
 #[test]
 fn val_fig17_c0_path_fills_a_ring_around_a_forbidden_zone() {
-    for (name, d2) in [("fig17-rolling-c0-d2-0.01.toml", 0.01), ("fig20-rolling-c0-d2-0.0007.toml", 0.0007), ("fig23-rolling-c0-d2-0.0004.toml", 0.0004)] {
+    for (name, d2) in [
+        ("fig17-rolling-c0-d2-0.01.toml", 0.01),
+        ("fig20-rolling-c0-d2-0.0007.toml", 0.0007),
+        ("fig23-rolling-c0-d2-0.0004.toml", 0.0004),
+    ] {
         let (out, s) = run(name, &[]);
         assert!(out.drift.energy.unwrap() < 1e-9);
         let (t, th) = series(&s, |x| x.angles.theta);
         let p: Vec<[f64; 3]> = s.iter().map(|x| c0(x, d2)).collect();
         // Samples at the extrema of θ (t = 0 is a minimum: θ̇0 = 0 and θ rises).
-        let at = |ext: &[(f64, f64)]| ext.iter().map(|e| t.iter().position(|&x| x >= e.0).unwrap()).collect::<Vec<usize>>();
+        let at = |ext: &[(f64, f64)]| {
+            ext.iter()
+                .map(|e| t.iter().position(|&x| x >= e.0).unwrap())
+                .collect::<Vec<usize>>()
+        };
         let mut lows = vec![0];
         lows.extend(at(&minima(&t, &th)));
         let highs = at(&maxima(&t, &th));
-        assert!(lows.len() >= 8 && highs.len() >= 8, "{name}: too few periods");
+        assert!(
+            lows.len() >= 8 && highs.len() >= 8,
+            "{name}: too few periods"
+        );
         let (cx, cy) = circle_centre(&lows.iter().map(|&i| [p[i][0], p[i][1]]).collect::<Vec<_>>());
         let r = |i: usize| (p[i][0] - cx).hypot(p[i][1] - cy);
         let mean = |v: &[usize]| v.iter().map(|&i| r(i)).sum::<f64>() / v.len() as f64;
         let (r_in, r_out) = (mean(&lows), mean(&highs));
         for (v, rr) in [(&lows, r_in), (&highs, r_out)] {
             for &i in v.iter() {
-                assert!((r(i) - rr).abs() < 2e-3 * rr, "{name}: radius {} vs {rr} at t = {}", r(i), t[i]);
+                assert!(
+                    (r(i) - rr).abs() < 2e-3 * rr,
+                    "{name}: radius {} vs {rr} at t = {}",
+                    r(i),
+                    t[i]
+                );
             }
         }
         // The ring: C0 never enters the inner disc, never leaves the outer circle (to the
         // sampling), and is higher on the outer circle.
         let (r_min, r_max) = range(&(0..p.len()).map(r).collect::<Vec<_>>());
-        assert!(r_in > 1.5e-3 && r_out > r_in + 1e-3, "{name}: ring {r_in}..{r_out} m");
-        assert!(r_min > 0.99 * r_in && r_max < 1.01 * r_out, "{name}: path radius {r_min}..{r_max} outside ring {r_in}..{r_out}");
-        assert!(p[highs[0]][2] > p[lows[0]][2] + 5e-4, "{name}: C0 not higher on the outer circle");
+        assert!(
+            r_in > 1.5e-3 && r_out > r_in + 1e-3,
+            "{name}: ring {r_in}..{r_out} m"
+        );
+        assert!(
+            r_min > 0.99 * r_in && r_max < 1.01 * r_out,
+            "{name}: path radius {r_min}..{r_max} outside ring {r_in}..{r_out}"
+        );
+        assert!(
+            p[highs[0]][2] > p[lows[0]][2] + 5e-4,
+            "{name}: C0 not higher on the outer circle"
+        );
     }
 }

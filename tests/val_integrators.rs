@@ -938,6 +938,10 @@ fn inv_no_allocation_per_step() {
             "{}: allocations grow with the number of steps",
             method.name()
         );
-        assert!(short <= 4, "{}: {short} allocations for a run", method.name());
+        assert!(
+            short <= 4,
+            "{}: {short} allocations for a run",
+            method.name()
+        );
     }
 }

@@ -1,5 +1,5 @@
 """Shared by the peer scripts: read one of our TOML scenarios (the keys the peer scenes
-use), build its initial state, and the physics of PHYSICS.md in plain numpy.
+use), build its initial state, and the physics of docs/physics.md in plain numpy.
 
 State layout (as crates/ellipsoid-core/src/state.rs):
     0..2 x_G, y_G | 2..6 quaternion (w, x, y, z), body -> world | 6..8 v_Gx, v_Gy
@@ -170,7 +170,7 @@ def initial_state(s: Scene) -> np.ndarray:
 
 
 def contact(s: Scene, r: np.ndarray):
-    """zeta (world up in body axes), r_b = C - G, height of G, Hessian H (PHYSICS.md)."""
+    """zeta (world up in body axes), r_b = C - G, height of G, Hessian H (docs/physics.md)."""
     zeta = r[2, :]
     a2z = s.A2 @ zeta
     sq = math.sqrt(zeta @ a2z)
@@ -194,7 +194,7 @@ def kinematics(s: Scene, y: np.ndarray):
 
 
 def rhs(s: Scene, y: np.ndarray) -> np.ndarray:
-    """dy/dt for the frictionless or sliding model (PHYSICS.md models 1, 2)."""
+    """dy/dt for the frictionless or sliding model (docs/physics.md models 1, 2)."""
     m, g, i_b, i_inv = s.mass, s.gravity, s.inertia, s.i_inv
     r, w, zeta, r_b, height, hess, v_g, wxr = kinematics(s, y)
     zeta_dot = np.cross(zeta, w)

@@ -1,5 +1,5 @@
 """A plain SciPy implementation of the frictionless and sliding models (numpy
-right-hand side, the equations of PHYSICS.md, `solve_ivp` with DOP853 and RK45), timed
+right-hand side, the equations of docs/physics.md, `solve_ivp` with DOP853 and RK45), timed
 against `ellipsoid precision` on the same scenes and measured with the same error:
 
 - frictionless body of revolution: max(|T_run - T|/T, largest relative invariant

@@ -1,11 +1,13 @@
-//! Bodies and scenes from PHYSICS.md shared by the physics tests.
+//! Bodies and scenes from docs/physics.md shared by the physics tests.
 #![allow(dead_code)] // each test binary uses a different subset
 
 use std::ops::ControlFlow;
 
 use ellipsoid_core::body::{Body, uniform_inertia};
 use ellipsoid_core::integrate::Method;
-use ellipsoid_core::simulate::{self, ContactModel, EffectSet, InitialState, Outcome, Sample, Scene, SolverSettings};
+use ellipsoid_core::simulate::{
+    self, ContactModel, EffectSet, InitialState, Outcome, Sample, Scene, SolverSettings,
+};
 use ellipsoid_core::state::EulerAngles;
 use nalgebra::{Matrix3, Vector2, Vector3};
 
@@ -15,7 +17,15 @@ pub const G: f64 = 9.81;
 /// I = m(a² + c²)/5, I3 = 2 m a²/5.
 pub fn oblate() -> Body {
     let (a, c, m) = (0.025, 0.0175, 0.05);
-    Body::of_revolution(a, c, m, m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0, 0.003).unwrap()
+    Body::of_revolution(
+        a,
+        c,
+        m,
+        m * (a * a + c * c) / 5.0,
+        2.0 * m * a * a / 5.0,
+        0.003,
+    )
+    .unwrap()
 }
 
 /// Leine & Glocker's tippe top: sphere R = 15 mm, CM 3 mm below the centre, m = 6 g,
@@ -28,7 +38,13 @@ pub fn tippe_top() -> Body {
 /// centre, m = 1 kg, A = 2e-4, B = 1.6e-3, C = 1.7e-3, D = −2e-5 kg m².
 pub fn rattleback() -> Body {
     let i = Matrix3::new(2e-4, -2e-5, 0.0, -2e-5, 1.6e-3, 0.0, 0.0, 0.0, 1.7e-3);
-    Body::new(Vector3::new(0.2, 0.03, 0.02), 1.0, i, Vector3::new(0.0, 0.0, -0.01)).unwrap()
+    Body::new(
+        Vector3::new(0.2, 0.03, 0.02),
+        1.0,
+        i,
+        Vector3::new(0.0, 0.0, -0.01),
+    )
+    .unwrap()
 }
 
 /// A uniform sphere (billiard ball) of radius r and mass m.
@@ -37,20 +53,53 @@ pub fn ball(r: f64, m: f64) -> Body {
     Body::new(ax, m, uniform_inertia(ax, m), Vector3::zeros()).unwrap()
 }
 
-pub fn angles(theta: f64, phi: f64, psi: f64, theta_dot: f64, phi_dot: f64, psi_dot: f64) -> EulerAngles {
-    EulerAngles { theta, phi, psi, theta_dot, phi_dot, psi_dot }
+pub fn angles(
+    theta: f64,
+    phi: f64,
+    psi: f64,
+    theta_dot: f64,
+    phi_dot: f64,
+    psi_dot: f64,
+) -> EulerAngles {
+    EulerAngles {
+        theta,
+        phi,
+        psi,
+        theta_dot,
+        phi_dot,
+        psi_dot,
+    }
 }
 
 /// A scene run with DOP853 at rtol = atol = `tol`, sampled every `dt` up to `t_end`.
-pub fn scene(body: Body, contact: ContactModel, angles: EulerAngles, velocity: Option<Vector2<f64>>, t_end: f64, dt: f64, tol: f64) -> Scene {
+pub fn scene(
+    body: Body,
+    contact: ContactModel,
+    angles: EulerAngles,
+    velocity: Option<Vector2<f64>>,
+    t_end: f64,
+    dt: f64,
+    tol: f64,
+) -> Scene {
     let n = (t_end / dt).round() as usize;
     Scene {
         body,
         gravity: G,
         contact,
         effects: EffectSet::default(),
-        initial: InitialState { angles, omega_body: None, position: Vector2::zeros(), velocity },
-        solver: SolverSettings { method: Method::Dop853, rtol: tol, atol: tol, initial_step: None, max_steps: 50_000_000 },
+        initial: InitialState {
+            angles,
+            omega_body: None,
+            position: Vector2::zeros(),
+            velocity,
+        },
+        solver: SolverSettings {
+            method: Method::Dop853,
+            rtol: tol,
+            atol: tol,
+            initial_step: None,
+            max_steps: 50_000_000,
+        },
         t_end,
         sample_times: (0..=n).map(|k| (k as f64 * dt).min(t_end)).collect(),
     }

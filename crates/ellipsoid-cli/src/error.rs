@@ -28,7 +28,9 @@ impl CliError {
     pub fn exit_code(&self) -> u8 {
         match self {
             CliError::Scenario(_) => 2,
-            CliError::Output(OutputError::UnknownFormat { .. } | OutputError::Hdf5Unavailable { .. }) => 2,
+            CliError::Output(
+                OutputError::UnknownFormat { .. } | OutputError::Hdf5Unavailable { .. },
+            ) => 2,
             CliError::Output(_) | CliError::Plot(_) => 1,
             CliError::Usage(_) => 2,
             CliError::Reference(_) => 3,
@@ -64,7 +66,10 @@ mod tests {
 
     #[test]
     fn an_io_error_names_the_os_message_once() {
-        let e = CliError::from(OutputError::Io { path: "d".into(), source: std::io::Error::from_raw_os_error(21) });
+        let e = CliError::from(OutputError::Io {
+            path: "d".into(),
+            source: std::io::Error::from_raw_os_error(21),
+        });
         let text = message(&e);
         assert_eq!(text.matches("os error 21").count(), 1, "{text}");
         assert!(text.starts_with("d: "), "{text}");

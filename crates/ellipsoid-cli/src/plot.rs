@@ -12,13 +12,21 @@ pub struct Series {
 /// Errors below this are drawn at it (an exact zero has no place on a log axis).
 const FLOOR: f64 = 1e-17;
 
-const COLORS: [RGBColor; 3] = [RGBColor(0x1f, 0x77, 0xb4), RGBColor(0xff, 0x7f, 0x0e), RGBColor(0x2c, 0xa0, 0x2c)];
+const COLORS: [RGBColor; 3] = [
+    RGBColor(0x1f, 0x77, 0xb4),
+    RGBColor(0xff, 0x7f, 0x0e),
+    RGBColor(0x2c, 0xa0, 0x2c),
+];
 const PAPER: RGBColor = RGBColor(0xd6, 0x27, 0x28);
 
 /// The bounds of a log axis holding `values` (positive, finite), padded by a factor 2
 /// and widened to whole decades.
 fn log_bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
-    let (lo, hi) = values.filter(|v| v.is_finite() && *v > 0.0).fold((f64::MAX, f64::MIN_POSITIVE), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let (lo, hi) = values
+        .filter(|v| v.is_finite() && *v > 0.0)
+        .fold((f64::MAX, f64::MIN_POSITIVE), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
     if lo > hi {
         return (1e-3, 1.0);
     }
@@ -29,15 +37,30 @@ fn log_bounds(values: impl Iterator<Item = f64>) -> (f64, f64) {
 
 fn decade_label(v: f64) -> String {
     let e = v.log10().round() + 0.0; // + 0.0: no "1e-0"
-    if (v / 10f64.powf(e) - 1.0).abs() < 1e-9 { format!("1e{e}") } else { String::new() }
+    if (v / 10f64.powf(e) - 1.0).abs() < 1e-9 {
+        format!("1e{e}")
+    } else {
+        String::new()
+    }
 }
 
 /// An SVG of error against `x_desc` for each series, the paper's point (RK4, h = 1e-4 s)
 /// circled, and dashed lines at the `targets`.
-pub fn svg(title: &str, x_desc: &str, series: &[Series], paper: Option<(f64, f64)>, targets: &[f64]) -> Result<String, String> {
+pub fn svg(
+    title: &str,
+    x_desc: &str,
+    series: &[Series],
+    paper: Option<(f64, f64)>,
+    targets: &[f64],
+) -> Result<String, String> {
     let clamp = |(x, e): (f64, f64)| (x, e.max(FLOOR));
     let (x0, x1) = log_bounds(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)));
-    let (y0, y1) = log_bounds(series.iter().flat_map(|s| s.points.iter().map(|p| clamp(*p).1)).chain(targets.iter().copied()));
+    let (y0, y1) = log_bounds(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().map(|p| clamp(*p).1))
+            .chain(targets.iter().copied()),
+    );
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, (860, 600)).into_drawing_area();
@@ -60,7 +83,12 @@ pub fn svg(title: &str, x_desc: &str, series: &[Series], paper: Option<(f64, f64
             .map_err(|e| e.to_string())?;
         for &t in targets.iter().filter(|t| **t >= y0 && **t <= y1) {
             chart
-                .draw_series(DashedLineSeries::new([(x0, t), (x1, t)], 4, 4, BLACK.mix(0.35).stroke_width(1)))
+                .draw_series(DashedLineSeries::new(
+                    [(x0, t), (x1, t)],
+                    4,
+                    4,
+                    BLACK.mix(0.35).stroke_width(1),
+                ))
                 .map_err(|e| e.to_string())?;
         }
         for (s, color) in series.iter().zip(COLORS) {
@@ -69,8 +97,12 @@ pub fn svg(title: &str, x_desc: &str, series: &[Series], paper: Option<(f64, f64
                 .draw_series(LineSeries::new(pts.clone(), color.stroke_width(2)))
                 .map_err(|e| e.to_string())?
                 .label(s.name)
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2)));
-            chart.draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled()))).map_err(|e| e.to_string())?;
+                .legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            chart
+                .draw_series(pts.iter().map(|&p| Circle::new(p, 3, color.filled())))
+                .map_err(|e| e.to_string())?;
         }
         if let Some(p) = paper {
             let p = clamp(p);
@@ -99,13 +131,35 @@ mod tests {
     #[test]
     fn an_svg_with_every_series_the_paper_point_and_decade_labels() {
         let series = [
-            Series { name: "rk4", points: vec![(1e-3, 1e-2), (1e-2, 1e-6)] },
-            Series { name: "dopri5", points: vec![(1e-4, 1e-3), (1e-3, 1e-9)] },
-            Series { name: "dop853", points: vec![(1e-4, 1e-5), (2e-4, 0.0)] },
+            Series {
+                name: "rk4",
+                points: vec![(1e-3, 1e-2), (1e-2, 1e-6)],
+            },
+            Series {
+                name: "dopri5",
+                points: vec![(1e-4, 1e-3), (1e-3, 1e-9)],
+            },
+            Series {
+                name: "dop853",
+                points: vec![(1e-4, 1e-5), (2e-4, 0.0)],
+            },
         ];
-        let svg = svg("t", "wall time (s)", &series, Some((1e-3, 1e-2)), &[1e-3, 1e-6]).unwrap();
+        let svg = svg(
+            "t",
+            "wall time (s)",
+            &series,
+            Some((1e-3, 1e-2)),
+            &[1e-3, 1e-6],
+        )
+        .unwrap();
         assert!(svg.starts_with("<svg"), "{}", &svg[..40]);
-        for text in ["rk4", "dopri5", "dop853", "paper: RK4, h = 1e-4 s", "wall time (s)"] {
+        for text in [
+            "rk4",
+            "dopri5",
+            "dop853",
+            "paper: RK4, h = 1e-4 s",
+            "wall time (s)",
+        ] {
             assert!(svg.contains(text), "missing {text}");
         }
         let decades = svg.lines().filter(|l| l.starts_with("1e")).count();
@@ -118,7 +172,10 @@ mod tests {
     #[test]
     fn log_bounds_are_whole_decades_around_the_data() {
         let (lo, hi) = log_bounds([3e-5, 2e-2].into_iter());
-        assert!((lo / 1e-5 - 1.0).abs() < 1e-12 && (hi / 1e-1 - 1.0).abs() < 1e-12, "{lo} {hi}");
+        assert!(
+            (lo / 1e-5 - 1.0).abs() < 1e-12 && (hi / 1e-1 - 1.0).abs() < 1e-12,
+            "{lo} {hi}"
+        );
         assert_eq!(log_bounds(std::iter::empty()), (1e-3, 1.0));
     }
 }

@@ -21,14 +21,14 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
-use ellipsoid_core::error::{number, ModelError};
+use ellipsoid_core::error::{ModelError, number};
 use ellipsoid_core::integrate::{self, Action, Direction, Event, Method, Options, StopReason};
 use ellipsoid_core::model::{Frictionless, System};
 use ellipsoid_core::reference::{self, Nutation};
 use ellipsoid_core::scenario::{self, Scenario};
 use ellipsoid_core::simulate::{self, ContactModel, Drift, Outcome, Scene, Status};
 use ellipsoid_core::state::{self, State};
-use ellipsoid_io::{atomic, OutputError};
+use ellipsoid_io::{OutputError, atomic};
 use nalgebra::Vector3;
 
 use crate::cli::PrecisionArgs;
@@ -74,11 +74,32 @@ impl Setting {
 /// The grid: RK4 at h = 1e-2 … 1e-6 s (half decades, 1 and 3 × 10^k), DOPRI5 and DOP853
 /// at rtol = 1e-3 … 1e-13 (decades), atol = rtol · `atol_ratio`. `quick`: three settings each.
 pub fn grid(quick: bool, atol_ratio: f64) -> Vec<Setting> {
-    let steps: &[f64] = if quick { &[1e-2, 1e-3, 1e-4] } else { &[1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6] };
-    let rtols: &[f64] = if quick { &[1e-4, 1e-7, 1e-10] } else { &[1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13] };
-    let mut out: Vec<Setting> = steps.iter().map(|&h| Setting { method: Method::Rk4 { h }, rtol: 1e-10, atol: 1e-10 * atol_ratio }).collect();
+    let steps: &[f64] = if quick {
+        &[1e-2, 1e-3, 1e-4]
+    } else {
+        &[1e-2, 3e-3, 1e-3, 3e-4, 1e-4, 3e-5, 1e-5, 3e-6, 1e-6]
+    };
+    let rtols: &[f64] = if quick {
+        &[1e-4, 1e-7, 1e-10]
+    } else {
+        &[
+            1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12, 1e-13,
+        ]
+    };
+    let mut out: Vec<Setting> = steps
+        .iter()
+        .map(|&h| Setting {
+            method: Method::Rk4 { h },
+            rtol: 1e-10,
+            atol: 1e-10 * atol_ratio,
+        })
+        .collect();
     for method in [Method::Dopri5, Method::Dop853] {
-        out.extend(rtols.iter().map(|&r| Setting { method, rtol: r, atol: r * atol_ratio }));
+        out.extend(rtols.iter().map(|&r| Setting {
+            method,
+            rtol: r,
+            atol: r * atol_ratio,
+        }));
     }
     out
 }
@@ -89,7 +110,11 @@ pub enum Reference {
     Period { nutation: Nutation, y0: State },
     /// The final state of a tight DOP853 run; `uncertainty` is its distance (same
     /// measure) from a tighter run.
-    State { outcome: Box<Outcome>, rtol: f64, uncertainty: f64 },
+    State {
+        outcome: Box<Outcome>,
+        rtol: f64,
+        uncertainty: f64,
+    },
 }
 
 impl Reference {
@@ -119,7 +144,11 @@ impl Reference {
                  T_run = mean period between the first and last θ maxima of the run",
                 nutation.period, nutation.uncertainty, nutation.theta_min, nutation.theta_max
             ),
-            Reference::State { outcome, rtol, uncertainty } => format!(
+            Reference::State {
+                outcome,
+                rtol,
+                uncertainty,
+            } => format!(
                 "reference: final state of DOP853 at rtol = {rtol:e} (t_f = {} s, {}), {uncertainty:.1e} from a run at rtol = {CHECK_RTOL:e}: \
                  errors below ~{uncertainty:.0e} are not resolved\n\
                  error (measure `final_state`) = max(angle of R_ref^T R [rad], |Δx_G|/ℓ, |Δv_G|/(|v_G(0)| + |ω(0)|ℓ), |Δω|/|ω(0)|, |Δt_f|/t_f), \
@@ -163,36 +192,61 @@ pub struct Report {
 
 pub fn precision(args: &PrecisionArgs) -> Result<ExitCode, CliError> {
     let scenario = scenario::load(&args.scenario, &args.set)?;
-    let dir = args.output.clone().unwrap_or_else(|| Path::new("out").join("precision").join(scenario.stem()));
+    let dir = args
+        .output
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join("precision").join(scenario.stem()));
     let log = |s: &str| {
         if !args.quiet {
             eprintln!("{s}");
         }
     };
     let report = measure(&scenario, args.t_end, args.quick, args.repeats, &log)?;
-    std::fs::create_dir_all(&dir).map_err(|e| OutputError::Io { path: dir.clone(), source: e })?;
+    std::fs::create_dir_all(&dir).map_err(|e| OutputError::Io {
+        path: dir.clone(),
+        source: e,
+    })?;
     let files = write(&report, &dir)?;
     print!("{}", summary(&report));
-    println!("wrote {}", files.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", "));
+    println!(
+        "wrote {}",
+        files
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
     Ok(ExitCode::SUCCESS)
 }
 
 /// Runs the grid on `scenario` (its end time and `repeats` checked before anything runs;
 /// nothing is written here).
-pub fn measure(scenario: &Scenario, t_end: Option<f64>, quick: bool, repeats: Option<usize>, log: &dyn Fn(&str)) -> Result<Report, CliError> {
+pub fn measure(
+    scenario: &Scenario,
+    t_end: Option<f64>,
+    quick: bool,
+    repeats: Option<usize>,
+    log: &dyn Fn(&str),
+) -> Result<Report, CliError> {
     let base = &scenario.scene;
     let scene = scene_for(scenario, t_end, quick)?;
     let t_end = scene.t_end;
     let atol_ratio = base.solver.atol / base.solver.rtol;
     let repeats = repeats_or_default(repeats, quick)?;
 
-    log(&format!("precision: {} (t_end = {t_end} s): establishing the reference", scenario.stem()));
+    log(&format!(
+        "precision: {} (t_end = {t_end} s): establishing the reference",
+        scenario.stem()
+    ));
     let reference = establish_reference(scenario, &scene, atol_ratio)?;
     log(&reference.describe());
 
     let mut rows = Vec::new();
     // A fixed step longer than the run cannot be taken (`Scene::validate`).
-    for setting in grid(quick, atol_ratio).into_iter().filter(|s| !matches!(s.method, Method::Rk4 { h } if h > t_end)) {
+    for setting in grid(quick, atol_ratio)
+        .into_iter()
+        .filter(|s| !matches!(s.method, Method::Rk4 { h } if h > t_end))
+    {
         let row = measure_setting(scenario, &scene, &setting, &reference, repeats)?;
         log(&format!(
             "  {:<7} {:<12} error {:>8.1e}  time {:>9.3e} s  evals {:>9}  {}",
@@ -205,7 +259,12 @@ pub fn measure(scenario: &Scenario, t_end: Option<f64>, quick: bool, repeats: Op
         ));
         rows.push(row);
     }
-    Ok(Report { scene_name: scenario.stem(), t_end, reference, rows })
+    Ok(Report {
+        scene_name: scenario.stem(),
+        t_end,
+        reference,
+        rows,
+    })
 }
 
 /// Most timed runs per setting `--repeats` may ask for.
@@ -216,7 +275,9 @@ fn repeats_or_default(repeats: Option<usize>, quick: bool) -> Result<usize, CliE
     match repeats {
         None => Ok(if quick { 1 } else { 3 }),
         Some(n) if (1..=MAX_REPEATS).contains(&n) => Ok(n),
-        Some(n) => Err(CliError::Usage(format!("--repeats {n}: give 1 to {MAX_REPEATS} timed runs per setting"))),
+        Some(n) => Err(CliError::Usage(format!(
+            "--repeats {n}: give 1 to {MAX_REPEATS} timed runs per setting"
+        ))),
     }
 }
 
@@ -235,17 +296,28 @@ fn scene_for(scenario: &Scenario, t_end: Option<f64>, quick: bool) -> Result<Sce
     // Name the option when the end time came from it; the scenario's was checked on load.
     let what = match t_end {
         Some(t) => format!("--t-end {}", number(t)),
-        None => format!("t_end = {} s (the scenario's output.t_end, at most {DEFAULT_T_END_CAP} s)", number(end)),
+        None => format!(
+            "t_end = {} s (the scenario's output.t_end, at most {DEFAULT_T_END_CAP} s)",
+            number(end)
+        ),
     };
     let mut scene = base.clone();
     scene.t_end = end;
-    scene.sample_times = if end.is_finite() && end > 0.0 { (0..=DRIFT_INTERVALS).map(|k| end * k as f64 / DRIFT_INTERVALS as f64).collect() } else { Vec::new() };
+    scene.sample_times = if end.is_finite() && end > 0.0 {
+        (0..=DRIFT_INTERVALS)
+            .map(|k| end * k as f64 / DRIFT_INTERVALS as f64)
+            .collect()
+    } else {
+        Vec::new()
+    };
     scene.solver.method = Method::Dop853;
     scene.solver.initial_step = None;
     if let Err(e) = scene.validate() {
         return Err(match &e {
             _ if t_end.is_none() => CliError::from(scenario.locate(&e)),
-            ModelError::Invalid { quantity, rule, .. } if quantity == "output.t_end" => CliError::Usage(format!("{what}: {rule}")),
+            ModelError::Invalid { quantity, rule, .. } if quantity == "output.t_end" => {
+                CliError::Usage(format!("{what}: {rule}"))
+            }
             _ => CliError::Usage(format!("{what}: with this end time, {e}")),
         });
     }
@@ -256,7 +328,10 @@ fn scene_for(scenario: &Scenario, t_end: Option<f64>, quick: bool) -> Result<Sce
         let hint = if quick {
             format!("give --t-end {longest} or less")
         } else {
-            format!("give --t-end {longest} or less, or use --quick (finest step {} s)", number(finest_rk4_step(true)))
+            format!(
+                "give --t-end {longest} or less, or use --quick (finest step {} s)",
+                number(finest_rk4_step(true))
+            )
         };
         return Err(CliError::Usage(format!(
             "{what}: RK4 at the grid's finest step h = {} s would take {} steps, more than the report allows ({}); {hint}",
@@ -270,12 +345,25 @@ fn scene_for(scenario: &Scenario, t_end: Option<f64>, quick: bool) -> Result<Sce
 
 /// A whole number of steps: in full below 1e15, else to two digits (1.0e304).
 fn count(n: f64) -> String {
-    if n < 1e15 { format!("{n}") } else { format!("{n:.1e}") }
+    if n < 1e15 {
+        format!("{n}")
+    } else {
+        format!("{n:.1e}")
+    }
 }
 
 /// The grid's finest RK4 step.
 fn finest_rk4_step(quick: bool) -> f64 {
-    grid(quick, 1.0).iter().filter_map(|s| if let Method::Rk4 { h } = s.method { Some(h) } else { None }).fold(f64::INFINITY, f64::min)
+    grid(quick, 1.0)
+        .iter()
+        .filter_map(|s| {
+            if let Method::Rk4 { h } = s.method {
+                Some(h)
+            } else {
+                None
+            }
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The scene with one setting's solver.
@@ -293,20 +381,42 @@ fn with_setting(scene: &Scene, s: &Setting) -> Scene {
 }
 
 fn run(scenario: &Scenario, scene: &Scene) -> Result<Outcome, CliError> {
-    simulate::simulate(scene, &mut |_| ControlFlow::Continue(())).map_err(|e| CliError::from(scenario.locate(&e)))
+    simulate::simulate(scene, &mut |_| ControlFlow::Continue(()))
+        .map_err(|e| CliError::from(scenario.locate(&e)))
 }
 
-fn establish_reference(scenario: &Scenario, scene: &Scene, atol_ratio: f64) -> Result<Reference, CliError> {
+fn establish_reference(
+    scenario: &Scenario,
+    scene: &Scene,
+    atol_ratio: f64,
+) -> Result<Reference, CliError> {
     if is_conservative_frictionless(scene) {
-        let y0 = scene.initial_state().map_err(|e| CliError::from(scenario.locate(&e)))?.1;
+        let y0 = scene
+            .initial_state()
+            .map_err(|e| CliError::from(scenario.locate(&e)))?
+            .1;
         match reference::nutation(&scene.body, scene.gravity, &y0) {
             Ok(nutation) => return Ok(Reference::Period { nutation, y0 }),
-            Err(why) => eprintln!("precision: no exact period reference ({why}); using a DOP853 reference run"),
+            Err(why) => eprintln!(
+                "precision: no exact period reference ({why}); using a DOP853 reference run"
+            ),
         }
     }
-    let tight = |rtol: f64| with_setting(scene, &Setting { method: Method::Dop853, rtol, atol: rtol * atol_ratio });
+    let tight = |rtol: f64| {
+        with_setting(
+            scene,
+            &Setting {
+                method: Method::Dop853,
+                rtol,
+                atol: rtol * atol_ratio,
+            },
+        )
+    };
     let reference = run(scenario, &tight(REFERENCE_RTOL))?;
-    if matches!(reference.status, Status::SolverFailure(_) | Status::Chattering(_) | Status::Cancelled | Status::Painleve(_)) {
+    if matches!(
+        reference.status,
+        Status::SolverFailure(_) | Status::Chattering(_) | Status::Cancelled | Status::Painleve(_)
+    ) {
         return Err(CliError::Reference(format!(
             "the DOP853 reference run at rtol = {REFERENCE_RTOL:e} did not finish cleanly ({}): {:?}",
             reference.status.name(),
@@ -315,7 +425,11 @@ fn establish_reference(scenario: &Scenario, scene: &Scene, atol_ratio: f64) -> R
     }
     let check = run(scenario, &tight(CHECK_RTOL))?;
     let uncertainty = state_error(scene, &check, &reference);
-    Ok(Reference::State { outcome: Box::new(reference), rtol: REFERENCE_RTOL, uncertainty })
+    Ok(Reference::State {
+        outcome: Box::new(reference),
+        rtol: REFERENCE_RTOL,
+        uncertainty,
+    })
 }
 
 /// Frictionless with no effects: the 1-DOF reduction applies if the body is one of revolution.
@@ -323,12 +437,20 @@ fn is_conservative_frictionless(scene: &Scene) -> bool {
     scene.contact == ContactModel::Frictionless && !scene.effects.any()
 }
 
-fn measure_setting(scenario: &Scenario, scene: &Scene, setting: &Setting, reference: &Reference, repeats: usize) -> Result<Row, CliError> {
+fn measure_setting(
+    scenario: &Scenario,
+    scene: &Scene,
+    setting: &Setting,
+    reference: &Reference,
+    repeats: usize,
+) -> Result<Row, CliError> {
     let sc = with_setting(scene, setting);
     let mut times = Vec::new();
     let mut outcome = None;
     let started = Instant::now();
-    while times.len() < repeats || (started.elapsed().as_secs_f64() < TIMING_BUDGET && times.len() < BUDGET_REPEATS) {
+    while times.len() < repeats
+        || (started.elapsed().as_secs_f64() < TIMING_BUDGET && times.len() < BUDGET_REPEATS)
+    {
         let t0 = Instant::now();
         let out = run(scenario, &sc)?;
         times.push(t0.elapsed().as_secs_f64());
@@ -342,7 +464,11 @@ fn measure_setting(scenario: &Scenario, scene: &Scene, setting: &Setting, refere
     let energy_drift = outcome.drift.energy.or(outcome.drift.energy_plus_work);
     let (period_error, state_error, error) = match reference {
         Reference::Period { nutation, y0 } => {
-            let p = if completed { period_error(&sc, y0, nutation) } else { None };
+            let p = if completed {
+                period_error(&sc, y0, nutation)
+            } else {
+                None
+            };
             let e = match (p, invariant_drift) {
                 (Some(p), Some(d)) => p.max(d),
                 _ => f64::INFINITY,
@@ -374,11 +500,25 @@ fn measure_setting(scenario: &Scenario, scene: &Scene, setting: &Setting, refere
 
 fn median(sorted: &[f64]) -> f64 {
     let n = sorted.len();
-    if n % 2 == 1 { sorted[n / 2] } else { 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]) }
+    if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+    }
 }
 
 fn max_drift(d: &Drift) -> Option<f64> {
-    [d.energy, d.energy_plus_work, d.momentum, d.angular_momentum_z, d.axial_spin, d.jellett].into_iter().flatten().reduce(f64::max)
+    [
+        d.energy,
+        d.energy_plus_work,
+        d.momentum,
+        d.angular_momentum_z,
+        d.axial_spin,
+        d.jellett,
+    ]
+    .into_iter()
+    .flatten()
+    .reduce(f64::max)
 }
 
 /// |T_run − T|/T with T_run the mean period between the first and last maxima of θ,
@@ -386,7 +526,12 @@ fn max_drift(d: &Drift) -> Option<f64> {
 /// and setting. The events do not change the step sequence, so this run's steps are the
 /// timed run's.
 pub fn period_error(scene: &Scene, y0: &State, nutation: &Nutation) -> Option<f64> {
-    let sys = System { body: scene.body.clone(), gravity: scene.gravity, contact: Frictionless, effects: () };
+    let sys = System {
+        body: scene.body.clone(),
+        gravity: scene.gravity,
+        contact: Frictionless,
+        effects: (),
+    };
     let events = [Event {
         g: Box::new(|_t, y: &State| {
             let rot = state::rotation(y);
@@ -398,7 +543,18 @@ pub fn period_error(scene: &Scene, y0: &State, nutation: &Nutation) -> Option<f6
     let mut options = Options::new(scene.solver.rtol, scene.solver.atol);
     options.h0 = None;
     options.max_steps = scene.solver.max_steps;
-    let sol = integrate::integrate(scene.solver.method, &sys, 0.0, *y0, scene.t_end, &options, &events, &[], &mut |_, _| ControlFlow::Continue(())).ok()?;
+    let sol = integrate::integrate(
+        scene.solver.method,
+        &sys,
+        0.0,
+        *y0,
+        scene.t_end,
+        &options,
+        &events,
+        &[],
+        &mut |_, _| ControlFlow::Continue(()),
+    )
+    .ok()?;
     if sol.stop != StopReason::Reached || sol.events.len() < 2 {
         return None;
     }
@@ -415,9 +571,17 @@ pub fn state_error(scene: &Scene, out: &Outcome, reference: &Outcome) -> f64 {
     let rb = state::rotation(&reference.final_state);
     // rotation angle of R_bᵀ R_a from its trace, via atan2 for accuracy at small angles
     let d = rb.transpose() * ra;
-    let axis = Vector3::new(d[(2, 1)] - d[(1, 2)], d[(0, 2)] - d[(2, 0)], d[(1, 0)] - d[(0, 1)]);
+    let axis = Vector3::new(
+        d[(2, 1)] - d[(1, 2)],
+        d[(0, 2)] - d[(2, 0)],
+        d[(1, 0)] - d[(0, 1)],
+    );
     let angle = axis.norm().atan2(d.trace() - 1.0);
-    let omega0 = scene.initial.omega_body.unwrap_or_else(|| scene.initial.angles.omega_body()).norm();
+    let omega0 = scene
+        .initial
+        .omega_body
+        .unwrap_or_else(|| scene.initial.angles.omega_body())
+        .norm();
     let v0 = scene.initial.velocity.map_or(0.0, |v| v.norm());
     let v_scale = v0 + omega0 * ell;
     let rel = |num: f64, den: f64| if den > 0.0 { num / den } else { num };
@@ -431,7 +595,6 @@ pub fn state_error(scene: &Scene, out: &Outcome, reference: &Outcome) -> f64 {
     .into_iter()
     .fold(0.0, |m, e| if e.is_nan() { f64::NAN } else { m.max(e) })
 }
-
 
 /// Column names of `precision.csv`.
 pub const CSV_HEADER: &str = "scene,t_end,measure,method,setting,h,rtol,atol,status,t_final,error,period_error,state_error,energy_drift,invariant_drift,wall_time_median_s,wall_time_min_s,repeats,rhs_evals,steps,rejected";
@@ -448,7 +611,11 @@ pub fn csv(report: &Report) -> String {
     for r in &report.rows {
         let (h, rtol, atol) = match r.setting.method {
             Method::Rk4 { h } => (format!("{h:e}"), String::new(), String::new()),
-            _ => (String::new(), format!("{:e}", r.setting.rtol), format!("{:e}", r.setting.atol)),
+            _ => (
+                String::new(),
+                format!("{:e}", r.setting.rtol),
+                format!("{:e}", r.setting.atol),
+            ),
         };
         let _ = writeln!(
             s,
@@ -483,17 +650,53 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, CliError> {
             .iter()
             .map(|&m| Series {
                 name: m,
-                points: report.rows.iter().filter(|r| r.setting.method.name() == m && r.error.is_finite()).map(|r| (x(r), r.error)).collect(),
+                points: report
+                    .rows
+                    .iter()
+                    .filter(|r| r.setting.method.name() == m && r.error.is_finite())
+                    .map(|r| (x(r), r.error))
+                    .collect(),
             })
             .collect()
     };
-    let paper = |x: fn(&Row) -> f64| report.rows.iter().find(|r| r.setting.method == (Method::Rk4 { h: PAPER_STEP }) && r.error.is_finite()).map(|r| (x(r), r.error));
-    let title = |what: &str| format!("{}: error ({}) vs {what}, t_end = {} s", report.scene_name, report.reference.measure(), report.t_end);
+    let paper = |x: fn(&Row) -> f64| {
+        report
+            .rows
+            .iter()
+            .find(|r| r.setting.method == (Method::Rk4 { h: PAPER_STEP }) && r.error.is_finite())
+            .map(|r| (x(r), r.error))
+    };
+    let title = |what: &str| {
+        format!(
+            "{}: error ({}) vs {what}, t_end = {} s",
+            report.scene_name,
+            report.reference.measure(),
+            report.t_end
+        )
+    };
     let time = |r: &Row| r.wall_median;
     let evals = |r: &Row| r.rhs_evals as f64;
-    let svg_time = plot::svg(&title("wall time"), "wall time, median (s)", &series(time), paper(time), &TARGETS).map_err(CliError::Plot)?;
-    let svg_evals = plot::svg(&title("evaluations"), "right-hand-side evaluations", &series(evals), paper(evals), &TARGETS).map_err(CliError::Plot)?;
-    let files = [("precision.csv", csv(report)), ("error_vs_time.svg", svg_time), ("error_vs_evaluations.svg", svg_evals)];
+    let svg_time = plot::svg(
+        &title("wall time"),
+        "wall time, median (s)",
+        &series(time),
+        paper(time),
+        &TARGETS,
+    )
+    .map_err(CliError::Plot)?;
+    let svg_evals = plot::svg(
+        &title("evaluations"),
+        "right-hand-side evaluations",
+        &series(evals),
+        paper(evals),
+        &TARGETS,
+    )
+    .map_err(CliError::Plot)?;
+    let files = [
+        ("precision.csv", csv(report)),
+        ("error_vs_time.svg", svg_time),
+        ("error_vs_evaluations.svg", svg_evals),
+    ];
     let mut out = Vec::new();
     for (name, text) in files {
         let path = dir.join(name);
@@ -506,15 +709,25 @@ pub fn write(report: &Report, dir: &Path) -> Result<Vec<PathBuf>, CliError> {
 /// The cheapest (median wall time) setting whose error is at most `target` and whose run
 /// ended as the reference's did.
 pub fn cheapest<'r>(rows: &'r [Row], reference: &Reference, target: f64) -> Option<&'r Row> {
-    rows.iter().filter(|r| r.status == reference.status() && r.error <= target).min_by(|a, b| a.wall_median.total_cmp(&b.wall_median))
+    rows.iter()
+        .filter(|r| r.status == reference.status() && r.error <= target)
+        .min_by(|a, b| a.wall_median.total_cmp(&b.wall_median))
 }
 
 /// The printed table and answers.
 pub fn summary(report: &Report) -> String {
     let mut s = String::new();
-    let _ = writeln!(s, "precision: {} over t_end = {} s", report.scene_name, report.t_end);
+    let _ = writeln!(
+        s,
+        "precision: {} over t_end = {} s",
+        report.scene_name, report.t_end
+    );
     let _ = writeln!(s, "{}", report.reference.describe());
-    let _ = writeln!(s, "{:<7} {:<12} {:>9} {:>9} {:>11} {:>10} {:>9}  status", "method", "setting", "error", "drift", "time (s)", "rhs evals", "steps");
+    let _ = writeln!(
+        s,
+        "{:<7} {:<12} {:>9} {:>9} {:>11} {:>10} {:>9}  status",
+        "method", "setting", "error", "drift", "time (s)", "rhs evals", "steps"
+    );
     for r in &report.rows {
         let _ = writeln!(
             s,
@@ -522,14 +735,18 @@ pub fn summary(report: &Report) -> String {
             r.setting.method.name(),
             r.setting.label(),
             r.error,
-            r.invariant_drift.map_or_else(|| "-".into(), |d| format!("{d:.1e}")),
+            r.invariant_drift
+                .map_or_else(|| "-".into(), |d| format!("{d:.1e}")),
             r.wall_median,
             r.rhs_evals,
             r.accepted,
             r.status
         );
     }
-    let _ = writeln!(s, "cheapest setting (median wall time) reaching each error:");
+    let _ = writeln!(
+        s,
+        "cheapest setting (median wall time) reaching each error:"
+    );
     for t in TARGETS {
         match cheapest(&report.rows, &report.reference, t) {
             Some(r) => {
@@ -548,8 +765,16 @@ pub fn summary(report: &Report) -> String {
             }
         }
     }
-    if let Some(p) = report.rows.iter().find(|r| r.setting.method == (Method::Rk4 { h: PAPER_STEP })) {
-        let _ = writeln!(s, "paper's setting (RK4, h = 1e-4 s): error {:.1e}, {:.3e} s", p.error, p.wall_median);
+    if let Some(p) = report
+        .rows
+        .iter()
+        .find(|r| r.setting.method == (Method::Rk4 { h: PAPER_STEP }))
+    {
+        let _ = writeln!(
+            s,
+            "paper's setting (RK4, h = 1e-4 s): error {:.1e}, {:.3e} s",
+            p.error, p.wall_median
+        );
     }
     s
 }
@@ -569,27 +794,69 @@ mod tests {
     fn period_runs_take_the_steps_of_simulate() {
         let scenario = nutation_scenario();
         for method in [Method::Rk4 { h: 1e-3 }, Method::Dopri5, Method::Dop853] {
-            let scene = with_setting(&scenario.scene, &Setting { method, rtol: 1e-9, atol: 1e-11 });
+            let scene = with_setting(
+                &scenario.scene,
+                &Setting {
+                    method,
+                    rtol: 1e-9,
+                    atol: 1e-11,
+                },
+            );
             let out = run(&scenario, &scene).unwrap();
-            let sys = System { body: scene.body.clone(), gravity: scene.gravity, contact: Frictionless, effects: () };
+            let sys = System {
+                body: scene.body.clone(),
+                gravity: scene.gravity,
+                contact: Frictionless,
+                effects: (),
+            };
             let mut options = Options::new(1e-9, 1e-11);
             options.max_steps = scene.solver.max_steps;
             let y0 = scene.initial_state().unwrap().1;
-            let sol = integrate::integrate(method, &sys, 0.0, y0, scene.t_end, &options, &[], &[], &mut |_, _| ControlFlow::Continue(())).unwrap();
-            assert_eq!((sol.stats.accepted, sol.stats.rejected), (out.stats.accepted, out.stats.rejected), "{method:?}");
-            assert_eq!(sol.y, out.final_state, "{method:?}: same final state, bit for bit");
+            let sol = integrate::integrate(
+                method,
+                &sys,
+                0.0,
+                y0,
+                scene.t_end,
+                &options,
+                &[],
+                &[],
+                &mut |_, _| ControlFlow::Continue(()),
+            )
+            .unwrap();
+            assert_eq!(
+                (sol.stats.accepted, sol.stats.rejected),
+                (out.stats.accepted, out.stats.rejected),
+                "{method:?}"
+            );
+            assert_eq!(
+                sol.y, out.final_state,
+                "{method:?}: same final state, bit for bit"
+            );
         }
     }
 
     #[test]
     fn grid_spans_the_documented_ranges_and_includes_the_papers_step() {
         let g = grid(false, 1e-2);
-        let steps: Vec<f64> = g.iter().filter_map(|s| if let Method::Rk4 { h } = s.method { Some(h) } else { None }).collect();
+        let steps: Vec<f64> = g
+            .iter()
+            .filter_map(|s| {
+                if let Method::Rk4 { h } = s.method {
+                    Some(h)
+                } else {
+                    None
+                }
+            })
+            .collect();
         assert_eq!((steps[0], *steps.last().unwrap()), (1e-2, 1e-6));
         assert!(steps.contains(&PAPER_STEP));
         for m in [Method::Dopri5, Method::Dop853] {
             let r: Vec<&Setting> = g.iter().filter(|s| s.method == m).collect();
-            assert_eq!((r[0].rtol, r.last().unwrap().rtol, r.len()), (1e-3, 1e-13, 11));
+            assert_eq!(
+                (r[0].rtol, r.last().unwrap().rtol, r.len()),
+                (1e-3, 1e-13, 11)
+            );
             assert!(r.iter().all(|s| s.atol == s.rtol * 1e-2));
         }
         assert_eq!(grid(true, 1e-2).len(), 9);

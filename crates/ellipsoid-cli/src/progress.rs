@@ -21,7 +21,13 @@ pub struct Progress {
 
 impl Progress {
     pub fn new(t_end: f64) -> Self {
-        Progress { enabled: std::io::stderr().is_terminal(), start: Instant::now(), t_end, bar: None, position: 0 }
+        Progress {
+            enabled: std::io::stderr().is_terminal(),
+            start: Instant::now(),
+            t_end,
+            bar: None,
+            position: 0,
+        }
     }
 
     /// Reports that simulated time has reached `t` \[s\].
@@ -39,7 +45,9 @@ impl Progress {
                 return;
             }
             let bar = ProgressBar::with_draw_target(Some(STEPS), ProgressDrawTarget::stderr());
-            let style = ProgressStyle::with_template("{elapsed_precise} [{wide_bar}] {msg} (eta {eta})").unwrap_or_else(|_| ProgressStyle::default_bar());
+            let style =
+                ProgressStyle::with_template("{elapsed_precise} [{wide_bar}] {msg} (eta {eta})")
+                    .unwrap_or_else(|_| ProgressStyle::default_bar());
             bar.set_style(style.progress_chars("=> "));
             self.bar = Some(bar);
         }

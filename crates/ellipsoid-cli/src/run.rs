@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use ellipsoid_core::scenario::{self, Scenario};
 use ellipsoid_io::run::Failure;
-use ellipsoid_io::{atomic, Format, Metadata, OutputError, Summary, TrajectoryWriter};
+use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, atomic};
 
 use crate::cli::RunArgs;
 use crate::error::CliError;
@@ -17,11 +17,21 @@ const EARLY_STOP: u8 = 3;
 
 pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     let scenario = scenario::load(&args.scenario, &args.set)?;
-    let output = args.output.clone().unwrap_or_else(|| Path::new("out").join(format!("{}.csv", scenario.stem())));
+    let output = args
+        .output
+        .clone()
+        .unwrap_or_else(|| Path::new("out").join(format!("{}.csv", scenario.stem())));
     Format::from_path(&output)?;
     let summary_path = args.summary.as_ref().filter(|p| p.as_os_str() != "-");
-    let output_name = if args.output.is_some() { "-o" } else { "the default -o" };
-    let mut named = vec![("the scenario file", args.scenario.as_path()), (output_name, output.as_path())];
+    let output_name = if args.output.is_some() {
+        "-o"
+    } else {
+        "the default -o"
+    };
+    let mut named = vec![
+        ("the scenario file", args.scenario.as_path()),
+        (output_name, output.as_path()),
+    ];
     named.extend(summary_path.map(|p| ("--summary", p.as_path())));
     distinct(&named)?;
     for (_, path) in &named[1..] {
@@ -36,15 +46,27 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
             make_parent(path, &mut made)?;
         }
         // Reserved first, so an unwritable summary fails before the run.
-        let summary_file = summary_path.map(|p| atomic::AtomicFile::create(p)).transpose()?;
+        let summary_file = summary_path
+            .map(|p| atomic::AtomicFile::create(p))
+            .transpose()?;
         let (trajectory, summary, stop_note) = simulate_to(&scenario, &output)?;
         let mut files = vec![trajectory];
         if let (Some(mut file), Some(path)) = (summary_file, summary_path) {
-            file.write_all(summary.to_json().as_bytes()).map_err(|e| OutputError::Io { path: path.clone(), source: e })?;
+            file.write_all(summary.to_json().as_bytes())
+                .map_err(|e| OutputError::Io {
+                    path: path.clone(),
+                    source: e,
+                })?;
             files.push(file.prepare()?);
         }
         if args.summary.as_ref().is_some_and(|p| p.as_os_str() == "-") {
-            std::io::stdout().lock().write_all(summary.to_json().as_bytes()).map_err(|e| OutputError::Io { path: "<stdout>".into(), source: e })?;
+            std::io::stdout()
+                .lock()
+                .write_all(summary.to_json().as_bytes())
+                .map_err(|e| OutputError::Io {
+                    path: "<stdout>".into(),
+                    source: e,
+                })?;
         }
         atomic::commit_all(files)?;
         Ok((summary, stop_note))
@@ -60,7 +82,11 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     if !args.quiet || !completed {
         report(&summary, &output, stop_note.as_deref());
     }
-    Ok(if completed { ExitCode::SUCCESS } else { ExitCode::from(EARLY_STOP) })
+    Ok(if completed {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::from(EARLY_STOP)
+    })
 }
 
 /// Refuses two of the named paths (scenario, trajectory, summary) that are one file.
@@ -111,13 +137,22 @@ fn identity(path: &Path) -> PathBuf {
 
 /// Runs the scene, writing the trajectory for `output` (complete, not yet in place);
 /// returns it, the summary and, if the run was stopped for a non-finite value, why.
-fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(atomic::Prepared, Summary, Option<String>), CliError> {
+fn simulate_to(
+    scenario: &Scenario,
+    output: &Path,
+) -> Result<(atomic::Prepared, Summary, Option<String>), CliError> {
     let mut writer = TrajectoryWriter::create(output)?;
     let mut progress = Progress::new(scenario.scene.t_end);
-    let finished = ellipsoid_io::run::run(scenario, Some(output.display().to_string()), env!("CARGO_PKG_VERSION"), None, |s| {
-        progress.update(s.t);
-        writer.write(s)
-    });
+    let finished = ellipsoid_io::run::run(
+        scenario,
+        Some(output.display().to_string()),
+        env!("CARGO_PKG_VERSION"),
+        None,
+        |s| {
+            progress.update(s.t);
+            writer.write(s)
+        },
+    );
     progress.finish();
     // Errors of the physics layer are input errors found late (e.g. N ≤ 0 at t = 0):
     // they are placed in the scenario file. The unfinished output is dropped, so deleted.
@@ -125,17 +160,28 @@ fn simulate_to(scenario: &Scenario, output: &Path) -> Result<(atomic::Prepared, 
         Failure::Scenario(e) => CliError::Scenario(e),
         Failure::Sink(e) => CliError::from(e),
     })?;
-    let trajectory = writer.prepare(&Metadata { scenario_text: &scenario.text, summary: &finished.summary })?;
+    let trajectory = writer.prepare(&Metadata {
+        scenario_text: &scenario.text,
+        summary: &finished.summary,
+    })?;
     Ok((trajectory, finished.summary, finished.non_finite))
 }
 
 /// Creates the parent directories of `path`, recording the ones it made.
 fn make_parent(path: &Path, made: &mut Vec<PathBuf>) -> Result<(), CliError> {
-    let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) else { return Ok(()) };
-    let mut missing: Vec<&Path> = parent.ancestors().filter(|a| !a.as_os_str().is_empty() && !a.exists()).collect();
+    let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) else {
+        return Ok(());
+    };
+    let mut missing: Vec<&Path> = parent
+        .ancestors()
+        .filter(|a| !a.as_os_str().is_empty() && !a.exists())
+        .collect();
     missing.reverse();
     for dir in missing {
-        std::fs::create_dir(dir).map_err(|e| OutputError::Io { path: dir.to_owned(), source: e })?;
+        std::fs::create_dir(dir).map_err(|e| OutputError::Io {
+            path: dir.to_owned(),
+            source: e,
+        })?;
         made.push(dir.to_owned());
     }
     Ok(())
@@ -143,14 +189,29 @@ fn make_parent(path: &Path, made: &mut Vec<PathBuf>) -> Result<(), CliError> {
 
 /// A few lines on standard error: how the run ended, where the output is, the drifts.
 fn report(summary: &Summary, output: &Path, stop_note: Option<&str>) {
-    let t = summary.final_state.get("t").and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
+    let t = summary
+        .final_state
+        .get("t")
+        .and_then(|v| v.as_f64())
+        .unwrap_or(f64::NAN);
     let s = &summary.stats;
-    let work = format!("{} samples, {} steps ({} rejected), {:.3} s", summary.samples, s.accepted, s.rejected, summary.wall_time_s);
+    let work = format!(
+        "{} samples, {} steps ({} rejected), {:.3} s",
+        summary.samples, s.accepted, s.rejected, summary.wall_time_s
+    );
     let mut lines = Vec::new();
     if summary.status == "completed" && stop_note.is_none() {
-        lines.push(format!("ellipsoid: completed at t = {t} s: {work} -> {}", output.display()));
+        lines.push(format!(
+            "ellipsoid: completed at t = {t} s: {work} -> {}",
+            output.display()
+        ));
     } else {
-        lines.push(format!("ellipsoid: stopped early ({}): {} [{work} -> {}]", summary.status, summary.message, output.display()));
+        lines.push(format!(
+            "ellipsoid: stopped early ({}): {} [{work} -> {}]",
+            summary.status,
+            summary.message,
+            output.display()
+        ));
     }
     let drifts: Vec<String> = serde_json::to_value(summary.drift)
         .ok()
@@ -167,7 +228,10 @@ fn report(summary: &Summary, output: &Path, stop_note: Option<&str>) {
     }
     let failed = summary.failed_checks();
     if !failed.is_empty() {
-        lines.push(format!("ellipsoid: warning: the scenario's [check] expectations were not met: {}", failed.join("; ")));
+        lines.push(format!(
+            "ellipsoid: warning: the scenario's [check] expectations were not met: {}",
+            failed.join("; ")
+        ));
     }
     eprintln!("{}", lines.join("\n"));
 }

@@ -1,7 +1,7 @@
 //! The rigid body: an ellipsoid with semi-axes (a, b, c) along its principal body axes,
 //! centre of mass G offset from the geometric centre C0, central inertia about G.
 //!
-//! PHYSICS.md, "Body, frames, conventions". The paper's body is a = b, c, with
+//! docs/physics.md, "Body, frames, conventions". The paper's body is a = b, c, with
 //! `com_offset = (0, 0, −D2)` (paper eq. 7) and `I_b = diag(I, I, I3)`.
 
 use nalgebra::{Matrix3, Vector3};
@@ -38,22 +38,42 @@ impl Body {
     ) -> Result<Self, ModelError> {
         for (name, v) in ["a", "b", "c"].iter().zip(semi_axes.iter()) {
             if !(v.is_finite() && *v > 0.0) {
-                return Err(ModelError::invalid(format!("body.{name}"), v, "a semi-axis must be a positive, finite length in metres"));
+                return Err(ModelError::invalid(
+                    format!("body.{name}"),
+                    v,
+                    "a semi-axis must be a positive, finite length in metres",
+                ));
             }
         }
         if !(mass.is_finite() && mass > 0.0) {
-            return Err(ModelError::invalid("body.mass", mass, "the mass must be positive and finite (kg)"));
+            return Err(ModelError::invalid(
+                "body.mass",
+                mass,
+                "the mass must be positive and finite (kg)",
+            ));
         }
         if inertia.iter().any(|v| !v.is_finite()) {
-            return Err(ModelError::invalid("body.inertia", fmt_matrix(&inertia), "every entry must be finite (kg m^2)"));
+            return Err(ModelError::invalid(
+                "body.inertia",
+                fmt_matrix(&inertia),
+                "every entry must be finite (kg m^2)",
+            ));
         }
         let scale = inertia.abs().max();
         if (inertia - inertia.transpose()).abs().max() > 1e-12 * scale {
-            return Err(ModelError::invalid("body.inertia", fmt_matrix(&inertia), "the inertia tensor must be symmetric"));
+            return Err(ModelError::invalid(
+                "body.inertia",
+                fmt_matrix(&inertia),
+                "the inertia tensor must be symmetric",
+            ));
         }
         let moments = inertia.symmetric_eigenvalues();
         if moments.iter().any(|&m| m <= 0.0) {
-            return Err(ModelError::invalid("body.inertia", fmt_vector(&moments), "principal moments of inertia must be positive"));
+            return Err(ModelError::invalid(
+                "body.inertia",
+                fmt_vector(&moments),
+                "principal moments of inertia must be positive",
+            ));
         }
         let (i0, i1, i2) = (moments[0], moments[1], moments[2]);
         let slack = 1e-12 * (i0 + i1 + i2);
@@ -65,26 +85,54 @@ impl Body {
             ));
         }
         if com_offset.iter().any(|v| !v.is_finite()) {
-            return Err(ModelError::invalid("body.com_offset", fmt_vector(&com_offset), "the centre-of-mass offset must be finite (m)"));
+            return Err(ModelError::invalid(
+                "body.com_offset",
+                fmt_vector(&com_offset),
+                "the centre-of-mass offset must be finite (m)",
+            ));
         }
         let radial = com_offset.component_div(&semi_axes).norm_squared();
         if radial >= 1.0 {
             return Err(ModelError::invalid(
                 "body.com_offset",
                 fmt_vector(&com_offset),
-                format!("the centre of mass must lie inside the ellipsoid (g^T A^-2 g = {radial:.6} must be < 1)"),
+                format!(
+                    "the centre of mass must lie inside the ellipsoid (g^T A^-2 g = {radial:.6} must be < 1)"
+                ),
             ));
         }
         let inertia_inv = inertia.try_inverse().ok_or_else(|| {
-            ModelError::invalid("body.inertia", fmt_matrix(&inertia), "the inertia tensor must be invertible")
+            ModelError::invalid(
+                "body.inertia",
+                fmt_matrix(&inertia),
+                "the inertia tensor must be invertible",
+            )
         })?;
-        Ok(Body { semi_axes, mass, inertia, inertia_inv, com_offset })
+        Ok(Body {
+            semi_axes,
+            mass,
+            inertia,
+            inertia_inv,
+            com_offset,
+        })
     }
 
     /// The paper's body: a = b, c, CM a distance `d2` below C0 on the axis, principal
     /// moments `i` (transverse, about G) and `i3` (axial).
-    pub fn of_revolution(a: f64, c: f64, mass: f64, i: f64, i3: f64, d2: f64) -> Result<Self, ModelError> {
-        Body::new(Vector3::new(a, a, c), mass, Matrix3::from_diagonal(&Vector3::new(i, i, i3)), Vector3::new(0.0, 0.0, -d2))
+    pub fn of_revolution(
+        a: f64,
+        c: f64,
+        mass: f64,
+        i: f64,
+        i3: f64,
+        d2: f64,
+    ) -> Result<Self, ModelError> {
+        Body::new(
+            Vector3::new(a, a, c),
+            mass,
+            Matrix3::from_diagonal(&Vector3::new(i, i, i3)),
+            Vector3::new(0.0, 0.0, -d2),
+        )
     }
 
     /// Semi-axes (a, b, c) \[m\].
@@ -141,11 +189,31 @@ mod tests {
     #[test]
     fn rejects_each_rule_with_its_name() {
         let cases: [(Result<Body, ModelError>, &str, &str); 5] = [
-            (Body::of_revolution(-0.025, 0.0175, 0.05, 3.8e-6, 6.25e-6, 0.003), "body.a = -0.025", "positive"),
-            (Body::of_revolution(0.025, 0.0175, 0.0, 3.8e-6, 6.25e-6, 0.003), "body.mass = 0", "positive"),
-            (Body::of_revolution(0.025, 0.0175, 0.05, 1e-6, 6.25e-6, 0.003), "body.inertia", "triangle inequality"),
-            (Body::of_revolution(0.025, 0.0175, 0.05, 3.8e-6, 6.25e-6, 0.02), "body.com_offset", "inside the ellipsoid"),
-            (Body::of_revolution(0.025, 0.0175, 0.05, -3.8e-6, 6.25e-6, 0.0), "body.inertia", "positive"),
+            (
+                Body::of_revolution(-0.025, 0.0175, 0.05, 3.8e-6, 6.25e-6, 0.003),
+                "body.a = -0.025",
+                "positive",
+            ),
+            (
+                Body::of_revolution(0.025, 0.0175, 0.0, 3.8e-6, 6.25e-6, 0.003),
+                "body.mass = 0",
+                "positive",
+            ),
+            (
+                Body::of_revolution(0.025, 0.0175, 0.05, 1e-6, 6.25e-6, 0.003),
+                "body.inertia",
+                "triangle inequality",
+            ),
+            (
+                Body::of_revolution(0.025, 0.0175, 0.05, 3.8e-6, 6.25e-6, 0.02),
+                "body.com_offset",
+                "inside the ellipsoid",
+            ),
+            (
+                Body::of_revolution(0.025, 0.0175, 0.05, -3.8e-6, 6.25e-6, 0.0),
+                "body.inertia",
+                "positive",
+            ),
         ];
         for (result, name, rule) in cases {
             let msg = result.unwrap_err().to_string();

@@ -25,13 +25,21 @@ pub struct Wrench {
 
 impl Wrench {
     /// No load.
-    pub const ZERO: Wrench = Wrench { force: Vector3::new(0.0, 0.0, 0.0), torque: Vector3::new(0.0, 0.0, 0.0), torque_per_normal: Vector3::new(0.0, 0.0, 0.0) };
+    pub const ZERO: Wrench = Wrench {
+        force: Vector3::new(0.0, 0.0, 0.0),
+        torque: Vector3::new(0.0, 0.0, 0.0),
+        torque_per_normal: Vector3::new(0.0, 0.0, 0.0),
+    };
 }
 
 impl std::ops::Add for Wrench {
     type Output = Wrench;
     fn add(self, o: Wrench) -> Wrench {
-        Wrench { force: self.force + o.force, torque: self.torque + o.torque, torque_per_normal: self.torque_per_normal + o.torque_per_normal }
+        Wrench {
+            force: self.force + o.force,
+            torque: self.torque + o.torque,
+            torque_per_normal: self.torque_per_normal + o.torque_per_normal,
+        }
     }
 }
 
@@ -67,7 +75,11 @@ pub struct AirDrag {
 impl Effect for AirDrag {
     #[inline]
     fn wrench(&self, _: &Body, kin: &Kinematics) -> Wrench {
-        Wrench { force: -self.linear * kin.v_g, torque: -self.angular * kin.omega, torque_per_normal: Vector3::zeros() }
+        Wrench {
+            force: -self.linear * kin.v_g,
+            torque: -self.angular * kin.omega,
+            torque_per_normal: Vector3::zeros(),
+        }
     }
 }
 
@@ -87,7 +99,11 @@ impl Effect for RollingResistance {
         let zeta = kin.contact.zeta;
         let omega_h = kin.omega - zeta * kin.omega.dot(&zeta);
         let scale = (omega_h.norm_squared() + self.regularisation * self.regularisation).sqrt();
-        Wrench { force: Vector3::zeros(), torque: Vector3::zeros(), torque_per_normal: -self.coefficient * omega_h / scale }
+        Wrench {
+            force: Vector3::zeros(),
+            torque: Vector3::zeros(),
+            torque_per_normal: -self.coefficient * omega_h / scale,
+        }
     }
 }
 
@@ -107,6 +123,10 @@ impl Effect for SpinFriction {
         let zeta = kin.contact.zeta;
         let wz = kin.omega.dot(&zeta);
         let sign = wz / (wz * wz + self.regularisation * self.regularisation).sqrt();
-        Wrench { force: Vector3::zeros(), torque: Vector3::zeros(), torque_per_normal: -self.coefficient * sign * zeta }
+        Wrench {
+            force: Vector3::zeros(),
+            torque: Vector3::zeros(),
+            torque_per_normal: -self.coefficient * sign * zeta,
+        }
     }
 }

@@ -17,8 +17,16 @@ pub enum ModelError {
 
 impl ModelError {
     /// Shorthand for [`ModelError::Invalid`].
-    pub fn invalid(quantity: impl Into<String>, value: impl std::fmt::Display, rule: impl Into<String>) -> Self {
-        ModelError::Invalid { quantity: quantity.into(), value: value.to_string(), rule: rule.into() }
+    pub fn invalid(
+        quantity: impl Into<String>,
+        value: impl std::fmt::Display,
+        rule: impl Into<String>,
+    ) -> Self {
+        ModelError::Invalid {
+            quantity: quantity.into(),
+            value: value.to_string(),
+            rule: rule.into(),
+        }
     }
 }
 

@@ -1,6 +1,6 @@
 //! Exact contact geometry of an ellipsoid touching the plane z = 0, for any semi-axes.
 //!
-//! PHYSICS.md, "Contact geometry". With ζ = Rᵀe3 (world up in body axes) and
+//! docs/physics.md, "Contact geometry". With ζ = Rᵀe3 (world up in body axes) and
 //! A = diag(a, b, c):
 //! ```text
 //!   s    = sqrt(ζᵀA²ζ)                      height of C0 (paper eq. 8: D1)
@@ -89,7 +89,13 @@ mod tests {
 
     fn body() -> Body {
         let ax = Vector3::new(0.03, 0.02, 0.01);
-        Body::new(ax, 1.0, uniform_inertia(ax, 1.0), Vector3::new(0.001, -0.002, -0.003)).unwrap()
+        Body::new(
+            ax,
+            1.0,
+            uniform_inertia(ax, 1.0),
+            Vector3::new(0.001, -0.002, -0.003),
+        )
+        .unwrap()
     }
 
     /// The contact point is the lowest point: p_c lies on the surface and its outward

@@ -1,4 +1,4 @@
-//! Conserved and balanced quantities (PHYSICS.md, "Invariants").
+//! Conserved and balanced quantities (docs/physics.md, "Invariants").
 //!
 //! ```text
 //!   E   = ½ m |v_G|² + ½ ω_bᵀ I ω_b + m g z_G          energy
@@ -44,7 +44,9 @@ impl Invariants {
     pub fn from_kinematics(body: &Body, gravity: f64, kin: &Kinematics, work: f64) -> Self {
         let m = body.mass();
         let l_body = body.inertia() * kin.omega;
-        let energy = 0.5 * m * kin.v_g.norm_squared() + 0.5 * kin.omega.dot(&l_body) + m * gravity * kin.contact.height;
+        let energy = 0.5 * m * kin.v_g.norm_squared()
+            + 0.5 * kin.omega.dot(&l_body)
+            + m * gravity * kin.contact.height;
         let p: Vector2<f64> = m * kin.v_g.xy();
         Invariants {
             energy,

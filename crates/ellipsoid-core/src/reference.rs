@@ -1,5 +1,5 @@
 //! Exact references for accuracy measurements: the nutation period of a frictionless
-//! body of revolution from the one-degree-of-freedom reduction (PHYSICS.md,
+//! body of revolution from the one-degree-of-freedom reduction (docs/physics.md,
 //! "Invariants"), by Gauss–Legendre quadrature.
 //!
 //! ```text
@@ -57,7 +57,9 @@ pub fn gauss_legendre(n: usize) -> Vec<(f64, f64)> {
 pub enum NoReference {
     /// The reduction needs a = b, the centre of mass on the axis and I1 = I2 with no
     /// products of inertia.
-    #[error("not a body of revolution (needs a = b, the centre of mass on the symmetry axis, I1 = I2 and a diagonal inertia tensor)")]
+    #[error(
+        "not a body of revolution (needs a = b, the centre of mass on the symmetry axis, I1 = I2 and a diagonal inertia tensor)"
+    )]
     NotRevolution,
     /// sin θ = 0: the axis is vertical and θ does not oscillate.
     #[error("the symmetry axis is vertical (θ = {theta} rad): no nutation")]
@@ -122,9 +124,12 @@ impl Reduced {
         // W(u) = (L − K u)²/(2 I (1 − u²)):
         // W(ua) − W(u) = (u − ua)[K(A + B) − L(A u + B ua)] / (2 I sin²θa sin²θ)
         let (a, b) = (self.l - self.k * ua, self.l - self.k * u);
-        let gyro = du * (self.k * (a + b) - self.l * (a * u + b * ua)) / (2.0 * self.i1 * sa * sa * s * s);
+        let gyro =
+            du * (self.k * (a + b) - self.l * (a * u + b * ua)) / (2.0 * self.i1 * sa * sa * s * s);
         // m g (h(θa) − h(θ)), h = s + g_z cos θ, s(θa) − s(θ) = (a² − c²)(sin²θa − sin²θ)/(s(θa) + s(θ))
-        let grav = self.m * self.g * ((self.a2 - self.c2) * dsin2 / (self.s(theta_a) + self.s(theta)) - self.gz * du);
+        let grav = self.m
+            * self.g
+            * ((self.a2 - self.c2) * dsin2 / (self.s(theta_a) + self.s(theta)) - self.gz * du);
         gyro + grav
     }
 }
@@ -181,7 +186,10 @@ pub fn nutation(body: &Body, gravity: f64, y: &State) -> Result<Nutation, NoRefe
         return Err(NoReference::ThroughVertical);
     };
     let inside = (1..GRID).map(grid).filter(|&t| t > lo_end && t < hi_end);
-    let peak = inside.chain([theta0]).max_by(|x, y| f(*x).total_cmp(&f(*y))).expect("θ0 is inside");
+    let peak = inside
+        .chain([theta0])
+        .max_by(|x, y| f(*x).total_cmp(&f(*y)))
+        .expect("θ0 is inside");
     if !(f(peak) > 0.0) {
         return Err(NoReference::Steady);
     }
@@ -220,14 +228,20 @@ pub fn nutation(body: &Body, gravity: f64, y: &State) -> Result<Nutation, NoRefe
                     (t2 - d, red.drop(t2, -d))
                 };
                 let cos_chi = (x * PI / 2.0).cos();
-                let integrand = half * cos_chi * ((i1 + red.m * red.dh(theta).powi(2)) / (2.0 * gap)).sqrt();
+                let integrand =
+                    half * cos_chi * ((i1 + red.m * red.dh(theta).powi(2)) / (2.0 * gap)).sqrt();
                 w * integrand * PI / 2.0
             })
             .sum();
         2.0 * sum
     };
     let (t96, t128) = (period(96), period(128));
-    Ok(Nutation { theta_min: t1, theta_max: t2, period: t128, uncertainty: (t128 - t96).abs() })
+    Ok(Nutation {
+        theta_min: t1,
+        theta_max: t2,
+        period: t128,
+        uncertainty: (t128 - t96).abs(),
+    })
 }
 
 #[cfg(test)]
@@ -239,7 +253,8 @@ mod tests {
     fn state_of(angles: &EulerAngles) -> State {
         let mut y = State::zeros();
         state::set_quaternion(&mut y, &angles.rotation());
-        y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&angles.omega_body());
+        y.fixed_rows_mut::<3>(state::OMEGA)
+            .copy_from(&angles.omega_body());
         y
     }
 
@@ -261,14 +276,35 @@ mod tests {
     #[test]
     fn val_torque_free_sphere_period_is_2pi_i_over_l() {
         let (r, m, i, i3) = (0.02, 0.1, 1.6e-5, 2.4e-5);
-        let body = Body::new(Vector3::new(r, r, r), m, Matrix3::from_diagonal(&Vector3::new(i, i, i3)), Vector3::zeros()).unwrap();
-        for (theta, theta_dot, phi_dot, psi_dot) in [(0.3, 1.0, 2.0, 40.0), (1.2, -3.0, 5.0, -20.0), (2.5, 0.0, 7.0, 10.0)] {
-            let a = EulerAngles { theta, phi: 0.4, psi: 1.1, theta_dot, phi_dot, psi_dot };
+        let body = Body::new(
+            Vector3::new(r, r, r),
+            m,
+            Matrix3::from_diagonal(&Vector3::new(i, i, i3)),
+            Vector3::zeros(),
+        )
+        .unwrap();
+        for (theta, theta_dot, phi_dot, psi_dot) in [
+            (0.3, 1.0, 2.0, 40.0),
+            (1.2, -3.0, 5.0, -20.0),
+            (2.5, 0.0, 7.0, 10.0),
+        ] {
+            let a = EulerAngles {
+                theta,
+                phi: 0.4,
+                psi: 1.1,
+                theta_dot,
+                phi_dot,
+                psi_dot,
+            };
             let y = state_of(&a);
             let l = (body.inertia() * a.omega_body()).norm();
             let exact = 2.0 * PI * i / l;
             let nut = nutation(&body, 9.81, &y).unwrap();
-            assert!((nut.period - exact).abs() < 1e-14 * exact, "θ0 = {theta}: {} vs {exact}", nut.period);
+            assert!(
+                (nut.period - exact).abs() < 1e-14 * exact,
+                "θ0 = {theta}: {} vs {exact}",
+                nut.period
+            );
             assert!(nut.uncertainty < 1e-14 * exact);
         }
     }
@@ -276,13 +312,31 @@ mod tests {
     #[test]
     fn val_nutation_scene_quadrature_converges() {
         let (a, c, m) = (0.025, 0.0175, 0.05);
-        let body = Body::of_revolution(a, c, m, m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0, 0.003).unwrap();
-        let y = state_of(&EulerAngles { theta: 10f64.to_radians(), psi_dot: 60.0, ..Default::default() });
+        let body = Body::of_revolution(
+            a,
+            c,
+            m,
+            m * (a * a + c * c) / 5.0,
+            2.0 * m * a * a / 5.0,
+            0.003,
+        )
+        .unwrap();
+        let y = state_of(&EulerAngles {
+            theta: 10f64.to_radians(),
+            psi_dot: 60.0,
+            ..Default::default()
+        });
         let nut = nutation(&body, 9.81, &y).unwrap();
         assert!(nut.uncertainty < 1e-15 * nut.period, "{nut:?}");
         // started at rest in θ: θ0 is a turning point
         let theta0 = 10f64.to_radians();
-        assert!((nut.theta_min - theta0).abs().min((nut.theta_max - theta0).abs()) < 1e-12, "{nut:?}");
+        assert!(
+            (nut.theta_min - theta0)
+                .abs()
+                .min((nut.theta_max - theta0).abs())
+                < 1e-12,
+            "{nut:?}"
+        );
         assert!(nut.theta_max > nut.theta_min + 1e-3, "{nut:?}");
     }
 
@@ -292,21 +346,56 @@ mod tests {
     #[test]
     fn val_turning_points_are_those_of_the_well_containing_theta0() {
         let (a, c, m) = (0.025, 0.0175, 0.05);
-        let body = Body::of_revolution(a, c, m, m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0, 0.001).unwrap();
+        let body = Body::of_revolution(
+            a,
+            c,
+            m,
+            m * (a * a + c * c) / 5.0,
+            2.0 * m * a * a / 5.0,
+            0.001,
+        )
+        .unwrap();
         let theta0 = 162.81f64.to_radians();
-        let y = state_of(&EulerAngles { theta: theta0, psi_dot: 0.2, ..Default::default() });
+        let y = state_of(&EulerAngles {
+            theta: theta0,
+            psi_dot: 0.2,
+            ..Default::default()
+        });
         let nut = nutation(&body, 9.81, &y).unwrap();
-        assert!(nut.theta_min <= theta0 + 1e-12 && theta0 - 1e-12 <= nut.theta_max, "{nut:?}");
+        assert!(
+            nut.theta_min <= theta0 + 1e-12 && theta0 - 1e-12 <= nut.theta_max,
+            "{nut:?}"
+        );
         assert!(nut.theta_min > 2.8 && nut.theta_max < PI, "{nut:?}");
     }
 
     #[test]
     fn no_reference_for_an_upright_axis_or_a_triaxial_body() {
         let (a, c, m) = (0.025, 0.0175, 0.05);
-        let body = Body::of_revolution(a, c, m, m * (a * a + c * c) / 5.0, 2.0 * m * a * a / 5.0, 0.003).unwrap();
-        let upright = state_of(&EulerAngles { psi_dot: 60.0, ..Default::default() });
-        assert!(matches!(nutation(&body, 9.81, &upright), Err(NoReference::Upright { .. })));
-        let tri = Body::new(Vector3::new(0.03, 0.02, 0.01), 1.0, Matrix3::from_diagonal(&Vector3::new(1e-4, 2e-4, 2.5e-4)), Vector3::zeros()).unwrap();
+        let body = Body::of_revolution(
+            a,
+            c,
+            m,
+            m * (a * a + c * c) / 5.0,
+            2.0 * m * a * a / 5.0,
+            0.003,
+        )
+        .unwrap();
+        let upright = state_of(&EulerAngles {
+            psi_dot: 60.0,
+            ..Default::default()
+        });
+        assert!(matches!(
+            nutation(&body, 9.81, &upright),
+            Err(NoReference::Upright { .. })
+        ));
+        let tri = Body::new(
+            Vector3::new(0.03, 0.02, 0.01),
+            1.0,
+            Matrix3::from_diagonal(&Vector3::new(1e-4, 2e-4, 2.5e-4)),
+            Vector3::zeros(),
+        )
+        .unwrap();
         let mut y = State::zeros();
         state::set_quaternion(&mut y, &UnitQuaternion::from_euler_angles(0.3, 0.0, 0.0));
         assert_eq!(nutation(&tri, 9.81, &y), Err(NoReference::NotRevolution));

@@ -1,4 +1,4 @@
-//! Runs a scene: the contact model's modes (PHYSICS.md models 1–5), their transitions
+//! Runs a scene: the contact model's modes (docs/physics.md models 1–5), their transitions
 //! located as events on the dense output, sampling and invariant bookkeeping.
 //!
 //! Each mode is a monomorphised [`System`] over the scene's effects; the Coulomb model
@@ -25,7 +25,9 @@ use serde::Serialize;
 use crate::body::Body;
 use crate::effects::{AirDrag, Effect, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
-use crate::integrate::{self, Action, Direction, Event, Method, OdeSystem, Options, Stats, StopReason, Warning};
+use crate::integrate::{
+    self, Action, Direction, Event, Method, OdeSystem, Options, Stats, StopReason, Warning,
+};
 use crate::invariants::Invariants;
 use crate::model::sliding::SLIP_FLOOR;
 use crate::model::{ContactLaw, Evaluation, Frictionless, Rolling, Sliding, System};
@@ -253,7 +255,10 @@ const SLIP_ACCEPT: f64 = 2.0;
 const MAX_SWITCHES: usize = 10_000;
 
 /// Simulates `scene`, handing every sample to `observer` (return `Break` to cancel).
-pub fn simulate(scene: &Scene, observer: &mut dyn FnMut(&Sample) -> ControlFlow<()>) -> Result<Outcome, ModelError> {
+pub fn simulate(
+    scene: &Scene,
+    observer: &mut dyn FnMut(&Sample) -> ControlFlow<()>,
+) -> Result<Outcome, ModelError> {
     simulate_cancellable(scene, observer, None)
 }
 
@@ -268,7 +273,14 @@ pub fn simulate_cancellable(
     scene.validate()?;
     // Monomorphise over exactly the effects present: each level below doubles the
     // variants, and an absent effect is the empty tuple, which compiles to nothing.
-    dispatch_drag(Call { scene, observer, cancel }, ())
+    dispatch_drag(
+        Call {
+            scene,
+            observer,
+            cancel,
+        },
+        (),
+    )
 }
 
 /// One call of [`simulate_cancellable`], passed down the effect dispatch.
@@ -340,9 +352,24 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         Runner {
             scene,
             cancel,
-            free: System { body: body.clone(), gravity: g, contact: Frictionless, effects },
-            slide: System { body: body.clone(), gravity: g, contact: Sliding { friction }, effects },
-            roll: System { body, gravity: g, contact: Rolling, effects },
+            free: System {
+                body: body.clone(),
+                gravity: g,
+                contact: Frictionless,
+                effects,
+            },
+            slide: System {
+                body: body.clone(),
+                gravity: g,
+                contact: Sliding { friction },
+                effects,
+            },
+            roll: System {
+                body,
+                gravity: g,
+                contact: Rolling,
+                effects,
+            },
         }
     }
 
@@ -354,7 +381,10 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         }
     }
 
-    fn run(&self, observer: &mut dyn FnMut(&Sample) -> ControlFlow<()>) -> Result<Outcome, ModelError> {
+    fn run(
+        &self,
+        observer: &mut dyn FnMut(&Sample) -> ControlFlow<()>,
+    ) -> Result<Outcome, ModelError> {
         let scene = self.scene;
         let (mut mode, mut y) = self.start()?;
         let mut rec = Recorder::new(observer);
@@ -364,12 +394,19 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         let mut warnings = Vec::new();
         let mut switches = 0usize;
         let (initial_sample, initial_invariants) = self.sample(mode, t, &y, None);
-        rec.start(initial_invariants, self.scales(&y, &initial_invariants), initial_sample.angles);
+        rec.start(
+            initial_invariants,
+            self.scales(&y, &initial_invariants),
+            initial_sample.angles,
+        );
 
         let pure_sliding = matches!(scene.contact, ContactModel::Sliding { .. });
         let status = if pure_sliding && self.slip_is_zero(&y) {
             // Only the pure sliding model starts here with zero slip (see `start`).
-            events.push(EventRecord { kind: EventKind::SlipStop, t });
+            events.push(EventRecord {
+                kind: EventKind::SlipStop,
+                t,
+            });
             Status::SlipStopped
         } else {
             loop {
@@ -381,7 +418,9 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                 let sol = seg.solution;
                 add_stats(&mut stats, &sol.stats);
                 warnings.extend(sol.warnings.iter().map(|w| match w {
-                    Warning::Stiff { t } => format!("the problem looks stiff at t = {t} s; an explicit method will be slow here"),
+                    Warning::Stiff { t } => format!(
+                        "the problem looks stiff at t = {t} s; an explicit method will be slow here"
+                    ),
                 }));
                 t = sol.t;
                 y = sol.y;
@@ -391,7 +430,10 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                     StopReason::Failed(e) => {
                         let painleve = self.slide.evaluate(&y).response.painleve;
                         if mode == Mode::Sliding && painleve < PAINLEVE_COLLAPSE {
-                            events.push(EventRecord { kind: EventKind::Painleve, t });
+                            events.push(EventRecord {
+                                kind: EventKind::Painleve,
+                                t,
+                            });
                             break Status::Painleve(format!(
                                 "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) fell to {painleve:.1e}, \
                                  so N grows without bound (a tangential impact) and Coulomb sliding has no consistent contact force ({e})"
@@ -401,11 +443,17 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                     }
                     StopReason::Event { index } => match seg.watches[index] {
                         Watch::Normal => {
-                            events.push(EventRecord { kind: EventKind::LostContact, t });
+                            events.push(EventRecord {
+                                kind: EventKind::LostContact,
+                                t,
+                            });
                             break Status::LostContact;
                         }
                         Watch::Painleve => {
-                            events.push(EventRecord { kind: EventKind::Painleve, t });
+                            events.push(EventRecord {
+                                kind: EventKind::Painleve,
+                                t,
+                            });
                             break Status::Painleve(format!(
                                 "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) reached 0, \
                                  so Coulomb sliding has no consistent contact force (reduce contact.friction or use the rolling model)"
@@ -422,22 +470,40 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                         }
                         Watch::Slip | Watch::SlipFloor => {
                             let Some(mu) = self.coulomb() else {
-                                events.push(EventRecord { kind: EventKind::SlipStop, t });
+                                events.push(EventRecord {
+                                    kind: EventKind::SlipStop,
+                                    t,
+                                });
                                 break Status::SlipStopped;
                             };
                             // Outside the cone the slip passes through zero and goes on
                             // (opposite to the friction rolling would need).
-                            events.push(EventRecord { kind: EventKind::SlipStop, t });
+                            events.push(EventRecord {
+                                kind: EventKind::SlipStop,
+                                t,
+                            });
                             let next = self.after_slip_stop(mu, &mut y);
                             if next == Mode::Rolling {
-                                events.push(EventRecord { kind: EventKind::ModeSwitch { from: mode, to: next }, t });
+                                events.push(EventRecord {
+                                    kind: EventKind::ModeSwitch {
+                                        from: mode,
+                                        to: next,
+                                    },
+                                    t,
+                                });
                             }
                             switches += 1;
                             mode = next;
                         }
                         Watch::Cone(_) => {
                             self.start_sliding_from_rest(&mut y);
-                            events.push(EventRecord { kind: EventKind::ModeSwitch { from: mode, to: Mode::Sliding }, t });
+                            events.push(EventRecord {
+                                kind: EventKind::ModeSwitch {
+                                    from: mode,
+                                    to: Mode::Sliding,
+                                },
+                                t,
+                            });
                             switches += 1;
                             mode = Mode::Sliding;
                         }
@@ -486,7 +552,9 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                 y[state::VEL] = v.x;
                 y[state::VEL + 1] = v.y;
             }
-            None if matches!(scene.contact, ContactModel::Coulomb { .. }) => self.roll.project(&mut y),
+            None if matches!(scene.contact, ContactModel::Coulomb { .. }) => {
+                self.roll.project(&mut y)
+            }
             None => {}
         }
         let mode = match scene.contact {
@@ -529,7 +597,11 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
             ("the speed of G", sample.velocity.norm(), "m/s"),
             ("the angular speed", sample.omega.norm(), "rad/s"),
             ("the height of G", sample.position.z, "m"),
-            ("the angular momentum L_z", inv.angular_momentum_z, "kg m^2/s"),
+            (
+                "the angular momentum L_z",
+                inv.angular_momentum_z,
+                "kg m^2/s",
+            ),
             ("Jellett's quantity", inv.jellett, "kg m^3/s"),
         ];
         if let Some((name, value, unit)) = derived.into_iter().find(|(_, v, _)| !v.is_finite()) {
@@ -540,7 +612,8 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
                  double precision (state the problem in SI units of ordinary magnitude)",
             ));
         }
-        if let ContactModel::Sliding { friction: mu } | ContactModel::Coulomb { friction: mu } = scene.contact
+        if let ContactModel::Sliding { friction: mu } | ContactModel::Coulomb { friction: mu } =
+            scene.contact
             && !(response.painleve > 0.0)
         {
             return Err(ModelError::invalid(
@@ -587,7 +660,10 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
     fn slip_floor(&self) -> (f64, f64) {
         let scene = self.scene;
         let v_min = match (scene.solver.method, scene.contact) {
-            (Method::Rk4 { h }, ContactModel::Sliding { friction } | ContactModel::Coulomb { friction }) => RK4_SLIP_STEPS * friction * scene.gravity * h,
+            (
+                Method::Rk4 { h },
+                ContactModel::Sliding { friction } | ContactModel::Coulomb { friction },
+            ) => RK4_SLIP_STEPS * friction * scene.gravity * h,
             _ => 0.0,
         };
         (SLIP_FLOOR.max(scene.solver.rtol), v_min)
@@ -626,13 +702,24 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
     /// develops when rolling fails opposes the friction it needed.
     fn start_sliding_from_rest(&self, y: &mut State) {
         let f_h = self.roll.evaluate(y).response.force.xy();
-        let s = if f_h.norm() > 0.0 { -f_h.normalize() } else { Vector2::x() };
+        let s = if f_h.norm() > 0.0 {
+            -f_h.normalize()
+        } else {
+            Vector2::x()
+        };
         y[state::SLIP_REF] = s.x;
         y[state::SLIP_REF + 1] = s.y;
     }
 
     /// Integrates one mode from (t0, y0) until t_end or a terminal event.
-    fn segment<C: ContactLaw>(&self, sys: &System<C, E>, mode: Mode, t0: f64, y0: State, rec: &mut Recorder<'_>) -> Result<Segment, ModelError> {
+    fn segment<C: ContactLaw>(
+        &self,
+        sys: &System<C, E>,
+        mode: Mode,
+        t0: f64,
+        y0: State,
+        rec: &mut Recorder<'_>,
+    ) -> Result<Segment, ModelError> {
         let scene = self.scene;
         let mut watches = vec![Watch::Normal];
         match mode {
@@ -675,17 +762,39 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         options.max_steps = scene.solver.max_steps;
         options.cancel = self.cancel.clone();
         let samples = &scene.sample_times[rec.next_sample..];
-        let solution = integrate::integrate(scene.solver.method, sys, t0, y0, scene.t_end, &options, &events, samples, &mut |t, y| {
-            let (sample, inv) = self.sample_with(sys, mode, t, y, Some(&rec.angles));
-            rec.next_sample += 1;
-            rec.emit(sample, inv)
-        })
-        .map_err(|e| ModelError::invalid("solver", e.to_string(), "the integrator rejected these settings"))?;
+        let solution = integrate::integrate(
+            scene.solver.method,
+            sys,
+            t0,
+            y0,
+            scene.t_end,
+            &options,
+            &events,
+            samples,
+            &mut |t, y| {
+                let (sample, inv) = self.sample_with(sys, mode, t, y, Some(&rec.angles));
+                rec.next_sample += 1;
+                rec.emit(sample, inv)
+            },
+        )
+        .map_err(|e| {
+            ModelError::invalid(
+                "solver",
+                e.to_string(),
+                "the integrator rejected these settings",
+            )
+        })?;
         Ok(Segment { solution, watches })
     }
 
     /// The output row and invariants of state `y` in `mode`.
-    fn sample(&self, mode: Mode, t: f64, y: &State, prev: Option<&EulerAngles>) -> (Sample, Invariants) {
+    fn sample(
+        &self,
+        mode: Mode,
+        t: f64,
+        y: &State,
+        prev: Option<&EulerAngles>,
+    ) -> (Sample, Invariants) {
         match mode {
             Mode::Frictionless => self.sample_with(&self.free, mode, t, y, prev),
             Mode::Sliding => self.sample_with(&self.slide, mode, t, y, prev),
@@ -693,7 +802,14 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         }
     }
 
-    fn sample_with<C: ContactLaw>(&self, sys: &System<C, E>, mode: Mode, t: f64, y: &State, prev: Option<&EulerAngles>) -> (Sample, Invariants) {
+    fn sample_with<C: ContactLaw>(
+        &self,
+        sys: &System<C, E>,
+        mode: Mode,
+        t: f64,
+        y: &State,
+        prev: Option<&EulerAngles>,
+    ) -> (Sample, Invariants) {
         let ev = sys.evaluate(y);
         let kin = &ev.kin;
         let inv = Invariants::from_kinematics(&sys.body, sys.gravity, kin, y[state::WORK]);
@@ -719,8 +835,13 @@ impl<'s, E: Effect + Copy> Runner<'s, E> {
         let (a, i, g) = (body.semi_axes(), body.inertia(), body.com_offset());
         let conservative = !scene.effects.any();
         let frictionless = conservative && scene.contact == ContactModel::Frictionless;
-        let energy = conservative && matches!(scene.contact, ContactModel::Frictionless | ContactModel::Rolling);
-        let axisymmetric_inertia = i[(0, 1)] == 0.0 && i[(0, 2)] == 0.0 && i[(1, 2)] == 0.0 && i[(0, 0)] == i[(1, 1)];
+        let energy = conservative
+            && matches!(
+                scene.contact,
+                ContactModel::Frictionless | ContactModel::Rolling
+            );
+        let axisymmetric_inertia =
+            i[(0, 1)] == 0.0 && i[(0, 2)] == 0.0 && i[(1, 2)] == 0.0 && i[(0, 0)] == i[(1, 1)];
         let revolution = a.x == a.y && g.x == 0.0 && g.y == 0.0 && axisymmetric_inertia;
         let sphere = revolution && a.x == a.z;
         let d = &rec.deviation;
@@ -763,7 +884,15 @@ struct Recorder<'o> {
 
 impl<'o> Recorder<'o> {
     fn new(observer: &'o mut dyn FnMut(&Sample) -> ControlFlow<()>) -> Self {
-        Recorder { observer, next_sample: 0, last_t: f64::NEG_INFINITY, angles: EulerAngles::default(), initial: [0.0; 6], scale: [1.0; 6], deviation: [0.0; 6] }
+        Recorder {
+            observer,
+            next_sample: 0,
+            last_t: f64::NEG_INFINITY,
+            angles: EulerAngles::default(),
+            initial: [0.0; 6],
+            scale: [1.0; 6],
+            deviation: [0.0; 6],
+        }
     }
 
     /// Records the initial invariants and the scale each deviation is divided by.
@@ -788,7 +917,14 @@ impl<'o> Recorder<'o> {
 }
 
 fn flatten(inv: &Invariants) -> [f64; 6] {
-    [inv.energy, inv.energy_plus_work, inv.momentum[0].hypot(inv.momentum[1]), inv.angular_momentum_z, inv.axial_spin, inv.jellett]
+    [
+        inv.energy,
+        inv.energy_plus_work,
+        inv.momentum[0].hypot(inv.momentum[1]),
+        inv.angular_momentum_z,
+        inv.axial_spin,
+        inv.jellett,
+    ]
 }
 
 impl Scene {
@@ -803,25 +939,60 @@ impl Scene {
     /// Checks the settings that the body and the integrator do not check themselves.
     pub fn validate(&self) -> Result<(), ModelError> {
         if !(self.t_end.is_finite() && self.t_end > 0.0) {
-            return Err(ModelError::invalid("output.t_end", number(self.t_end), "the end time must be positive and finite (s)"));
+            return Err(ModelError::invalid(
+                "output.t_end",
+                number(self.t_end),
+                "the end time must be positive and finite (s)",
+            ));
         }
         if !(self.gravity.is_finite() && self.gravity >= 0.0) {
-            return Err(ModelError::invalid("effects.gravity", number(self.gravity), "g must be finite and non-negative (m/s^2)"));
+            return Err(ModelError::invalid(
+                "effects.gravity",
+                number(self.gravity),
+                "g must be finite and non-negative (m/s^2)",
+            ));
         }
-        if let ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } = self.contact
+        if let ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } =
+            self.contact
             && !(friction.is_finite() && friction >= 0.0)
         {
-            return Err(ModelError::invalid("contact.friction", number(friction), "the Coulomb coefficient must be finite and non-negative"));
+            return Err(ModelError::invalid(
+                "contact.friction",
+                number(friction),
+                "the Coulomb coefficient must be finite and non-negative",
+            ));
         }
-        if let Some(bad) = self.sample_times.iter().find(|t| !(t.is_finite() && **t >= 0.0 && **t <= self.t_end)) {
-            return Err(ModelError::invalid("output.times", number(*bad), format!("output times must lie within [0, t_end = {}] s", number(self.t_end))));
+        if let Some(bad) = self
+            .sample_times
+            .iter()
+            .find(|t| !(t.is_finite() && **t >= 0.0 && **t <= self.t_end))
+        {
+            return Err(ModelError::invalid(
+                "output.times",
+                number(*bad),
+                format!(
+                    "output times must lie within [0, t_end = {}] s",
+                    number(self.t_end)
+                ),
+            ));
         }
         if let Some(w) = self.sample_times.windows(2).find(|w| w[1] <= w[0]) {
-            return Err(ModelError::invalid("output.times", format!("{} after {}", number(w[1]), number(w[0])), "output times must be strictly increasing"));
+            return Err(ModelError::invalid(
+                "output.times",
+                format!("{} after {}", number(w[1]), number(w[0])),
+                "output times must be strictly increasing",
+            ));
         }
         if let Method::Rk4 { h } = self.solver.method {
             if h > self.t_end {
-                return Err(ModelError::invalid("solver.step", number(h), format!("the fixed step must not exceed output.t_end = {} s", number(self.t_end))));
+                return Err(ModelError::invalid(
+                    "solver.step",
+                    number(h),
+                    format!(
+                        "the fixed step must not exceed output.t_end = {} s",
+                        number(self.t_end)
+                    ),
+                ));
             }
             let steps = (self.t_end / h - (integrate::RK4_LAST_STRETCH - 1.0)).ceil();
             if steps > self.solver.max_steps as f64 {
@@ -838,16 +1009,41 @@ impl Scene {
             }
         }
         let init = &self.initial;
-        let vectors = [("initial.position", init.position.as_slice().to_vec()), ("initial.velocity", init.velocity.map_or(vec![], |v| v.as_slice().to_vec())), ("initial.omega_body", init.omega_body.map_or(vec![], |w| w.as_slice().to_vec()))];
+        let vectors = [
+            ("initial.position", init.position.as_slice().to_vec()),
+            (
+                "initial.velocity",
+                init.velocity.map_or(vec![], |v| v.as_slice().to_vec()),
+            ),
+            (
+                "initial.omega_body",
+                init.omega_body.map_or(vec![], |w| w.as_slice().to_vec()),
+            ),
+        ];
         for (name, v) in vectors {
             if v.iter().any(|x| !x.is_finite()) {
-                return Err(ModelError::invalid(name, format!("{v:?}"), "every component must be finite"));
+                return Err(ModelError::invalid(
+                    name,
+                    format!("{v:?}"),
+                    "every component must be finite",
+                ));
             }
         }
         let a = &self.initial.angles;
-        for (name, v) in [("theta", a.theta), ("phi", a.phi), ("psi", a.psi), ("theta_dot", a.theta_dot), ("phi_dot", a.phi_dot), ("psi_dot", a.psi_dot)] {
+        for (name, v) in [
+            ("theta", a.theta),
+            ("phi", a.phi),
+            ("psi", a.psi),
+            ("theta_dot", a.theta_dot),
+            ("phi_dot", a.phi_dot),
+            ("psi_dot", a.psi_dot),
+        ] {
             if !v.is_finite() {
-                return Err(ModelError::invalid(format!("initial.{name}"), number(v), "must be finite"));
+                return Err(ModelError::invalid(
+                    format!("initial.{name}"),
+                    number(v),
+                    "must be finite",
+                ));
             }
         }
         Ok(())

@@ -1,5 +1,5 @@
 //! The integration state, declared once, and conversions to and from the paper's
-//! z-x-z Euler angles (paper eq. 1; PHYSICS.md "Body, frames, conventions").
+//! z-x-z Euler angles (paper eq. 1; docs/physics.md "Body, frames, conventions").
 //!
 //! ```text
 //! index  symbol        unit    meaning
@@ -55,7 +55,9 @@ pub fn quaternion(y: &State) -> Quaternion<f64> {
 /// Rotation body -> world, from the normalised quaternion.
 #[inline]
 pub fn rotation(y: &State) -> Matrix3<f64> {
-    UnitQuaternion::new_normalize(quaternion(y)).to_rotation_matrix().into_inner()
+    UnitQuaternion::new_normalize(quaternion(y))
+        .to_rotation_matrix()
+        .into_inner()
 }
 /// Slip reference direction (unit, world horizontal).
 #[inline]
@@ -118,7 +120,11 @@ impl EulerAngles {
     /// φ and ψ are unwrapped to lie within π of `previous` (continuous over a run).
     /// Upright (sin θ below round-off) only φ + ψ is defined: φ keeps its previous value,
     /// and the rates are reported as φ̇ = 0, ψ̇ = ω·e3*.
-    pub fn from_rotation(r: &Matrix3<f64>, omega_b: &Vector3<f64>, previous: Option<&EulerAngles>) -> Self {
+    pub fn from_rotation(
+        r: &Matrix3<f64>,
+        omega_b: &Vector3<f64>,
+        previous: Option<&EulerAngles>,
+    ) -> Self {
         let sin_theta = r[(0, 2)].hypot(r[(1, 2)]);
         let theta = sin_theta.atan2(r[(2, 2)]);
         let prev_phi = previous.map_or(0.0, |p| p.phi);
@@ -127,10 +133,17 @@ impl EulerAngles {
         let (phi, psi) = if upright {
             // θ ≈ 0: R = Rz(φ + ψ);  θ ≈ π: R = Rz(φ − ψ) diag(1, −1, −1). Keep φ.
             let angle = r[(1, 0)].atan2(r[(0, 0)]);
-            let psi = if r[(2, 2)] > 0.0 { angle - prev_phi } else { prev_phi - angle };
+            let psi = if r[(2, 2)] > 0.0 {
+                angle - prev_phi
+            } else {
+                prev_phi - angle
+            };
             (prev_phi, unwrap(psi, prev_psi))
         } else {
-            (unwrap(r[(0, 2)].atan2(-r[(1, 2)]), prev_phi), unwrap(r[(2, 0)].atan2(r[(2, 1)]), prev_psi))
+            (
+                unwrap(r[(0, 2)].atan2(-r[(1, 2)]), prev_phi),
+                unwrap(r[(2, 0)].atan2(r[(2, 1)]), prev_psi),
+            )
         };
         let (sp, cp) = psi.sin_cos();
         let theta_dot = omega_b.x * cp - omega_b.y * sp;
@@ -140,7 +153,14 @@ impl EulerAngles {
             let phi_dot = (omega_b.x * sp + omega_b.y * cp) / sin_theta;
             (phi_dot, omega_b.z - phi_dot * theta.cos())
         };
-        EulerAngles { theta, phi, psi, theta_dot, phi_dot, psi_dot }
+        EulerAngles {
+            theta,
+            phi,
+            psi,
+            theta_dot,
+            phi_dot,
+            psi_dot,
+        }
     }
 }
 
@@ -172,7 +192,11 @@ mod tests {
             for (p, q) in [(a.theta, b.theta), (a.phi, b.phi), (a.psi, b.psi)] {
                 assert!((p - q).abs() < 1e-12, "{a:?} -> {b:?}");
             }
-            for (p, q) in [(a.theta_dot, b.theta_dot), (a.phi_dot, b.phi_dot), (a.psi_dot, b.psi_dot)] {
+            for (p, q) in [
+                (a.theta_dot, b.theta_dot),
+                (a.phi_dot, b.phi_dot),
+                (a.psi_dot, b.psi_dot),
+            ] {
                 assert!((p - q).abs() < 1e-9 * (1.0 + p.abs()), "{a:?} -> {b:?}");
             }
         }
@@ -182,12 +206,23 @@ mod tests {
     /// rates are (φ̇, ψ̇) = (0, ω3), and angles unwrap continuously across ±π.
     #[test]
     fn upright_and_unwrapping() {
-        let prev = EulerAngles { phi: 0.4, psi: 3.0, ..Default::default() };
-        let up = EulerAngles { phi: 0.4, psi: 3.0 + 0.3, ..Default::default() };
+        let prev = EulerAngles {
+            phi: 0.4,
+            psi: 3.0,
+            ..Default::default()
+        };
+        let up = EulerAngles {
+            phi: 0.4,
+            psi: 3.0 + 0.3,
+            ..Default::default()
+        };
         let r = up.rotation().to_rotation_matrix().into_inner();
         let b = EulerAngles::from_rotation(&r, &Vector3::new(0.0, 0.0, 5.0), Some(&prev));
         assert_eq!(b.theta, 0.0);
-        assert!((b.phi - 0.4).abs() < 1e-15 && (b.psi - 3.3).abs() < 1e-12, "{b:?}");
+        assert!(
+            (b.phi - 0.4).abs() < 1e-15 && (b.psi - 3.3).abs() < 1e-12,
+            "{b:?}"
+        );
         assert_eq!((b.phi_dot, b.psi_dot), (0.0, 5.0));
     }
 }

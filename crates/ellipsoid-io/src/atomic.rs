@@ -24,7 +24,10 @@ impl AtomicFile {
     /// Opens a temporary file beside `target` (whose directory must exist).
     pub fn create(target: &Path) -> Result<Self, OutputError> {
         let tmp = temporary(target)?;
-        Ok(AtomicFile { tmp, target: target.to_owned() })
+        Ok(AtomicFile {
+            tmp,
+            target: target.to_owned(),
+        })
     }
 
     /// The file being written.
@@ -40,8 +43,14 @@ impl AtomicFile {
     /// Flushes to disk: the file is complete, waiting to be renamed to its target.
     pub fn prepare(self) -> Result<Prepared, OutputError> {
         let target = self.target;
-        self.tmp.as_file().sync_all().map_err(|e| OutputError::io(&target, e))?;
-        Ok(Prepared { tmp: self.tmp.into_temp_path(), target })
+        self.tmp
+            .as_file()
+            .sync_all()
+            .map_err(|e| OutputError::io(&target, e))?;
+        Ok(Prepared {
+            tmp: self.tmp.into_temp_path(),
+            target,
+        })
     }
 }
 
@@ -55,7 +64,10 @@ pub struct Prepared {
 impl Prepared {
     #[cfg_attr(not(feature = "hdf5"), allow(dead_code))] // the HDF5 writer makes its own temporary
     pub(crate) fn new(tmp: TempPath, target: &Path) -> Self {
-        Prepared { tmp, target: target.to_owned() }
+        Prepared {
+            tmp,
+            target: target.to_owned(),
+        }
     }
 
     /// Where the file goes.
@@ -105,13 +117,21 @@ pub fn commit_all(files: Vec<Prepared>) -> Result<(), OutputError> {
 /// a device, pipe or socket such as /dev/stdout (the rename would replace the special
 /// file itself).
 pub fn check_target(target: &Path) -> Result<(), OutputError> {
-    let Ok(meta) = std::fs::symlink_metadata(target) else { return Ok(()) };
+    let Ok(meta) = std::fs::symlink_metadata(target) else {
+        return Ok(());
+    };
     let why = if meta.is_dir() {
         (io::ErrorKind::IsADirectory, "is a directory, not a file")
     } else if meta.file_type().is_symlink() {
-        (io::ErrorKind::InvalidInput, "is a symbolic link; give the path of the file itself")
+        (
+            io::ErrorKind::InvalidInput,
+            "is a symbolic link; give the path of the file itself",
+        )
     } else if !meta.is_file() {
-        (io::ErrorKind::InvalidInput, "is a device, pipe or socket, not a regular file (for standard output give -)")
+        (
+            io::ErrorKind::InvalidInput,
+            "is a device, pipe or socket, not a regular file (for standard output give -)",
+        )
     } else {
         return Ok(());
     };
@@ -129,7 +149,12 @@ fn backup_of(target: &Path) -> Option<TempPath> {
         _ => Path::new("."),
     };
     // Reserve a unique name, then link the old file under it.
-    let path = tempfile::Builder::new().prefix(".backup.").suffix(".tmp").tempfile_in(dir).ok()?.into_temp_path();
+    let path = tempfile::Builder::new()
+        .prefix(".backup.")
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .ok()?
+        .into_temp_path();
     std::fs::remove_file(&path).ok()?;
     match std::fs::hard_link(target, &path) {
         Ok(()) => Some(path),
@@ -158,8 +183,14 @@ pub(crate) fn temporary(target: &Path) -> Result<NamedTempFile, OutputError> {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let name = target.file_name().map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
-    tempfile::Builder::new().prefix(&format!(".{name}.")).suffix(".tmp").tempfile_in(dir).map_err(|e| OutputError::io(target, e))
+    let name = target
+        .file_name()
+        .map_or_else(|| "output".into(), |n| n.to_string_lossy().into_owned());
+    tempfile::Builder::new()
+        .prefix(&format!(".{name}."))
+        .suffix(".tmp")
+        .tempfile_in(dir)
+        .map_err(|e| OutputError::io(target, e))
 }
 
 /// Gives the temporary the permissions of an ordinary new file and renames it to `target`.
@@ -168,9 +199,11 @@ pub(crate) fn commit_path(tmp: TempPath, target: &Path) -> Result<(), OutputErro
     {
         use std::os::unix::fs::PermissionsExt;
         // tempfile creates 0600; results are meant to be shared like any output file.
-        std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o644)).map_err(|e| OutputError::io(target, e))?;
+        std::fs::set_permissions(&tmp, std::fs::Permissions::from_mode(0o644))
+            .map_err(|e| OutputError::io(target, e))?;
     }
-    tmp.persist(target).map_err(|e| OutputError::io(target, e.error))
+    tmp.persist(target)
+        .map_err(|e| OutputError::io(target, e.error))
 }
 
 /// Writes `bytes` to `target` atomically.
@@ -190,7 +223,10 @@ mod tests {
     use super::*;
 
     fn names(dir: &Path) -> Vec<String> {
-        let mut n: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        let mut n: Vec<String> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
         n.sort();
         n
     }
@@ -205,13 +241,26 @@ mod tests {
         std::os::unix::fs::symlink(&real, &link).unwrap();
         let dangling = dir.path().join("dangling.csv");
         std::os::unix::fs::symlink(dir.path().join("nowhere"), &dangling).unwrap();
-        for (target, why) in [(link.as_path(), "symbolic link"), (dangling.as_path(), "symbolic link"), (Path::new("/dev/null"), "device, pipe or socket")] {
+        for (target, why) in [
+            (link.as_path(), "symbolic link"),
+            (dangling.as_path(), "symbolic link"),
+            (Path::new("/dev/null"), "device, pipe or socket"),
+        ] {
             let err = AtomicFile::create(target).err().expect("refused");
             assert!(err.to_string().contains(why), "{}: {err}", target.display());
         }
         assert_eq!(std::fs::read_to_string(&real).unwrap(), "keep");
-        assert!(std::fs::symlink_metadata(&link).unwrap().file_type().is_symlink());
-        assert_eq!(names(dir.path()), ["dangling.csv", "link.csv", "real.csv"], "no temporary left");
+        assert!(
+            std::fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(
+            names(dir.path()),
+            ["dangling.csv", "link.csv", "real.csv"],
+            "no temporary left"
+        );
     }
 
     #[test]
@@ -219,10 +268,18 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let (a, b) = (dir.path().join("a.csv"), dir.path().join("b.json"));
         std::fs::write(&a, "old").unwrap();
-        commit_all(vec![prepare(&a, b"new a").unwrap(), prepare(&b, b"new b").unwrap()]).unwrap();
+        commit_all(vec![
+            prepare(&a, b"new a").unwrap(),
+            prepare(&b, b"new b").unwrap(),
+        ])
+        .unwrap();
         assert_eq!(std::fs::read_to_string(&a).unwrap(), "new a");
         assert_eq!(std::fs::read_to_string(&b).unwrap(), "new b");
-        assert_eq!(names(dir.path()), ["a.csv", "b.json"], "no temporary or backup left");
+        assert_eq!(
+            names(dir.path()),
+            ["a.csv", "b.json"],
+            "no temporary or backup left"
+        );
     }
 
     #[test]
@@ -233,7 +290,10 @@ mod tests {
         // the target became a directory after its file was prepared
         std::fs::create_dir(&d).unwrap();
         let err = commit_all(files).unwrap_err();
-        assert!(err.to_string().ends_with("d: is a directory, not a file"), "{err}");
+        assert!(
+            err.to_string().ends_with("d: is a directory, not a file"),
+            "{err}"
+        );
         assert_eq!(names(dir.path()), ["d"]);
         assert_eq!(names(&d), Vec::<String>::new());
     }
@@ -247,8 +307,23 @@ mod tests {
         std::fs::create_dir(&sub).unwrap();
         let doomed = prepare(&sub.join("s.json"), b"s").unwrap();
         std::fs::remove_dir_all(&sub).unwrap(); // its temporary goes with it: the rename fails
-        assert!(commit_all(vec![prepare(&old, b"replaced").unwrap(), prepare(&new, b"n").unwrap(), doomed]).is_err());
-        assert_eq!(std::fs::read_to_string(&old).unwrap(), "keep", "the replaced file is restored");
-        assert_eq!(names(dir.path()), ["old.csv"], "the new file is removed, no backup left");
+        assert!(
+            commit_all(vec![
+                prepare(&old, b"replaced").unwrap(),
+                prepare(&new, b"n").unwrap(),
+                doomed
+            ])
+            .is_err()
+        );
+        assert_eq!(
+            std::fs::read_to_string(&old).unwrap(),
+            "keep",
+            "the replaced file is restored"
+        );
+        assert_eq!(
+            names(dir.path()),
+            ["old.csv"],
+            "the new file is removed, no backup left"
+        );
     }
 }

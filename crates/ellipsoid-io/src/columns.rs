@@ -93,5 +93,9 @@ pub fn values(s: &Sample) -> [f64; NUMERIC] {
 
 /// The first non-finite value of a sample, as (column, value).
 pub fn non_finite(s: &Sample) -> Option<(&'static str, f64)> {
-    values(s).iter().zip(NUMERIC_COLUMNS.iter()).find(|(v, _)| !v.is_finite()).map(|(v, c)| (c.0, *v))
+    values(s)
+        .iter()
+        .zip(NUMERIC_COLUMNS.iter())
+        .find(|(v, _)| !v.is_finite())
+        .map(|(v, c)| (c.0, *v))
 }

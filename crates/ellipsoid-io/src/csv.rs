@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 
 use ellipsoid_core::simulate::Sample;
 
+use crate::OutputError;
 use crate::atomic::{AtomicFile, Prepared};
 use crate::columns::{self, MODE_POSITION};
-use crate::OutputError;
 
 /// Formats samples as CSV rows onto any writer.
 pub struct CsvWriter<W: Write> {
@@ -21,7 +21,11 @@ impl<W: Write> CsvWriter<W> {
     /// Writes the header.
     pub fn new(mut out: W) -> std::io::Result<Self> {
         writeln!(out, "{}", columns::names().join(","))?;
-        Ok(CsvWriter { out, rows: 0, line: String::with_capacity(512) })
+        Ok(CsvWriter {
+            out,
+            rows: 0,
+            line: String::with_capacity(512),
+        })
     }
 
     /// Writes one row.
@@ -34,7 +38,8 @@ impl<W: Write> CsvWriter<W> {
                 self.line.push(',');
             }
             let _ = write!(self.line, "{v:e}");
-            self.line.push(if i + 1 == columns::NUMERIC { '\n' } else { ',' });
+            self.line
+                .push(if i + 1 == columns::NUMERIC { '\n' } else { ',' });
         }
         self.rows += 1;
         self.out.write_all(self.line.as_bytes())
@@ -61,12 +66,18 @@ pub struct CsvFile {
 impl CsvFile {
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let file = AtomicFile::create(path)?;
-        let writer = CsvWriter::new(BufWriter::with_capacity(1 << 16, file)).map_err(|e| OutputError::io(path, e))?;
-        Ok(CsvFile { writer, path: path.to_owned() })
+        let writer = CsvWriter::new(BufWriter::with_capacity(1 << 16, file))
+            .map_err(|e| OutputError::io(path, e))?;
+        Ok(CsvFile {
+            writer,
+            path: path.to_owned(),
+        })
     }
 
     pub fn write(&mut self, s: &Sample) -> Result<(), OutputError> {
-        self.writer.write(s).map_err(|e| OutputError::io(&self.path, e))
+        self.writer
+            .write(s)
+            .map_err(|e| OutputError::io(&self.path, e))
     }
 
     pub fn rows(&self) -> u64 {
@@ -76,8 +87,13 @@ impl CsvFile {
     /// Completes the file without putting it in place.
     pub fn prepare(self) -> Result<Prepared, OutputError> {
         let path = self.path;
-        let buffered = self.writer.into_inner().map_err(|e| OutputError::io(&path, e))?;
-        let file = buffered.into_inner().map_err(|e| OutputError::io(&path, e.into_error()))?;
+        let buffered = self
+            .writer
+            .into_inner()
+            .map_err(|e| OutputError::io(&path, e))?;
+        let file = buffered
+            .into_inner()
+            .map_err(|e| OutputError::io(&path, e.into_error()))?;
         file.prepare()
     }
 }

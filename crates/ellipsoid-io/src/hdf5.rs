@@ -15,8 +15,8 @@
 use std::path::{Path, PathBuf};
 
 use ellipsoid_core::simulate::Sample;
-use hdf5_metno as h5;
 use h5::types::{FixedAscii, VarLenUnicode};
+use hdf5_metno as h5;
 use tempfile::TempPath;
 
 use crate::atomic;
@@ -38,14 +38,20 @@ impl Hdf5File {
     /// Reserves a temporary file beside `path` (so an unwritable directory fails early).
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let tmp = atomic::temporary(path)?.into_temp_path();
-        Ok(Hdf5File { path: path.to_owned(), tmp, columns: vec![Vec::new(); NUMERIC], modes: Vec::new() })
+        Ok(Hdf5File {
+            path: path.to_owned(),
+            tmp,
+            columns: vec![Vec::new(); NUMERIC],
+            modes: Vec::new(),
+        })
     }
 
     pub fn write(&mut self, s: &Sample) {
         for (col, v) in self.columns.iter_mut().zip(columns::values(s)) {
             col.push(v);
         }
-        let mode = FixedAscii::from_ascii(s.mode.name().as_bytes()).expect("mode names are short ASCII");
+        let mode =
+            FixedAscii::from_ascii(s.mode.name().as_bytes()).expect("mode names are short ASCII");
         self.modes.push(mode);
     }
 
@@ -55,14 +61,25 @@ impl Hdf5File {
 
     /// Writes the datasets and attributes, without putting the file in place.
     pub fn prepare(self, meta: &Metadata<'_>) -> Result<atomic::Prepared, OutputError> {
-        let fail = |e: h5::Error| OutputError::Hdf5 { path: self.path.clone(), message: e.to_string() };
+        let fail = |e: h5::Error| OutputError::Hdf5 {
+            path: self.path.clone(),
+            message: e.to_string(),
+        };
         {
             let file = h5::File::create(&self.tmp).map_err(fail)?;
             for ((name, unit), data) in NUMERIC_COLUMNS.iter().zip(&self.columns) {
-                let ds = file.new_dataset_builder().with_data(data.as_slice()).create(*name).map_err(fail)?;
+                let ds = file
+                    .new_dataset_builder()
+                    .with_data(data.as_slice())
+                    .create(*name)
+                    .map_err(fail)?;
                 str_attr(&ds, "units", unit).map_err(fail)?;
             }
-            let ds = file.new_dataset_builder().with_data(self.modes.as_slice()).create(columns::MODE).map_err(fail)?;
+            let ds = file
+                .new_dataset_builder()
+                .with_data(self.modes.as_slice())
+                .create(columns::MODE)
+                .map_err(fail)?;
             str_attr(&ds, "units", "1").map_err(fail)?;
             str_attr(&ds, "values", "frictionless, sliding, rolling").map_err(fail)?;
 
@@ -75,8 +92,16 @@ impl Hdf5File {
             str_attr(&file, "columns", &columns::names().join(",")).map_err(fail)?;
             str_attr(&file, "summary", &summary.to_json()).map_err(fail)?;
             let st = &summary.stats;
-            for (name, v) in [("stats_accepted", st.accepted), ("stats_rejected", st.rejected), ("stats_rhs_evals", st.rhs_evals), ("stats_events", st.events)] {
-                file.new_attr::<u64>().create(name).and_then(|a| a.write_scalar(&v)).map_err(fail)?;
+            for (name, v) in [
+                ("stats_accepted", st.accepted),
+                ("stats_rejected", st.rejected),
+                ("stats_rhs_evals", st.rhs_evals),
+                ("stats_events", st.events),
+            ] {
+                file.new_attr::<u64>()
+                    .create(name)
+                    .and_then(|a| a.write_scalar(&v))
+                    .map_err(fail)?;
             }
             let d = &summary.drift;
             let drifts = [
@@ -89,7 +114,10 @@ impl Hdf5File {
             ];
             for (name, v) in drifts {
                 if let Some(v) = v {
-                    file.new_attr::<f64>().create(name).and_then(|a| a.write_scalar(&v)).map_err(fail)?;
+                    file.new_attr::<f64>()
+                        .create(name)
+                        .and_then(|a| a.write_scalar(&v))
+                        .map_err(fail)?;
                 }
             }
             file.close().map_err(fail)?;
@@ -101,8 +129,13 @@ impl Hdf5File {
 /// A scalar UTF-8 string attribute (h5py reads it as `str`).
 fn str_attr(loc: &h5::Location, name: &str, value: &str) -> h5::Result<()> {
     // Interior NUL bytes cannot be stored in a C string; none of ours has one.
-    let v: VarLenUnicode = value.replace('\0', "").parse().map_err(|e: h5::types::StringError| h5::Error::from(e.to_string()))?;
-    loc.new_attr::<VarLenUnicode>().create(name)?.write_scalar(&v)
+    let v: VarLenUnicode = value
+        .replace('\0', "")
+        .parse()
+        .map_err(|e: h5::types::StringError| h5::Error::from(e.to_string()))?;
+    loc.new_attr::<VarLenUnicode>()
+        .create(name)?
+        .write_scalar(&v)
 }
 
 /// A trajectory read back from an HDF5 file written by [`Hdf5File`].
@@ -119,21 +152,37 @@ pub struct Hdf5Trajectory {
 impl Hdf5Trajectory {
     /// The numeric column `name`.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
-        self.columns.iter().find(|c| c.0 == name).map(|c| c.2.as_slice())
+        self.columns
+            .iter()
+            .find(|c| c.0 == name)
+            .map(|c| c.2.as_slice())
     }
 }
 
 /// Reads a trajectory file written by [`Hdf5File`].
 pub fn read(path: &Path) -> Result<Hdf5Trajectory, OutputError> {
-    let fail = |e: h5::Error| OutputError::Hdf5 { path: path.to_owned(), message: e.to_string() };
+    let fail = |e: h5::Error| OutputError::Hdf5 {
+        path: path.to_owned(),
+        message: e.to_string(),
+    };
     let file = h5::File::open(path).map_err(fail)?;
     let mut columns = Vec::new();
     for (name, _) in NUMERIC_COLUMNS {
         let ds = file.dataset(name).map_err(fail)?;
-        let units: VarLenUnicode = ds.attr("units").and_then(|a| a.read_scalar()).map_err(fail)?;
-        columns.push((name.to_owned(), units.as_str().to_owned(), ds.read_raw::<f64>().map_err(fail)?));
+        let units: VarLenUnicode = ds
+            .attr("units")
+            .and_then(|a| a.read_scalar())
+            .map_err(fail)?;
+        columns.push((
+            name.to_owned(),
+            units.as_str().to_owned(),
+            ds.read_raw::<f64>().map_err(fail)?,
+        ));
     }
-    let modes = file.dataset(columns::MODE).and_then(|d| d.read_raw::<FixedAscii<MODE_LEN>>()).map_err(fail)?;
+    let modes = file
+        .dataset(columns::MODE)
+        .and_then(|d| d.read_raw::<FixedAscii<MODE_LEN>>())
+        .map_err(fail)?;
     let mut attributes = std::collections::BTreeMap::new();
     for name in file.attr_names().map_err(fail)? {
         let attr = file.attr(&name).map_err(fail)?;
@@ -141,5 +190,9 @@ pub fn read(path: &Path) -> Result<Hdf5Trajectory, OutputError> {
             attributes.insert(name, v.as_str().to_owned());
         }
     }
-    Ok(Hdf5Trajectory { columns, modes: modes.iter().map(|m| m.as_str().to_owned()).collect(), attributes })
+    Ok(Hdf5Trajectory {
+        columns,
+        modes: modes.iter().map(|m| m.as_str().to_owned()).collect(),
+        attributes,
+    })
 }

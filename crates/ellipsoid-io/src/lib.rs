@@ -38,7 +38,10 @@ pub enum OutputError {
     Hdf5Unavailable { path: PathBuf },
     /// The file system refused.
     #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// The HDF5 library refused.
     #[error("{path}: HDF5: {message}")]
     Hdf5 { path: PathBuf, message: String },
@@ -46,7 +49,10 @@ pub enum OutputError {
 
 impl OutputError {
     pub(crate) fn io(path: &Path, source: std::io::Error) -> Self {
-        OutputError::Io { path: path.to_owned(), source }
+        OutputError::Io {
+            path: path.to_owned(),
+            source,
+        }
     }
 }
 
@@ -63,12 +69,20 @@ impl Format {
     /// The format named by `path`'s extension (case-insensitive). `.h5` from a build
     /// without the `hdf5` feature is an error that says how to get one.
     pub fn from_path(path: &Path) -> Result<Format, OutputError> {
-        let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+        let ext = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
         match ext.as_str() {
             "csv" => Ok(Format::Csv),
             "h5" | "hdf5" if cfg!(feature = "hdf5") => Ok(Format::Hdf5),
-            "h5" | "hdf5" => Err(OutputError::Hdf5Unavailable { path: path.to_owned() }),
-            _ => Err(OutputError::UnknownFormat { path: path.to_owned(), extension: ext }),
+            "h5" | "hdf5" => Err(OutputError::Hdf5Unavailable {
+                path: path.to_owned(),
+            }),
+            _ => Err(OutputError::UnknownFormat {
+                path: path.to_owned(),
+                extension: ext,
+            }),
         }
     }
 }
@@ -151,7 +165,11 @@ mod tests {
         Sample {
             t: 0.1,
             position: Vector3::new(1e-300, -0.0, 0.014818069210007943),
-            angles: EulerAngles { theta: 0.1, phi: 1.0 / 3.0, ..Default::default() },
+            angles: EulerAngles {
+                theta: 0.1,
+                phi: 1.0 / 3.0,
+                ..Default::default()
+            },
             omega: Vector3::new(0.0, 0.0, 60.0),
             velocity: Vector3::zeros(),
             energy: 2.9768262947508894e-2,
@@ -174,15 +192,32 @@ mod tests {
         );
         let row: Vec<&str> = lines.next().unwrap().split(',').collect();
         assert_eq!(row[19], "sliding");
-        let numbers: Vec<f64> = row.iter().enumerate().filter(|(i, _)| *i != 19).map(|(_, v)| v.parse().unwrap()).collect();
-        assert_eq!(numbers.iter().map(|v| v.to_bits()).collect::<Vec<_>>(), columns::values(&sample()).iter().map(|v| v.to_bits()).collect::<Vec<_>>());
+        let numbers: Vec<f64> = row
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != 19)
+            .map(|(_, v)| v.parse().unwrap())
+            .collect();
+        assert_eq!(
+            numbers.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+            columns::values(&sample())
+                .iter()
+                .map(|v| v.to_bits())
+                .collect::<Vec<_>>()
+        );
         assert_eq!(row[1], "1e-300");
     }
 
     #[test]
     fn formats_by_extension() {
-        assert_eq!(Format::from_path(Path::new("a/b.CSV")).unwrap(), Format::Csv);
-        assert!(matches!(Format::from_path(Path::new("b.txt")), Err(OutputError::UnknownFormat { .. })));
+        assert_eq!(
+            Format::from_path(Path::new("a/b.CSV")).unwrap(),
+            Format::Csv
+        );
+        assert!(matches!(
+            Format::from_path(Path::new("b.txt")),
+            Err(OutputError::UnknownFormat { .. })
+        ));
         let h5 = Format::from_path(Path::new("b.h5"));
         if cfg!(feature = "hdf5") {
             assert_eq!(h5.unwrap(), Format::Hdf5);

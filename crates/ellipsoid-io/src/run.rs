@@ -11,7 +11,7 @@ use std::time::Instant;
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
 use ellipsoid_core::simulate::{self, Outcome, Sample};
 
-use crate::{columns, Summary};
+use crate::{Summary, columns};
 
 /// A run that produced a result (possibly stopped early).
 pub struct Finished {
@@ -51,18 +51,22 @@ pub fn run<E>(
     let mut non_finite = None;
     let mut sink_error = None;
     let start = Instant::now();
-    let result = simulate::simulate_cancellable(&scenario.scene, &mut |s| {
-        if let Some(note) = non_finite_note(s) {
-            non_finite = Some(note);
-            return ControlFlow::Break(());
-        }
-        if let Err(e) = sink(s) {
-            sink_error = Some(e);
-            return ControlFlow::Break(());
-        }
-        rows += 1;
-        ControlFlow::Continue(())
-    }, cancel);
+    let result = simulate::simulate_cancellable(
+        &scenario.scene,
+        &mut |s| {
+            if let Some(note) = non_finite_note(s) {
+                non_finite = Some(note);
+                return ControlFlow::Break(());
+            }
+            if let Err(e) = sink(s) {
+                sink_error = Some(e);
+                return ControlFlow::Break(());
+            }
+            rows += 1;
+            ControlFlow::Continue(())
+        },
+        cancel,
+    );
     let wall_time_s = start.elapsed().as_secs_f64();
     let outcome = result.map_err(|e| Failure::Scenario(Box::new(scenario.locate(&e))))?;
     if let Some(e) = sink_error {
@@ -72,7 +76,11 @@ pub fn run<E>(
     if let Some(n) = &non_finite {
         summary.message = n.clone();
     }
-    Ok(Finished { outcome, summary, non_finite })
+    Ok(Finished {
+        outcome,
+        summary,
+        non_finite,
+    })
 }
 
 #[cfg(test)]
@@ -99,6 +107,9 @@ mod tests {
         assert_eq!(non_finite_note(&s), None);
         s.omega.y = f64::NAN;
         let note = non_finite_note(&s).expect("NaN stops the run");
-        assert!(note.starts_with("stopped at t = 0.1 s") && note.contains("omega_y = NaN"), "{note}");
+        assert!(
+            note.starts_with("stopped at t = 0.1 s") && note.contains("omega_y = NaN"),
+            "{note}"
+        );
     }
 }

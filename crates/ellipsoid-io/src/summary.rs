@@ -61,7 +61,14 @@ pub struct CheckResult {
 
 impl Summary {
     /// The summary of `outcome`, a run of `scenario`.
-    pub fn new(scenario: &Scenario, outcome: &Outcome, wall_time_s: f64, samples: u64, output: Option<String>, version: &str) -> Summary {
+    pub fn new(
+        scenario: &Scenario,
+        outcome: &Outcome,
+        wall_time_s: f64,
+        samples: u64,
+        output: Option<String>,
+        version: &str,
+    ) -> Summary {
         let status = outcome.status.name();
         let s = &outcome.final_sample;
         let mut final_state = Map::new();
@@ -75,12 +82,26 @@ impl Summary {
         };
         let mut checks = BTreeMap::new();
         if let Some(expected) = &scenario.check.status {
-            checks.insert("status".to_owned(), CheckResult { expected: Value::from(expected.as_str()), actual: Value::from(status), passed: expected == status });
+            checks.insert(
+                "status".to_owned(),
+                CheckResult {
+                    expected: Value::from(expected.as_str()),
+                    actual: Value::from(status),
+                    passed: expected == status,
+                },
+            );
         }
         for (name, tol) in &scenario.check.drift {
             let actual = drift_map.get(name).cloned().unwrap_or(Value::Null);
             let passed = actual.as_f64().is_some_and(|d| d <= *tol);
-            checks.insert(name.clone(), CheckResult { expected: Value::from(*tol), actual, passed });
+            checks.insert(
+                name.clone(),
+                CheckResult {
+                    expected: Value::from(*tol),
+                    actual,
+                    passed,
+                },
+            );
         }
         Summary {
             status,
@@ -95,7 +116,10 @@ impl Summary {
             final_invariants: outcome.final_invariants,
             warnings: outcome.warnings.clone(),
             checks,
-            units: columns::units().into_iter().map(|(c, u)| (c.to_owned(), Value::from(u))).collect(),
+            units: columns::units()
+                .into_iter()
+                .map(|(c, u)| (c.to_owned(), Value::from(u)))
+                .collect(),
             scenario: scenario.source.clone(),
             overrides: scenario.overrides.clone(),
             output,
@@ -105,14 +129,19 @@ impl Summary {
 
     /// Pretty-printed JSON with a final newline.
     pub fn to_json(&self) -> String {
-        let mut s = serde_json::to_string_pretty(self).expect("a summary holds only JSON-representable values");
+        let mut s = serde_json::to_string_pretty(self)
+            .expect("a summary holds only JSON-representable values");
         s.push('\n');
         s
     }
 
     /// The checks that failed, as `name (expected …, got …)`.
     pub fn failed_checks(&self) -> Vec<String> {
-        self.checks.iter().filter(|(_, c)| !c.passed).map(|(n, c)| format!("{n} (expected {}, got {})", c.expected, c.actual)).collect()
+        self.checks
+            .iter()
+            .filter(|(_, c)| !c.passed)
+            .map(|(n, c)| format!("{n} (expected {}, got {})", c.expected, c.actual))
+            .collect()
     }
 }
 
@@ -120,14 +149,17 @@ fn finite_or_null(v: f64) -> Value {
     serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number)
 }
 
-
 /// A sentence explaining the status; `t` is where the run ended \[s\].
 pub fn status_message(status: &Status, t: f64) -> String {
     match status {
         Status::Completed => format!("reached t_end = {t} s"),
-        Status::LostContact => format!("the normal force reached zero at t = {t} s: the body leaves the plane (free flight is not simulated)"),
+        Status::LostContact => format!(
+            "the normal force reached zero at t = {t} s: the body leaves the plane (free flight is not simulated)"
+        ),
         Status::SlipStopped => {
-            format!("the slip speed reached zero at t = {t} s, where the pure sliding model ends (model = \"coulomb\" goes on rolling)")
+            format!(
+                "the slip speed reached zero at t = {t} s, where the pure sliding model ends (model = \"coulomb\" goes on rolling)"
+            )
         }
         Status::Painleve(m) | Status::SolverFailure(m) | Status::Chattering(m) => m.clone(),
         Status::Cancelled => format!("cancelled at t = {t} s"),

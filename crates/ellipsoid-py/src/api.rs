@@ -9,7 +9,7 @@ use rayon::prelude::*;
 use crate::convert;
 use crate::errors::{self, Class};
 use crate::run::{self, Failure, Run};
-use crate::scenario::{resolve, PyScenario};
+use crate::scenario::{PyScenario, resolve};
 use crate::trajectory::Trajectory;
 
 /// Simulates a scenario and returns its Trajectory.
@@ -28,17 +28,29 @@ use crate::trajectory::Trajectory;
 /// inconsistency, a solver failure, chattering, or a non-finite state.
 #[pyfunction]
 #[pyo3(signature = (scenario, /, **changes))]
-pub fn simulate(py: Python<'_>, scenario: &Bound<'_, PyAny>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Py<Trajectory>> {
+pub fn simulate(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    changes: Option<&Bound<'_, PyDict>>,
+) -> PyResult<Py<Trajectory>> {
     let inner = resolve(py, scenario, convert::overrides(changes)?)?.inner;
-    let (result, interrupt) = run::detached(py, move |cancel| run::run_caught(inner, true, cancel))?;
+    let (result, interrupt) =
+        run::detached(py, move |cancel| run::run_caught(inner, true, cancel))?;
     if let Some(e) = interrupt {
         return Err(e);
     }
-    finish(py, result, false)?.cast_into::<Trajectory>().map(Bound::unbind).map_err(|e| errors::internal_error(py, &e.to_string()))
+    finish(py, result, false)?
+        .cast_into::<Trajectory>()
+        .map(Bound::unbind)
+        .map_err(|e| errors::internal_error(py, &e.to_string()))
 }
 
 /// A run's result as a Trajectory (or its summary dict), or its error as an exception.
-fn finish(py: Python<'_>, result: Result<Run, Failure>, summary_only: bool) -> PyResult<Bound<'_, PyAny>> {
+fn finish(
+    py: Python<'_>,
+    result: Result<Run, Failure>,
+    summary_only: bool,
+) -> PyResult<Bound<'_, PyAny>> {
     let run = match result {
         Ok(run) => run,
         Err(Failure::Model(e)) => return Err(errors::scenario_error(py, &e)),
@@ -53,7 +65,14 @@ fn finish(py: Python<'_>, result: Result<Run, Failure>, summary_only: bool) -> P
     match failure {
         None if summary_only => traj.getattr("summary"),
         None => Ok(traj.into_any()),
-        Some(message) => Err(Class::Simulation.error(py, &message, &[("status", status.into_pyobject(py)?.into_any().unbind()), ("trajectory", traj.into_any().unbind())])),
+        Some(message) => Err(Class::Simulation.error(
+            py,
+            &message,
+            &[
+                ("status", status.into_pyobject(py)?.into_any().unbind()),
+                ("trajectory", traj.into_any().unbind()),
+            ],
+        )),
     }
 }
 
@@ -70,14 +89,26 @@ fn finish(py: Python<'_>, result: Result<Run, Failure>, summary_only: bool) -> P
 /// its next integration step and raises KeyboardInterrupt.
 #[pyfunction]
 #[pyo3(signature = (scenarios, workers = None, *, summaries_only = false, errors = "raise"))]
-pub fn sweep<'py>(py: Python<'py>, scenarios: &Bound<'py, PyAny>, workers: Option<usize>, summaries_only: bool, errors: &str) -> PyResult<Bound<'py, PyList>> {
+pub fn sweep<'py>(
+    py: Python<'py>,
+    scenarios: &Bound<'py, PyAny>,
+    workers: Option<usize>,
+    summaries_only: bool,
+    errors: &str,
+) -> PyResult<Bound<'py, PyList>> {
     let return_errors = match errors {
         "raise" => false,
         "return" => true,
-        other => return Err(PyValueError::new_err(format!("errors = {other:?}: expected \"raise\" or \"return\""))),
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "errors = {other:?}: expected \"raise\" or \"return\""
+            )));
+        }
     };
     if workers == Some(0) {
-        return Err(PyValueError::new_err("workers = 0: give at least 1 worker thread, or None for one per CPU"));
+        return Err(PyValueError::new_err(
+            "workers = 0: give at least 1 worker thread, or None for one per CPU",
+        ));
     }
     let mut slots: Vec<Option<PyResult<Bound<'py, PyAny>>>> = Vec::new();
     let mut jobs: Vec<(usize, Scenario)> = Vec::new();
@@ -115,7 +146,8 @@ pub fn sweep<'py>(py: Python<'py>, scenarios: &Bound<'py, PyAny>, workers: Optio
     }
     let results = results.map_err(|msg| errors::internal_error(py, &msg))?;
     for (i, result) in results {
-        let result = result.ok_or_else(|| errors::internal_error(py, "a run was skipped without an interrupt"))?;
+        let result = result
+            .ok_or_else(|| errors::internal_error(py, "a run was skipped without an interrupt"))?;
         slots[i] = Some(finish(py, result, summaries_only));
     }
     let mut out = Vec::with_capacity(slots.len());

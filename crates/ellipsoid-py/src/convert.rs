@@ -33,7 +33,9 @@ pub fn toml_value(key: &str, value: &Bound<'_, PyAny>) -> PyResult<toml::Value> 
         return Ok(toml::Value::String(s.to_str()?.to_owned()));
     }
     if value.is_none() {
-        return Err(PyTypeError::new_err(format!("{key}: None is not a scenario value (leave the key out instead)")));
+        return Err(PyTypeError::new_err(format!(
+            "{key}: None is not a scenario value (leave the key out instead)"
+        )));
     }
     if let Ok(m) = value.cast::<PyMapping>() {
         let mut table = toml::Table::new();
@@ -71,23 +73,41 @@ pub fn toml_value(key: &str, value: &Bound<'_, PyAny>) -> PyResult<toml::Value> 
         return Ok(toml::Value::Float(value.extract::<f64>()?));
     }
     let ty = value.get_type().name()?;
-    Err(PyTypeError::new_err(format!("{key}: a value of type {ty} cannot be put in a scenario (use numbers, strings, booleans, lists and dicts)")))
+    Err(PyTypeError::new_err(format!(
+        "{key}: a value of type {ty} cannot be put in a scenario (use numbers, strings, booleans, lists and dicts)"
+    )))
 }
 
 fn key_str(parent: &str, k: &Bound<'_, PyAny>) -> PyResult<String> {
     match k.cast::<PyString>() {
         Ok(s) => Ok(s.to_str()?.to_owned()),
-        Err(_) => Err(PyTypeError::new_err(format!("{}: keys must be strings, found {}", if parent.is_empty() { "scenario" } else { parent }, k.repr()?))),
+        Err(_) => Err(PyTypeError::new_err(format!(
+            "{}: keys must be strings, found {}",
+            if parent.is_empty() {
+                "scenario"
+            } else {
+                parent
+            },
+            k.repr()?
+        ))),
     }
 }
 
 fn join(prefix: &str, key: &str) -> String {
-    if prefix.is_empty() { key.to_owned() } else { format!("{prefix}.{key}") }
+    if prefix.is_empty() {
+        key.to_owned()
+    } else {
+        format!("{prefix}.{key}")
+    }
 }
 
 /// A key as TOML writes it: bare when it can be, else quoted.
 fn toml_key(key: &str) -> String {
-    if !key.is_empty() && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-') {
+    if !key.is_empty()
+        && key
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    {
         key.to_owned()
     } else {
         toml::Value::String(key.to_owned()).to_string()
@@ -101,7 +121,9 @@ pub fn document(parts: &[(&str, Option<&Bound<'_, PyAny>>)]) -> PyResult<String>
     let mut head = String::new();
     let mut tables = String::new();
     for (name, value) in parts {
-        let Some(value) = value.filter(|v| !v.is_none()) else { continue };
+        let Some(value) = value.filter(|v| !v.is_none()) else {
+            continue;
+        };
         match value.cast::<PyDict>() {
             Ok(dict) => {
                 tables.push_str(&format!("\n[{}]\n", toml_key(name)));
@@ -114,10 +136,16 @@ pub fn document(parts: &[(&str, Option<&Bound<'_, PyAny>>)]) -> PyResult<String>
                     tables.push_str(&format!("{} = {}\n", toml_key(&k), toml_value(&full, &v)?));
                 }
             }
-            Err(_) => head.push_str(&format!("{} = {}\n", toml_key(name), toml_value(name, value)?)),
+            Err(_) => head.push_str(&format!(
+                "{} = {}\n",
+                toml_key(name),
+                toml_value(name, value)?
+            )),
         }
     }
-    Ok(format!("# built by ellipsoid.Scenario(...)\n{head}{tables}"))
+    Ok(format!(
+        "# built by ellipsoid.Scenario(...)\n{head}{tables}"
+    ))
 }
 
 /// `key=value` overrides (the command line's `--set`) from keyword arguments: a dict value

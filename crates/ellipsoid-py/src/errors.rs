@@ -39,7 +39,13 @@ pub enum Class {
 static CLASSES: [PyOnceLock<Py<PyType>>; 5] = [const { PyOnceLock::new() }; 5];
 
 impl Class {
-    pub const ALL: [Class; 5] = [Class::Ellipsoid, Class::Scenario, Class::Simulation, Class::Output, Class::Internal];
+    pub const ALL: [Class; 5] = [
+        Class::Ellipsoid,
+        Class::Scenario,
+        Class::Simulation,
+        Class::Output,
+        Class::Internal,
+    ];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -68,8 +74,12 @@ impl Class {
                  Attributes: `status` (the summary's status name: painleve | solver_failure | chattering | cancelled), \
                  `trajectory` (the Trajectory up to the stop, with its summary)."
             }
-            Class::Output => "A trajectory file could not be written (file system, HDF5 library, or a format this build lacks).",
-            Class::Internal => "A bug in ellipsoid (a Rust panic caught at the Python boundary); please report it with the message.",
+            Class::Output => {
+                "A trajectory file could not be written (file system, HDF5 library, or a format this build lacks)."
+            }
+            Class::Internal => {
+                "A bug in ellipsoid (a Rust panic caught at the Python boundary); please report it with the message."
+            }
         }
     }
 
@@ -78,9 +88,27 @@ impl Class {
         let base = |c: Class| c.get(py).map(|t| t.into_any());
         match self {
             Class::Ellipsoid => PyTuple::new(py, [py.get_type::<PyException>().into_any()]),
-            Class::Scenario => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyValueError>().into_any()]),
-            Class::Simulation | Class::Internal => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyRuntimeError>().into_any()]),
-            Class::Output => PyTuple::new(py, [base(Class::Ellipsoid)?, py.get_type::<PyOSError>().into_any()]),
+            Class::Scenario => PyTuple::new(
+                py,
+                [
+                    base(Class::Ellipsoid)?,
+                    py.get_type::<PyValueError>().into_any(),
+                ],
+            ),
+            Class::Simulation | Class::Internal => PyTuple::new(
+                py,
+                [
+                    base(Class::Ellipsoid)?,
+                    py.get_type::<PyRuntimeError>().into_any(),
+                ],
+            ),
+            Class::Output => PyTuple::new(
+                py,
+                [
+                    base(Class::Ellipsoid)?,
+                    py.get_type::<PyOSError>().into_any(),
+                ],
+            ),
         }
     }
 
@@ -91,7 +119,9 @@ impl Class {
             let ns = PyDict::new(py);
             ns.set_item("__module__", "ellipsoid")?;
             ns.set_item("__doc__", self.doc())?;
-            let ty = py.get_type::<PyType>().call1((self.name(), self.bases(py)?, ns))?;
+            let ty = py
+                .get_type::<PyType>()
+                .call1((self.name(), self.bases(py)?, ns))?;
             Ok(ty.cast_into::<PyType>()?.unbind())
         })?;
         Ok(ty.bind(py).clone())
@@ -123,8 +153,16 @@ pub fn scenario_error(py: Python<'_>, e: &ScenarioError) -> PyErr {
         ErrorKind::Invalid => "invalid",
     };
     let loc = &e.location;
-    let any = |v: Option<&str>| v.into_pyobject(py).map(|o| o.into_any().unbind()).unwrap_or_else(|_| py.None());
-    let num = |v: Option<usize>| v.into_pyobject(py).map(|o| o.into_any().unbind()).unwrap_or_else(|_| py.None());
+    let any = |v: Option<&str>| {
+        v.into_pyobject(py)
+            .map(|o| o.into_any().unbind())
+            .unwrap_or_else(|_| py.None())
+    };
+    let num = |v: Option<usize>| {
+        v.into_pyobject(py)
+            .map(|o| o.into_any().unbind())
+            .unwrap_or_else(|_| py.None())
+    };
     let attrs = [
         ("kind", any(Some(kind))),
         ("key", any(e.key.as_deref())),
@@ -142,16 +180,25 @@ pub fn scenario_error(py: Python<'_>, e: &ScenarioError) -> PyErr {
 pub fn output_error(py: Python<'_>, e: &OutputError) -> PyErr {
     let message = match e {
         OutputError::Hdf5Unavailable { path } => format!("{}: {HDF5_HINT}", path.display()),
-        OutputError::UnknownFormat { .. } | OutputError::Io { .. } | OutputError::Hdf5 { .. } => e.to_string(),
+        OutputError::UnknownFormat { .. } | OutputError::Io { .. } | OutputError::Hdf5 { .. } => {
+            e.to_string()
+        }
     };
     // `err.errno`: the OS error number, or for errors that wrap one without it (the
     // temporary file's), the number of its kind. No `filename`, which would make OSError
     // rewrite the message.
     let errno = match e {
-        OutputError::Io { source, .. } => source.raw_os_error().or_else(|| errno_of(py, source.kind())),
-        OutputError::UnknownFormat { .. } | OutputError::Hdf5Unavailable { .. } | OutputError::Hdf5 { .. } => None,
+        OutputError::Io { source, .. } => source
+            .raw_os_error()
+            .or_else(|| errno_of(py, source.kind())),
+        OutputError::UnknownFormat { .. }
+        | OutputError::Hdf5Unavailable { .. }
+        | OutputError::Hdf5 { .. } => None,
     };
-    let errno = errno.into_pyobject(py).map(|o| o.into_any().unbind()).unwrap_or_else(|_| py.None());
+    let errno = errno
+        .into_pyobject(py)
+        .map(|o| o.into_any().unbind())
+        .unwrap_or_else(|_| py.None());
     Class::Output.error(py, &message, &[("errno", errno)])
 }
 
@@ -168,7 +215,10 @@ fn errno_of(py: Python<'_>, kind: std::io::ErrorKind) -> Option<i32> {
         K::StorageFull => "ENOSPC",
         _ => return None,
     };
-    py.import("errno").and_then(|m| m.getattr(name)).and_then(|v| v.extract()).ok()
+    py.import("errno")
+        .and_then(|m| m.getattr(name))
+        .and_then(|v| v.extract())
+        .ok()
 }
 
 /// Whether a run that ended with `status` is an error (`Some(message)`) or an outcome.
@@ -184,7 +234,8 @@ pub fn status_error(status: &Status) -> Option<&str> {
 /// Runs `f`, turning a panic into `ellipsoid.InternalError` (pyo3 would raise its
 /// `PanicException`, a BaseException that `except Exception` does not catch).
 pub fn guard<T>(py: Python<'_>, f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|p| Err(internal_error(py, &crate::run::panic_message(&*p))))
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
+        .unwrap_or_else(|p| Err(internal_error(py, &crate::run::panic_message(&*p))))
 }
 
 /// A caught panic, as `ellipsoid.InternalError`.

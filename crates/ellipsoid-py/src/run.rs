@@ -9,7 +9,7 @@
 //! and become `ellipsoid.InternalError`.
 
 use std::convert::Infallible;
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
@@ -17,8 +17,8 @@ use std::time::Duration;
 
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
 use ellipsoid_core::simulate::{Sample, Status};
-use ellipsoid_io::run as io_run;
 use ellipsoid_io::Summary;
+use ellipsoid_io::run as io_run;
 use pyo3::prelude::*;
 
 /// How often the detached caller checks for signals.
@@ -53,14 +53,19 @@ pub enum Failure {
 /// Simulates `scenario` exactly as the command-line tool's `run` does
 /// (`ellipsoid_io::run`): stops at the first non-finite sample (not kept), or when
 /// `cancel` is set.
-pub fn run(scenario: Scenario, keep_samples: bool, cancel: &Arc<AtomicBool>) -> Result<Run, Failure> {
+pub fn run(
+    scenario: Scenario,
+    keep_samples: bool,
+    cancel: &Arc<AtomicBool>,
+) -> Result<Run, Failure> {
     let mut samples = Vec::new();
-    let finished = ellipsoid_io::run::run(&scenario, None, VERSION, Some(Arc::clone(cancel)), |s| {
-        if keep_samples {
-            samples.push(*s);
-        }
-        Ok::<(), Infallible>(())
-    });
+    let finished =
+        ellipsoid_io::run::run(&scenario, None, VERSION, Some(Arc::clone(cancel)), |s| {
+            if keep_samples {
+                samples.push(*s);
+            }
+            Ok::<(), Infallible>(())
+        });
     let finished = match finished {
         Ok(f) => f,
         Err(io_run::Failure::Scenario(e)) => return Err(Failure::Model(e)),
@@ -76,28 +81,44 @@ pub fn run(scenario: Scenario, keep_samples: bool, cancel: &Arc<AtomicBool>) -> 
 }
 
 /// `run` with panics caught.
-pub fn run_caught(scenario: Scenario, keep_samples: bool, cancel: &Arc<AtomicBool>) -> Result<Run, Failure> {
-    catch_unwind(AssertUnwindSafe(|| run(scenario, keep_samples, cancel))).unwrap_or_else(|p| Err(Failure::Panic(panic_message(&*p))))
+pub fn run_caught(
+    scenario: Scenario,
+    keep_samples: bool,
+    cancel: &Arc<AtomicBool>,
+) -> Result<Run, Failure> {
+    catch_unwind(AssertUnwindSafe(|| run(scenario, keep_samples, cancel)))
+        .unwrap_or_else(|p| Err(Failure::Panic(panic_message(&*p))))
 }
 
 pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| payload.downcast_ref::<String>().cloned()).unwrap_or_else(|| "a panic without a message".into())
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic without a message".into())
 }
 
 /// Runs `work` on a worker thread while the caller, detached from Python, checks for
 /// signals every [`POLL`]. Returns the work's result and the interrupt, if any (the work
 /// was told to stop through the flag it receives).
-pub fn detached<T: Send>(py: Python<'_>, work: impl FnOnce(&Arc<AtomicBool>) -> T + Send) -> PyResult<(T, Option<PyErr>)> {
+pub fn detached<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&Arc<AtomicBool>) -> T + Send,
+) -> PyResult<(T, Option<PyErr>)> {
     let cancel = Arc::new(AtomicBool::new(false));
     let mut interrupt: Option<PyErr> = None;
     let outcome: Result<T, String> = py.detach(|| {
         std::thread::scope(|scope| {
             let (tx, rx) = mpsc::channel();
             let cancel = &cancel;
-            let spawned = std::thread::Builder::new().name("ellipsoid".into()).stack_size(STACK).spawn_scoped(scope, move || {
-                let r = catch_unwind(AssertUnwindSafe(|| work(cancel))).map_err(|p| panic_message(&*p));
-                let _ = tx.send(r);
-            });
+            let spawned = std::thread::Builder::new()
+                .name("ellipsoid".into())
+                .stack_size(STACK)
+                .spawn_scoped(scope, move || {
+                    let r = catch_unwind(AssertUnwindSafe(|| work(cancel)))
+                        .map_err(|p| panic_message(&*p));
+                    let _ = tx.send(r);
+                });
             if let Err(e) = spawned {
                 return Err(format!("cannot start a worker thread: {e}"));
             }
@@ -112,7 +133,9 @@ pub fn detached<T: Send>(py: Python<'_>, work: impl FnOnce(&Arc<AtomicBool>) -> 
                             cancel.store(true, Ordering::Relaxed);
                         }
                     }
-                    Err(mpsc::RecvTimeoutError::Disconnected) => return Err("the worker thread ended without a result".into()),
+                    Err(mpsc::RecvTimeoutError::Disconnected) => {
+                        return Err("the worker thread ended without a result".into());
+                    }
                 }
             }
         })

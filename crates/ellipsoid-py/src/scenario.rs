@@ -36,12 +36,20 @@ pub struct PyScenario {
 impl PyScenario {
     /// `scenario::parse` with errors as `ScenarioError`.
     pub fn parse(py: Python<'_>, text: &str, source: &str, overrides: &[String]) -> PyResult<Self> {
-        errors::guard(py, || scenario::parse(text, source, overrides).map(|inner| PyScenario { inner }).map_err(|e| errors::scenario_error(py, &e)))
+        errors::guard(py, || {
+            scenario::parse(text, source, overrides)
+                .map(|inner| PyScenario { inner })
+                .map_err(|e| errors::scenario_error(py, &e))
+        })
     }
 
     /// `scenario::load` with errors as `ScenarioError`.
     pub fn load(py: Python<'_>, path: &std::path::Path, overrides: &[String]) -> PyResult<Self> {
-        errors::guard(py, || scenario::load(path, overrides).map(|inner| PyScenario { inner }).map_err(|e| errors::scenario_error(py, &e)))
+        errors::guard(py, || {
+            scenario::load(path, overrides)
+                .map(|inner| PyScenario { inner })
+                .map_err(|e| errors::scenario_error(py, &e))
+        })
     }
 
     /// This scenario with more overrides (the text is parsed again, so every check runs).
@@ -87,7 +95,12 @@ impl PyScenario {
     /// the summary. Keyword arguments are changes, as for `replace`.
     #[staticmethod]
     #[pyo3(signature = (text, name = "<string>", **changes))]
-    fn from_toml(py: Python<'_>, text: &str, name: &str, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+    fn from_toml(
+        py: Python<'_>,
+        text: &str,
+        name: &str,
+        changes: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
         Self::parse(py, text, name, &convert::overrides(changes)?)
     }
 
@@ -160,7 +173,9 @@ impl PyScenario {
     }
 
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
-        other.cast::<PyScenario>().is_ok_and(|o| o.get().inner == self.inner)
+        other
+            .cast::<PyScenario>()
+            .is_ok_and(|o| o.get().inner == self.inner)
     }
 
     fn __copy__(&self) -> Self {
@@ -177,12 +192,20 @@ impl PyScenario {
 /// rule in the message) if it cannot be read or is invalid.
 #[pyfunction]
 #[pyo3(signature = (path, **changes))]
-pub fn load(py: Python<'_>, path: PathBuf, changes: Option<&Bound<'_, PyDict>>) -> PyResult<PyScenario> {
+pub fn load(
+    py: Python<'_>,
+    path: PathBuf,
+    changes: Option<&Bound<'_, PyDict>>,
+) -> PyResult<PyScenario> {
     PyScenario::load(py, &path, &convert::overrides(changes)?)
 }
 
 /// A scenario from a `Scenario` or a path (`str` / `os.PathLike`), with `changes` applied.
-pub fn resolve(py: Python<'_>, what: &Bound<'_, PyAny>, changes: Vec<String>) -> PyResult<PyScenario> {
+pub fn resolve(
+    py: Python<'_>,
+    what: &Bound<'_, PyAny>,
+    changes: Vec<String>,
+) -> PyResult<PyScenario> {
     if let Ok(s) = what.cast::<PyScenario>() {
         return s.get().with_overrides(py, changes);
     }

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use ellipsoid_core::simulate::Sample;
 use ellipsoid_io::columns::{self, NUMERIC, NUMERIC_COLUMNS};
-use ellipsoid_io::{csv::CsvFile, Format, Metadata, OutputError, Summary, TrajectoryWriter};
+use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, csv::CsvFile};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
@@ -41,7 +41,9 @@ impl Trajectory {
         Trajectory {
             samples: run.samples,
             summary: run.summary,
-            scenario: PyScenario { inner: run.scenario },
+            scenario: PyScenario {
+                inner: run.scenario,
+            },
             numeric: [const { PyOnceLock::new() }; NUMERIC],
             mode: PyOnceLock::new(),
         }
@@ -49,7 +51,11 @@ impl Trajectory {
 
     fn column<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let arr = self.numeric[index].get_or_try_init(py, || -> PyResult<_> {
-            let data: Vec<f64> = self.samples.iter().map(|s| columns::values(s)[index]).collect();
+            let data: Vec<f64> = self
+                .samples
+                .iter()
+                .map(|s| columns::values(s)[index])
+                .collect();
             let arr = PyArray1::from_vec(py, data);
             readonly(arr.as_any())?;
             Ok(arr.unbind())
@@ -60,7 +66,10 @@ impl Trajectory {
     fn modes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let arr = self.mode.get_or_try_init(py, || -> PyResult<_> {
             let names = PyList::new(py, self.samples.iter().map(|s| s.mode.name()))?;
-            let arr = py.import("numpy")?.getattr("array")?.call((names,), Some(&[("dtype", "U12")].into_py_dict(py)?))?;
+            let arr = py
+                .import("numpy")?
+                .getattr("array")?
+                .call((names,), Some(&[("dtype", "U12")].into_py_dict(py)?))?;
             readonly(&arr)?;
             Ok(arr.unbind())
         })?;
@@ -69,11 +78,18 @@ impl Trajectory {
 
     /// The summary as a Python dict (a fresh copy).
     fn summary_dict<'py>(&self, py: Python<'py>, summary: &Summary) -> PyResult<Bound<'py, PyAny>> {
-        py.import("json")?.getattr("loads")?.call1((summary.to_json(),))
+        py.import("json")?
+            .getattr("loads")?
+            .call1((summary.to_json(),))
     }
 
     /// Writes the samples with `writer`, without the GIL.
-    fn write(&self, py: Python<'_>, path: &Path, writer: impl FnOnce(&Path) -> Result<TrajectoryWriter, OutputError> + Send) -> PyResult<()> {
+    fn write(
+        &self,
+        py: Python<'_>,
+        path: &Path,
+        writer: impl FnOnce(&Path) -> Result<TrajectoryWriter, OutputError> + Send,
+    ) -> PyResult<()> {
         let mut summary = self.summary.clone();
         summary.output = Some(path.display().to_string());
         let text = &self.scenario.inner.text;
@@ -84,7 +100,10 @@ impl Trajectory {
                 for s in samples {
                     w.write(s)?;
                 }
-                w.finish(&Metadata { scenario_text: text, summary: &summary })
+                w.finish(&Metadata {
+                    scenario_text: text,
+                    summary: &summary,
+                })
             })
             .map_err(|e| errors::output_error(py, &e))
         })
@@ -273,7 +292,8 @@ impl Trajectory {
     /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "painleve".
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let json = serde_json::to_string(&self.summary.events).map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))?;
+        let json = serde_json::to_string(&self.summary.events)
+            .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))?;
         py.import("json")?.getattr("loads")?.call1((json,))
     }
 
@@ -289,7 +309,12 @@ impl Trajectory {
 
     fn __repr__(&self) -> String {
         let t = self.samples.last().map_or(f64::NAN, |s| s.t);
-        format!("<ellipsoid.Trajectory {}: {} samples to t = {t} s, {}>", self.scenario.inner.source, self.samples.len(), self.summary.status)
+        format!(
+            "<ellipsoid.Trajectory {}: {} samples to t = {t} s, {}>",
+            self.scenario.inner.source,
+            self.samples.len(),
+            self.summary.status
+        )
     }
 
     /// The columns as a dict name → array, in file order.
@@ -307,7 +332,9 @@ impl Trajectory {
     /// The columns as a pandas DataFrame (needs pandas), in file order.
     fn to_pandas<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let pandas = py.import("pandas").map_err(|e| {
-            pyo3::exceptions::PyImportError::new_err(format!("Trajectory.to_pandas needs pandas (`pip install pandas`): {e}"))
+            pyo3::exceptions::PyImportError::new_err(format!(
+                "Trajectory.to_pandas needs pandas (`pip install pandas`): {e}"
+            ))
         })?;
         pandas.getattr("DataFrame")?.call1((self.to_dict(py)?,))
     }
@@ -316,7 +343,9 @@ impl Trajectory {
     /// the same run (the same writer). The file appears only when complete; its directory
     /// must exist. Raises OutputError.
     fn to_csv(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        self.write(py, &path, |p| Ok(TrajectoryWriter::Csv(CsvFile::create(p)?)))
+        self.write(py, &path, |p| {
+            Ok(TrajectoryWriter::Csv(CsvFile::create(p)?))
+        })
     }
 
     /// Writes the trajectory as HDF5 (one float64 dataset per column with a `units`
@@ -326,11 +355,18 @@ impl Trajectory {
     fn to_hdf5(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         #[cfg(feature = "hdf5")]
         {
-            self.write(py, &path, |p| Ok(TrajectoryWriter::Hdf5(ellipsoid_io::hdf5::Hdf5File::create(p)?)))
+            self.write(py, &path, |p| {
+                Ok(TrajectoryWriter::Hdf5(
+                    ellipsoid_io::hdf5::Hdf5File::create(p)?,
+                ))
+            })
         }
         #[cfg(not(feature = "hdf5"))]
         {
-            Err(errors::output_error(py, &OutputError::Hdf5Unavailable { path }))
+            Err(errors::output_error(
+                py,
+                &OutputError::Hdf5Unavailable { path },
+            ))
         }
     }
 

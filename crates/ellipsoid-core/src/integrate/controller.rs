@@ -193,9 +193,15 @@ mod tests {
         let h = 1.0e-3;
         for &err in &[0.3_f64, 1e-9, 0.0, 2.5, 0.99, 1.0, 40.0, 0.5, 1e-6] {
             let fac11 = err.powf(p.expo1);
-            let fac = (fac11 / facold.powf(p.beta) / p.safe).min(1.0 / p.fac1).max(1.0 / p.fac2);
+            let fac = (fac11 / facold.powf(p.beta) / p.safe)
+                .min(1.0 / p.fac1)
+                .max(1.0 / p.fac2);
             let (want_accept, want_h) = if err <= 1.0 {
-                let hn = if after_reject { (h / fac).min(h) } else { h / fac };
+                let hn = if after_reject {
+                    (h / fac).min(h)
+                } else {
+                    h / fac
+                };
                 facold = err.max(1.0e-4);
                 after_reject = false;
                 (true, hn)
@@ -208,7 +214,10 @@ mod tests {
                 Verdict::Reject { h_next } => (false, h_next),
             };
             assert_eq!(accepted, want_accept, "err = {err}");
-            assert!((got - want_h).abs() <= 1e-14 * want_h, "err = {err}: {got} vs {want_h}");
+            assert!(
+                (got - want_h).abs() <= 1e-14 * want_h,
+                "err = {err}: {got} vs {want_h}"
+            );
         }
     }
 }

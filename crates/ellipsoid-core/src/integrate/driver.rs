@@ -4,7 +4,6 @@
 use std::ops::ControlFlow;
 use std::sync::atomic::Ordering;
 
-
 use nalgebra::SVector;
 
 use super::controller::{PiController, Verdict};
@@ -146,7 +145,12 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
         let mut since_nonfinite = u64::MAX;
 
         loop {
-            if self.options.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed)) {
+            if self
+                .options
+                .cancel
+                .as_ref()
+                .is_some_and(|c| c.load(Ordering::Relaxed))
+            {
                 return self.finish(t, y, StopReason::Cancelled);
             }
             let stats = &mut self.sol.stats;

@@ -28,9 +28,9 @@ mod stiffness;
 pub mod tableau;
 
 pub use driver::integrate;
-pub(crate) use rk4::RK4_LAST_STRETCH;
 pub use error::IntegrateError;
 pub use options::{Method, Options};
+pub(crate) use rk4::RK4_LAST_STRETCH;
 pub use solution::{EventRecord, Solution, Stats, StopReason, Warning};
 
 /// A first-order system dy/dt = f(t, y) on a fixed-size state.

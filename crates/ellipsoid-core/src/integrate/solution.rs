@@ -45,7 +45,13 @@ pub struct Stats {
 
 impl Default for Stats {
     fn default() -> Self {
-        Stats { accepted: 0, rejected: 0, rhs_evals: 0, events: 0, min_step: f64::INFINITY }
+        Stats {
+            accepted: 0,
+            rejected: 0,
+            rhs_evals: 0,
+            events: 0,
+            min_step: f64::INFINITY,
+        }
     }
 }
 

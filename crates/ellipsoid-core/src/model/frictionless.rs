@@ -1,9 +1,9 @@
-//! Frictionless contact (paper §2; PHYSICS.md model 1): F = N e3,
+//! Frictionless contact (paper §2; docs/physics.md model 1): F = N e3,
 //! N = m (g + u·I⁻¹(ω × Iω) − κ) / (1 + m u·I⁻¹u) (with effects, see [`super::unilateral`]).
 
 use nalgebra::Vector3;
 
-use super::{unilateral, ContactLaw, Kinematics, Response};
+use super::{ContactLaw, Kinematics, Response, unilateral};
 use crate::body::Body;
 use crate::effects::Wrench;
 use crate::state::State;
@@ -16,7 +16,14 @@ impl ContactLaw for Frictionless {
     const ROLLING: bool = false;
 
     #[inline]
-    fn respond(&self, body: &Body, gravity: f64, kin: &Kinematics, _y: &State, load: &Wrench) -> Response {
+    fn respond(
+        &self,
+        body: &Body,
+        gravity: f64,
+        kin: &Kinematics,
+        _y: &State,
+        load: &Wrench,
+    ) -> Response {
         unilateral(body, gravity, kin, load, Vector3::z())
     }
 }

@@ -1,5 +1,5 @@
 //! Newton–Euler dynamics of the ellipsoid on the plane, generic over the contact law
-//! and the optional effects (PHYSICS.md, "Equations of motion").
+//! and the optional effects (docs/physics.md, "Equations of motion").
 //!
 //! ```text
 //!   m a_G   = F + f − m g e3                 F: contact force at C, f: effects' force
@@ -51,9 +51,19 @@ impl Kinematics {
         let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
         let contact = Contact::new(body, zeta, omega);
         let spin_lever = rot * omega.cross(&contact.r); // ω × r, world
-        let v_h = if rolling { -spin_lever.xy() } else { state::velocity(y) };
+        let v_h = if rolling {
+            -spin_lever.xy()
+        } else {
+            state::velocity(y)
+        };
         let v_g = Vector3::new(v_h.x, v_h.y, contact.vz());
-        Kinematics { rot, omega, contact, v_g, slip: v_h + spin_lever.xy() }
+        Kinematics {
+            rot,
+            omega,
+            contact,
+            v_g,
+            slip: v_h + spin_lever.xy(),
+        }
     }
 }
 
@@ -76,7 +86,14 @@ pub trait ContactLaw {
     /// Whether the horizontal velocity of G follows from the constraint (rolling).
     const ROLLING: bool;
     /// Solves for the contact force given the kinematics, gravity g [m/s²] and effects.
-    fn respond(&self, body: &Body, gravity: f64, kin: &Kinematics, y: &State, load: &Wrench) -> Response;
+    fn respond(
+        &self,
+        body: &Body,
+        gravity: f64,
+        kin: &Kinematics,
+        y: &State,
+        load: &Wrench,
+    ) -> Response;
     /// Restores the law's algebraic relations on an accepted state (see [`OdeSystem::project`]).
     fn project(&self, _body: &Body, _y: &mut State) {}
 }
@@ -109,7 +126,9 @@ impl Evaluation {
     pub fn dissipation(&self) -> f64 {
         let r = &self.response;
         let torque = self.load.torque + r.normal * self.load.torque_per_normal;
-        -(r.force.xy().dot(&self.kin.slip)) - self.load.force.dot(&self.kin.v_g) - torque.dot(&self.kin.omega)
+        -(r.force.xy().dot(&self.kin.slip))
+            - self.load.force.dot(&self.kin.v_g)
+            - torque.dot(&self.kin.omega)
     }
 }
 
@@ -119,8 +138,14 @@ impl<C: ContactLaw, E: Effect> System<C, E> {
     pub fn evaluate(&self, y: &State) -> Evaluation {
         let kin = Kinematics::new(&self.body, y, C::ROLLING);
         let load = self.effects.wrench(&self.body, &kin);
-        let response = self.contact.respond(&self.body, self.gravity, &kin, y, &load);
-        Evaluation { kin, load, response }
+        let response = self
+            .contact
+            .respond(&self.body, self.gravity, &kin, y, &load);
+        Evaluation {
+            kin,
+            load,
+            response,
+        }
     }
 }
 
@@ -139,14 +164,16 @@ impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
         dy[state::QUAT + 3] = q_dot.k;
         dy[state::VEL] = accel.x;
         dy[state::VEL + 1] = accel.y;
-        dy.fixed_rows_mut::<3>(state::OMEGA).copy_from(&ev.response.omega_dot);
+        dy.fixed_rows_mut::<3>(state::OMEGA)
+            .copy_from(&ev.response.omega_dot);
         dy[state::WORK] = ev.dissipation();
         dy
     }
 
     fn project(&self, y: &mut State) {
         let q = state::quaternion(y).normalize();
-        y.fixed_rows_mut::<4>(state::QUAT).copy_from(&nalgebra::Vector4::new(q.w, q.i, q.j, q.k));
+        y.fixed_rows_mut::<4>(state::QUAT)
+            .copy_from(&nalgebra::Vector4::new(q.w, q.i, q.j, q.k));
         self.contact.project(&self.body, y);
     }
 }
@@ -157,9 +184,15 @@ impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
 /// ```text
 ///   N (1 + m u·I⁻¹ℓ) = m g − f_z − m u·I⁻¹T − m κ
 /// ```
-/// (PHYSICS.md, models 1 and 2; d = e3 gives the frictionless law.)
+/// (docs/physics.md, models 1 and 2; d = e3 gives the frictionless law.)
 #[inline]
-pub(crate) fn unilateral(body: &Body, gravity: f64, kin: &Kinematics, load: &Wrench, d: Vector3<f64>) -> Response {
+pub(crate) fn unilateral(
+    body: &Body,
+    gravity: f64,
+    kin: &Kinematics,
+    load: &Wrench,
+    d: Vector3<f64>,
+) -> Response {
     let m = body.mass();
     let i_inv = body.inertia_inv();
     let c = &kin.contact;
@@ -167,6 +200,12 @@ pub(crate) fn unilateral(body: &Body, gravity: f64, kin: &Kinematics, load: &Wre
     let lever = c.r.cross(&d_b) + load.torque_per_normal;
     let free = load.torque - kin.omega.cross(&(body.inertia() * kin.omega));
     let painleve = 1.0 + m * c.u.dot(&(i_inv * lever));
-    let normal = (m * gravity - load.force.z - m * c.u.dot(&(i_inv * free)) - m * c.kappa) / painleve;
-    Response { force: normal * d, normal, omega_dot: i_inv * (normal * lever + free), painleve }
+    let normal =
+        (m * gravity - load.force.z - m * c.u.dot(&(i_inv * free)) - m * c.kappa) / painleve;
+    Response {
+        force: normal * d,
+        normal,
+        omega_dot: i_inv * (normal * lever + free),
+        painleve,
+    }
 }

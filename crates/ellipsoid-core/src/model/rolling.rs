@@ -1,4 +1,4 @@
-//! Rolling without slipping (paper §4, corrected; PHYSICS.md model 3). v_C = 0, so
+//! Rolling without slipping (paper §4, corrected; docs/physics.md model 3). v_C = 0, so
 //! v_G = −ω × r and the contact force F (body frame F_b) solves the 3×3 system
 //! ```text
 //!   (I₃ − m [r]× I⁻¹ ([r]× + τ_N ζᵀ)) F_b = m g ζ − f_b + m [r]× I⁻¹ T − m ω × ṙ_tot
@@ -7,7 +7,7 @@
 //! body: omitting ṙ_surface is the classic error that breaks energy conservation).
 //! Without effects the matrix is I₃ + m [r]×ᵀ I⁻¹ [r]×, symmetric positive definite.
 //! The paper's own §4 substitutes this nonholonomic constraint into the Lagrangian and
-//! is wrong (PAPER-NOTES.md); this is the Newton–Euler form.
+//! is wrong (docs/paper-notes.md); this is the Newton–Euler form.
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -35,7 +35,9 @@ impl Rolling {
         let v_c = kin.rot.tr_mul(&Vector3::new(kin.slip.x, kin.slip.y, 0.0));
         let r_cross = kin.contact.r.cross_matrix();
         let k = Matrix3::identity() / body.mass() - r_cross * body.inertia_inv() * r_cross;
-        let Some(impulse) = k.cholesky().map(|c| -c.solve(&v_c)) else { return };
+        let Some(impulse) = k.cholesky().map(|c| -c.solve(&v_c)) else {
+            return;
+        };
         let dv = kin.rot * impulse / body.mass();
         let domega = body.inertia_inv() * kin.contact.r.cross(&impulse);
         y[state::VEL] += dv.x;
@@ -56,7 +58,14 @@ impl ContactLaw for Rolling {
     const ROLLING: bool = true;
 
     #[inline]
-    fn respond(&self, body: &Body, gravity: f64, kin: &Kinematics, _y: &State, load: &Wrench) -> Response {
+    fn respond(
+        &self,
+        body: &Body,
+        gravity: f64,
+        kin: &Kinematics,
+        _y: &State,
+        load: &Wrench,
+    ) -> Response {
         let m = body.mass();
         let i_inv = body.inertia_inv();
         let c = &kin.contact;
@@ -64,12 +73,17 @@ impl ContactLaw for Rolling {
         let r_cross = c.r.cross_matrix();
         let free = load.torque - w.cross(&(body.inertia() * w));
         let r_dot = w.cross(&c.r) + c.r_dot_surface;
-        let matrix = Matrix3::identity() - m * r_cross * i_inv * (r_cross + load.torque_per_normal * c.zeta.transpose());
-        let rhs = m * gravity * c.zeta - kin.rot.tr_mul(&load.force) + m * (r_cross * (i_inv * free)) - m * w.cross(&r_dot);
+        let matrix = Matrix3::identity()
+            - m * r_cross * i_inv * (r_cross + load.torque_per_normal * c.zeta.transpose());
+        let rhs = m * gravity * c.zeta - kin.rot.tr_mul(&load.force)
+            + m * (r_cross * (i_inv * free))
+            - m * w.cross(&r_dot);
         // The matrix is I₃ plus a positive semi-definite part (plus a small τ_N term):
         // always invertible for physical loads; a singular one would mean a torque per
         // newton of normal force larger than the lever arm, which effects cannot produce.
-        let f_b = matrix.try_inverse().map_or(Vector3::from_element(f64::NAN), |inv| inv * rhs);
+        let f_b = matrix
+            .try_inverse()
+            .map_or(Vector3::from_element(f64::NAN), |inv| inv * rhs);
         let normal = f_b.dot(&c.zeta);
         Response {
             force: kin.rot * f_b,

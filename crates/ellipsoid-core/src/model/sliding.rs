@@ -1,4 +1,4 @@
-//! Coulomb sliding friction (paper §3; PHYSICS.md model 2): F = N d with
+//! Coulomb sliding friction (paper §3; docs/physics.md model 2): F = N d with
 //! d = e3 − μ ŝ, ŝ the unit slip direction of the material contact point,
 //! N = m (g + u·I⁻¹(ω × Iω) − κ) / (1 + m u·I⁻¹(r × d_b)).
 //!
@@ -14,7 +14,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use super::{unilateral, ContactLaw, Kinematics, Response};
+use super::{ContactLaw, Kinematics, Response, unilateral};
 use crate::body::Body;
 use crate::effects::Wrench;
 use crate::state::{self, State};
@@ -78,9 +78,22 @@ impl ContactLaw for Sliding {
     const ROLLING: bool = false;
 
     #[inline]
-    fn respond(&self, body: &Body, gravity: f64, kin: &Kinematics, y: &State, load: &Wrench) -> Response {
+    fn respond(
+        &self,
+        body: &Body,
+        gravity: f64,
+        kin: &Kinematics,
+        y: &State,
+        load: &Wrench,
+    ) -> Response {
         let s = Sliding::direction(kin, state::slip_ref(y));
-        unilateral(body, gravity, kin, load, Vector3::new(-self.friction * s.x, -self.friction * s.y, 1.0))
+        unilateral(
+            body,
+            gravity,
+            kin,
+            load,
+            Vector3::new(-self.friction * s.x, -self.friction * s.y, 1.0),
+        )
     }
 
     /// s_ref ← ŝ, keeping its orientation relative to the previous s_ref, so the sign of

@@ -3,10 +3,21 @@
 
 use super::*;
 
-pub(super) const CHECK_KEYS: [&str; 7] = ["status", "energy", "energy_plus_work", "momentum", "angular_momentum_z", "axial_spin", "jellett"];
+pub(super) const CHECK_KEYS: [&str; 7] = [
+    "status",
+    "energy",
+    "energy_plus_work",
+    "momentum",
+    "angular_momentum_z",
+    "axial_spin",
+    "jellett",
+];
 
 /// An empty table standing in for an optional table that is absent.
-pub(super) static EMPTY: Node = Node { value: Value::Table(Vec::new()), origin: Origin::File(0..0) };
+pub(super) static EMPTY: Node = Node {
+    value: Value::Table(Vec::new()),
+    origin: Origin::File(0..0),
+};
 
 pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
     let root = ctx.table_of("", tree, &tree.origin, &TOP_KEYS, "the scenario")?;
@@ -17,23 +28,60 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
     let solver = read_solver(ctx, &root)?;
     let (t_end, sample_times) = read_output(ctx, &root)?;
     let check = read_check(ctx, &root)?;
-    let scene = Scene { body, gravity, contact, effects, initial, solver, t_end, sample_times };
+    let scene = Scene {
+        body,
+        gravity,
+        contact,
+        effects,
+        initial,
+        solver,
+        t_end,
+        sample_times,
+    };
     scene.validate().map_err(|e| ctx.model(tree, &e))?;
     Ok((scene, check))
 }
 
 pub(super) fn read_body(ctx: &Ctx<'_>, tree: &Node, root: &Sec<'_>) -> Result<Body> {
     let sec = ctx
-        .section(root, "body", &BODY_KEYS, "semi-axes, mass, centre of mass, inertia")?
-        .ok_or_else(|| ctx.missing(root, "body", "a scenario needs a [body] table (semi-axes a and c, mass, inertia)"))?;
+        .section(
+            root,
+            "body",
+            &BODY_KEYS,
+            "semi-axes, mass, centre of mass, inertia",
+        )?
+        .ok_or_else(|| {
+            ctx.missing(
+                root,
+                "body",
+                "a scenario needs a [body] table (semi-axes a and c, mass, inertia)",
+            )
+        })?;
     let a = ctx.required(&sec, "a", "the semi-axis along body x (m)")?;
-    let b = ctx.number(&sec, "b", "the semi-axis along body y (m)")?.map_or(a, |(v, _)| v);
-    let c = ctx.required(&sec, "c", "the semi-axis along the symmetry axis, body z (m)")?;
+    let b = ctx
+        .number(&sec, "b", "the semi-axis along body y (m)")?
+        .map_or(a, |(v, _)| v);
+    let c = ctx.required(
+        &sec,
+        "c",
+        "the semi-axis along the symmetry axis, body z (m)",
+    )?;
     let mass = ctx.required(&sec, "mass", "the mass (kg)")?;
-    ctx.exclusive(&sec, "com_offset", "com_offset_vector", "the distance D2 of G below the centre on the axis, or the general vector G − C0")?;
-    let com = if let Some((d2, _)) = ctx.number(&sec, "com_offset", "D2, the distance of G below the geometric centre along body z (m)")? {
+    ctx.exclusive(
+        &sec,
+        "com_offset",
+        "com_offset_vector",
+        "the distance D2 of G below the centre on the axis, or the general vector G − C0",
+    )?;
+    let com = if let Some((d2, _)) = ctx.number(
+        &sec,
+        "com_offset",
+        "D2, the distance of G below the geometric centre along body z (m)",
+    )? {
         Vector3::new(0.0, 0.0, -d2)
-    } else if let Some(v) = ctx.numbers::<3>(&sec, "com_offset_vector", "G − C0 in body axes (m)")? {
+    } else if let Some(v) =
+        ctx.numbers::<3>(&sec, "com_offset_vector", "G − C0 in body axes (m)")?
+    {
         Vector3::from(v)
     } else {
         Vector3::zeros()
@@ -43,9 +91,21 @@ pub(super) fn read_body(ctx: &Ctx<'_>, tree: &Node, root: &Sec<'_>) -> Result<Bo
     Body::new(axes, mass, inertia, com).map_err(|e| ctx.model(tree, &e))
 }
 
-pub(super) fn read_inertia(ctx: &Ctx<'_>, sec: &Sec<'_>, axes: Vector3<f64>, mass: f64, com: Vector3<f64>) -> Result<Matrix3<f64>> {
+pub(super) fn read_inertia(
+    ctx: &Ctx<'_>,
+    sec: &Sec<'_>,
+    axes: Vector3<f64>,
+    mass: f64,
+    com: Vector3<f64>,
+) -> Result<Matrix3<f64>> {
     const FORMS: &str = "[I1, I2, I3] (principal moments about G, kg m^2), a symmetric 3x3 array [[..], [..], [..]], or \"uniform\"";
-    let got = sec.get("inertia").ok_or_else(|| ctx.missing(sec, "inertia", format!("give the central inertia in body axes: {FORMS}")))?;
+    let got = sec.get("inertia").ok_or_else(|| {
+        ctx.missing(
+            sec,
+            "inertia",
+            format!("give the central inertia in body axes: {FORMS}"),
+        )
+    })?;
     let numbers = |items: &[Node]| items.iter().map(Node::as_f64).collect::<Option<Vec<f64>>>();
     match &got.node().value {
         Value::Str(s) if s == "uniform" => {
@@ -83,85 +143,240 @@ pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel
     let models = quoted(&CONTACT_MODELS);
     let sec = ctx
         .section(root, "contact", &CONTACT_KEYS, "model and friction")?
-        .ok_or_else(|| ctx.missing(root, "contact", format!("a scenario needs a [contact] table with model = {models}")))?;
-    let (model, _) = ctx.choice(&sec, "model", &CONTACT_MODELS)?.ok_or_else(|| ctx.missing(&sec, "model", format!("give the contact model, one of {models}")))?;
-    let friction = ctx.checked(&sec, "friction", "μ, the Coulomb coefficient", |v| v >= 0.0, "the Coulomb coefficient must be finite and non-negative")?;
-    let need = || ctx.missing(&sec, "friction", format!("the {model} model needs μ, the Coulomb friction coefficient (e.g. friction = 0.3)"));
+        .ok_or_else(|| {
+            ctx.missing(
+                root,
+                "contact",
+                format!("a scenario needs a [contact] table with model = {models}"),
+            )
+        })?;
+    let (model, _) = ctx.choice(&sec, "model", &CONTACT_MODELS)?.ok_or_else(|| {
+        ctx.missing(
+            &sec,
+            "model",
+            format!("give the contact model, one of {models}"),
+        )
+    })?;
+    let friction = ctx.checked(
+        &sec,
+        "friction",
+        "μ, the Coulomb coefficient",
+        |v| v >= 0.0,
+        "the Coulomb coefficient must be finite and non-negative",
+    )?;
+    let need = || {
+        ctx.missing(
+            &sec,
+            "friction",
+            format!(
+                "the {model} model needs μ, the Coulomb friction coefficient (e.g. friction = 0.3)"
+            ),
+        )
+    };
     Ok(match model {
         "frictionless" | "rolling" => {
             if let Some(got) = sec.get("friction") {
-                let why = if model == "rolling" { "rolling assumes unlimited friction" } else { "the plane exerts no friction" };
+                let why = if model == "rolling" {
+                    "rolling assumes unlimited friction"
+                } else {
+                    "the plane exerts no friction"
+                };
                 return Err(ctx.bad(ErrorKind::Invalid, &sec, got, format!("the {model} model takes no friction coefficient ({why}); remove it, or use model = \"coulomb\"")));
             }
-            if model == "rolling" { ContactModel::Rolling } else { ContactModel::Frictionless }
+            if model == "rolling" {
+                ContactModel::Rolling
+            } else {
+                ContactModel::Frictionless
+            }
         }
-        "sliding" => ContactModel::Sliding { friction: friction.ok_or_else(need)? },
-        _ => ContactModel::Coulomb { friction: friction.ok_or_else(need)? },
+        "sliding" => ContactModel::Sliding {
+            friction: friction.ok_or_else(need)?,
+        },
+        _ => ContactModel::Coulomb {
+            friction: friction.ok_or_else(need)?,
+        },
     })
 }
 
-pub(super) fn read_initial(ctx: &Ctx<'_>, root: &Sec<'_>, contact: ContactModel) -> Result<InitialState> {
-    let sec = ctx.section(root, "initial", &INITIAL_KEYS, "initial angles, rates, position and velocity")?.unwrap_or(Sec { path: "initial".into(), node: &EMPTY });
+pub(super) fn read_initial(
+    ctx: &Ctx<'_>,
+    root: &Sec<'_>,
+    contact: ContactModel,
+) -> Result<InitialState> {
+    let sec = ctx
+        .section(
+            root,
+            "initial",
+            &INITIAL_KEYS,
+            "initial angles, rates, position and velocity",
+        )?
+        .unwrap_or(Sec {
+            path: "initial".into(),
+            node: &EMPTY,
+        });
     let orientation = if let Some(got) = sec.get("rotation") {
         for key in ["theta", "phi", "psi"] {
             for k in [key.to_owned(), format!("{key}_deg")] {
                 if sec.get(&k).is_some() {
-                    return Err(ctx.bad(ErrorKind::Conflict, &sec, got, format!("give either {} or the Euler angles (here {}), not both", sec.full("rotation"), sec.full(&k))));
+                    return Err(ctx.bad(
+                        ErrorKind::Conflict,
+                        &sec,
+                        got,
+                        format!(
+                            "give either {} or the Euler angles (here {}), not both",
+                            sec.full("rotation"),
+                            sec.full(&k)
+                        ),
+                    ));
                 }
             }
         }
         let r = read_rotation(ctx, &sec, got)?;
-        let e = EulerAngles::from_rotation(r.to_rotation_matrix().matrix(), &Vector3::zeros(), None);
+        let e =
+            EulerAngles::from_rotation(r.to_rotation_matrix().matrix(), &Vector3::zeros(), None);
         (e.theta, e.phi, e.psi)
     } else {
         (
-            ctx.angle(&sec, "theta", "θ, the tilt of the symmetry axis from the vertical (rad)")?.unwrap_or(0.0),
-            ctx.angle(&sec, "phi", "φ, the precession angle (rad)")?.unwrap_or(0.0),
-            ctx.angle(&sec, "psi", "ψ, the spin angle (rad)")?.unwrap_or(0.0),
+            ctx.angle(
+                &sec,
+                "theta",
+                "θ, the tilt of the symmetry axis from the vertical (rad)",
+            )?
+            .unwrap_or(0.0),
+            ctx.angle(&sec, "phi", "φ, the precession angle (rad)")?
+                .unwrap_or(0.0),
+            ctx.angle(&sec, "psi", "ψ, the spin angle (rad)")?
+                .unwrap_or(0.0),
         )
     };
-    ctx.exclusive(&sec, "omega_body", "omega_body_deg", "radians or degrees per second")?;
+    ctx.exclusive(
+        &sec,
+        "omega_body",
+        "omega_body_deg",
+        "radians or degrees per second",
+    )?;
     let omega = match ctx.numbers::<3>(&sec, "omega_body", "the body angular velocity (rad/s)")? {
         Some(w) => Some(Vector3::from(w)),
-        None => ctx.numbers::<3>(&sec, "omega_body_deg", "the body angular velocity (deg/s)")?.map(|w| Vector3::from(w).map(f64::to_radians)),
+        None => ctx
+            .numbers::<3>(&sec, "omega_body_deg", "the body angular velocity (deg/s)")?
+            .map(|w| Vector3::from(w).map(f64::to_radians)),
     };
     let mut rates = [0.0; 3];
     for (rate, key) in rates.iter_mut().zip(["theta_dot", "phi_dot", "psi_dot"]) {
-        if let Some(got) = [key.to_owned(), format!("{key}_deg")].iter().find_map(|k| sec.get(k)).filter(|_| omega.is_some()) {
-            let body_key = if sec.get("omega_body").is_some() { "omega_body" } else { "omega_body_deg" };
-            return Err(ctx.bad(ErrorKind::Conflict, &sec, got, format!("give either {} or the Euler-angle rates, not both", sec.full(body_key))));
+        if let Some(got) = [key.to_owned(), format!("{key}_deg")]
+            .iter()
+            .find_map(|k| sec.get(k))
+            .filter(|_| omega.is_some())
+        {
+            let body_key = if sec.get("omega_body").is_some() {
+                "omega_body"
+            } else {
+                "omega_body_deg"
+            };
+            return Err(ctx.bad(
+                ErrorKind::Conflict,
+                &sec,
+                got,
+                format!(
+                    "give either {} or the Euler-angle rates, not both",
+                    sec.full(body_key)
+                ),
+            ));
         }
-        *rate = ctx.angle(&sec, key, "an Euler-angle rate (rad/s)")?.unwrap_or(0.0);
+        *rate = ctx
+            .angle(&sec, key, "an Euler-angle rate (rad/s)")?
+            .unwrap_or(0.0);
     }
     let (theta, phi, psi) = orientation;
-    let angles = EulerAngles { theta, phi, psi, theta_dot: rates[0], phi_dot: rates[1], psi_dot: rates[2] };
-    let position = ctx.numbers::<2>(&sec, "position", "x, y of G (m)")?.map_or_else(Vector2::zeros, Vector2::from);
-    let velocity = ctx.numbers::<2>(&sec, "velocity", "the horizontal velocity of G (m/s)")?.map(Vector2::from);
+    let angles = EulerAngles {
+        theta,
+        phi,
+        psi,
+        theta_dot: rates[0],
+        phi_dot: rates[1],
+        psi_dot: rates[2],
+    };
+    let position = ctx
+        .numbers::<2>(&sec, "position", "x, y of G (m)")?
+        .map_or_else(Vector2::zeros, Vector2::from);
+    let velocity = ctx
+        .numbers::<2>(&sec, "velocity", "the horizontal velocity of G (m/s)")?
+        .map(Vector2::from);
     if let (Some(_), ContactModel::Rolling) = (velocity, contact) {
         let got = sec.get("velocity").expect("just read");
         return Err(ctx.bad(ErrorKind::Invalid, &sec, got, "not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it"));
     }
-    for (name, v) in [("position", position.as_slice()), ("velocity", velocity.as_ref().map_or(&[][..], |v| v.as_slice())), ("omega_body", omega.as_ref().map_or(&[][..], |v| v.as_slice()))] {
+    for (name, v) in [
+        ("position", position.as_slice()),
+        (
+            "velocity",
+            velocity.as_ref().map_or(&[][..], |v| v.as_slice()),
+        ),
+        (
+            "omega_body",
+            omega.as_ref().map_or(&[][..], |v| v.as_slice()),
+        ),
+    ] {
         if v.iter().any(|x| !x.is_finite()) {
-            let got = sec.get(name).or_else(|| sec.get(&format!("{name}_deg"))).expect("a value was read");
-            return Err(ctx.bad(ErrorKind::Invalid, &sec, got, "every component must be finite"));
+            let got = sec
+                .get(name)
+                .or_else(|| sec.get(&format!("{name}_deg")))
+                .expect("a value was read");
+            return Err(ctx.bad(
+                ErrorKind::Invalid,
+                &sec,
+                got,
+                "every component must be finite",
+            ));
         }
     }
-    Ok(InitialState { angles, omega_body: omega, position, velocity })
+    Ok(InitialState {
+        angles,
+        omega_body: omega,
+        position,
+        velocity,
+    })
 }
 
 /// `rotation = [{ axis = "x", angle = … }, …]`: R = R1 R2 … (body → world).
-pub(super) fn read_rotation(ctx: &Ctx<'_>, sec: &Sec<'_>, got: Got<'_>) -> Result<UnitQuaternion<f64>> {
+pub(super) fn read_rotation(
+    ctx: &Ctx<'_>,
+    sec: &Sec<'_>,
+    got: Got<'_>,
+) -> Result<UnitQuaternion<f64>> {
     const FORM: &str = "an array of { axis = \"x\" | \"y\" | \"z\", angle = rad (or angle_deg) } tables, composed as R = R1 R2 …";
-    let Value::Array(items) = &got.node().value else { return Err(ctx.wrong_type(sec, got, FORM)) };
+    let Value::Array(items) = &got.node().value else {
+        return Err(ctx.wrong_type(sec, got, FORM));
+    };
     let mut q = UnitQuaternion::identity();
     for (i, item) in items.iter().enumerate() {
         let path = format!("{}[{i}]", sec.full("rotation"));
-        let rot = ctx.table_of(&path, item, &item.origin, &["axis", "angle", "angle_deg"], FORM)?;
+        let rot = ctx.table_of(
+            &path,
+            item,
+            &item.origin,
+            &["axis", "angle", "angle_deg"],
+            FORM,
+        )?;
         let (axis, _) = ctx.choice(&rot, "axis", &["x", "y", "z"])?.ok_or_else(|| ctx.missing(&rot, "axis", "give the axis, \"x\", \"y\" or \"z\" (world and body axes coincide before the rotation)"))?;
-        let angle = ctx.angle(&rot, "angle", "the rotation angle (rad)")?.ok_or_else(|| ctx.missing(&rot, "angle", "give the angle in radians (angle) or degrees (angle_deg)"))?;
+        let angle = ctx
+            .angle(&rot, "angle", "the rotation angle (rad)")?
+            .ok_or_else(|| {
+                ctx.missing(
+                    &rot,
+                    "angle",
+                    "give the angle in radians (angle) or degrees (angle_deg)",
+                )
+            })?;
         if !angle.is_finite() {
-            return Err(ctx.bad(ErrorKind::Invalid, &rot, rot.get("angle").or_else(|| rot.get("angle_deg")).expect("just read"), "the angle must be finite"));
+            return Err(ctx.bad(
+                ErrorKind::Invalid,
+                &rot,
+                rot.get("angle")
+                    .or_else(|| rot.get("angle_deg"))
+                    .expect("just read"),
+                "the angle must be finite",
+            ));
         }
         let axis = match axis {
             "x" => Vector3::x_axis(),
@@ -174,27 +389,93 @@ pub(super) fn read_rotation(ctx: &Ctx<'_>, sec: &Sec<'_>, got: Got<'_>) -> Resul
 }
 
 pub(super) fn read_effects(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, EffectSet)> {
-    let Some(sec) = ctx.section(root, "effects", &EFFECT_KEYS, "gravity and optional dissipation")? else {
+    let Some(sec) = ctx.section(
+        root,
+        "effects",
+        &EFFECT_KEYS,
+        "gravity and optional dissipation",
+    )?
+    else {
         return Ok((DEFAULT_GRAVITY, EffectSet::default()));
     };
-    let gravity = ctx.checked(&sec, "gravity", "g (m/s^2)", |v| v >= 0.0, "g must be finite and non-negative (m/s^2)")?.unwrap_or(DEFAULT_GRAVITY);
-    let rolling_resistance = resistance(ctx, &sec, "rolling_resistance", "c_r, the rolling-resistance length (m)")?.map(|(coefficient, regularisation)| RollingResistance { coefficient, regularisation });
-    let spin_friction = resistance(ctx, &sec, "spin_friction", "c_s, the spin-friction length (m)")?.map(|(coefficient, regularisation)| SpinFriction { coefficient, regularisation });
-    let air_drag = match ctx.section(&sec, "air_drag", &["linear", "angular"], "{ linear = k (kg/s), angular = k_ω (kg m^2/s) }")? {
+    let gravity = ctx
+        .checked(
+            &sec,
+            "gravity",
+            "g (m/s^2)",
+            |v| v >= 0.0,
+            "g must be finite and non-negative (m/s^2)",
+        )?
+        .unwrap_or(DEFAULT_GRAVITY);
+    let rolling_resistance = resistance(
+        ctx,
+        &sec,
+        "rolling_resistance",
+        "c_r, the rolling-resistance length (m)",
+    )?
+    .map(|(coefficient, regularisation)| RollingResistance {
+        coefficient,
+        regularisation,
+    });
+    let spin_friction = resistance(
+        ctx,
+        &sec,
+        "spin_friction",
+        "c_s, the spin-friction length (m)",
+    )?
+    .map(|(coefficient, regularisation)| SpinFriction {
+        coefficient,
+        regularisation,
+    });
+    let air_drag = match ctx.section(
+        &sec,
+        "air_drag",
+        &["linear", "angular"],
+        "{ linear = k (kg/s), angular = k_ω (kg m^2/s) }",
+    )? {
         Some(d) => {
-            let linear = ctx.checked(&d, "linear", "k, the linear drag coefficient (kg/s)", |v| v >= 0.0, "the drag coefficient must be finite and non-negative (kg/s)")?;
-            let angular = ctx.checked(&d, "angular", "k_ω, the angular drag coefficient (kg m^2/s)", |v| v >= 0.0, "the drag coefficient must be finite and non-negative (kg m^2/s)")?;
-            Some(AirDrag { linear: linear.unwrap_or(0.0), angular: angular.unwrap_or(0.0) })
+            let linear = ctx.checked(
+                &d,
+                "linear",
+                "k, the linear drag coefficient (kg/s)",
+                |v| v >= 0.0,
+                "the drag coefficient must be finite and non-negative (kg/s)",
+            )?;
+            let angular = ctx.checked(
+                &d,
+                "angular",
+                "k_ω, the angular drag coefficient (kg m^2/s)",
+                |v| v >= 0.0,
+                "the drag coefficient must be finite and non-negative (kg m^2/s)",
+            )?;
+            Some(AirDrag {
+                linear: linear.unwrap_or(0.0),
+                angular: angular.unwrap_or(0.0),
+            })
         }
         None => None,
     };
-    Ok((gravity, EffectSet { air_drag, rolling_resistance, spin_friction }))
+    Ok((
+        gravity,
+        EffectSet {
+            air_drag,
+            rolling_resistance,
+            spin_friction,
+        },
+    ))
 }
 
 /// `key = c` or `key = { coefficient = c, regularisation = ε }` → (c, ε).
-pub(super) fn resistance(ctx: &Ctx<'_>, sec: &Sec<'_>, key: &str, what: &str) -> Result<Option<(f64, f64)>> {
+pub(super) fn resistance(
+    ctx: &Ctx<'_>,
+    sec: &Sec<'_>,
+    key: &str,
+    what: &str,
+) -> Result<Option<(f64, f64)>> {
     const RULE: &str = "the coefficient must be finite and non-negative (m)";
-    let Some(got) = sec.get(key) else { return Ok(None) };
+    let Some(got) = sec.get(key) else {
+        return Ok(None);
+    };
     if let Some(c) = got.node().as_f64() {
         if !(c.is_finite() && c >= 0.0) {
             return Err(ctx.bad(ErrorKind::Invalid, sec, got, RULE));
@@ -202,63 +483,172 @@ pub(super) fn resistance(ctx: &Ctx<'_>, sec: &Sec<'_>, key: &str, what: &str) ->
         return Ok(Some((c, DEFAULT_REGULARISATION)));
     }
     let form = format!("a number {what}, or {{ coefficient = c (m), regularisation = ε (rad/s) }}");
-    let sub = ctx.table_of(&sec.full(key), got.node(), &got.entry.key_origin, &["coefficient", "regularisation"], &form)?;
-    let c = ctx.checked(&sub, "coefficient", what, |v| v >= 0.0, RULE)?.ok_or_else(|| ctx.missing(&sub, "coefficient", format!("give {what}")))?;
+    let sub = ctx.table_of(
+        &sec.full(key),
+        got.node(),
+        &got.entry.key_origin,
+        &["coefficient", "regularisation"],
+        &form,
+    )?;
+    let c = ctx
+        .checked(&sub, "coefficient", what, |v| v >= 0.0, RULE)?
+        .ok_or_else(|| ctx.missing(&sub, "coefficient", format!("give {what}")))?;
     let eps = ctx
-        .checked(&sub, "regularisation", "ε, the regularisation rate (rad/s)", |v| v > 0.0, "the regularisation must be positive and finite (rad/s)")?
+        .checked(
+            &sub,
+            "regularisation",
+            "ε, the regularisation rate (rad/s)",
+            |v| v > 0.0,
+            "the regularisation must be positive and finite (rad/s)",
+        )?
         .unwrap_or(DEFAULT_REGULARISATION);
     Ok(Some((c, eps)))
 }
 
 pub(super) fn read_solver(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<SolverSettings> {
-    let sec = ctx.section(root, "solver", &SOLVER_KEYS, "method, tolerances and step")?.unwrap_or(Sec { path: "solver".into(), node: &EMPTY });
-    let method = ctx.choice(&sec, "method", &METHODS)?.map_or(DEFAULT_METHOD, |(m, _)| m);
+    let sec = ctx
+        .section(root, "solver", &SOLVER_KEYS, "method, tolerances and step")?
+        .unwrap_or(Sec {
+            path: "solver".into(),
+            node: &EMPTY,
+        });
+    let method = ctx
+        .choice(&sec, "method", &METHODS)?
+        .map_or(DEFAULT_METHOD, |(m, _)| m);
     let rtol = ctx
         .checked(&sec, "rtol", "the relative tolerance", |v| (10.0 * f64::EPSILON..=1e-2).contains(&v), "the relative tolerance must lie between 10·EPS ≈ 2.2e-15 and 1e-2 (looser tolerances leave no correct digit)")?
         .unwrap_or(DEFAULT_RTOL);
-    let atol = ctx.checked(&sec, "atol", "the absolute tolerance", |v| v > 0.0, "the absolute tolerance must be positive and finite")?.unwrap_or(DEFAULT_ATOL);
-    let step = ctx.checked(&sec, "step", "the step (s)", |v| v > 0.0, "the step must be positive and finite (s)")?;
+    let atol = ctx
+        .checked(
+            &sec,
+            "atol",
+            "the absolute tolerance",
+            |v| v > 0.0,
+            "the absolute tolerance must be positive and finite",
+        )?
+        .unwrap_or(DEFAULT_ATOL);
+    let step = ctx.checked(
+        &sec,
+        "step",
+        "the step (s)",
+        |v| v > 0.0,
+        "the step must be positive and finite (s)",
+    )?;
     let max_steps = ctx
-        .checked(&sec, "max_steps", "the most steps per run segment", |v| v >= 1.0 && v.fract() == 0.0 && v < u64::MAX as f64, "must be a whole number, at least 1 and below 2^64")?
+        .checked(
+            &sec,
+            "max_steps",
+            "the most steps per run segment",
+            |v| v >= 1.0 && v.fract() == 0.0 && v < u64::MAX as f64,
+            "must be a whole number, at least 1 and below 2^64",
+        )?
         .map_or(DEFAULT_MAX_STEPS, |v| v as u64);
     let (method, initial_step) = match method {
         "rk4" => {
-            let h = step.ok_or_else(|| ctx.missing(&sec, "step", "the rk4 method needs its fixed step (s), e.g. step = 1e-4"))?;
+            let h = step.ok_or_else(|| {
+                ctx.missing(
+                    &sec,
+                    "step",
+                    "the rk4 method needs its fixed step (s), e.g. step = 1e-4",
+                )
+            })?;
             (Method::Rk4 { h }, None)
         }
         "dopri5" => (Method::Dopri5, step),
         _ => (Method::Dop853, step),
     };
-    Ok(SolverSettings { method, rtol, atol, initial_step, max_steps })
+    Ok(SolverSettings {
+        method,
+        rtol,
+        atol,
+        initial_step,
+        max_steps,
+    })
 }
 
 pub(super) fn read_output(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, Vec<f64>)> {
     let sec = ctx
         .section(root, "output", &OUTPUT_KEYS, "end time and sampling")?
-        .ok_or_else(|| ctx.missing(root, "output", "a scenario needs an [output] table with t_end and dt (or times)"))?;
+        .ok_or_else(|| {
+            ctx.missing(
+                root,
+                "output",
+                "a scenario needs an [output] table with t_end and dt (or times)",
+            )
+        })?;
     let t_end = ctx
-        .checked(&sec, "t_end", "the end time (s)", |v| v > 0.0, "the end time must be positive and finite (s)")?
+        .checked(
+            &sec,
+            "t_end",
+            "the end time (s)",
+            |v| v > 0.0,
+            "the end time must be positive and finite (s)",
+        )?
         .ok_or_else(|| ctx.missing(&sec, "t_end", "give the end time of the run (s)"))?;
-    ctx.exclusive(&sec, "dt", "times", "a sampling interval or explicit output times")?;
-    if let Some(dt) = ctx.checked(&sec, "dt", "the sampling interval (s)", |v| v > 0.0, "the sampling interval must be positive and finite (s)")? {
+    ctx.exclusive(
+        &sec,
+        "dt",
+        "times",
+        "a sampling interval or explicit output times",
+    )?;
+    if let Some(dt) = ctx.checked(
+        &sec,
+        "dt",
+        "the sampling interval (s)",
+        |v| v > 0.0,
+        "the sampling interval must be positive and finite (s)",
+    )? {
         let times = grid(t_end, dt).map_err(|n| {
-            ctx.bad(ErrorKind::Invalid, &sec, sec.get("dt").expect("just read"), format!("t_end / dt asks for {} samples; at most {MAX_SAMPLES} are allowed (raise dt)", number(n)))
+            ctx.bad(
+                ErrorKind::Invalid,
+                &sec,
+                sec.get("dt").expect("just read"),
+                format!(
+                    "t_end / dt asks for {} samples; at most {MAX_SAMPLES} are allowed (raise dt)",
+                    number(n)
+                ),
+            )
         })?;
         return Ok((t_end, times));
     }
-    let got = sec.get("times").ok_or_else(|| ctx.missing(&sec, "dt", "give the sampling interval dt (s), or explicit output times = [t1, t2, …]"))?;
+    let got = sec.get("times").ok_or_else(|| {
+        ctx.missing(
+            &sec,
+            "dt",
+            "give the sampling interval dt (s), or explicit output times = [t1, t2, …]",
+        )
+    })?;
     const FORM: &str = "an array of output times (s)";
-    let Value::Array(items) = &got.node().value else { return Err(ctx.wrong_type(&sec, got, FORM)) };
+    let Value::Array(items) = &got.node().value else {
+        return Err(ctx.wrong_type(&sec, got, FORM));
+    };
     let times = items
         .iter()
         .map(Node::as_f64)
         .collect::<Option<Vec<f64>>>()
-        .ok_or_else(|| ctx.bad(ErrorKind::Type, &sec, got, "every output time must be a number (s)"))?;
+        .ok_or_else(|| {
+            ctx.bad(
+                ErrorKind::Type,
+                &sec,
+                got,
+                "every output time must be a number (s)",
+            )
+        })?;
     if times.is_empty() {
-        return Err(ctx.bad(ErrorKind::Invalid, &sec, got, "give at least one output time"));
+        return Err(ctx.bad(
+            ErrorKind::Invalid,
+            &sec,
+            got,
+            "give at least one output time",
+        ));
     }
     if times.len() > MAX_SAMPLES {
-        return Err(ctx.bad(ErrorKind::Invalid, &sec, got, format!("at most {MAX_SAMPLES} output times are allowed")));
+        return Err(ctx.bad(
+            ErrorKind::Invalid,
+            &sec,
+            got,
+            format!("at most {MAX_SAMPLES} output times are allowed"),
+        ));
     }
     Ok((t_end, times))
 }
@@ -271,7 +661,11 @@ pub(super) fn grid(t_end: f64, dt: f64) -> std::result::Result<Vec<f64>, f64> {
     let nearest = ratio.round();
     let on_grid = nearest >= 1.0 && (ratio - nearest).abs() <= 1e-9 * nearest;
     // n grid points before t_end, then t_end
-    let n = if on_grid { nearest } else { ratio.floor() + 1.0 };
+    let n = if on_grid {
+        nearest
+    } else {
+        ratio.floor() + 1.0
+    };
     if n + 1.0 > MAX_SAMPLES as f64 {
         return Err(n + 1.0);
     }
@@ -282,11 +676,27 @@ pub(super) fn grid(t_end: f64, dt: f64) -> std::result::Result<Vec<f64>, f64> {
 }
 
 pub(super) fn read_check(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Check> {
-    let Some(sec) = ctx.section(root, "check", &CHECK_KEYS, "expected status and invariant tolerances")? else { return Ok(Check::default()) };
-    let status = ctx.choice(&sec, "status", &STATUS_NAMES)?.map(|(s, _)| s.to_owned());
+    let Some(sec) = ctx.section(
+        root,
+        "check",
+        &CHECK_KEYS,
+        "expected status and invariant tolerances",
+    )?
+    else {
+        return Ok(Check::default());
+    };
+    let status = ctx
+        .choice(&sec, "status", &STATUS_NAMES)?
+        .map(|(s, _)| s.to_owned());
     let mut drift = BTreeMap::new();
     for name in DRIFT_NAMES {
-        if let Some(tol) = ctx.checked(&sec, name, "the largest allowed relative drift", |v| v >= 0.0, "a tolerance must be finite and non-negative")? {
+        if let Some(tol) = ctx.checked(
+            &sec,
+            name,
+            "the largest allowed relative drift",
+            |v| v >= 0.0,
+            "a tolerance must be finite and non-negative",
+        )? {
             drift.insert(name.to_owned(), tol);
         }
     }

@@ -27,7 +27,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector2, Vector3};
 use serde::Serialize;
 use toml::de::{DeTable, DeValue};
 
-use crate::body::{uniform_inertia, Body};
+use crate::body::{Body, uniform_inertia};
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
 use crate::integrate::Method;
@@ -59,15 +59,55 @@ pub const DEFAULT_REGULARISATION: f64 = 1e-3;
 /// Most output samples a scenario may ask for (10⁷ rows of CSV is already ~3 GB).
 pub const MAX_SAMPLES: usize = 10_000_000;
 /// The invariants a `[check]` table may bound (the fields of `simulate::Drift`).
-pub const DRIFT_NAMES: [&str; 6] = ["energy", "energy_plus_work", "momentum", "angular_momentum_z", "axial_spin", "jellett"];
+pub const DRIFT_NAMES: [&str; 6] = [
+    "energy",
+    "energy_plus_work",
+    "momentum",
+    "angular_momentum_z",
+    "axial_spin",
+    "jellett",
+];
 /// The run statuses a `[check]` table may expect (the `status` names of `simulate::Status`).
-pub const STATUS_NAMES: [&str; 7] = ["completed", "lost_contact", "slip_stopped", "painleve", "solver_failure", "chattering", "cancelled"];
+pub const STATUS_NAMES: [&str; 7] = [
+    "completed",
+    "lost_contact",
+    "slip_stopped",
+    "painleve",
+    "solver_failure",
+    "chattering",
+    "cancelled",
+];
 
-const TOP_KEYS: [&str; 7] = ["body", "initial", "contact", "effects", "solver", "output", "check"];
-const BODY_KEYS: [&str; 7] = ["a", "b", "c", "mass", "com_offset", "com_offset_vector", "inertia"];
+const TOP_KEYS: [&str; 7] = [
+    "body", "initial", "contact", "effects", "solver", "output", "check",
+];
+const BODY_KEYS: [&str; 7] = [
+    "a",
+    "b",
+    "c",
+    "mass",
+    "com_offset",
+    "com_offset_vector",
+    "inertia",
+];
 const INITIAL_KEYS: [&str; 17] = [
-    "theta", "theta_deg", "phi", "phi_deg", "psi", "psi_deg", "theta_dot", "theta_dot_deg", "phi_dot", "phi_dot_deg", "psi_dot", "psi_dot_deg",
-    "omega_body", "omega_body_deg", "rotation", "position", "velocity",
+    "theta",
+    "theta_deg",
+    "phi",
+    "phi_deg",
+    "psi",
+    "psi_deg",
+    "theta_dot",
+    "theta_dot_deg",
+    "phi_dot",
+    "phi_dot_deg",
+    "psi_dot",
+    "psi_dot_deg",
+    "omega_body",
+    "omega_body_deg",
+    "rotation",
+    "position",
+    "velocity",
 ];
 const CONTACT_KEYS: [&str; 2] = ["model", "friction"];
 const CONTACT_MODELS: [&str; 4] = ["frictionless", "sliding", "rolling", "coulomb"];
@@ -183,7 +223,12 @@ pub fn load(path: &Path, overrides: &[impl AsRef<str>]) -> Result<Scenario> {
     let source = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| ScenarioError {
         kind: ErrorKind::Io,
-        location: Location { source: source.clone(), line: None, column: None, set: None },
+        location: Location {
+            source: source.clone(),
+            line: None,
+            column: None,
+            set: None,
+        },
         key: None,
         value: None,
         rule: format!("cannot read the scenario file: {e}"),
@@ -202,13 +247,23 @@ pub fn parse(text: &str, source: &str, overrides: &[impl AsRef<str>]) -> Result<
         apply_override(&ctx, &mut tree, set)?;
     }
     let (scene, check) = build(&ctx, &tree)?;
-    Ok(Scenario { scene, text: text.to_owned(), source: source.to_owned(), overrides, check, tree })
+    Ok(Scenario {
+        scene,
+        text: text.to_owned(),
+        source: source.to_owned(),
+        overrides,
+        check,
+        tree,
+    })
 }
 
 impl Scenario {
     /// The file name without its extension (`nutation` for `scenarios/nutation.toml`).
     pub fn stem(&self) -> String {
-        Path::new(&self.source).file_stem().map_or_else(|| "scenario".to_owned(), |s| s.to_string_lossy().into_owned())
+        Path::new(&self.source).file_stem().map_or_else(
+            || "scenario".to_owned(),
+            |s| s.to_string_lossy().into_owned(),
+        )
     }
 
     /// Places an error of the physics layer (e.g. from `simulate`) at the key it names:
@@ -217,9 +272,17 @@ impl Scenario {
     /// state`) has no key of its own: when the scenario was changed by `--set`, the
     /// overrides are named too, since one of them may be the cause.
     pub fn locate(&self, err: &ModelError) -> ScenarioError {
-        let mut e = Ctx { source: &self.source, text: &self.text }.model(&self.tree, err);
+        let mut e = Ctx {
+            source: &self.source,
+            text: &self.text,
+        }
+        .model(&self.tree, err);
         if e.location.set.is_none() && !self.overrides.is_empty() {
-            e.rule = format!("{} (in the scenario as changed by --set {})", e.rule, self.overrides.join(", --set "));
+            e.rule = format!(
+                "{} (in the scenario as changed by --set {})",
+                e.rule,
+                self.overrides.join(", --set ")
+            );
         }
         e
     }

@@ -31,7 +31,9 @@ fn ok(text: &str, sets: &[&str]) -> Scenario {
 }
 
 fn err(text: &str, sets: &[&str]) -> String {
-    parse(text, "x.toml", sets).expect_err("should be rejected").to_string()
+    parse(text, "x.toml", sets)
+        .expect_err("should be rejected")
+        .to_string()
 }
 
 /// `PAPER` with `old` replaced by `new` (which must occur).
@@ -63,45 +65,111 @@ fn reads_the_example_scene() {
 #[test]
 fn sampling_grid_ends_at_t_end() {
     assert_eq!(grid(0.3, 0.1).unwrap(), vec![0.0, 0.1, 0.2, 0.3]);
-    assert_eq!(grid(1.0, 0.3).unwrap(), vec![0.0, 0.3, 0.6, 0.8999999999999999, 1.0]);
+    assert_eq!(
+        grid(1.0, 0.3).unwrap(),
+        vec![0.0, 0.3, 0.6, 0.8999999999999999, 1.0]
+    );
     assert_eq!(grid(0.5, 2.0).unwrap(), vec![0.0, 0.5]);
     assert!(grid(1.0, 1e-9).is_err());
 }
 
 #[test]
 fn degree_twins_convert_and_exclude_each_other() {
-    let s = ok(&edit("theta = 0.1745", "theta_deg = 10\nphi_dot_deg = 180"), &[]);
+    let s = ok(
+        &edit("theta = 0.1745", "theta_deg = 10\nphi_dot_deg = 180"),
+        &[],
+    );
     assert_eq!(s.scene.initial.angles.theta, 10f64.to_radians());
     assert_eq!(s.scene.initial.angles.phi_dot, std::f64::consts::PI);
-    let msg = err(&edit("theta = 0.1745", "theta = 0.1745\ntheta_deg = 10"), &[]);
-    assert_eq!(msg, "x.toml:11:1: initial.theta_deg = 10: give either initial.theta or initial.theta_deg, not both (radians or degrees)");
+    let msg = err(
+        &edit("theta = 0.1745", "theta = 0.1745\ntheta_deg = 10"),
+        &[],
+    );
+    assert_eq!(
+        msg,
+        "x.toml:11:1: initial.theta_deg = 10: give either initial.theta or initial.theta_deg, not both (radians or degrees)"
+    );
 }
 
 #[test]
 fn errors_name_file_line_column_key_value_and_rule() {
     let cases = [
-        (edit("mass = 0.05", "mass = -0.05"), "x.toml:5:1: body.mass = -0.05: the mass must be positive and finite (kg)"),
-        (edit("mass = 0.05", "mass = \"heavy\""), "x.toml:5:1: body.mass = \"heavy\": expected a number: the mass (kg), found a string"),
-        (edit("mass = 0.05\n", ""), "x.toml:2:1: body.mass is missing: give the mass (kg)"),
-        (edit("mass = 0.05", "mas = 0.05"), "x.toml:5:1: body.mas = 0.05: unknown key in [body]; did you mean `mass`?"),
-        (edit("[solver]", "[solvr]"), "x.toml:16:2: solvr: unknown table at the top level; did you mean `solver`?"),
-        (edit("\"frictionless\"", "\"frictionles\""), "x.toml:14:1: contact.model = \"frictionles\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"; did you mean \"frictionless\"?"),
-        (edit("\"frictionless\"", "\"sliding\""), "x.toml:13:1: contact.friction is missing: the sliding model needs μ, the Coulomb friction coefficient (e.g. friction = 0.3)"),
-        (edit("t_end = 10.0", "t_end = 0"), "x.toml:22:1: output.t_end = 0: the end time must be positive and finite (s)"),
-        (edit("com_offset = 0.003", "com_offset = 0.02"), "x.toml:6:1: body.com_offset = [0, 0, -0.02]: the centre of mass must lie inside the ellipsoid (g^T A^-2 g = 1.306122 must be < 1)"),
-        (edit("3.8e-6, 3.8e-6", "1e-6, 1e-6"), "x.toml:7:1: body.inertia = [0.000001, 0.000001, 0.00000625]: principal moments must satisfy the triangle inequality (each at most the sum of the other two)"),
-        (edit("inertia = [3.8e-6, 3.8e-6, 6.25e-6]", "inertia = \"uniform\""), "x.toml:7:1: body.inertia = \"uniform\": \"uniform\" is a homogeneous body, whose centre of mass is the geometric centre; with a centre-of-mass offset give the moments about G"),
-        (edit("method = \"dopri5\"", "method = \"rk4\""), "x.toml:16:1: solver.step is missing: the rk4 method needs its fixed step (s), e.g. step = 1e-4"),
-        (edit("psi_dot = 60.0", "psi_dot = 60.0\nvelocity = [1, 0]"), "x.toml:12:1: initial.velocity = [1, 0]: not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it"),
-        (edit("dt = 1e-3", "dt = 1e-3\ntimes = [1.0]"), "x.toml:24:1: output.times = [1.0]: give either output.dt or output.times, not both (a sampling interval or explicit output times)"),
-        (edit("t_end = 10.0", "t_end = 10.0.0"), "x.toml:22:13: TOML syntax error: invalid float, expected nothing"),
+        (
+            edit("mass = 0.05", "mass = -0.05"),
+            "x.toml:5:1: body.mass = -0.05: the mass must be positive and finite (kg)",
+        ),
+        (
+            edit("mass = 0.05", "mass = \"heavy\""),
+            "x.toml:5:1: body.mass = \"heavy\": expected a number: the mass (kg), found a string",
+        ),
+        (
+            edit("mass = 0.05\n", ""),
+            "x.toml:2:1: body.mass is missing: give the mass (kg)",
+        ),
+        (
+            edit("mass = 0.05", "mas = 0.05"),
+            "x.toml:5:1: body.mas = 0.05: unknown key in [body]; did you mean `mass`?",
+        ),
+        (
+            edit("[solver]", "[solvr]"),
+            "x.toml:16:2: solvr: unknown table at the top level; did you mean `solver`?",
+        ),
+        (
+            edit("\"frictionless\"", "\"frictionles\""),
+            "x.toml:14:1: contact.model = \"frictionles\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"; did you mean \"frictionless\"?",
+        ),
+        (
+            edit("\"frictionless\"", "\"sliding\""),
+            "x.toml:13:1: contact.friction is missing: the sliding model needs μ, the Coulomb friction coefficient (e.g. friction = 0.3)",
+        ),
+        (
+            edit("t_end = 10.0", "t_end = 0"),
+            "x.toml:22:1: output.t_end = 0: the end time must be positive and finite (s)",
+        ),
+        (
+            edit("com_offset = 0.003", "com_offset = 0.02"),
+            "x.toml:6:1: body.com_offset = [0, 0, -0.02]: the centre of mass must lie inside the ellipsoid (g^T A^-2 g = 1.306122 must be < 1)",
+        ),
+        (
+            edit("3.8e-6, 3.8e-6", "1e-6, 1e-6"),
+            "x.toml:7:1: body.inertia = [0.000001, 0.000001, 0.00000625]: principal moments must satisfy the triangle inequality (each at most the sum of the other two)",
+        ),
+        (
+            edit(
+                "inertia = [3.8e-6, 3.8e-6, 6.25e-6]",
+                "inertia = \"uniform\"",
+            ),
+            "x.toml:7:1: body.inertia = \"uniform\": \"uniform\" is a homogeneous body, whose centre of mass is the geometric centre; with a centre-of-mass offset give the moments about G",
+        ),
+        (
+            edit("method = \"dopri5\"", "method = \"rk4\""),
+            "x.toml:16:1: solver.step is missing: the rk4 method needs its fixed step (s), e.g. step = 1e-4",
+        ),
+        (
+            edit("psi_dot = 60.0", "psi_dot = 60.0\nvelocity = [1, 0]"),
+            "x.toml:12:1: initial.velocity = [1, 0]: not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it",
+        ),
+        (
+            edit("dt = 1e-3", "dt = 1e-3\ntimes = [1.0]"),
+            "x.toml:24:1: output.times = [1.0]: give either output.dt or output.times, not both (a sampling interval or explicit output times)",
+        ),
+        (
+            edit("t_end = 10.0", "t_end = 10.0.0"),
+            "x.toml:22:13: TOML syntax error: invalid float, expected nothing",
+        ),
     ];
     let mut failures = Vec::new();
     for (i, (text, expected)) in cases.iter().enumerate() {
-        let text = if expected.contains("rolling model") { text.replace("\"frictionless\"", "\"rolling\"") } else { text.clone() };
+        let text = if expected.contains("rolling model") {
+            text.replace("\"frictionless\"", "\"rolling\"")
+        } else {
+            text.clone()
+        };
         let got = err(&text, &[]);
         if &got != expected {
-            failures.push(format!("case {i}:\n  got      {got}\n  expected {expected}"));
+            failures.push(format!(
+                "case {i}:\n  got      {got}\n  expected {expected}"
+            ));
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
@@ -109,39 +177,106 @@ fn errors_name_file_line_column_key_value_and_rule() {
 
 #[test]
 fn overrides_apply_before_validation() {
-    let s = ok(PAPER, &["output.t_end=0.5", "contact.model=rolling", "effects.gravity = 1.62", "initial.position=[1, 2]"]);
+    let s = ok(
+        PAPER,
+        &[
+            "output.t_end=0.5",
+            "contact.model=rolling",
+            "effects.gravity = 1.62",
+            "initial.position=[1, 2]",
+        ],
+    );
     assert_eq!(s.scene.t_end, 0.5);
     assert_eq!(*s.scene.sample_times.last().unwrap(), 0.5);
     assert_eq!(s.scene.contact, ContactModel::Rolling);
     assert_eq!(s.scene.gravity, 1.62);
     assert_eq!(s.scene.initial.position, Vector2::new(1.0, 2.0));
     assert_eq!(s.text, PAPER);
-    assert_eq!(err(PAPER, &["body.mass=-1"]), "x.toml: --set body.mass=-1: body.mass = -1: the mass must be positive and finite (kg)");
-    assert_eq!(err(PAPER, &["body.mas=1"]), "x.toml: --set body.mas=1: body.mas = 1: unknown key in [body]; did you mean `mass`?");
-    assert_eq!(err(PAPER, &["body.mass"]), "x.toml: --set body.mass: an override must have the form key=value, e.g. --set output.t_end=1.0");
-    assert_eq!(err(PAPER, &["body.mass.x=1"]), "x.toml: --set body.mass.x=1: body.mass: is not a table, so body.mass.x cannot be set");
-    assert!(err(PAPER, &["body.mass=[1,"]).starts_with("x.toml: --set body.mass=[1,: body.mass = [1,: not a TOML value"));
+    assert_eq!(
+        err(PAPER, &["body.mass=-1"]),
+        "x.toml: --set body.mass=-1: body.mass = -1: the mass must be positive and finite (kg)"
+    );
+    assert_eq!(
+        err(PAPER, &["body.mas=1"]),
+        "x.toml: --set body.mas=1: body.mas = 1: unknown key in [body]; did you mean `mass`?"
+    );
+    assert_eq!(
+        err(PAPER, &["body.mass"]),
+        "x.toml: --set body.mass: an override must have the form key=value, e.g. --set output.t_end=1.0"
+    );
+    assert_eq!(
+        err(PAPER, &["body.mass.x=1"]),
+        "x.toml: --set body.mass.x=1: body.mass: is not a table, so body.mass.x cannot be set"
+    );
+    assert!(
+        err(PAPER, &["body.mass=[1,"])
+            .starts_with("x.toml: --set body.mass=[1,: body.mass = [1,: not a TOML value")
+    );
 }
 
 #[test]
 fn inertia_forms() {
-    let full = ok(&edit("[3.8e-6, 3.8e-6, 6.25e-6]", "[[3.8e-6, 1e-7, 0], [1e-7, 3.8e-6, 0], [0, 0, 6.25e-6]]"), &[]);
+    let full = ok(
+        &edit(
+            "[3.8e-6, 3.8e-6, 6.25e-6]",
+            "[[3.8e-6, 1e-7, 0], [1e-7, 3.8e-6, 0], [0, 0, 6.25e-6]]",
+        ),
+        &[],
+    );
     assert_eq!(full.scene.body.inertia()[(0, 1)], 1e-7);
-    let uniform = ok(&edit("com_offset = 0.003\ninertia = [3.8e-6, 3.8e-6, 6.25e-6]", "inertia = \"uniform\""), &[]);
-    assert_eq!(*uniform.scene.body.inertia(), uniform_inertia(Vector3::new(0.025, 0.025, 0.0175), 0.05));
-    let vector = ok(&edit("com_offset = 0.003", "com_offset_vector = [0.001, 0, -0.003]"), &[]);
-    assert_eq!(vector.scene.body.com_offset(), Vector3::new(0.001, 0.0, -0.003));
+    let uniform = ok(
+        &edit(
+            "com_offset = 0.003\ninertia = [3.8e-6, 3.8e-6, 6.25e-6]",
+            "inertia = \"uniform\"",
+        ),
+        &[],
+    );
+    assert_eq!(
+        *uniform.scene.body.inertia(),
+        uniform_inertia(Vector3::new(0.025, 0.025, 0.0175), 0.05)
+    );
+    let vector = ok(
+        &edit(
+            "com_offset = 0.003",
+            "com_offset_vector = [0.001, 0, -0.003]",
+        ),
+        &[],
+    );
+    assert_eq!(
+        vector.scene.body.com_offset(),
+        Vector3::new(0.001, 0.0, -0.003)
+    );
 }
 
 #[test]
 fn rotation_composes_left_to_right() {
-    let s = ok(&edit("theta = 0.1745", "rotation = [{ axis = \"x\", angle_deg = 0.5 }, { axis = \"y\", angle = 0.01 }]"), &[]);
-    let expected = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5f64.to_radians()) * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), 0.01);
+    let s = ok(
+        &edit(
+            "theta = 0.1745",
+            "rotation = [{ axis = \"x\", angle_deg = 0.5 }, { axis = \"y\", angle = 0.01 }]",
+        ),
+        &[],
+    );
+    let expected = UnitQuaternion::from_axis_angle(&Vector3::x_axis(), 0.5f64.to_radians())
+        * UnitQuaternion::from_axis_angle(&Vector3::y_axis(), 0.01);
     assert!(s.scene.initial.angles.rotation().angle_to(&expected) < 1e-14);
     let msg = err(&edit("theta = 0.1745", "theta = 0.1\nrotation = []"), &[]);
-    assert!(msg.starts_with("x.toml:11:1: initial.rotation = []: give either initial.rotation or the Euler angles"), "{msg}");
-    let msg = err(&edit("theta = 0.1745", "rotation = [{ axis = \"w\", angle = 1 }]"), &[]);
-    assert!(msg.starts_with("x.toml:10:15: initial.rotation[0].axis = \"w\": expected one of \"x\", \"y\", \"z\""), "{msg}");
+    assert!(
+        msg.starts_with(
+            "x.toml:11:1: initial.rotation = []: give either initial.rotation or the Euler angles"
+        ),
+        "{msg}"
+    );
+    let msg = err(
+        &edit("theta = 0.1745", "rotation = [{ axis = \"w\", angle = 1 }]"),
+        &[],
+    );
+    assert!(
+        msg.starts_with(
+            "x.toml:10:15: initial.rotation[0].axis = \"w\": expected one of \"x\", \"y\", \"z\""
+        ),
+        "{msg}"
+    );
 }
 
 #[test]
@@ -154,20 +289,51 @@ fn effects_and_check_tables() {
     );
     let e = s.scene.effects;
     assert_eq!(s.scene.gravity, 9.8);
-    assert_eq!(e.rolling_resistance, Some(RollingResistance { coefficient: 1e-4, regularisation: DEFAULT_REGULARISATION }));
-    assert_eq!(e.spin_friction, Some(SpinFriction { coefficient: 2e-4, regularisation: 1e-2 }));
-    assert_eq!(e.air_drag, Some(AirDrag { linear: 0.1, angular: 0.0 }));
+    assert_eq!(
+        e.rolling_resistance,
+        Some(RollingResistance {
+            coefficient: 1e-4,
+            regularisation: DEFAULT_REGULARISATION
+        })
+    );
+    assert_eq!(
+        e.spin_friction,
+        Some(SpinFriction {
+            coefficient: 2e-4,
+            regularisation: 1e-2
+        })
+    );
+    assert_eq!(
+        e.air_drag,
+        Some(AirDrag {
+            linear: 0.1,
+            angular: 0.0
+        })
+    );
     assert_eq!(s.check.status.as_deref(), Some("completed"));
     assert_eq!(s.check.drift.get("energy"), Some(&1e-9));
-    let msg = err(&format!("{PAPER}\n[effects]\nspin_friction = {{ coefficent = 1 }}\n"), &[]);
-    assert_eq!(msg, "x.toml:26:19: effects.spin_friction.coefficent = 1: unknown key in [effects.spin_friction]; did you mean `coefficient`?");
+    let msg = err(
+        &format!("{PAPER}\n[effects]\nspin_friction = {{ coefficent = 1 }}\n"),
+        &[],
+    );
+    assert_eq!(
+        msg,
+        "x.toml:26:19: effects.spin_friction.coefficent = 1: unknown key in [effects.spin_friction]; did you mean `coefficient`?"
+    );
 }
 
 #[test]
 fn physics_errors_found_later_are_located() {
     let s = ok(PAPER, &[]);
-    let e = s.locate(&ModelError::invalid("initial state", "N = -1 N", "the plane must push"));
-    assert_eq!(e.to_string(), "x.toml:9:2: initial state = N = -1 N: the plane must push");
+    let e = s.locate(&ModelError::invalid(
+        "initial state",
+        "N = -1 N",
+        "the plane must push",
+    ));
+    assert_eq!(
+        e.to_string(),
+        "x.toml:9:2: initial state = N = -1 N: the plane must push"
+    );
     let e = s.locate(&ModelError::invalid("contact.friction", 0.3, "r"));
     assert_eq!(e.location.line, Some(13), "falls back to the table");
 }
@@ -176,7 +342,11 @@ fn physics_errors_found_later_are_located() {
 fn unreadable_file_is_an_io_error() {
     let e = load(Path::new("/nonexistent/x.toml"), &[] as &[&str]).unwrap_err();
     assert_eq!(e.kind, ErrorKind::Io);
-    assert!(e.to_string().starts_with("/nonexistent/x.toml: cannot read the scenario file: "), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("/nonexistent/x.toml: cannot read the scenario file: "),
+        "{e}"
+    );
 }
 
 #[test]
@@ -198,9 +368,16 @@ fn overflowing_initial_state_is_rejected_by_name() {
     for (set, what) in cases {
         let s = ok(PAPER, &[set]);
         let e = s.scene.initial_state().expect_err(set).to_string();
-        assert!(e.starts_with(&format!("initial state = {what}: ")) && e.contains("must be finite"), "{set}: {e}");
+        assert!(
+            e.starts_with(&format!("initial state = {what}: ")) && e.contains("must be finite"),
+            "{set}: {e}"
+        );
         let located = s.locate(&s.scene.initial_state().unwrap_err()).to_string();
-        assert!(located.starts_with("x.toml:9:2: initial state = ") && located.ends_with(&format!("(in the scenario as changed by --set {set})")), "{located}");
+        assert!(
+            located.starts_with("x.toml:9:2: initial state = ")
+                && located.ends_with(&format!("(in the scenario as changed by --set {set})")),
+            "{located}"
+        );
     }
     assert!(ok(PAPER, &[]).scene.initial_state().is_ok());
 }
@@ -211,25 +388,73 @@ fn solver_settings_are_bounded() {
     assert!(e.contains("solver.rtol = 0.5") && e.contains("1e-2"), "{e}");
     assert!(ok(PAPER, &["solver.rtol=1e-2"]).scene.solver.rtol == 1e-2);
     let e = err(PAPER, &["solver.method=\"rk4\"", "solver.step=20.0"]);
-    assert!(e.contains("solver.step = 20") && e.contains("must not exceed output.t_end = 10 s"), "{e}");
+    assert!(
+        e.contains("solver.step = 20") && e.contains("must not exceed output.t_end = 10 s"),
+        "{e}"
+    );
     let e = err(PAPER, &["solver.method=\"rk4\"", "solver.step=1e-300"]);
-    assert!(e.contains("solver.step = 1e-300") && e.contains("more than solver.max_steps = 10000000"), "{e}");
+    assert!(
+        e.contains("solver.step = 1e-300") && e.contains("more than solver.max_steps = 10000000"),
+        "{e}"
+    );
     // exactly max_steps steps is allowed
-    assert!(ok(PAPER, &["solver.method=\"rk4\"", "solver.step=1e-3", "solver.max_steps=10000"]).scene.solver.max_steps == 10_000);
+    assert!(
+        ok(
+            PAPER,
+            &[
+                "solver.method=\"rk4\"",
+                "solver.step=1e-3",
+                "solver.max_steps=10000"
+            ]
+        )
+        .scene
+        .solver
+        .max_steps
+            == 10_000
+    );
     // 0.07/0.01 = 7.000000000000001: the last step's stretch absorbs it (7 steps)
-    assert!(ok(PAPER, &["output.t_end=0.07", "solver.method=\"rk4\"", "solver.step=0.01", "solver.max_steps=7"]).scene.t_end == 0.07);
-    let e = err(PAPER, &["solver.method=\"rk4\"", "solver.step=1e-3", "solver.max_steps=9999"]);
+    assert!(
+        ok(
+            PAPER,
+            &[
+                "output.t_end=0.07",
+                "solver.method=\"rk4\"",
+                "solver.step=0.01",
+                "solver.max_steps=7"
+            ]
+        )
+        .scene
+        .t_end
+            == 0.07
+    );
+    let e = err(
+        PAPER,
+        &[
+            "solver.method=\"rk4\"",
+            "solver.step=1e-3",
+            "solver.max_steps=9999",
+        ],
+    );
     assert!(e.contains("rk4 would take 10000 steps"), "{e}");
     let e = err(PAPER, &["solver.max_steps=99999999999999999999"]);
-    assert!(e.contains("solver.max_steps = 1e20: must be a whole number, at least 1 and below 2^64"), "{e}");
+    assert!(
+        e.contains("solver.max_steps = 1e20: must be a whole number, at least 1 and below 2^64"),
+        "{e}"
+    );
 }
 
 #[test]
 fn output_times_messages_are_exact() {
     let e = err(&edit("dt = 1e-3", "dt = 1e-6"), &[]);
-    assert!(e.contains("asks for 10000001 samples; at most 10000000"), "{e}");
+    assert!(
+        e.contains("asks for 10000001 samples; at most 10000000"),
+        "{e}"
+    );
     let e = err(&edit("dt = 1e-3", "times = [0.5, 0.5]"), &[]);
-    assert!(e.contains("0.5 after 0.5") && e.contains("strictly increasing"), "{e}");
+    assert!(
+        e.contains("0.5 after 0.5") && e.contains("strictly increasing"),
+        "{e}"
+    );
     let e = err(&edit("dt = 1e-3", "times = [\"a\"]"), &[]);
     assert!(e.contains("every output time must be a number (s)"), "{e}");
     let e = err(&edit("dt = 1e-3", "dt = 1e-3\ntimes = [0.1]"), &[]).to_string();

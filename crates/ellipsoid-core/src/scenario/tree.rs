@@ -42,7 +42,11 @@ impl Node {
             .into_iter()
             .map(|(k, v)| {
                 let key_origin = Origin::File(k.span());
-                Entry { key: k.into_inner().into_owned(), key_origin, node: Node::from_value(v.span(), v.into_inner(), None) }
+                Entry {
+                    key: k.into_inner().into_owned(),
+                    key_origin,
+                    node: Node::from_value(v.span(), v.into_inner(), None),
+                }
             })
             .collect();
         // In file order, so that the first error reported is the first in the file.
@@ -50,7 +54,10 @@ impl Node {
             Origin::File(r) => r.start,
             Origin::Set(_) => usize::MAX,
         });
-        Node { value: Value::Table(entries), origin }
+        Node {
+            value: Value::Table(entries),
+            origin,
+        }
     }
 
     /// Converts a parsed value; with `set`, every node's origin is that override.
@@ -65,16 +72,27 @@ impl Node {
                 Ok(v) => Value::Int(v),
                 // Beyond i64: no key of the format needs it; keep it as a number (its
                 // nearest float, or ±inf), which the range checks then reject.
-                Err(_) => Value::Float(if i.radix() == 10 { i.as_str().parse().ok() } else { None }.unwrap_or(if i.as_str().starts_with('-') {
-                    f64::NEG_INFINITY
-                } else {
-                    f64::INFINITY
-                })),
+                Err(_) => Value::Float(
+                    if i.radix() == 10 {
+                        i.as_str().parse().ok()
+                    } else {
+                        None
+                    }
+                    .unwrap_or(if i.as_str().starts_with('-') {
+                        f64::NEG_INFINITY
+                    } else {
+                        f64::INFINITY
+                    }),
+                ),
             },
             DeValue::Float(f) => Value::Float(f.as_str().parse().unwrap_or(f64::NAN)),
             DeValue::Boolean(b) => Value::Bool(b),
             DeValue::Datetime(d) => Value::Datetime(d.to_string()),
-            DeValue::Array(a) => Value::Array(a.into_iter().map(|e| Node::from_value(e.span(), e.into_inner(), set)).collect()),
+            DeValue::Array(a) => Value::Array(
+                a.into_iter()
+                    .map(|e| Node::from_value(e.span(), e.into_inner(), set))
+                    .collect(),
+            ),
             DeValue::Table(t) => {
                 let mut node = Node::from_table(t, origin.clone());
                 if let (Some(s), Value::Table(entries)) = (set, &mut node.value) {
@@ -100,7 +118,11 @@ impl Node {
     pub(super) fn find(&self, path: &[String]) -> Option<Origin> {
         let (first, rest) = path.split_first()?;
         let entry = self.entries().iter().find(|e| &e.key == first)?;
-        if rest.is_empty() { Some(entry.key_origin.clone()) } else { entry.node.find(rest) }
+        if rest.is_empty() {
+            Some(entry.key_origin.clone())
+        } else {
+            entry.node.find(rest)
+        }
     }
 
     pub(super) fn as_f64(&self) -> Option<f64> {
@@ -131,8 +153,17 @@ impl Node {
             Value::Float(f) => crate::error::number(*f),
             Value::Bool(b) => b.to_string(),
             Value::Datetime(d) => d.clone(),
-            Value::Array(a) => format!("[{}]", a.iter().map(Node::render).collect::<Vec<_>>().join(", ")),
-            Value::Table(e) => format!("{{ {} }}", e.iter().map(|e| format!("{} = {}", e.key, e.node.render())).collect::<Vec<_>>().join(", ")),
+            Value::Array(a) => format!(
+                "[{}]",
+                a.iter().map(Node::render).collect::<Vec<_>>().join(", ")
+            ),
+            Value::Table(e) => format!(
+                "{{ {} }}",
+                e.iter()
+                    .map(|e| format!("{} = {}", e.key, e.node.render()))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
         }
     }
 }
@@ -151,34 +182,83 @@ pub(super) fn set_origin(node: &mut Node, set: &str) {
 
 /// Applies one `key.path=value` override to the document.
 pub(super) fn apply_override(ctx: &Ctx<'_>, tree: &mut Node, set: &str) -> Result<()> {
-    let location = Location { source: ctx.source.to_owned(), line: None, column: None, set: Some(set.to_owned()) };
-    let fail = |key: Option<String>, value: Option<String>, rule: String| ScenarioError { kind: ErrorKind::Override, location: location.clone(), key, value, rule };
+    let location = Location {
+        source: ctx.source.to_owned(),
+        line: None,
+        column: None,
+        set: Some(set.to_owned()),
+    };
+    let fail = |key: Option<String>, value: Option<String>, rule: String| ScenarioError {
+        kind: ErrorKind::Override,
+        location: location.clone(),
+        key,
+        value,
+        rule,
+    };
     let Some((key, raw)) = set.split_once('=') else {
-        return Err(fail(None, None, "an override must have the form key=value, e.g. --set output.t_end=1.0".into()));
+        return Err(fail(
+            None,
+            None,
+            "an override must have the form key=value, e.g. --set output.t_end=1.0".into(),
+        ));
     };
     let path: Vec<&str> = key.trim().split('.').map(str::trim).collect();
-    if path.iter().any(|s| s.is_empty() || !s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')) {
-        return Err(fail(Some(key.trim().to_owned()), None, "the key must be a dotted path of names such as body.mass".into()));
+    if path.iter().any(|s| {
+        s.is_empty()
+            || !s
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+    }) {
+        return Err(fail(
+            Some(key.trim().to_owned()),
+            None,
+            "the key must be a dotted path of names such as body.mass".into(),
+        ));
     }
     let raw = raw.trim();
     let node = match DeValue::parse(raw) {
         Ok(v) => Node::from_value(v.span(), v.into_inner(), Some(set)),
         // A bare word (`--set contact.model=rolling`) is a string.
-        Err(_) if !raw.is_empty() && raw.chars().all(|c| c.is_ascii_alphanumeric() || "_-+.".contains(c)) => {
-            Node { value: Value::Str(raw.to_owned()), origin: Origin::Set(set.to_owned()) }
+        Err(_)
+            if !raw.is_empty()
+                && raw
+                    .chars()
+                    .all(|c| c.is_ascii_alphanumeric() || "_-+.".contains(c)) =>
+        {
+            Node {
+                value: Value::Str(raw.to_owned()),
+                origin: Origin::Set(set.to_owned()),
+            }
         }
-        Err(e) => return Err(fail(Some(key.trim().to_owned()), Some(raw.to_owned()), format!("not a TOML value: {}", e.message()))),
+        Err(e) => {
+            return Err(fail(
+                Some(key.trim().to_owned()),
+                Some(raw.to_owned()),
+                format!("not a TOML value: {}", e.message()),
+            ));
+        }
     };
     let mut table = tree;
     for (i, seg) in path.iter().enumerate() {
         let Value::Table(entries) = &mut table.value else {
-            return Err(fail(Some(path[..i].join(".")), None, format!("is not a table, so {} cannot be set", path.join("."))));
+            return Err(fail(
+                Some(path[..i].join(".")),
+                None,
+                format!("is not a table, so {} cannot be set", path.join(".")),
+            ));
         };
         let pos = match entries.iter().position(|e| e.key == *seg) {
             Some(p) => p,
             None => {
-                let empty = Node { value: Value::Table(Vec::new()), origin: Origin::Set(set.to_owned()) };
-                entries.push(Entry { key: (*seg).to_owned(), key_origin: Origin::Set(set.to_owned()), node: empty });
+                let empty = Node {
+                    value: Value::Table(Vec::new()),
+                    origin: Origin::Set(set.to_owned()),
+                };
+                entries.push(Entry {
+                    key: (*seg).to_owned(),
+                    key_origin: Origin::Set(set.to_owned()),
+                    node: empty,
+                });
                 entries.len() - 1
             }
         };
