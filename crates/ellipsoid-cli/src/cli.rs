@@ -110,7 +110,11 @@ pub struct PlotArgs {
     #[arg(short, long, value_name = "FIG.svg|FIG.png")]
     pub output: PathBuf,
     /// Panels, comma-separated, drawn top to bottom: theta, rates, energy, forces, path.
-    #[arg(long, value_name = "LIST", default_value = "theta,rates,energy,forces,path")]
+    #[arg(
+        long,
+        value_name = "LIST",
+        default_value = "theta,rates,energy,forces,path"
+    )]
     pub panels: String,
     /// The run's JSON summary (`ellipsoid run --summary`): marks its events and, through the
     /// scenario it names, gives the body's shape for the contact path. An `.h5` file

@@ -54,7 +54,10 @@ pub fn parse_panels(spec: &str) -> Result<Vec<&'static str>, String> {
     let mut out = Vec::new();
     for name in spec.split(',').map(str::trim) {
         let Some(p) = PANELS.iter().find(|p| **p == name) else {
-            return Err(format!("--panels: unknown panel {name:?}; the panels are {}", PANELS.join(", ")));
+            return Err(format!(
+                "--panels: unknown panel {name:?}; the panels are {}",
+                PANELS.join(", ")
+            ));
         };
         if out.contains(p) {
             return Err(format!("--panels: {name:?} is named twice"));
@@ -94,17 +97,25 @@ fn tick(v: f64) -> String {
         format!("{v:.1e}")
     } else {
         let s = format!("{:.*}", (3 - a.log10().floor() as i32).max(0) as usize, v);
-        if s.contains('.') { s.trim_end_matches('0').trim_end_matches('.').to_owned() } else { s }
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_owned()
+        } else {
+            s
+        }
     }
 }
 
 /// Bounds of `values` padded by 5 %, never empty.
 fn bounds<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
-    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(*v), hi.max(*v))
+    });
     if !lo.is_finite() {
         return (0.0, 1.0);
     }
-    let pad = ((hi - lo) * 0.05).max(hi.abs().max(lo.abs()) * 1e-9).max(1e-12);
+    let pad = ((hi - lo) * 0.05)
+        .max(hi.abs().max(lo.abs()) * 1e-9)
+        .max(1e-12);
     (lo - pad, hi + pad)
 }
 
@@ -116,13 +127,19 @@ struct Series {
 
 fn series(name: &str, color: RGBColor, t: &[f64], v: &[f64]) -> Series {
     let (ts, vs) = envelope(t, v, BUCKETS);
-    Series { name: name.to_owned(), color, points: ts.into_iter().zip(vs).collect() }
+    Series {
+        name: name.to_owned(),
+        color,
+        points: ts.into_iter().zip(vs).collect(),
+    }
 }
 
 /// Spans of constant mode, as (t_start, t_end, mode name).
 fn mode_spans(table: &Table) -> Vec<(f64, f64, String)> {
     let t = table.t();
-    let Some(m) = &table.modes else { return Vec::new() };
+    let Some(m) = &table.modes else {
+        return Vec::new();
+    };
     let mut spans = Vec::new();
     let mut start = 0;
     for i in 1..=m.len() {
@@ -137,7 +154,15 @@ fn mode_spans(table: &Table) -> Vec<(f64, f64, String)> {
 
 /// One chart of quantities against time: title, y label (with unit), series, the mode
 /// shading, the events; `log` draws log10 of the values with decade labels.
-fn time_chart(area: &Area<'_>, table: &Table, title: &str, y_desc: &str, series: &[Series], log: bool, shade: bool) -> Res {
+fn time_chart(
+    area: &Area<'_>,
+    table: &Table,
+    title: &str,
+    y_desc: &str,
+    series: &[Series],
+    log: bool,
+    shade: bool,
+) -> Res {
     let t = table.t();
     let (t0, t1) = (t[0], t[t.len() - 1].max(t[0] + 1e-12));
     let (mut y0, mut y1) = bounds(series.iter().flat_map(|s| s.points.iter().map(|p| &p.1)));
@@ -153,10 +178,21 @@ fn time_chart(area: &Area<'_>, table: &Table, title: &str, y_desc: &str, series:
         .map_err(err)?;
     if shade {
         for (a, b, mode) in mode_spans(table) {
-            chart.draw_series([Rectangle::new([(a, y0), (b, y1)], mode_color(&mode).filled())]).map_err(err)?;
+            chart
+                .draw_series([Rectangle::new(
+                    [(a, y0), (b, y1)],
+                    mode_color(&mode).filled(),
+                )])
+                .map_err(err)?;
         }
     }
-    let decade = |v: &f64| if (v - v.round()).abs() < 1e-9 { format!("1e{}", v.round() as i64) } else { String::new() };
+    let decade = |v: &f64| {
+        if (v - v.round()).abs() < 1e-9 {
+            format!("1e{}", v.round() as i64)
+        } else {
+            String::new()
+        }
+    };
     let yscale = y0.abs().max(y1.abs());
     let linear = |v: &f64| tick(*v);
     let ylinear = move |v: &f64| tick(if v.abs() < 1e-9 * yscale { 0.0 } else { *v });
@@ -175,18 +211,32 @@ fn time_chart(area: &Area<'_>, table: &Table, title: &str, y_desc: &str, series:
         .draw()
         .map_err(err)?;
     for e in &table.events {
-        chart.draw_series(DashedLineSeries::new([(e.t, y0), (e.t, y1)], 5, 4, EVENT.stroke_width(1))).map_err(err)?;
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(e.t, y0), (e.t, y1)],
+                5,
+                4,
+                EVENT.stroke_width(1),
+            ))
+            .map_err(err)?;
     }
     for s in series {
         let color = s.color;
         chart
-            .draw_series(LineSeries::new(s.points.iter().copied(), color.stroke_width(2)))
+            .draw_series(LineSeries::new(
+                s.points.iter().copied(),
+                color.stroke_width(2),
+            ))
             .map_err(err)?
             .label(s.name.clone())
             .legend(move |(x, y)| PathElement::new([(x, y), (x + 22, y)], color.stroke_width(2)));
     }
     let mut labels = chart.configure_series_labels();
-    labels.position(SeriesLabelPosition::UpperRight).background_style(WHITE.mix(0.85)).border_style(BLACK.mix(0.4)).label_font(("sans-serif", 15));
+    labels
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.4))
+        .label_font(("sans-serif", 15));
     if series.len() > 1 || !table.events.is_empty() {
         labels.draw().map_err(err)?;
     }
@@ -196,15 +246,38 @@ fn time_chart(area: &Area<'_>, table: &Table, title: &str, y_desc: &str, series:
 fn theta_panel(area: &Area<'_>, table: &Table) -> Res {
     let t = table.t();
     let theta = table.column("theta").expect("checked");
-    time_chart(area, table, "tilt of the symmetry axis θ", "θ (rad)", &[series("θ", BLUE, t, theta)], false, false)
+    time_chart(
+        area,
+        table,
+        "tilt of the symmetry axis θ",
+        "θ (rad)",
+        &[series("θ", BLUE, t, theta)],
+        false,
+        false,
+    )
 }
 
 fn rates_panel(area: &Area<'_>, table: &Table) -> Res {
     let t = table.t();
     let mut s = vec![
-        series("θ̇ (theta_dot)", BLUE, t, table.column("theta_dot").expect("checked")),
-        series("φ̇ (phi_dot)", ORANGE, t, table.column("phi_dot").expect("checked")),
-        series("ψ̇ (psi_dot)", GREEN, t, table.column("psi_dot").expect("checked")),
+        series(
+            "θ̇ (theta_dot)",
+            BLUE,
+            t,
+            table.column("theta_dot").expect("checked"),
+        ),
+        series(
+            "φ̇ (phi_dot)",
+            ORANGE,
+            t,
+            table.column("phi_dot").expect("checked"),
+        ),
+        series(
+            "ψ̇ (psi_dot)",
+            GREEN,
+            t,
+            table.column("psi_dot").expect("checked"),
+        ),
     ];
     if let Some(w) = table.column("omega_world_z") {
         s.push(series("ω_z, world (omega_world_z)", RED, t, w));
@@ -225,18 +298,61 @@ fn energy_panel(area: &Area<'_>, table: &Table) -> Res {
     let (d, name) = table.drift().expect("energy present");
     let logd: Vec<f64> = d.iter().map(|v| v.abs().max(FLOOR).log10()).collect();
     let title = format!("relative drift of {name}");
-    time_chart(&right, table, &title, "|relative drift| (1, log)", &[series(&format!("|Δ{name}| / |{name}(0)|"), RED, t, &logd)], true, false)
+    time_chart(
+        &right,
+        table,
+        &title,
+        "|relative drift| (1, log)",
+        &[series(&format!("|Δ{name}| / |{name}(0)|"), RED, t, &logd)],
+        true,
+        false,
+    )
 }
 
 fn forces_panel(area: &Area<'_>, table: &Table) -> Res {
     let (left, right) = area.split_horizontally(WIDTH / 2);
     let t = table.t();
     let title = |q: &str| {
-        let modes = table.mode_names.iter().filter(|m| !m.is_empty()).map(|m| m.as_str()).collect::<Vec<_>>();
-        if modes.is_empty() { q.to_owned() } else { format!("{q} (shaded: {})", shading_legend(&modes)) }
+        let modes = table
+            .mode_names
+            .iter()
+            .filter(|m| !m.is_empty())
+            .map(|m| m.as_str())
+            .collect::<Vec<_>>();
+        if modes.is_empty() {
+            q.to_owned()
+        } else {
+            format!("{q} (shaded: {})", shading_legend(&modes))
+        }
     };
-    time_chart(&left, table, &title("normal force"), "normal force N (N)", &[series("N", BLUE, t, table.column("normal_force").expect("checked"))], false, true)?;
-    time_chart(&right, table, &title("slip speed"), "slip speed |v_C| (m/s)", &[series("slip speed", ORANGE, t, table.column("slip_speed").expect("checked"))], false, true)
+    time_chart(
+        &left,
+        table,
+        &title("normal force"),
+        "normal force N (N)",
+        &[series(
+            "N",
+            BLUE,
+            t,
+            table.column("normal_force").expect("checked"),
+        )],
+        false,
+        true,
+    )?;
+    time_chart(
+        &right,
+        table,
+        &title("slip speed"),
+        "slip speed |v_C| (m/s)",
+        &[series(
+            "slip speed",
+            ORANGE,
+            t,
+            table.column("slip_speed").expect("checked"),
+        )],
+        false,
+        true,
+    )
 }
 
 fn shading_legend(modes: &[&str]) -> String {
@@ -259,7 +375,14 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
     let x = table.column("x").expect("checked");
     let y = table.column("y").expect("checked");
     let contact = table.contact_path();
-    let title = if contact.is_some() { "paths on the plane: contact point and G".to_owned() } else { format!("path of G on the plane (contact point unknown: {})", table.shape_note) };
+    let title = if contact.is_some() {
+        "paths on the plane: contact point and G".to_owned()
+    } else {
+        format!(
+            "path of G on the plane (contact point unknown: {})",
+            table.shape_note
+        )
+    };
     // Equal scales on both axes: a square plot area in the middle of the row.
     let (w, h) = area.dim_in_pixel();
     let side = h.min(w) as i32;
@@ -302,15 +425,26 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
         .map_err(err)?;
     let decimate = |xs: &[f64], ys: &[f64]| -> Vec<(f64, f64)> {
         let step = (xs.len() / (4 * BUCKETS)).max(1);
-        let mut p: Vec<(f64, f64)> = xs.iter().zip(ys).step_by(step).map(|(a, b)| (*a, *b)).collect();
+        let mut p: Vec<(f64, f64)> = xs
+            .iter()
+            .zip(ys)
+            .step_by(step)
+            .map(|(a, b)| (*a, *b))
+            .collect();
         p.push((xs[xs.len() - 1], ys[ys.len() - 1]));
         p
     };
-    chart.draw_series(LineSeries::new(decimate(x, y), GREY.stroke_width(2))).map_err(err)?;
+    chart
+        .draw_series(LineSeries::new(decimate(x, y), GREY.stroke_width(2)))
+        .map_err(err)?;
     if let Some((cx, cy)) = &contact {
-        chart.draw_series(LineSeries::new(decimate(cx, cy), BLUE.stroke_width(1))).map_err(err)?;
+        chart
+            .draw_series(LineSeries::new(decimate(cx, cy), BLUE.stroke_width(1)))
+            .map_err(err)?;
     }
-    chart.draw_series([Circle::new((x[0], y[0]), 5, GREEN.filled())]).map_err(err)?;
+    chart
+        .draw_series([Circle::new((x[0], y[0]), 5, GREEN.filled())])
+        .map_err(err)?;
     // The legend beside the square, where it hides nothing.
     let (lx, ly) = (pad + side + 10, 60);
     let mut entries = vec![("G", GREY), ("start", GREEN)];
@@ -320,11 +454,21 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
     for (k, (name, color)) in entries.into_iter().enumerate() {
         let y = ly + 24 * k as i32;
         if name == "start" {
-            row.draw(&Circle::new((lx + 11, y), 5, color.filled())).map_err(err)?;
+            row.draw(&Circle::new((lx + 11, y), 5, color.filled()))
+                .map_err(err)?;
         } else {
-            row.draw(&Rectangle::new([(lx, y - 1), (lx + 22, y + 1)], color.filled())).map_err(err)?;
+            row.draw(&Rectangle::new(
+                [(lx, y - 1), (lx + 22, y + 1)],
+                color.filled(),
+            ))
+            .map_err(err)?;
         }
-        row.draw(&Text::new(name, (lx + 30, y - 9), ("sans-serif", 15).into_font())).map_err(err)?;
+        row.draw(&Text::new(
+            name,
+            (lx + 30, y - 9),
+            ("sans-serif", 15).into_font(),
+        ))
+        .map_err(err)?;
     }
     Ok(())
 }
@@ -339,7 +483,12 @@ pub fn svg(table: &Table, panels: &[&str], title: &str) -> Result<String, String
         let root = SVGBackend::with_string(&mut out, (WIDTH, height)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let (top, body) = root.split_vertically(head);
-        top.draw(&Text::new(title.to_owned(), (14, 10), ("sans-serif", 18).into_font())).map_err(err)?;
+        top.draw(&Text::new(
+            title.to_owned(),
+            (14, 10),
+            ("sans-serif", 18).into_font(),
+        ))
+        .map_err(err)?;
         let rows = body.split_evenly((panels.len(), 1));
         for (area, p) in rows.iter().zip(panels) {
             match *p {
@@ -365,23 +514,35 @@ pub fn png(svg: &str) -> Result<Vec<u8>, String> {
     if let Ok(dir) = std::env::var("ELLIPSOID_FONT_DIR") {
         db.load_fonts_dir(dir);
     }
-    let family = ["DejaVu Sans", "Liberation Sans", "Noto Sans", "FreeSans"].into_iter().find(|f| db.faces().any(|face| face.families.iter().any(|(n, _)| n == f)));
+    let family = ["DejaVu Sans", "Liberation Sans", "Noto Sans", "FreeSans"]
+        .into_iter()
+        .find(|f| {
+            db.faces()
+                .any(|face| face.families.iter().any(|(n, _)| n == f))
+        });
     match family {
         Some(f) => db.set_sans_serif_family(f),
         None if db.is_empty() => {
             return Err("no font found to draw the PNG's text (install one, e.g. `apt-get install -y fonts-dejavu-core`, or set ELLIPSOID_FONT_DIR), or write SVG with -o FIG.svg".into());
         }
         None => {
-            let first = db.faces().next().and_then(|f| f.families.first().map(|n| n.0.clone())).unwrap_or_default();
+            let first = db
+                .faces()
+                .next()
+                .and_then(|f| f.families.first().map(|n| n.0.clone()))
+                .unwrap_or_default();
             db.set_sans_serif_family(first);
         }
     }
     let tree = usvg::Tree::from_str(svg, &opt).map_err(|e| format!("cannot read the SVG: {e}"))?;
     let size = tree.size().to_int_size();
-    let mut pixmap = tiny_skia::Pixmap::new(size.width(), size.height()).ok_or("the figure has no size")?;
+    let mut pixmap =
+        tiny_skia::Pixmap::new(size.width(), size.height()).ok_or("the figure has no size")?;
     pixmap.fill(tiny_skia::Color::WHITE);
     resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
-    pixmap.encode_png().map_err(|e| format!("cannot encode the PNG: {e}"))
+    pixmap
+        .encode_png()
+        .map_err(|e| format!("cannot encode the PNG: {e}"))
 }
 
 #[cfg(test)]
@@ -389,21 +550,77 @@ mod tests {
     use super::*;
 
     fn table() -> Table {
-        let names = ["t", "x", "y", "z", "theta", "phi", "psi", "theta_dot", "phi_dot", "psi_dot", "energy", "normal_force", "slip_speed", "work"];
+        let names = [
+            "t",
+            "x",
+            "y",
+            "z",
+            "theta",
+            "phi",
+            "psi",
+            "theta_dot",
+            "phi_dot",
+            "psi_dot",
+            "energy",
+            "normal_force",
+            "slip_speed",
+            "work",
+        ];
         let mut t = Table::from_rows("mem.csv", &names, 500, |i| {
             let t = i as f64 * 1e-3;
-            let v = vec![t, 0.01 * t.cos(), 0.01 * t.sin(), 0.02, 0.2 + 0.1 * (40.0 * t).sin(), t, 60.0 * t, 4.0 * (40.0 * t).cos(), 1.0, 60.0, 0.03 - 1e-3 * t, 0.5, 0.1 * (1.0 - t), 1e-3 * t * (1.0 + 1e-12)];
-            (v, if i < 300 { "sliding".into() } else { "rolling".into() })
+            let v = vec![
+                t,
+                0.01 * t.cos(),
+                0.01 * t.sin(),
+                0.02,
+                0.2 + 0.1 * (40.0 * t).sin(),
+                t,
+                60.0 * t,
+                4.0 * (40.0 * t).cos(),
+                1.0,
+                60.0,
+                0.03 - 1e-3 * t,
+                0.5,
+                0.1 * (1.0 - t),
+                1e-3 * t * (1.0 + 1e-12),
+            ];
+            (
+                v,
+                if i < 300 {
+                    "sliding".into()
+                } else {
+                    "rolling".into()
+                },
+            )
         });
-        t.events.push(ellipsoid_io::table::Event { t: 0.3, kind: "mode_switch".into(), label: "sliding → rolling".into() });
+        t.events.push(ellipsoid_io::table::Event {
+            t: 0.3,
+            kind: "mode_switch".into(),
+            label: "sliding → rolling".into(),
+        });
         t
     }
 
     #[test]
     fn every_panel_names_its_axes_with_units() {
         let svg = svg(&table(), &PANELS, "test").unwrap();
-        for label in ["time t (s)", "θ (rad)", "rate (rad/s)", "energy (J)", "|relative drift| (1, log)", "normal force N (N)", "slip speed |v_C| (m/s)", "x (m)", "y (m)", "E + W", "sliding orange"] {
-            assert!(svg.contains(&label.replace('&', "&amp;")), "missing {label}");
+        for label in [
+            "time t (s)",
+            "θ (rad)",
+            "rate (rad/s)",
+            "energy (J)",
+            "|relative drift| (1, log)",
+            "normal force N (N)",
+            "slip speed |v_C| (m/s)",
+            "x (m)",
+            "y (m)",
+            "E + W",
+            "sliding orange",
+        ] {
+            assert!(
+                svg.contains(&label.replace('&', "&amp;")),
+                "missing {label}"
+            );
         }
         assert!(svg.contains("1e-"), "decade labels on the drift axis");
     }
@@ -411,11 +628,19 @@ mod tests {
     #[test]
     fn panels_are_parsed_strictly() {
         assert_eq!(parse_panels("theta, path").unwrap(), ["theta", "path"]);
-        assert!(parse_panels("theta,thetaa").unwrap_err().contains("unknown panel \"thetaa\""));
+        assert!(
+            parse_panels("theta,thetaa")
+                .unwrap_err()
+                .contains("unknown panel \"thetaa\"")
+        );
         assert!(parse_panels("path,path").unwrap_err().contains("twice"));
         let mut t = table();
         t.columns.retain(|c| c.0 != "slip_speed");
-        assert!(svg(&t, &["forces"], "x").unwrap_err().contains("the forces panel needs the column `slip_speed`"));
+        assert!(
+            svg(&t, &["forces"], "x")
+                .unwrap_err()
+                .contains("the forces panel needs the column `slip_speed`")
+        );
     }
 
     #[test]

@@ -29,10 +29,17 @@ pub const MAX_SUMMARY_BYTES: u64 = 64 << 20;
 #[derive(Debug, thiserror::Error)]
 pub enum ReadError {
     #[error("{path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     /// The content is not a trajectory this program can read.
     #[error("{path}{}: {message}", line.map(|l| format!(":{l}")).unwrap_or_default())]
-    Format { path: PathBuf, line: Option<u64>, message: String },
+    Format {
+        path: PathBuf,
+        line: Option<u64>,
+        message: String,
+    },
     /// `.h5` asked of a build without the `hdf5` feature.
     #[error("{path}: {}", crate::HDF5_HINT)]
     Hdf5Unavailable { path: PathBuf },
@@ -40,7 +47,11 @@ pub enum ReadError {
 
 impl ReadError {
     fn format(path: &Path, line: Option<u64>, message: impl Into<String>) -> Self {
-        ReadError::Format { path: path.to_owned(), line, message: message.into() }
+        ReadError::Format {
+            path: path.to_owned(),
+            line,
+            message: message.into(),
+        }
     }
 }
 
@@ -114,14 +125,24 @@ pub struct Table {
 impl Table {
     /// The column `name`, if present.
     pub fn column(&self, name: &str) -> Option<&[f64]> {
-        self.columns.iter().find(|c| c.0 == name).map(|c| c.1.as_slice())
+        self.columns
+            .iter()
+            .find(|c| c.0 == name)
+            .map(|c| c.1.as_slice())
     }
 
     /// The columns `names`, or an error naming the first one missing and what needs it.
     pub fn require(&self, names: &[&str], needed_by: &str) -> Result<Vec<&[f64]>, String> {
         names
             .iter()
-            .map(|n| self.column(n).ok_or_else(|| format!("{needed_by} needs the column `{n}`, which {} does not have", self.source)))
+            .map(|n| {
+                self.column(n).ok_or_else(|| {
+                    format!(
+                        "{needed_by} needs the column `{n}`, which {} does not have",
+                        self.source
+                    )
+                })
+            })
             .collect()
     }
 
@@ -137,7 +158,11 @@ impl Table {
 
     /// The mode name of row `i`.
     pub fn mode(&self, i: usize) -> Option<&str> {
-        self.modes.as_ref().and_then(|m| m.get(i)).and_then(|&k| self.mode_names.get(k as usize)).map(String::as_str)
+        self.modes
+            .as_ref()
+            .and_then(|m| m.get(i))
+            .and_then(|&k| self.mode_names.get(k as usize))
+            .map(String::as_str)
     }
 
     /// The contact point's horizontal path: the `contact_x`, `contact_y` columns when the
@@ -148,11 +173,18 @@ impl Table {
             return Some((x.to_vec(), y.to_vec()));
         }
         let shape = self.shape?;
-        let cols = self.require(&["x", "y", "z", "theta", "phi", "psi"], "the contact path").ok()?;
+        let cols = self
+            .require(&["x", "y", "z", "theta", "phi", "psi"], "the contact path")
+            .ok()?;
         let n = self.rows();
         let (mut cx, mut cy) = (Vec::with_capacity(n), Vec::with_capacity(n));
         for i in 0..n {
-            let c = shape.contact_point([cols[0][i], cols[1][i], cols[2][i]], cols[3][i], cols[4][i], cols[5][i]);
+            let c = shape.contact_point(
+                [cols[0][i], cols[1][i], cols[2][i]],
+                cols[3][i],
+                cols[4][i],
+                cols[5][i],
+            );
             cx.push(c[0]);
             cy.push(c[1]);
         }
@@ -173,14 +205,32 @@ impl Table {
             None => e.to_vec(),
         };
         let e0 = *total.first()?;
-        let scale = if e0 != 0.0 { e0.abs() } else { total.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(f64::MIN_POSITIVE) };
-        Some((total.iter().map(|v| (v - e0) / scale).collect(), if w.is_some() { "E + W" } else { "E" }))
+        let scale = if e0 != 0.0 {
+            e0.abs()
+        } else {
+            total
+                .iter()
+                .fold(0.0f64, |m, v| m.max(v.abs()))
+                .max(f64::MIN_POSITIVE)
+        };
+        Some((
+            total.iter().map(|v| (v - e0) / scale).collect(),
+            if w.is_some() { "E + W" } else { "E" },
+        ))
     }
 
     /// Builds a table from rows of `names` (numeric columns) and modes, e.g. a run held in
     /// memory. `values(i)` gives row i.
-    pub fn from_rows(source: &str, names: &[&str], rows: usize, mut values: impl FnMut(usize) -> (Vec<f64>, String)) -> Table {
-        let mut columns: Vec<(String, Vec<f64>)> = names.iter().map(|n| ((*n).to_owned(), Vec::with_capacity(rows))).collect();
+    pub fn from_rows(
+        source: &str,
+        names: &[&str],
+        rows: usize,
+        mut values: impl FnMut(usize) -> (Vec<f64>, String),
+    ) -> Table {
+        let mut columns: Vec<(String, Vec<f64>)> = names
+            .iter()
+            .map(|n| ((*n).to_owned(), Vec::with_capacity(rows)))
+            .collect();
         let mut modes = Vec::with_capacity(rows);
         let mut mode_names = Vec::new();
         for i in 0..rows {
@@ -190,7 +240,13 @@ impl Table {
             }
             modes.push(mode_index(&mut mode_names, &mode));
         }
-        Table { source: source.to_owned(), columns, modes: Some(modes), mode_names, ..Default::default() }
+        Table {
+            source: source.to_owned(),
+            columns,
+            modes: Some(modes),
+            mode_names,
+            ..Default::default()
+        }
     }
 
     /// Sets the events, status and shape from a run summary (the JSON of `--summary`).
@@ -198,17 +254,31 @@ impl Table {
     /// summary names (with its overrides), if it can be read.
     pub fn apply_summary(&mut self, summary: &Value, scenario_text: Option<&str>) {
         self.apply_events(summary);
-        let source = summary.get("scenario").and_then(Value::as_str).unwrap_or("the scenario");
-        let overrides: Vec<String> =
-            summary.get("overrides").and_then(Value::as_array).map(|a| a.iter().filter_map(|v| v.as_str().map(str::to_owned)).collect()).unwrap_or_default();
+        let source = summary
+            .get("scenario")
+            .and_then(Value::as_str)
+            .unwrap_or("the scenario");
+        let overrides: Vec<String> = summary
+            .get("overrides")
+            .and_then(Value::as_array)
+            .map(|a| {
+                a.iter()
+                    .filter_map(|v| v.as_str().map(str::to_owned))
+                    .collect()
+            })
+            .unwrap_or_default();
         let parsed = match scenario_text {
             Some(text) => scenario::parse(text, source, &overrides),
-            None if summary.get("scenario").is_some() => scenario::load(Path::new(source), &overrides),
+            None if summary.get("scenario").is_some() => {
+                scenario::load(Path::new(source), &overrides)
+            }
             None => return,
         };
         match parsed {
             Ok(s) => self.set_body(&s.scene.body, &format!("body from {source}")),
-            Err(e) => self.shape_note = format!("body unknown (the scenario could not be read: {e})"),
+            Err(e) => {
+                self.shape_note = format!("body unknown (the scenario could not be read: {e})")
+            }
         }
     }
 
@@ -218,13 +288,19 @@ impl Table {
             self.events = events.iter().filter_map(event).collect();
             self.events.sort_by(|a, b| a.t.total_cmp(&b.t));
         }
-        self.status = summary.get("status").and_then(Value::as_str).map(str::to_owned);
+        self.status = summary
+            .get("status")
+            .and_then(Value::as_str)
+            .map(str::to_owned);
     }
 
     /// Sets the shape from a body.
     pub fn set_body(&mut self, body: &ellipsoid_core::body::Body, note: &str) {
         let (a, g) = (body.semi_axes(), body.com_offset());
-        self.shape = Some(Shape { semi_axes: [a.x, a.y, a.z], com_offset: [g.x, g.y, g.z] });
+        self.shape = Some(Shape {
+            semi_axes: [a.x, a.y, a.z],
+            com_offset: [g.x, g.y, g.z],
+        });
         self.shape_note = note.to_owned();
     }
 }
@@ -243,7 +319,11 @@ fn mode_index(names: &mut Vec<String>, mode: &str) -> u8 {
 /// `to`; observables `name`).
 fn event(v: &Value) -> Option<Event> {
     let t = v.get("t")?.as_f64().filter(|t| t.is_finite())?;
-    let kind = v.get("kind").and_then(Value::as_str).unwrap_or("event").to_owned();
+    let kind = v
+        .get("kind")
+        .and_then(Value::as_str)
+        .unwrap_or("event")
+        .to_owned();
     let text = |k: &str| v.get(k).and_then(Value::as_str);
     let label = match (text("name"), text("from"), text("to")) {
         (Some(name), _, _) => name.to_owned(),
@@ -256,23 +336,41 @@ fn event(v: &Value) -> Option<Event> {
 /// Reads a JSON summary (`ellipsoid run --summary FILE.json`).
 pub fn read_summary(path: &Path) -> Result<Value, ReadError> {
     let text = read_bounded(path, MAX_SUMMARY_BYTES)?;
-    let text = String::from_utf8(text).map_err(|_| ReadError::format(path, None, "the summary is not UTF-8 text"))?;
-    let v: Value = serde_json::from_str(&text).map_err(|e| ReadError::format(path, Some(e.line() as u64), format!("not a JSON summary: {e}")))?;
+    let text = String::from_utf8(text)
+        .map_err(|_| ReadError::format(path, None, "the summary is not UTF-8 text"))?;
+    let v: Value = serde_json::from_str(&text).map_err(|e| {
+        ReadError::format(
+            path,
+            Some(e.line() as u64),
+            format!("not a JSON summary: {e}"),
+        )
+    })?;
     if !v.is_object() || v.get("events").is_none() {
-        return Err(ReadError::format(path, None, "not a run summary (no `events` field); write one with `ellipsoid run --summary FILE.json`"));
+        return Err(ReadError::format(
+            path,
+            None,
+            "not a run summary (no `events` field); write one with `ellipsoid run --summary FILE.json`",
+        ));
     }
     Ok(v)
 }
 
 fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
-    let io = |e| ReadError::Io { path: path.to_owned(), source: e };
+    let io = |e| ReadError::Io {
+        path: path.to_owned(),
+        source: e,
+    };
     let file = std::fs::File::open(path).map_err(io)?;
     let meta = file.metadata().map_err(io)?;
     if !meta.is_file() {
         return Err(ReadError::format(path, None, "not a regular file"));
     }
     if meta.len() > limit {
-        return Err(ReadError::format(path, None, format!("{} bytes is more than the {limit} read at most", meta.len())));
+        return Err(ReadError::format(
+            path,
+            None,
+            format!("{} bytes is more than the {limit} read at most", meta.len()),
+        ));
     }
     let mut buf = Vec::with_capacity(meta.len() as usize);
     file.take(limit + 1).read_to_end(&mut buf).map_err(io)?;
@@ -282,55 +380,109 @@ fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
 /// Reads a trajectory file by extension: `.csv`, or `.h5`/`.hdf5` (feature `hdf5`; the
 /// events and the body then come from the summary and scenario stored in the file).
 pub fn read(path: &Path) -> Result<Table, ReadError> {
-    let ext = path.extension().map(|e| e.to_string_lossy().to_lowercase()).unwrap_or_default();
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
     match ext.as_str() {
         "csv" => read_csv(path),
         "h5" | "hdf5" => read_hdf5(path),
-        _ => Err(ReadError::format(path, None, format!("unknown trajectory format {ext:?}; give a .csv or .h5 file written by `ellipsoid run`"))),
+        _ => Err(ReadError::format(
+            path,
+            None,
+            format!(
+                "unknown trajectory format {ext:?}; give a .csv or .h5 file written by `ellipsoid run`"
+            ),
+        )),
     }
 }
 
 /// Reads a CSV trajectory: a header of column names (`t` required), one row per sample,
 /// `mode` as a name, every other value a finite number.
 pub fn read_csv(path: &Path) -> Result<Table, ReadError> {
-    let io = |e| ReadError::Io { path: path.to_owned(), source: e };
+    let io = |e| ReadError::Io {
+        path: path.to_owned(),
+        source: e,
+    };
     let file = std::fs::File::open(path).map_err(io)?;
     let meta = file.metadata().map_err(io)?;
     if !meta.is_file() {
         return Err(ReadError::format(path, None, "not a regular file"));
     }
     if meta.len() > MAX_FILE_BYTES {
-        return Err(ReadError::format(path, None, format!("{} bytes is more than the {MAX_FILE_BYTES} read at most", meta.len())));
+        return Err(ReadError::format(
+            path,
+            None,
+            format!(
+                "{} bytes is more than the {MAX_FILE_BYTES} read at most",
+                meta.len()
+            ),
+        ));
     }
     let mut reader = BufReader::with_capacity(1 << 16, file);
     let mut line = String::new();
-    let n = reader.read_line(&mut line).map_err(|e| bad_text(path, 1, e))?;
+    let n = reader
+        .read_line(&mut line)
+        .map_err(|e| bad_text(path, 1, e))?;
     if n == 0 {
-        return Err(ReadError::format(path, None, "the file is empty; expected a header line such as `t,x,y,z,theta,…`"));
+        return Err(ReadError::format(
+            path,
+            None,
+            "the file is empty; expected a header line such as `t,x,y,z,theta,…`",
+        ));
     }
-    let header: Vec<String> = line.trim_end_matches(['\n', '\r']).split(',').map(|s| s.trim().to_owned()).collect();
+    let header: Vec<String> = line
+        .trim_end_matches(['\n', '\r'])
+        .split(',')
+        .map(|s| s.trim().to_owned())
+        .collect();
     let mut seen = BTreeMap::new();
     for (k, name) in header.iter().enumerate() {
         if name.is_empty() {
-            return Err(ReadError::format(path, Some(1), format!("column {} of the header has no name", k + 1)));
+            return Err(ReadError::format(
+                path,
+                Some(1),
+                format!("column {} of the header has no name", k + 1),
+            ));
         }
         if seen.insert(name.as_str(), k).is_some() {
-            return Err(ReadError::format(path, Some(1), format!("the column `{name}` appears twice in the header")));
+            return Err(ReadError::format(
+                path,
+                Some(1),
+                format!("the column `{name}` appears twice in the header"),
+            ));
         }
     }
     if !seen.contains_key("t") {
-        return Err(ReadError::format(path, Some(1), format!("the header has no `t` column (got `{}`); is this a trajectory written by `ellipsoid run`?", truncate(line.trim(), 80))));
+        return Err(ReadError::format(
+            path,
+            Some(1),
+            format!(
+                "the header has no `t` column (got `{}`); is this a trajectory written by `ellipsoid run`?",
+                truncate(line.trim(), 80)
+            ),
+        ));
     }
     let mode_col = seen.get("mode").copied();
-    let mut columns: Vec<(String, Vec<f64>)> = header.iter().enumerate().filter(|(k, _)| Some(*k) != mode_col).map(|(_, n)| (n.clone(), Vec::new())).collect();
-    let t_index = columns.iter().position(|c| c.0 == "t").expect("checked above");
+    let mut columns: Vec<(String, Vec<f64>)> = header
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| Some(*k) != mode_col)
+        .map(|(_, n)| (n.clone(), Vec::new()))
+        .collect();
+    let t_index = columns
+        .iter()
+        .position(|c| c.0 == "t")
+        .expect("checked above");
     let mut modes = mode_col.map(|_| Vec::new());
     let mut mode_names = Vec::new();
     let mut lineno = 1u64;
     let mut last_t = f64::NEG_INFINITY;
     loop {
         line.clear();
-        let n = reader.read_line(&mut line).map_err(|e| bad_text(path, lineno + 1, e))?;
+        let n = reader
+            .read_line(&mut line)
+            .map_err(|e| bad_text(path, lineno + 1, e))?;
         if n == 0 {
             break;
         }
@@ -340,32 +492,65 @@ pub fn read_csv(path: &Path) -> Result<Table, ReadError> {
             continue;
         }
         if columns[0].1.len() >= MAX_ROWS {
-            return Err(ReadError::format(path, Some(lineno), format!("more than {MAX_ROWS} rows")));
+            return Err(ReadError::format(
+                path,
+                Some(lineno),
+                format!("more than {MAX_ROWS} rows"),
+            ));
         }
         let mut fields = text.split(',');
         let mut numeric = 0;
         for (k, name) in header.iter().enumerate() {
             let Some(field) = fields.next() else {
-                return Err(ReadError::format(path, Some(lineno), format!("{} fields where the header has {} (the column `{name}` is missing)", k, header.len())));
+                return Err(ReadError::format(
+                    path,
+                    Some(lineno),
+                    format!(
+                        "{} fields where the header has {} (the column `{name}` is missing)",
+                        k,
+                        header.len()
+                    ),
+                ));
             };
             if Some(k) == mode_col {
                 let m = modes.as_mut().expect("mode column");
                 m.push(mode_index(&mut mode_names, field.trim()));
                 continue;
             }
-            let v: f64 = field.trim().parse().map_err(|_| ReadError::format(path, Some(lineno), format!("column `{name}`: {:?} is not a number", truncate(field, 40))))?;
+            let v: f64 = field.trim().parse().map_err(|_| {
+                ReadError::format(
+                    path,
+                    Some(lineno),
+                    format!("column `{name}`: {:?} is not a number", truncate(field, 40)),
+                )
+            })?;
             if !v.is_finite() {
-                return Err(ReadError::format(path, Some(lineno), format!("column `{name}` = {v}: values must be finite")));
+                return Err(ReadError::format(
+                    path,
+                    Some(lineno),
+                    format!("column `{name}` = {v}: values must be finite"),
+                ));
             }
             columns[numeric].1.push(v);
             numeric += 1;
         }
         if fields.next().is_some() {
-            return Err(ReadError::format(path, Some(lineno), format!("more fields than the {} columns of the header", header.len())));
+            return Err(ReadError::format(
+                path,
+                Some(lineno),
+                format!(
+                    "more fields than the {} columns of the header",
+                    header.len()
+                ),
+            ));
         }
         let t = *columns[t_index].1.last().expect("just pushed");
         if t < last_t {
-            return Err(ReadError::format(path, Some(lineno), format!("t = {t} s comes after t = {last_t} s: times must not decrease")));
+            return Err(ReadError::format(
+                path,
+                Some(lineno),
+                format!("t = {t} s comes after t = {last_t} s: times must not decrease"),
+            ));
         }
         last_t = t;
     }
@@ -386,17 +571,26 @@ fn bad_text(path: &Path, line: u64, e: std::io::Error) -> ReadError {
     if e.kind() == std::io::ErrorKind::InvalidData {
         ReadError::format(path, Some(line), "not UTF-8 text (is this a CSV file?)")
     } else {
-        ReadError::Io { path: path.to_owned(), source: e }
+        ReadError::Io {
+            path: path.to_owned(),
+            source: e,
+        }
     }
 }
 
 fn truncate(s: &str, n: usize) -> String {
-    if s.chars().count() <= n { s.to_owned() } else { format!("{}…", s.chars().take(n).collect::<String>()) }
+    if s.chars().count() <= n {
+        s.to_owned()
+    } else {
+        format!("{}…", s.chars().take(n).collect::<String>())
+    }
 }
 
 #[cfg(not(feature = "hdf5"))]
 fn read_hdf5(path: &Path) -> Result<Table, ReadError> {
-    Err(ReadError::Hdf5Unavailable { path: path.to_owned() })
+    Err(ReadError::Hdf5Unavailable {
+        path: path.to_owned(),
+    })
 }
 
 /// Reads an HDF5 trajectory written by `ellipsoid run -o FILE.h5`: the datasets listed in
@@ -404,32 +598,80 @@ fn read_hdf5(path: &Path) -> Result<Table, ReadError> {
 /// from the stored scenario.
 #[cfg(feature = "hdf5")]
 fn read_hdf5(path: &Path) -> Result<Table, ReadError> {
-    use hdf5_metno as h5;
     use h5::types::{FixedAscii, VarLenUnicode};
-    let meta = std::fs::metadata(path).map_err(|e| ReadError::Io { path: path.to_owned(), source: e })?;
+    use hdf5_metno as h5;
+    let meta = std::fs::metadata(path).map_err(|e| ReadError::Io {
+        path: path.to_owned(),
+        source: e,
+    })?;
     if !meta.is_file() {
         return Err(ReadError::format(path, None, "not a regular file"));
     }
     let fail = |e: h5::Error| ReadError::format(path, None, format!("HDF5: {e}"));
-    let file = h5::File::open(path).map_err(|e| ReadError::format(path, None, format!("not an HDF5 file written by `ellipsoid run` ({e})")))?;
-    let attr = |name: &str| -> Option<String> { file.attr(name).ok()?.read_scalar::<VarLenUnicode>().ok().map(|v| v.as_str().to_owned()) };
-    let names = attr("columns").ok_or_else(|| ReadError::format(path, None, "no `columns` attribute: not a trajectory written by `ellipsoid run`"))?;
+    let file = h5::File::open(path).map_err(|e| {
+        ReadError::format(
+            path,
+            None,
+            format!("not an HDF5 file written by `ellipsoid run` ({e})"),
+        )
+    })?;
+    let attr = |name: &str| -> Option<String> {
+        file.attr(name)
+            .ok()?
+            .read_scalar::<VarLenUnicode>()
+            .ok()
+            .map(|v| v.as_str().to_owned())
+    };
+    let names = attr("columns").ok_or_else(|| {
+        ReadError::format(
+            path,
+            None,
+            "no `columns` attribute: not a trajectory written by `ellipsoid run`",
+        )
+    })?;
     let mut columns = Vec::new();
     let mut modes = None;
     let mut mode_names = Vec::new();
     for name in names.split(',').map(str::trim).filter(|n| !n.is_empty()) {
-        let ds = file.dataset(name).map_err(|e| ReadError::format(path, None, format!("the column `{name}` listed in `columns` has no dataset ({e})")))?;
+        let ds = file.dataset(name).map_err(|e| {
+            ReadError::format(
+                path,
+                None,
+                format!("the column `{name}` listed in `columns` has no dataset ({e})"),
+            )
+        })?;
         if ds.size() > MAX_ROWS {
-            return Err(ReadError::format(path, None, format!("the column `{name}` has {} rows, more than {MAX_ROWS}", ds.size())));
+            return Err(ReadError::format(
+                path,
+                None,
+                format!(
+                    "the column `{name}` has {} rows, more than {MAX_ROWS}",
+                    ds.size()
+                ),
+            ));
         }
         if name == crate::columns::MODE {
             let raw = ds.read_raw::<FixedAscii<32>>().map_err(fail)?;
-            modes = Some(raw.iter().map(|m| mode_index(&mut mode_names, m.as_str())).collect::<Vec<_>>());
+            modes = Some(
+                raw.iter()
+                    .map(|m| mode_index(&mut mode_names, m.as_str()))
+                    .collect::<Vec<_>>(),
+            );
             continue;
         }
-        let data = ds.read_raw::<f64>().map_err(|e| ReadError::format(path, None, format!("the column `{name}` is not float64 ({e})")))?;
+        let data = ds.read_raw::<f64>().map_err(|e| {
+            ReadError::format(
+                path,
+                None,
+                format!("the column `{name}` is not float64 ({e})"),
+            )
+        })?;
         if let Some((i, v)) = data.iter().enumerate().find(|(_, v)| !v.is_finite()) {
-            return Err(ReadError::format(path, None, format!("column `{name}`, row {}: {v}: values must be finite", i + 1)));
+            return Err(ReadError::format(
+                path,
+                None,
+                format!("column `{name}`, row {}: {v}: values must be finite", i + 1),
+            ));
         }
         columns.push((name.to_owned(), data));
     }
@@ -440,14 +682,30 @@ fn read_hdf5(path: &Path) -> Result<Table, ReadError> {
         return Err(ReadError::format(path, None, "no rows"));
     }
     if let Some(w) = t.1.windows(2).position(|w| w[1] < w[0]) {
-        return Err(ReadError::format(path, None, format!("t decreases at row {}: times must not decrease", w + 2)));
+        return Err(ReadError::format(
+            path,
+            None,
+            format!("t decreases at row {}: times must not decrease", w + 2),
+        ));
     }
     let n = t.1.len();
     if let Some(c) = columns.iter().find(|c| c.1.len() != n) {
-        return Err(ReadError::format(path, None, format!("the column `{}` has {} rows where `t` has {n}", c.0, c.1.len())));
+        return Err(ReadError::format(
+            path,
+            None,
+            format!(
+                "the column `{}` has {} rows where `t` has {n}",
+                c.0,
+                c.1.len()
+            ),
+        ));
     }
     if modes.as_ref().is_some_and(|m| m.len() != n) {
-        return Err(ReadError::format(path, None, format!("the `mode` column has a different length from `t` ({n})")));
+        return Err(ReadError::format(
+            path,
+            None,
+            format!("the `mode` column has a different length from `t` ({n})"),
+        ));
     }
     let mut table = Table {
         source: path.display().to_string(),
@@ -476,13 +734,24 @@ mod tests {
     #[test]
     fn csv_reads_any_columns_by_name_and_modes_by_index() {
         let dir = tempfile::tempdir().unwrap();
-        let p = write(dir.path(), "a.csv", "t,theta,mode,drift\n0,0.1,sliding,0\n0.5,0.2,rolling,1e-12\n1,0.3,sliding,2e-12\n");
+        let p = write(
+            dir.path(),
+            "a.csv",
+            "t,theta,mode,drift\n0,0.1,sliding,0\n0.5,0.2,rolling,1e-12\n1,0.3,sliding,2e-12\n",
+        );
         let t = read(&p).unwrap();
         assert_eq!(t.t(), &[0.0, 0.5, 1.0]);
         assert_eq!(t.column("drift").unwrap(), &[0.0, 1e-12, 2e-12]);
-        assert_eq!((t.mode(0), t.mode(1), t.mode(2)), (Some("sliding"), Some("rolling"), Some("sliding")));
+        assert_eq!(
+            (t.mode(0), t.mode(1), t.mode(2)),
+            (Some("sliding"), Some("rolling"), Some("sliding"))
+        );
         assert_eq!(t.drift().unwrap().1, "conserved quantity");
-        assert!(t.require(&["x"], "the path panel").unwrap_err().contains("`x`"));
+        assert!(
+            t.require(&["x"], "the path panel")
+                .unwrap_err()
+                .contains("`x`")
+        );
     }
 
     #[test]
@@ -491,8 +760,14 @@ mod tests {
         let cases = [
             ("", "empty"),
             ("x,y\n1,2\n", "no `t` column"),
-            ("t,x\n0,1\n1,abc\n", ":3: column `x`: \"abc\" is not a number"),
-            ("t,x\n0,1\n1,inf\n", ":3: column `x` = inf: values must be finite"),
+            (
+                "t,x\n0,1\n1,abc\n",
+                ":3: column `x`: \"abc\" is not a number",
+            ),
+            (
+                "t,x\n0,1\n1,inf\n",
+                ":3: column `x` = inf: values must be finite",
+            ),
             ("t,x\n0,1\n1\n", ":3: 1 fields where the header has 2"),
             ("t,x\n0,1,2\n", ":2: more fields"),
             ("t,x\n1,1\n0,1\n", ":3: t = 0 s comes after t = 1 s"),
@@ -502,11 +777,24 @@ mod tests {
         for (k, (text, want)) in cases.iter().enumerate() {
             let p = write(dir.path(), &format!("c{k}.csv"), text);
             let err = read(&p).unwrap_err().to_string();
-            assert!(err.starts_with(&p.display().to_string()) && err.contains(want), "{text:?}: {err}");
+            assert!(
+                err.starts_with(&p.display().to_string()) && err.contains(want),
+                "{text:?}: {err}"
+            );
         }
-        let err = read(&dir.path().join("missing.csv")).unwrap_err().to_string();
-        assert!(err.contains("missing.csv") && err.contains("No such file"), "{err}");
-        assert!(read(&write(dir.path(), "x.txt", "t\n0\n")).unwrap_err().to_string().contains("unknown trajectory format"));
+        let err = read(&dir.path().join("missing.csv"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("missing.csv") && err.contains("No such file"),
+            "{err}"
+        );
+        assert!(
+            read(&write(dir.path(), "x.txt", "t\n0\n"))
+                .unwrap_err()
+                .to_string()
+                .contains("unknown trajectory format")
+        );
         let bin = dir.path().join("bin.csv");
         std::fs::write(&bin, [0xff, 0xfe, 0x00, b'\n']).unwrap();
         assert!(read(&bin).unwrap_err().to_string().contains("not UTF-8"));
@@ -514,7 +802,16 @@ mod tests {
 
     #[test]
     fn drift_is_relative_to_the_initial_energy_plus_work() {
-        let t = Table::from_rows("m", &["t", "energy", "work"], 3, |i| (vec![i as f64, 2.0 - i as f64 * 0.5, i as f64 * 0.5 * (1.0 + 1e-9)], "sliding".into()));
+        let t = Table::from_rows("m", &["t", "energy", "work"], 3, |i| {
+            (
+                vec![
+                    i as f64,
+                    2.0 - i as f64 * 0.5,
+                    i as f64 * 0.5 * (1.0 + 1e-9),
+                ],
+                "sliding".into(),
+            )
+        });
         let (d, name) = t.drift().unwrap();
         assert_eq!(name, "E + W");
         assert!((d[2] - 1e-9 / 2.0).abs() < 1e-15, "{d:?}");
@@ -523,14 +820,20 @@ mod tests {
     #[test]
     fn contact_point_of_a_tilted_sphere_is_below_its_centre() {
         // A sphere of radius 0.1 with G 0.02 below C0: the contact point lies under C0.
-        let s = Shape { semi_axes: [0.1; 3], com_offset: [0.0, 0.0, -0.02] };
+        let s = Shape {
+            semi_axes: [0.1; 3],
+            com_offset: [0.0, 0.0, -0.02],
+        };
         let theta: f64 = 0.7;
         // C0 is at G + R(0,0,0.02); the contact point at C0 − 0.1 e3.
         let g = [1.0, 2.0, 0.1 - 0.02 * theta.cos()];
         let c = s.contact_point(g, theta, 0.3, 1.1);
         let r = euler_rotation(theta, 0.3, 1.1);
         let c0 = Vector3::from(g) + r * Vector3::new(0.0, 0.0, 0.02);
-        assert!((c[0] - c0.x).abs() < 1e-15 && (c[1] - c0.y).abs() < 1e-15 && c[2].abs() < 1e-15, "{c:?} {c0:?}");
+        assert!(
+            (c[0] - c0.x).abs() < 1e-15 && (c[1] - c0.y).abs() < 1e-15 && c[2].abs() < 1e-15,
+            "{c:?} {c0:?}"
+        );
     }
 
     #[test]
@@ -538,7 +841,13 @@ mod tests {
         let v: Value = serde_json::from_str(r#"{"status":"completed","events":[{"kind":"mode_switch","from":"sliding","to":"rolling","t":0.3},{"kind":"slip_stop","t":0.1}]}"#).unwrap();
         let mut t = Table::default();
         t.apply_summary(&v, None);
-        assert_eq!(t.events.iter().map(|e| (e.t, e.label.as_str())).collect::<Vec<_>>(), [(0.1, "slip stop"), (0.3, "sliding → rolling")]);
+        assert_eq!(
+            t.events
+                .iter()
+                .map(|e| (e.t, e.label.as_str()))
+                .collect::<Vec<_>>(),
+            [(0.1, "slip stop"), (0.3, "sliding → rolling")]
+        );
         assert!(t.shape.is_none());
     }
 }

@@ -65,9 +65,15 @@ pub fn envelope(t: &[f64], v: &[f64], buckets: usize) -> (Vec<f64>, Vec<f64>) {
     if n <= 2 * buckets {
         return (t[..n].to_vec(), v[..n].to_vec());
     }
-    let (mut ts, mut vs) = (Vec::with_capacity(2 * buckets), Vec::with_capacity(2 * buckets));
+    let (mut ts, mut vs) = (
+        Vec::with_capacity(2 * buckets),
+        Vec::with_capacity(2 * buckets),
+    );
     for b in 0..buckets {
-        let (lo, hi) = (b * n / buckets, ((b + 1) * n / buckets).max(b * n / buckets + 1));
+        let (lo, hi) = (
+            b * n / buckets,
+            ((b + 1) * n / buckets).max(b * n / buckets + 1),
+        );
         let (mut imin, mut imax) = (lo, lo);
         for i in lo..hi {
             if v[i] < v[imin] {
@@ -77,7 +83,11 @@ pub fn envelope(t: &[f64], v: &[f64], buckets: usize) -> (Vec<f64>, Vec<f64>) {
                 imax = i;
             }
         }
-        for i in if imin <= imax { [imin, imax] } else { [imax, imin] } {
+        for i in if imin <= imax {
+            [imin, imax]
+        } else {
+            [imax, imin]
+        } {
             ts.push(t[i]);
             vs.push(v[i]);
         }
@@ -95,7 +105,9 @@ fn base64(bytes: &[u8]) -> String {
     const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
     for c in bytes.chunks(3) {
-        let n = (u32::from(c[0]) << 16) | (u32::from(*c.get(1).unwrap_or(&0)) << 8) | u32::from(*c.get(2).unwrap_or(&0));
+        let n = (u32::from(c[0]) << 16)
+            | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
+            | u32::from(*c.get(2).unwrap_or(&0));
         for k in 0..4 {
             if k <= c.len() {
                 out.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
@@ -109,7 +121,10 @@ fn base64(bytes: &[u8]) -> String {
 
 /// Escapes text for HTML element content and attribute values.
 fn html_escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// Why a page could not be made.
@@ -123,7 +138,9 @@ pub enum ViewError {
 /// The viewer page for `table`, titled `title`.
 pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
     let need = ["t", "x", "y", "z", "theta", "phi", "psi"];
-    let cols = table.require(&need, "the viewer").map_err(ViewError::Missing)?;
+    let cols = table
+        .require(&need, "the viewer")
+        .map_err(ViewError::Missing)?;
     let idx = frame_indices(table, MAX_FRAMES);
     let pick = |c: &[f64]| b64_f32(idx.iter().map(|&i| c[i]));
     let mut frames = serde_json::Map::new();
@@ -137,7 +154,10 @@ pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
         frames.insert("cy".into(), pick(cy).into());
     }
     if let Some(m) = &table.modes {
-        frames.insert("mode".into(), b64_f32(idx.iter().map(|&i| f64::from(m[i]))).into());
+        frames.insert(
+            "mode".into(),
+            b64_f32(idx.iter().map(|&i| f64::from(m[i]))).into(),
+        );
     }
     let t = table.t();
     let series = |v: &[f64]| {
@@ -165,7 +185,9 @@ pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
         }
         plots.push(energy);
     }
-    let shape = table.shape.map(|s| serde_json::json!({ "semi_axes": s.semi_axes, "com_offset": s.com_offset }));
+    let shape = table
+        .shape
+        .map(|s| serde_json::json!({ "semi_axes": s.semi_axes, "com_offset": s.com_offset }));
     let data = serde_json::json!({
         "title": title,
         "rows": table.rows(),
@@ -182,17 +204,32 @@ pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
     });
     // `</` inside a script element would end it; JSON allows `<\/` for it.
     let data = data.to_string().replace("</", "<\\/");
-    Ok(fill(TEMPLATE, &[("TITLE", &html_escape(title)), ("THREE_LICENSE", THREE_LICENSE), ("DATA", &data), ("VIEWER", SCRIPT), ("THREE", THREE)]))
+    Ok(fill(
+        TEMPLATE,
+        &[
+            ("TITLE", &html_escape(title)),
+            ("THREE_LICENSE", THREE_LICENSE),
+            ("DATA", &data),
+            ("VIEWER", SCRIPT),
+            ("THREE", THREE),
+        ],
+    ))
 }
 
 /// The template with each `{{KEY}}` replaced by its value (values are not scanned again).
 fn fill(template: &str, values: &[(&str, &str)]) -> String {
-    let mut out = String::with_capacity(template.len() + values.iter().map(|v| v.1.len()).sum::<usize>());
+    let mut out =
+        String::with_capacity(template.len() + values.iter().map(|v| v.1.len()).sum::<usize>());
     let mut rest = template;
     while let Some(start) = rest.find("{{") {
         out.push_str(&rest[..start]);
         let after = &rest[start + 2..];
-        match after.find("}}").and_then(|end| values.iter().find(|v| v.0 == &after[..end]).map(|v| (end, v.1))) {
+        match after.find("}}").and_then(|end| {
+            values
+                .iter()
+                .find(|v| v.0 == &after[..end])
+                .map(|v| (end, v.1))
+        }) {
             Some((end, value)) => {
                 out.push_str(value);
                 rest = &after[end + 2..];
@@ -213,23 +250,54 @@ mod tests {
     use crate::table::Event;
 
     fn table(n: usize) -> Table {
-        Table::from_rows("mem", &["t", "x", "y", "z", "theta", "phi", "psi", "energy"], n, |i| {
-            let t = i as f64 * 1e-3;
-            (vec![t, 0.0, 0.0, 0.01, 0.1 + (t * 50.0).sin() * 0.05, t, 60.0 * t, 1.0], if i < n / 3 { "sliding".into() } else { "rolling".into() })
-        })
+        Table::from_rows(
+            "mem",
+            &["t", "x", "y", "z", "theta", "phi", "psi", "energy"],
+            n,
+            |i| {
+                let t = i as f64 * 1e-3;
+                (
+                    vec![
+                        t,
+                        0.0,
+                        0.0,
+                        0.01,
+                        0.1 + (t * 50.0).sin() * 0.05,
+                        t,
+                        60.0 * t,
+                        1.0,
+                    ],
+                    if i < n / 3 {
+                        "sliding".into()
+                    } else {
+                        "rolling".into()
+                    },
+                )
+            },
+        )
     }
 
     #[test]
     fn frames_are_bounded_and_keep_events_and_mode_changes() {
         let mut t = table(100_000);
-        t.events.push(Event { t: 12.3456, kind: "slip_stop".into(), label: "slip stop".into() });
+        t.events.push(Event {
+            t: 12.3456,
+            kind: "slip_stop".into(),
+            label: "slip stop".into(),
+        });
         let idx = frame_indices(&t, 1000);
         assert!(idx.len() <= 1000 + 8 && idx.len() >= 990, "{}", idx.len());
         assert!(idx.windows(2).all(|w| w[0] < w[1]));
         assert_eq!((idx[0], *idx.last().unwrap()), (0, 99_999));
         let ts = t.t();
-        assert!(idx.iter().any(|&i| ts[i] < 12.3456 && ts[i + 1] >= 12.3456), "the sample before the event is kept");
-        assert!(idx.contains(&(100_000 / 3)) && idx.contains(&(100_000 / 3 - 1)), "both sides of the mode change");
+        assert!(
+            idx.iter().any(|&i| ts[i] < 12.3456 && ts[i + 1] >= 12.3456),
+            "the sample before the event is kept"
+        );
+        assert!(
+            idx.contains(&(100_000 / 3)) && idx.contains(&(100_000 / 3 - 1)),
+            "both sides of the mode change"
+        );
         assert_eq!(frame_indices(&table(50), 1000).len(), 50);
     }
 
@@ -257,15 +325,37 @@ mod tests {
     fn the_page_is_self_contained_and_escaped() {
         let page = html(&table(10), "a </script><b> & c").unwrap();
         assert!(page.contains("a &lt;/script&gt;&lt;b&gt; &amp; c"));
-        assert_eq!(page.matches("</script>").count(), page.matches("<script").count(), "every script closed once");
-        assert!(page.contains("Copyright © 2010-2024 three.js authors"), "licence inlined");
+        assert_eq!(
+            page.matches("</script>").count(),
+            page.matches("<script").count(),
+            "every script closed once"
+        );
+        assert!(
+            page.contains("Copyright © 2010-2024 three.js authors"),
+            "licence inlined"
+        );
         for remote in ["http://", "https://", "//cdn", "src=\""] {
-            assert!(!page.contains(&format!("<script {remote}")) && !page.contains(&format!("<link href=\"{remote}")), "{remote}");
+            assert!(
+                !page.contains(&format!("<script {remote}"))
+                    && !page.contains(&format!("<link href=\"{remote}")),
+                "{remote}"
+            );
         }
-        for key in ["{{TITLE}}", "{{DATA}}", "{{VIEWER}}", "{{THREE}}", "{{THREE_LICENSE}}"] {
+        for key in [
+            "{{TITLE}}",
+            "{{DATA}}",
+            "{{VIEWER}}",
+            "{{THREE}}",
+            "{{THREE_LICENSE}}",
+        ] {
             assert!(!page.contains(key), "{key} filled");
         }
-        assert!(html(&table(10), "{{DATA}}").unwrap().contains("<title>{{DATA}}"), "values are not filled again");
+        assert!(
+            html(&table(10), "{{DATA}}")
+                .unwrap()
+                .contains("<title>{{DATA}}"),
+            "values are not filled again"
+        );
         let mut t = table(10);
         t.columns.retain(|c| c.0 != "psi");
         assert!(html(&t, "x").unwrap_err().to_string().contains("`psi`"));

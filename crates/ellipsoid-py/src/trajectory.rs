@@ -117,20 +117,29 @@ impl Trajectory {
     /// `ellipsoid view OUT.csv --summary S.json` reads back, so the pages are identical.
     fn table(&self) -> ellipsoid_io::table::Table {
         let names = NUMERIC_COLUMNS.map(|c| c.0);
-        let mut t = ellipsoid_io::table::Table::from_rows(&self.scenario.inner.source, &names, self.samples.len(), |i| {
-            let s = &self.samples[i];
-            (columns::values(s).to_vec(), s.mode.name().to_owned())
-        });
+        let mut t = ellipsoid_io::table::Table::from_rows(
+            &self.scenario.inner.source,
+            &names,
+            self.samples.len(),
+            |i| {
+                let s = &self.samples[i];
+                (columns::values(s).to_vec(), s.mode.name().to_owned())
+            },
+        );
         if let Ok(v) = serde_json::from_str::<serde_json::Value>(&self.summary.to_json()) {
             t.apply_events(&v);
         }
-        t.set_body(&self.scenario.inner.scene.body, &format!("body from {}", self.scenario.inner.source));
+        t.set_body(
+            &self.scenario.inner.scene.body,
+            &format!("body from {}", self.scenario.inner.source),
+        );
         t
     }
 
     fn page(&self, py: Python<'_>, title: Option<&str>) -> PyResult<String> {
         let title = title.unwrap_or(&self.scenario.inner.source);
-        ellipsoid_io::viewer::html(&self.table(), title).map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))
+        ellipsoid_io::viewer::html(&self.table(), title)
+            .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))
     }
 }
 
@@ -375,12 +384,18 @@ impl Trajectory {
     /// plots with a linked cursor; self-contained (opens offline). With `path`, writes it
     /// there atomically and returns None; without, returns the HTML text.
     #[pyo3(signature = (path=None, *, title=None))]
-    fn view(&self, py: Python<'_>, path: Option<PathBuf>, title: Option<String>) -> PyResult<Option<String>> {
+    fn view(
+        &self,
+        py: Python<'_>,
+        path: Option<PathBuf>,
+        title: Option<String>,
+    ) -> PyResult<Option<String>> {
         let html = self.page(py, title.as_deref())?;
         match path {
             None => Ok(Some(html)),
             Some(p) => {
-                ellipsoid_io::atomic::write(&p, html.as_bytes()).map_err(|e| errors::output_error(py, &e))?;
+                ellipsoid_io::atomic::write(&p, html.as_bytes())
+                    .map_err(|e| errors::output_error(py, &e))?;
                 Ok(None)
             }
         }
@@ -390,13 +405,20 @@ impl Trajectory {
     fn _repr_html_(&self, py: Python<'_>) -> PyResult<String> {
         let html = self.page(py, None)?;
         let doc = html.replace('&', "&amp;").replace('"', "&quot;");
-        Ok(format!("<iframe srcdoc=\"{doc}\" style=\"width: 100%; height: 680px; border: 1px solid #ccc\" sandbox=\"allow-scripts\"></iframe>"))
+        Ok(format!(
+            "<iframe srcdoc=\"{doc}\" style=\"width: 100%; height: 680px; border: 1px solid #ccc\" sandbox=\"allow-scripts\"></iframe>"
+        ))
     }
 
     /// The contact point's path on the plane, (x, y) [m], from G, the Euler angles and the
     /// body's shape (used by `plot`).
-    fn _contact_path<'py>(&self, py: Python<'py>) -> Option<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
-        self.table().contact_path().map(|(x, y)| (PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
+    fn _contact_path<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> Option<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        self.table()
+            .contact_path()
+            .map(|(x, y)| (PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
     }
 
     /// The multi-panel figure of `ellipsoid plot` drawn with matplotlib (needed; raises
@@ -404,8 +426,14 @@ impl Trajectory {
     /// of "theta", "rates", "energy", "forces", "path" (default: all). Returns the
     /// matplotlib Figure.
     #[pyo3(signature = (panels=None))]
-    fn plot<'py>(slf: &Bound<'py, Self>, panels: Option<Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
-        slf.py().import("ellipsoid._plot")?.getattr("plot")?.call1((slf, panels))
+    fn plot<'py>(
+        slf: &Bound<'py, Self>,
+        panels: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        slf.py()
+            .import("ellipsoid._plot")?
+            .getattr("plot")?
+            .call1((slf, panels))
     }
 
     /// Writes the trajectory in the format its extension names (`.csv`, `.h5`, `.hdf5`),
