@@ -178,6 +178,7 @@ impl Table {
             .ok()?;
         let n = self.rows();
         let (mut cx, mut cy) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        #[allow(clippy::needless_range_loop)] // row i of six columns at once
         for i in 0..n {
             let c = shape.contact_point(
                 [cols[0][i], cols[1][i], cols[2][i]],
