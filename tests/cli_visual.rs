@@ -106,7 +106,8 @@ fn every_panel_names_its_axes_with_units_and_draws_its_data() {
             &[
                 "x (m)",
                 "y (m)",
-                "paths on the plane: contact point and G",
+                "paths on the plane: contact point, G, centre C0",
+                "centre C0",
                 "contact point",
             ],
             [0x1f, 0x77, 0xb4],

@@ -10,7 +10,7 @@
 //!          of the conserved quantity, |ΔE|/|E0| or |Δ(E + W)|/|E0 + W0|
 //!          (the `drift` column when present), on a log axis
 //! forces   normal force N and slip speed, contact mode shaded            normal_force, slip_speed
-//! path     the contact point's path on the plane and G's                 x, y (contact: contact_x/y,
+//! path     the paths on the plane of the contact point, G and C0                 x, y (contact: contact_x/y,
 //!                                                                        or the body's shape)
 //! ```
 //! Every time axis marks the events (dashed purple lines). Long runs are drawn from the
@@ -375,8 +375,12 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
     let x = table.column("x").expect("checked");
     let y = table.column("y").expect("checked");
     let contact = table.contact_path();
+    let centre = table.centre_path();
     let title = if contact.is_some() {
-        "paths on the plane: contact point and G".to_owned()
+        format!(
+            "paths on the plane: contact point, G{}",
+            if centre.is_some() { ", centre C0" } else { "" }
+        )
     } else {
         format!(
             "path of G on the plane (contact point unknown: {})",
@@ -391,7 +395,7 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
     let area = area.margin(0, 0, pad, pad);
     let mut xs: Vec<&f64> = x.iter().collect();
     let mut ys: Vec<&f64> = y.iter().collect();
-    if let Some((cx, cy)) = &contact {
+    for (cx, cy) in contact.iter().chain(centre.iter()) {
         xs.extend(cx.iter());
         ys.extend(cy.iter());
     }
@@ -415,7 +419,7 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
         .y_desc("y (m)")
         .x_label_formatter(&fmt)
         .y_label_formatter(&fmt)
-        .x_labels(5)
+        .x_labels(4)
         .y_labels(6)
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 16))
@@ -437,6 +441,11 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
     chart
         .draw_series(LineSeries::new(decimate(x, y), GREY.stroke_width(2)))
         .map_err(err)?;
+    if let Some((cx, cy)) = &centre {
+        chart
+            .draw_series(LineSeries::new(decimate(cx, cy), ORANGE.stroke_width(1)))
+            .map_err(err)?;
+    }
     if let Some((cx, cy)) = &contact {
         chart
             .draw_series(LineSeries::new(decimate(cx, cy), BLUE.stroke_width(1)))
@@ -448,6 +457,9 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
     // The legend beside the square, where it hides nothing.
     let (lx, ly) = (pad + side + 10, 60);
     let mut entries = vec![("G", GREY), ("start", GREEN)];
+    if centre.is_some() {
+        entries.insert(1, ("centre C0", ORANGE));
+    }
     if contact.is_some() {
         entries.insert(1, ("contact point", BLUE));
     }

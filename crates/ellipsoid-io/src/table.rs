@@ -192,6 +192,27 @@ impl Table {
         Some((cx, cy))
     }
 
+    /// The path of the geometric centre C0 = G − R g_b on the plane (paper Figs. 15–24);
+    /// `None` without the shape, or when C0 is G (no centre-of-mass offset).
+    pub fn centre_path(&self) -> Option<(Vec<f64>, Vec<f64>)> {
+        let shape = self
+            .shape
+            .filter(|s| s.com_offset.iter().any(|v| *v != 0.0))?;
+        let cols = self
+            .require(&["x", "y", "theta", "phi", "psi"], "the centre path")
+            .ok()?;
+        let g = Vector3::from(shape.com_offset);
+        let n = self.rows();
+        let (mut cx, mut cy) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        #[allow(clippy::needless_range_loop)] // row i of five columns at once
+        for i in 0..n {
+            let c = euler_rotation(cols[2][i], cols[3][i], cols[4][i]) * g;
+            cx.push(cols[0][i] - c.x);
+            cy.push(cols[1][i] - c.y);
+        }
+        Some((cx, cy))
+    }
+
     /// The relative drift of the scene's conserved quantity per row, and its name: the
     /// `drift` column when present; else (E + W − E0 − W0)/|E0 + W0| (E alone when no
     /// work is dissipated). `None` without an energy column.
@@ -835,6 +856,30 @@ mod tests {
             (c[0] - c0.x).abs() < 1e-15 && (c[1] - c0.y).abs() < 1e-15 && c[2].abs() < 1e-15,
             "{c:?} {c0:?}"
         );
+    }
+
+    #[test]
+    fn the_centre_lies_above_g_by_the_offset() {
+        let mut t = Table::from_rows("m", &["t", "x", "y", "theta", "phi", "psi"], 1, |_| {
+            (vec![0.0, 1.0, 2.0, 0.5, 0.2, 0.0], "rolling".into())
+        });
+        assert!(t.centre_path().is_none(), "no shape");
+        t.shape = Some(Shape {
+            semi_axes: [0.1; 3],
+            com_offset: [0.0, 0.0, -0.02],
+        });
+        let (x, y) = t.centre_path().unwrap();
+        // C0 = G + 0.02 e3*, e3* = (sin φ sin θ, −cos φ sin θ, cos θ).
+        let (st, sp, cp) = (0.5f64.sin(), 0.2f64.sin(), 0.2f64.cos());
+        assert!(
+            (x[0] - (1.0 + 0.02 * sp * st)).abs() < 1e-15
+                && (y[0] - (2.0 - 0.02 * cp * st)).abs() < 1e-15
+        );
+        t.shape = Some(Shape {
+            semi_axes: [0.1; 3],
+            com_offset: [0.0; 3],
+        });
+        assert!(t.centre_path().is_none(), "C0 is G");
     }
 
     #[test]

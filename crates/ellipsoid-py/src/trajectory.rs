@@ -412,6 +412,17 @@ impl Trajectory {
 
     /// The contact point's path on the plane, (x, y) [m], from G, the Euler angles and the
     /// body's shape (used by `plot`).
+    /// The geometric centre C0's path on the plane, (x, y) [m] (used by `plot`); None
+    /// when C0 is G.
+    fn _centre_path<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> Option<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+        self.table()
+            .centre_path()
+            .map(|(x, y)| (PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
+    }
+
     fn _contact_path<'py>(
         &self,
         py: Python<'py>,

@@ -4,7 +4,7 @@ dependency, imported only here).
 Panels, top to bottom: theta (θ(t)), rates (θ̇, φ̇, ψ̇, and the world-frame vertical spin
 when the trajectory has it), energy (E, E + W when work is dissipated, and the relative
 drift of the conserved quantity on a log axis), forces (normal force and slip speed with
-the contact mode shaded), path (the contact point's path on the plane and G's). Events
+the contact mode shaded), path (the paths on the plane of the contact point, G and the geometric centre C0). Events
 are dashed vertical lines. SI units on every axis.
 """
 
@@ -117,9 +117,12 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None) -> Any:
             ax = fig.add_subplot(grid[row, :])
             ax.plot(traj.x, traj.y, color="#808080", lw=2, label="G")
             contact = traj._contact_path()
+            centre = traj._centre_path()
             if contact is not None:
                 ax.plot(contact[0], contact[1], color="#1f77b4", lw=0.8, label="contact point")
-                ax.set_title("paths on the plane: contact point and G")
+                ax.set_title("paths on the plane: contact point, G" + (", centre C0" if centre is not None else ""))
+            if centre is not None:
+                ax.plot(centre[0], centre[1], color="#ff7f0e", lw=0.8, label="centre C0")
             else:
                 ax.set_title("path of G on the plane")
             ax.plot([traj.x[0]], [traj.y[0]], "o", color="#2ca02c", label="start")
