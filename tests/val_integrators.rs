@@ -459,6 +459,55 @@ fn val_terminal_event_stops_at_the_crossing() {
     }
 }
 
+/// A dip shorter than one step: x = cos 2t passes below −0.999 for acos(0.999) ≈ 0.045 s
+/// around each trough, while DOP853 and DOPRI5 at rtol 1e-6 take steps of more than
+/// twice that, so g = x + 0.999 is positive at both ends of the step that contains the
+/// dip. Every dip is found by the scan of the dense output inside such steps
+/// (docs/integrators.md, "Events"): one falling crossing per period, each at
+/// t = (π − acos 0.999)/2 + kπ to the accuracy the tolerance gives the dense output
+/// (|δx| ~ 1e-6 over |ẋ| ≈ 0.09 m/s: 1e-4 s).
+#[test]
+fn val_event_dip_shorter_than_a_step_is_found() {
+    let depth: f64 = 0.999;
+    let first = (PI - depth.acos()) / 2.0;
+    let width = depth.acos();
+    for method in [Method::Dopri5, Method::Dop853] {
+        let events = vec![Event {
+            g: Box::new(move |_, y: &Vector2<f64>| y[0] + depth),
+            direction: Direction::Falling,
+            action: Action::Continue,
+        }];
+        let osc = HarmonicOscillator { omega: 2.0 };
+        let sol = integrate(
+            method,
+            &osc,
+            0.0,
+            Vector2::new(1.0, 0.0),
+            20.0,
+            &Options::new(1e-6, 1e-6),
+            &events,
+            &[],
+            &mut |_, _| ControlFlow::Continue(()),
+        )
+        .unwrap();
+        let mean_step = 20.0 / sol.stats.accepted as f64;
+        assert!(
+            mean_step > 2.0 * width,
+            "{}: steps of {mean_step} s resolve the dip ({width} s) without the scan: the test proves nothing",
+            method.name()
+        );
+        let expected: Vec<f64> = (0..)
+            .map(|k| first + k as f64 * PI)
+            .take_while(|&t| t < 20.0)
+            .collect();
+        let found: Vec<f64> = sol.events.iter().map(|e| e.t).collect();
+        assert_eq!(found.len(), expected.len(), "{}: {found:?}", method.name());
+        for (f, e) in found.iter().zip(&expected) {
+            assert!((f - e).abs() < 1e-4, "{}: {f} vs {e}", method.name());
+        }
+    }
+}
+
 /// g = v = −2 sin 2t is exactly zero at t0 = 0 (as after a mode switch): not an event.
 /// The first event is the next zero, t = π/2.
 #[test]

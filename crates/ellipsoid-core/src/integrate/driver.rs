@@ -9,7 +9,7 @@ use nalgebra::SVector;
 use super::controller::{PiController, Verdict};
 use super::dop853::Dop853;
 use super::dopri5::Dopri5;
-use super::events::{crossed, locate, time_tolerance};
+use super::events::{SCAN_POINTS, crossed, locate, lowest, may_cross_inside, time_tolerance};
 use super::options::validate_inputs;
 use super::rk4::Rk4;
 use super::stepper::{Stepper, Trial};
@@ -62,8 +62,11 @@ pub fn integrate<S: OdeSystem<N>, const N: usize>(
         samples: sample_times,
         observer,
         next_sample: 0,
+        g_before: vec![0.0; events.len()],
         g_prev: vec![0.0; events.len()],
         g_new: vec![0.0; events.len()],
+        t_before: f64::NAN,
+        scan: [(0.0, SVector::zeros()); SCAN_POINTS],
         found: Vec::with_capacity(events.len()),
         sol: Solution {
             t: t0,
@@ -92,9 +95,14 @@ struct Run<'r, 'e, S, const N: usize> {
     observer: &'r mut dyn FnMut(f64, &SVector<f64, N>) -> ControlFlow<()>,
     /// Index of the first sample not yet emitted.
     next_sample: usize,
-    /// g at the start and at the end of the current step.
+    /// g at the start of the previous step, at the start and at the end of the current one.
+    g_before: Vec<f64>,
     g_prev: Vec<f64>,
     g_new: Vec<f64>,
+    /// Start of the previous step (NaN during the first).
+    t_before: f64,
+    /// The dense-output states at the interior scan points of the current step.
+    scan: [(f64, SVector<f64, N>); SCAN_POINTS],
     /// (time, index) of the crossings located in the current step.
     found: Vec<(f64, usize)>,
     sol: Solution<N>,
@@ -260,44 +268,51 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
     ) -> Option<(f64, SVector<f64, N>, StopReason)> {
         let events = self.events;
         self.found.clear();
+        let tol = time_tolerance(t_new, t_new - t);
+        let mut dense_ready = false;
         for (i, ev) in events.iter().enumerate() {
             let g = (ev.g)(t_new, y_new);
             self.g_new[i] = g;
-            if crossed(ev.direction, self.g_prev[i], g) {
-                self.found.push((t_new, i));
+            let at_ends = crossed(ev.direction, self.g_prev[i], g);
+            if !at_ends
+                && !may_cross_inside(
+                    ev.direction,
+                    [self.t_before, t, t_new],
+                    [self.g_before[i], self.g_prev[i], g],
+                )
+            {
+                continue;
             }
+            if !dense_ready {
+                stepper.prepare_dense(self.system, &mut self.sol.stats);
+                dense_ready = true;
+                for (j, point) in self.scan.iter_mut().enumerate() {
+                    let s = t + (t_new - t) * (j + 1) as f64 / (SCAN_POINTS + 1) as f64;
+                    *point = (s, stepper.dense(s));
+                }
+            }
+            let Some((a, ga, b, gb)) = self.bracket(i, t, t_new, at_ends, |s| stepper.dense(s))
+            else {
+                continue;
+            };
+            let t_root = locate(|s| (ev.g)(s, &stepper.dense(s)), a, ga, b, gb, tol);
+            // the zero g(t0) = 0 itself, found again by the root finder
+            if t == self.t0 && t_root <= self.t0 + tol {
+                continue;
+            }
+            self.found.push((t_root, i));
         }
         let sample_due = self
             .samples
             .get(self.next_sample)
             .is_some_and(|&ts| ts <= t_new);
         if self.found.is_empty() && !sample_due {
-            std::mem::swap(&mut self.g_prev, &mut self.g_new);
+            self.end_step(t);
             return None;
         }
-        stepper.prepare_dense(self.system, &mut self.sol.stats);
-
-        let tol = time_tolerance(t_new, t_new - t);
-        let mut kept = 0;
-        for n in 0..self.found.len() {
-            let i = self.found[n].1;
-            let g = &events[i].g;
-            let t_root = locate(
-                |s| g(s, &stepper.dense(s)),
-                t,
-                self.g_prev[i],
-                t_new,
-                self.g_new[i],
-                tol,
-            );
-            // the zero g(t0) = 0 itself, found again by the root finder
-            if t == self.t0 && t_root <= self.t0 + tol {
-                continue;
-            }
-            self.found[kept] = (t_root, i);
-            kept += 1;
+        if !dense_ready {
+            stepper.prepare_dense(self.system, &mut self.sol.stats);
         }
-        self.found.truncate(kept);
         self.found
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
 
@@ -333,8 +348,68 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                 }
             }
         }
-        std::mem::swap(&mut self.g_prev, &mut self.g_new);
+        self.end_step(t);
         None
+    }
+
+    /// The bracket [a, b] (with g(a), g(b)) of the first crossing of event `i` in the
+    /// step (t, t_new], from g at the step ends and at the scan points: the whole step
+    /// when the scan shows just the one sign change the ends show (so a lone crossing is
+    /// located exactly as without the scan); otherwise the first scan interval in which
+    /// g crosses in the event's direction; otherwise, for a dip narrower than the scan
+    /// spacing, the interval from the scan point before the lowest one to the minimum of
+    /// σ g found around it (σ = sign g(t)), if that minimum is past zero; else `None`.
+    fn bracket(
+        &self,
+        i: usize,
+        t: f64,
+        t_new: f64,
+        at_ends: bool,
+        dense: impl Fn(f64) -> SVector<f64, N>,
+    ) -> Option<(f64, f64, f64, f64)> {
+        let ev = &self.events[i];
+        let value = |j: usize| match j {
+            0 => (t, self.g_prev[i]),
+            j if j > SCAN_POINTS => (t_new, self.g_new[i]),
+            j => {
+                let (s, y) = &self.scan[j - 1];
+                (*s, (ev.g)(*s, y))
+            }
+        };
+        let sigma = self.g_prev[i].signum();
+        let (mut s0, mut g0) = value(0);
+        let (mut first, mut changes, mut lowest_at) = (None, 0, 1);
+        let mut lowest_g = f64::INFINITY;
+        for j in 1..=SCAN_POINTS + 1 {
+            let (s, g) = value(j);
+            if g.signum() != g0.signum() && g0 != 0.0 {
+                changes += 1;
+            }
+            if first.is_none() && crossed(ev.direction, g0, g) {
+                first = Some((s0, g0, s, g));
+            }
+            if j <= SCAN_POINTS && sigma * g < lowest_g {
+                (lowest_at, lowest_g) = (j, sigma * g);
+            }
+            (s0, g0) = (s, g);
+        }
+        if at_ends && changes == 1 {
+            return Some((t, self.g_prev[i], t_new, self.g_new[i]));
+        }
+        if first.is_some() {
+            return first;
+        }
+        let (lo, hi) = (value(lowest_at - 1), value(lowest_at + 1));
+        let (s_min, f_min) = lowest(|s| sigma * (ev.g)(s, &dense(s)), lo.0, hi.0);
+        let g_min = sigma * f_min;
+        crossed(ev.direction, lo.1, g_min).then_some((lo.0, lo.1, s_min, g_min))
+    }
+
+    /// Shifts the event values and times by one step, after the step (t, t_new].
+    fn end_step(&mut self, t: f64) {
+        std::mem::swap(&mut self.g_before, &mut self.g_prev);
+        std::mem::swap(&mut self.g_prev, &mut self.g_new);
+        self.t_before = t;
     }
 
     /// The projected dense-output state at `s` in the accepted step ending at `t_new`.

@@ -17,6 +17,88 @@ pub(crate) fn crossed(direction: Direction, g_prev: f64, g_new: f64) -> bool {
     }
 }
 
+/// Interior points of a step at which the event functions are evaluated on the dense
+/// output when [`may_cross_inside`] says a crossing could hide between the step ends.
+pub(crate) const SCAN_POINTS: usize = 8;
+
+/// Whether g might cross zero inside a step although its values at the ends, g(t) =
+/// `g_prev` and g(t_new) = `g_new`, do not show it (a dip shorter than the step), judged
+/// from those values and g(t_before) = `g_before` at the start of the previous step
+/// (`t_before` NaN on the first step). With σ = sign g(t) (the side a crossing in
+/// `direction` starts from; no crossing can start from g(t) = 0), a = σ g(t), b = σ g(t_new),
+/// it answers yes when
+/// ```text
+///   min(a, b) ≤ 2 (|b − a| + |a − σ g(t_before)| h/h_prev + dip)
+/// ```
+/// where dip is how far the parabola through the three values falls below min(a, b)
+/// inside the step: g is then within twice its own variation per step of zero, or
+/// curving towards it. Far from zero (the usual case) the answer is no and the step
+/// costs nothing more; near zero the step is scanned at [`SCAN_POINTS`] points.
+#[inline]
+pub(crate) fn may_cross_inside(
+    direction: Direction,
+    [t_before, t, t_new]: [f64; 3],
+    [g_before, g_prev, g_new]: [f64; 3],
+) -> bool {
+    let sigma = match direction {
+        Direction::Falling if g_prev > 0.0 => 1.0,
+        Direction::Rising if g_prev < 0.0 => -1.0,
+        Direction::Either if g_prev != 0.0 => g_prev.signum(),
+        _ => return false,
+    };
+    let (a, b) = (sigma * g_prev, sigma * g_new);
+    let low = a.min(b);
+    if low <= 0.0 {
+        return true;
+    }
+    let mut reach = (b - a).abs();
+    if t_before < t {
+        let c = sigma * g_before;
+        let (h_prev, h) = (t - t_before, t_new - t);
+        reach += (a - c).abs() * h / h_prev;
+        // Newton form q(s) = c + d1 (s − t_b) + q2 (s − t_b)(s − t); vertex where q' = 0.
+        let d1 = (a - c) / h_prev;
+        let q2 = ((b - a) / h - d1) / (t_new - t_before);
+        if q2 > 0.0 {
+            let s = 0.5 * (t_before + t) - d1 / (2.0 * q2);
+            if s > t && s < t_new {
+                let q_min = c + d1 * (s - t_before) + q2 * (s - t_before) * (s - t);
+                reach += (low - q_min).max(0.0);
+            }
+        }
+    }
+    low <= 2.0 * reach
+}
+
+/// Golden-section search (Kiefer 1953) for the minimum of f on [a, b], stopping as soon
+/// as f ≤ 0 (a crossing is all the caller needs) or after 60 reductions of the interval
+/// (0.618⁶⁰ ≈ 3e-13 of its length). Returns the lowest point seen and f there.
+pub(crate) fn lowest(mut f: impl FnMut(f64) -> f64, a: f64, b: f64) -> (f64, f64) {
+    const R: f64 = 0.618_033_988_749_894_9; // (√5 − 1)/2
+    let (mut a, mut b) = (a, b);
+    let mut x1 = b - R * (b - a);
+    let mut x2 = a + R * (b - a);
+    let (mut f1, mut f2) = (f(x1), f(x2));
+    for _ in 0..60 {
+        if f1 <= 0.0 {
+            return (x1, f1);
+        }
+        if f2 <= 0.0 {
+            return (x2, f2);
+        }
+        if f1 < f2 {
+            (b, x2, f2) = (x2, x1, f1);
+            x1 = b - R * (b - a);
+            f1 = f(x1);
+        } else {
+            (a, x1, f1) = (x1, x2, f2);
+            x2 = a + R * (b - a);
+            f2 = f(x2);
+        }
+    }
+    if f1 < f2 { (x1, f1) } else { (x2, f2) }
+}
+
 /// Absolute time tolerance for locating a root in a step ending at `t` of length `h`.
 #[inline]
 pub(crate) fn time_tolerance(t: f64, h: f64) -> f64 {
