@@ -112,6 +112,9 @@ impl Trajectory {
 
 use pyo3::types::IntoPyDict;
 
+/// A path on the plane as two numpy arrays, x and y [m].
+type XyArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
 impl Trajectory {
     /// The run as a table for the viewer: the same columns, events and body as
     /// `ellipsoid view OUT.csv --summary S.json` reads back, so the pages are identical.
@@ -410,23 +413,17 @@ impl Trajectory {
         ))
     }
 
-    /// The contact point's path on the plane, (x, y) [m], from G, the Euler angles and the
-    /// body's shape (used by `plot`).
     /// The geometric centre C0's path on the plane, (x, y) [m] (used by `plot`); None
     /// when C0 is G.
-    fn _centre_path<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> Option<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    fn _centre_path<'py>(&self, py: Python<'py>) -> Option<XyArrays<'py>> {
         self.table()
             .centre_path()
             .map(|(x, y)| (PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
     }
 
-    fn _contact_path<'py>(
-        &self,
-        py: Python<'py>,
-    ) -> Option<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>)> {
+    /// The contact point's path on the plane, (x, y) [m], from G, the Euler angles and the
+    /// body's shape (used by `plot`).
+    fn _contact_path<'py>(&self, py: Python<'py>) -> Option<XyArrays<'py>> {
         self.table()
             .contact_path()
             .map(|(x, y)| (PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
