@@ -148,8 +148,8 @@ def test_the_plot_cursor_follows_the_slider(cli: Path, tmp_path: Path, page) -> 
         want = page.eval(f"ellipsoidViewer.plotX('theta', {t})")
         assert abs(x + 0.5 - want) < 2.5, f"cursor at {x}, t = {t} belongs at {want}"
         xs.append(x)
-    # Half the run apart: half the plot width (360 px less the 72 px of margins) apart.
-    assert abs((xs[1] - xs[0]) - 0.5 * 288) < 6, xs
+    # Half the run apart: half the plot width (360 px less the 80 px of margins) apart.
+    assert abs((xs[1] - xs[0]) - 0.5 * 280) < 6, xs
     assert page.errors() == []
 
 

@@ -175,7 +175,7 @@ function apply(t) {
 
 // ---------------------------------------------------------------- plots
 const CURSOR = 'rgb(220,0,0)';
-const M = { left: 62, right: 10, top: 20, bottom: 34 };
+const M = { left: 70, right: 10, top: 20, bottom: 34 };
 const plots = D.plots.map((p) => {
   const canvas = $('plot-' + p.name);
   const s = { name: p.name, label: p.label, canvas, t: f32(p.t), v: f32(p.v), t2: p.t2 ? f32(p.t2) : null, v2: p.v2 ? f32(p.v2) : null };
@@ -199,7 +199,7 @@ function ticks(lo, hi, n) {
   for (let v = Math.ceil(lo / step) * step; v <= hi + step * 1e-9; v += step) out.push(Math.abs(v) < step * 1e-9 ? 0 : v);
   return out;
 }
-const fmt = (v) => { const a = Math.abs(v); return a !== 0 && (a < 1e-3 || a >= 1e4) ? v.toExponential(2) : String(+v.toPrecision(6)); };
+const fmt = (v) => { const a = Math.abs(v); return a !== 0 && (a < 1e-3 || a >= 1e4) ? v.toExponential(2) : String(+v.toPrecision(5)); };
 function drawPlot(s, t) {
   const g = s.canvas.getContext('2d'), W = s.canvas.width, H = s.canvas.height;
   const pw = W - M.left - M.right, ph = H - M.top - M.bottom;

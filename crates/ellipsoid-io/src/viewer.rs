@@ -171,11 +171,28 @@ pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
     theta["name"] = "theta".into();
     plots.push(theta);
     if let Some(e) = table.column("energy") {
-        let mut energy = series(e);
-        energy["n"] = envelope(t, e, PLOT_BUCKETS).0.len().into();
-        energy["label"] = "energy E (J)".into();
+        let work = table.column("work").filter(|w| w.iter().any(|v| *v != 0.0));
+        // E constant to display precision (a conserving scene): its relative deviation,
+        // which shows the drift, instead of a flat line with identical tick labels.
+        let (lo, hi) = e
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(*v), hi.max(*v))
+            });
+        let scale = e[0].abs().max(f64::MIN_POSITIVE);
+        let relative: Option<Vec<f64>> = (work.is_none() && hi - lo <= 1e-6 * scale)
+            .then(|| e.iter().map(|v| (v - e[0]) / scale).collect());
+        let shown = relative.as_deref().unwrap_or(e);
+        let mut energy = series(shown);
+        energy["n"] = envelope(t, shown, PLOT_BUCKETS).0.len().into();
+        energy["label"] = if relative.is_some() {
+            "energy: (E − E(0)) / |E(0)| (1)"
+        } else {
+            "energy E (J)"
+        }
+        .into();
         energy["name"] = "energy".into();
-        if let Some(w) = table.column("work").filter(|w| w.iter().any(|v| *v != 0.0)) {
+        if let Some(w) = work {
             let ew: Vec<f64> = e.iter().zip(w).map(|(e, w)| e + w).collect();
             let (ts, vs) = envelope(t, &ew, PLOT_BUCKETS);
             energy["t2"] = b64_f32(ts.iter().copied()).into();
