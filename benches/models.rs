@@ -11,6 +11,7 @@ use std::path::Path;
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use ellipsoid_core::body::Body;
+use ellipsoid_core::effects::AirDrag;
 use ellipsoid_core::integrate::{Method, OdeSystem, Options, integrate};
 use ellipsoid_core::model::{ContactLaw, Frictionless, Rolling, Sliding, System};
 use ellipsoid_core::scenario;
@@ -76,6 +77,20 @@ fn rhs(c: &mut Criterion) {
     let roll = system(Rolling);
     group.bench_function("rolling", |b| {
         b.iter(|| black_box(&roll).rhs(0.0, black_box(&y)))
+    });
+    // The same sliding system with one effect present (air drag): what an absent effect
+    // (the `()` above) saves.
+    let dragged = System {
+        body: top(),
+        gravity: 9.81,
+        contact: Sliding { friction: 0.3 },
+        effects: AirDrag {
+            linear: 1e-3,
+            angular: 1e-8,
+        },
+    };
+    group.bench_function("sliding_air_drag", |b| {
+        b.iter(|| black_box(&dragged).rhs(0.0, black_box(&y)))
     });
     group.finish();
 }

@@ -21,7 +21,11 @@ if ! command -v chromium >/dev/null 2>&1 || [ ! -f /usr/share/fonts/truetype/dej
     || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends chromium fonts-dejavu-core; }
 fi
 
-# 2. Rust: every crate but the Python extension (tested below through its wheel).
+# 2. Rust: formatting and lints first (cheap, and a red CI should say why at once), then
+#    every crate but the Python extension (tested below through its wheel).
+echo "== cargo fmt --check, cargo clippy"
+cargo fmt --all --check
+cargo clippy --release --all-targets --features ellipsoid-cli/hdf5 -- -D warnings
 echo "== cargo test"
 cargo test --release --features ellipsoid-cli/hdf5
 

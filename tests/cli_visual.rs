@@ -173,24 +173,49 @@ fn every_panel_names_its_axes_with_units_and_draws_its_data() {
     );
 }
 
+/// The CSV without the columns `names` (a file from before they existed).
+fn drop_columns(csv: &Path, names: &[&str], out: &Path) {
+    let text = std::fs::read_to_string(csv).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let keep: Vec<usize> = (0..header.len())
+        .filter(|&k| !names.contains(&header[k]))
+        .collect();
+    let mut o = String::new();
+    for line in text.lines() {
+        let f: Vec<&str> = line.split(',').collect();
+        o.push_str(&keep.iter().map(|&k| f[k]).collect::<Vec<_>>().join(","));
+        o.push('\n');
+    }
+    std::fs::write(out, o).unwrap();
+}
+
 #[test]
-fn without_a_summary_the_path_is_g_and_says_why() {
+fn without_a_summary_the_contact_path_comes_from_its_columns_or_g_is_drawn_and_says_why() {
     let dir = tempfile::tempdir().unwrap();
     let (csv, _) = tippe_top(dir.path());
-    let o = ellipsoid(
-        dir.path(),
-        &[
-            "plot",
-            csv.to_str().unwrap(),
-            "--panels",
-            "path,theta",
-            "-o",
-            "p.svg",
-        ],
+    let plot = |input: &str| {
+        let o = ellipsoid(
+            dir.path(),
+            &["plot", input, "--panels", "path,theta", "-o", "p.svg"],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        (
+            stderr(&o),
+            std::fs::read_to_string(dir.path().join("p.svg")).unwrap(),
+        )
+    };
+    // contact_x, contact_y in the file: the contact path without the body (and no C0).
+    let (err, text) = plot(csv.to_str().unwrap());
+    assert!(!err.contains("note:"), "{err}");
+    assert!(
+        text.contains("paths on the plane: contact point, G") && !text.contains("centre C0"),
+        "contact path from its columns, no centre without the body"
     );
-    assert!(o.status.success(), "{}", stderr(&o));
-    assert!(stderr(&o).contains("note: body unknown"), "{}", stderr(&o));
-    let text = std::fs::read_to_string(dir.path().join("p.svg")).unwrap();
+    // An older file without them, and no summary: G's path, and the figure says why.
+    let old = dir.path().join("old.csv");
+    drop_columns(&csv, &["contact_x", "contact_y"], &old);
+    let (err, text) = plot(old.to_str().unwrap());
+    assert!(err.contains("note: body unknown"), "{err}");
     assert!(
         text.contains("path of G on the plane (contact point unknown"),
         "the figure says why there is no contact path"

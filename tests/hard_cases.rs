@@ -12,6 +12,7 @@ use ellipsoid_core::body::{Body, uniform_inertia};
 use ellipsoid_core::integrate::{
     self, Action, Direction, Event, Method, OdeSystem, Options, StopReason,
 };
+use ellipsoid_core::invariants::Invariant;
 use ellipsoid_core::model::{Frictionless, System};
 use ellipsoid_core::simulate::{ContactModel, EventKind, Mode, Sample, Scene, Status};
 use ellipsoid_core::state::{self, EulerAngles, State};
@@ -164,7 +165,7 @@ fn hard_2_slip_stop_without_chattering() {
             .filter(|e| matches!(e.kind, EventKind::ModeSwitch { .. }))
             .count();
         assert!(switches <= 4, "{name}: {switches} mode switches");
-        let balance = out.drift.energy_plus_work.unwrap();
+        let balance = out.drift.get(Invariant::EnergyPlusWork).unwrap();
         assert!(balance < 1e-9, "{name}: E + W drift {balance:e}");
         let steps = out.stats.accepted + out.stats.rejected;
         assert!(
@@ -226,9 +227,9 @@ fn hard_2_fixed_step_rk4_stops_the_slip_without_chattering() {
             "h = {h}: rolls at {v}"
         );
         assert!(
-            out.drift.energy_plus_work.unwrap() < 1e-12,
+            out.drift.get(Invariant::EnergyPlusWork).unwrap() < 1e-12,
             "h = {h}: E + W {:e}",
-            out.drift.energy_plus_work.unwrap()
+            out.drift.get(Invariant::EnergyPlusWork).unwrap()
         );
     }
     assert!(
@@ -322,7 +323,7 @@ fn hard_2_grazing_slip_and_repeated_stick_slip_complete() {
             "{name}: step size collapsed to {:e} s",
             out.stats.min_step
         );
-        let balance = out.drift.energy_plus_work.unwrap();
+        let balance = out.drift.get(Invariant::EnergyPlusWork).unwrap();
         assert!(balance < 1e-9, "{name}: E + W drift {balance:e}");
         measured(
             "2 slip stop",
@@ -363,7 +364,7 @@ fn hard_3_near_loss_of_contact_stays_on_the_plane() {
         .fold(f64::MAX, f64::min)
         / mg;
     assert!((0.01..0.1).contains(&n_min), "N dips to {n_min} m g");
-    let e = out.drift.energy.unwrap();
+    let e = out.drift.get(Invariant::Energy).unwrap();
     assert!(e < 1e-10, "energy drift {e:e}");
     measured(
         "3 near loss",
@@ -437,7 +438,7 @@ fn hard_4_flat_and_long_bodies_conserve_energy() {
                 "{name} {contact:?}: {:?}",
                 out.status
             );
-            let e = out.drift.energy.unwrap();
+            let e = out.drift.get(Invariant::Energy).unwrap();
             assert!(e < 1e-10, "{name} {contact:?}: energy drift {e:e}");
             measured(
                 "4 shapes",
@@ -515,8 +516,8 @@ fn hard_5_fast_spin_conserves_energy() {
         1e-10,
     ));
     let (e, lz) = (
-        out.drift.energy.unwrap(),
-        out.drift.angular_momentum_z.unwrap(),
+        out.drift.get(Invariant::Energy).unwrap(),
+        out.drift.get(Invariant::AngularMomentumZ).unwrap(),
     );
     assert!(e < 1e-9 && lz < 1e-9, "energy {e:e}, L_z {lz:e}");
     measured(
@@ -603,7 +604,7 @@ fn hard_6_long_run_energy_drift_per_method() {
         s.solver.method = method;
         let (out, _) = run(&s);
         assert_eq!(out.status, Status::Completed, "{name}");
-        let e = out.drift.energy.unwrap();
+        let e = out.drift.get(Invariant::Energy).unwrap();
         assert!(
             e < bound,
             "{name}: energy drift {e:e} over 1e4 periods exceeds {bound:e}"

@@ -9,6 +9,7 @@
 use std::ops::ControlFlow;
 use std::path::PathBuf;
 
+use ellipsoid_core::invariants::Invariant;
 use ellipsoid_core::reference;
 use ellipsoid_core::scenario::{self, Scenario};
 use ellipsoid_core::simulate::{self, EventKind, Mode, Outcome, Sample, Status};
@@ -306,7 +307,10 @@ fn inv_fig09_frictionless_energy_is_constant() {
             let mut sets = vec![set("body.c", c)];
             sets.extend(extra.iter().map(|s| s.to_string()));
             let (out, _) = run("fig09-frictionless-energy.toml", &sets);
-            let drift = out.drift.energy.expect("frictionless conserves energy");
+            let drift = out
+                .drift
+                .get(Invariant::Energy)
+                .expect("frictionless conserves energy");
             assert!(drift < 1e-10, "c = {c} {extra:?}: energy drift {drift:e}");
         }
     }
@@ -368,9 +372,9 @@ fn val_fig10_sliding_body_stands_up_without_turning_over() {
     // Energy: dissipated, and accounted for.
     assert!(out.final_invariants.energy < 0.7 * out.initial_invariants.energy);
     assert!(
-        out.drift.energy_plus_work.unwrap() < 1e-9,
+        out.drift.get(Invariant::EnergyPlusWork).unwrap() < 1e-9,
         "E + W drift {:e}",
-        out.drift.energy_plus_work.unwrap()
+        out.drift.get(Invariant::EnergyPlusWork).unwrap()
     );
     // |θ̇| stays far below the paper's 1400°/s in this scene (Fig. 11).
     let (_, thd) = series(&s, |x| x.angles.theta_dot.to_degrees().abs());
@@ -444,7 +448,7 @@ fn val_fig12_rolling_theta_periodic_for_every_d2() {
         );
         let (lo, hi) = range(&th);
         assert!(lo > 0.199 && hi < 0.45, "D2 = {d2}: θ in [{lo}, {hi}]");
-        assert!(out.drift.energy.unwrap() < 1e-9);
+        assert!(out.drift.get(Invariant::Energy).unwrap() < 1e-9);
     }
 }
 
@@ -543,7 +547,7 @@ fn val_fig17_c0_path_fills_a_ring_around_a_forbidden_zone() {
         ("fig23-rolling-c0-d2-0.0004.toml", 0.0004),
     ] {
         let (out, s) = run(name, &[]);
-        assert!(out.drift.energy.unwrap() < 1e-9);
+        assert!(out.drift.get(Invariant::Energy).unwrap() < 1e-9);
         let (t, th) = series(&s, |x| x.angles.theta);
         let p: Vec<[f64; 3]> = s.iter().map(|x| c0(x, d2)).collect();
         // Samples at the extrema of θ (t = 0 is a minimum: θ̇0 = 0 and θ rises).

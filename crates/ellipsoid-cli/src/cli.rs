@@ -16,7 +16,8 @@ pub struct Cli {
 pub enum Command {
     /// Simulate a scenario; write its trajectory (CSV or HDF5) and, on request, a JSON summary.
     ///
-    /// Exit status: 0 completed; 2 bad input (nothing written); 3 stopped early (lost
+    /// Exit status: 0 completed (or ended at a terminal observable); 2 bad input (nothing
+    /// written); 3 stopped early (lost
     /// contact, Painlevé, pure sliding reaching zero slip, solver failure, chattering,
     /// non-finite state), with the trajectory up to the stop written; 1 output error
     /// (nothing new written).

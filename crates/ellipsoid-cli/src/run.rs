@@ -41,7 +41,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     // Directories made for the outputs are removed again if the run ends in an error,
     // and the files appear only when all of them are complete.
     let mut made = Vec::new();
-    let result = (|| -> Result<(Summary, Option<String>), CliError> {
+    let result = (|| -> Result<(Summary, bool), CliError> {
         for path in [Some(&output), summary_path].into_iter().flatten() {
             make_parent(path, &mut made)?;
         }
@@ -49,7 +49,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
         let summary_file = summary_path
             .map(|p| atomic::AtomicFile::create(p))
             .transpose()?;
-        let (trajectory, summary, stop_note) = simulate_to(&scenario, &output)?;
+        let (trajectory, summary, finished) = simulate_to(&scenario, &output)?;
         let mut files = vec![trajectory];
         if let (Some(mut file), Some(path)) = (summary_file, summary_path) {
             file.write_all(summary.to_json().as_bytes())
@@ -69,20 +69,19 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
                 })?;
         }
         atomic::commit_all(files)?;
-        Ok((summary, stop_note))
+        Ok((summary, finished))
     })();
     if result.is_err() {
         for dir in made.iter().rev() {
             let _ = std::fs::remove_dir(dir);
         }
     }
-    let (summary, stop_note) = result?;
+    let (summary, finished) = result?;
 
-    let completed = summary.status == "completed" && stop_note.is_none();
-    if !args.quiet || !completed {
-        report(&summary, &output, stop_note.as_deref());
+    if !args.quiet || !finished {
+        report(&summary, &output, finished);
     }
-    Ok(if completed {
+    Ok(if finished {
         ExitCode::SUCCESS
     } else {
         ExitCode::from(EARLY_STOP)
@@ -140,7 +139,7 @@ fn identity(path: &Path) -> PathBuf {
 fn simulate_to(
     scenario: &Scenario,
     output: &Path,
-) -> Result<(atomic::Prepared, Summary, Option<String>), CliError> {
+) -> Result<(atomic::Prepared, Summary, bool), CliError> {
     let mut writer = TrajectoryWriter::create(output)?;
     let mut progress = Progress::new(scenario.scene.t_end);
     let finished = ellipsoid_io::run::run(
@@ -164,7 +163,11 @@ fn simulate_to(
         scenario_text: &scenario.text,
         summary: &finished.summary,
     })?;
-    Ok((trajectory, finished.summary, finished.non_finite))
+    Ok((
+        trajectory,
+        finished.summary,
+        finished.outcome.status.finished(),
+    ))
 }
 
 /// Creates the parent directories of `path`, recording the ones it made.
@@ -188,7 +191,8 @@ fn make_parent(path: &Path, made: &mut Vec<PathBuf>) -> Result<(), CliError> {
 }
 
 /// A few lines on standard error: how the run ended, where the output is, the drifts.
-fn report(summary: &Summary, output: &Path, stop_note: Option<&str>) {
+/// `finished`: the run ended where the scene asked (t_end or a terminal observable).
+fn report(summary: &Summary, output: &Path, finished: bool) {
     let t = summary
         .final_state
         .get("t")
@@ -200,9 +204,16 @@ fn report(summary: &Summary, output: &Path, stop_note: Option<&str>) {
         summary.samples, s.accepted, s.rejected, summary.wall_time_s
     );
     let mut lines = Vec::new();
-    if summary.status == "completed" && stop_note.is_none() {
+    if summary.status == "completed" {
         lines.push(format!(
             "ellipsoid: completed at t = {t} s: {work} -> {}",
+            output.display()
+        ));
+    } else if finished {
+        lines.push(format!(
+            "ellipsoid: ended ({}): {} [{work} -> {}]",
+            summary.status,
+            summary.message,
             output.display()
         ));
     } else {

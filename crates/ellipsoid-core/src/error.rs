@@ -6,7 +6,11 @@ pub enum ModelError {
     /// A parameter breaks a physical rule.
     #[error("{quantity} = {value}: {rule}")]
     Invalid {
-        /// The quantity's name as the user wrote it (e.g. `body.mass`).
+        /// The scenario key at fault as a dotted path (`body.mass`), or for a quantity
+        /// derived from several keys the table they belong to (`initial`).
+        key: String,
+        /// The quantity's name in the message: the key itself, or the derived quantity
+        /// (`initial normal force N`).
         quantity: String,
         /// Its offending value, formatted.
         value: String,
@@ -16,13 +20,31 @@ pub enum ModelError {
 }
 
 impl ModelError {
-    /// Shorthand for [`ModelError::Invalid`].
+    /// A scenario key's value breaks `rule`; `key` is its dotted path.
     pub fn invalid(
+        key: impl Into<String>,
+        value: impl std::fmt::Display,
+        rule: impl Into<String>,
+    ) -> Self {
+        let key = key.into();
+        ModelError::Invalid {
+            quantity: key.clone(),
+            key,
+            value: value.to_string(),
+            rule: rule.into(),
+        }
+    }
+
+    /// A quantity derived from the keys of `table` (e.g. the initial normal force from
+    /// `[initial]` and `[body]`) breaks `rule`.
+    pub fn derived(
+        table: &str,
         quantity: impl Into<String>,
         value: impl std::fmt::Display,
         rule: impl Into<String>,
     ) -> Self {
         ModelError::Invalid {
+            key: table.to_owned(),
             quantity: quantity.into(),
             value: value.to_string(),
             rule: rule.into(),

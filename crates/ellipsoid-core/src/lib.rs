@@ -7,6 +7,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 pub mod body;
+pub mod columns;
 pub mod effects;
 pub mod error;
 pub mod geometry;

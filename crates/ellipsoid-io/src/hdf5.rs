@@ -103,19 +103,14 @@ impl Hdf5File {
                     .and_then(|a| a.write_scalar(&v))
                     .map_err(fail)?;
             }
-            let d = &summary.drift;
-            let drifts = [
-                ("drift_energy", d.energy),
-                ("drift_energy_plus_work", d.energy_plus_work),
-                ("drift_momentum", d.momentum),
-                ("drift_angular_momentum_z", d.angular_momentum_z),
-                ("drift_axial_spin", d.axial_spin),
-                ("drift_jellett", d.jellett),
-            ];
+            let drifts = summary
+                .drift
+                .iter()
+                .map(|(which, v)| (format!("drift_{}", which.name()), v));
             for (name, v) in drifts {
                 if let Some(v) = v {
                     file.new_attr::<f64>()
-                        .create(name)
+                        .create(name.as_str())
                         .and_then(|a| a.write_scalar(&v))
                         .map_err(fail)?;
                 }

@@ -116,7 +116,7 @@ impl TrajectoryWriter {
         }
     }
 
-    /// Appends one sample (the caller checks it is finite: see [`columns::non_finite`]).
+    /// Appends one sample (finite: the core stops a run at a non-finite one).
     pub fn write(&mut self, sample: &Sample) -> Result<(), OutputError> {
         match self {
             TrajectoryWriter::Csv(w) => w.write(sample),
@@ -171,7 +171,10 @@ mod tests {
                 ..Default::default()
             },
             omega: Vector3::new(0.0, 0.0, 60.0),
+            omega_world: Vector3::new(0.0, 0.0, 60.0),
             velocity: Vector3::zeros(),
+            contact: nalgebra::Vector2::new(0.5, -0.25),
+            drift: -1.5e-13,
             energy: 2.9768262947508894e-2,
             work: 0.0,
             normal_force: 0.5,
@@ -188,7 +191,7 @@ mod tests {
         let mut lines = text.lines();
         assert_eq!(
             lines.next().unwrap(),
-            "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,omega_y,omega_z,vx,vy,vz,energy,normal_force,slip_speed,mode,work"
+            "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,omega_y,omega_z,vx,vy,vz,energy,normal_force,slip_speed,mode,work,omega_world_x,omega_world_y,omega_world_z,contact_x,contact_y,drift"
         );
         let row: Vec<&str> = lines.next().unwrap().split(',').collect();
         assert_eq!(row[19], "sliding");

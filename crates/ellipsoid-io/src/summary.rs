@@ -6,7 +6,9 @@ use std::collections::BTreeMap;
 use ellipsoid_core::integrate::Stats;
 use ellipsoid_core::invariants::Invariants;
 use ellipsoid_core::scenario::Scenario;
-use ellipsoid_core::simulate::{Drift, EventRecord, Outcome, Status};
+use ellipsoid_core::simulate::{
+    Drift, EventKind, EventRecord, Outcome, RunWarning, Sample, Scene, Status,
+};
 use serde::Serialize;
 use serde_json::{Map, Value};
 
@@ -15,12 +17,13 @@ use crate::columns;
 /// Everything a run reports besides its trajectory.
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
-    /// completed | lost_contact | slip_stopped | painleve | solver_failure | chattering | cancelled
+    /// One of `Status::NAMES`: completed | observed | lost_contact | slip_stopped |
+    /// painleve | solver_failure | chattering | non_finite | cancelled.
     pub status: &'static str,
     /// Why, in a sentence.
     pub message: String,
-    /// Located events, each `{kind, t, …}`.
-    pub events: Vec<EventRecord>,
+    /// Located events, each `{kind, t, …}`; observables add `name` and the full `state`.
+    pub events: Vec<Value>,
     /// Solver work: accepted and rejected steps, right-hand-side calls, events.
     pub stats: Stats,
     /// Wall-clock time of the simulation \[s\].
@@ -71,11 +74,7 @@ impl Summary {
     ) -> Summary {
         let status = outcome.status.name();
         let s = &outcome.final_sample;
-        let mut final_state = Map::new();
-        for ((name, _), v) in columns::NUMERIC_COLUMNS.iter().zip(columns::values(s)) {
-            final_state.insert((*name).to_owned(), finite_or_null(v));
-        }
-        final_state.insert(columns::MODE.to_owned(), Value::from(s.mode.name()));
+        let final_state = state_map(s);
         let drift_map = match serde_json::to_value(outcome.drift) {
             Ok(Value::Object(m)) => m,
             _ => Map::new(),
@@ -105,8 +104,12 @@ impl Summary {
         }
         Summary {
             status,
-            message: status_message(&outcome.status, s.t),
-            events: outcome.events.clone(),
+            message: status_message(&scenario.scene, &outcome.status, s.t),
+            events: outcome
+                .events
+                .iter()
+                .map(|e| event_json(&scenario.scene, e))
+                .collect(),
             stats: outcome.stats,
             wall_time_s,
             samples,
@@ -114,7 +117,7 @@ impl Summary {
             drift: outcome.drift,
             initial_invariants: outcome.initial_invariants,
             final_invariants: outcome.final_invariants,
-            warnings: outcome.warnings.clone(),
+            warnings: warning_messages(&outcome.warnings),
             checks,
             units: columns::units()
                 .into_iter()
@@ -149,10 +152,72 @@ fn finite_or_null(v: f64) -> Value {
     serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number)
 }
 
+/// A sample as a map from column name to value (null where not finite).
+pub fn state_map(s: &Sample) -> Map<String, Value> {
+    let mut state = Map::new();
+    for ((name, _), v) in columns::NUMERIC_COLUMNS.iter().zip(columns::values(s)) {
+        state.insert((*name).to_owned(), finite_or_null(v));
+    }
+    state.insert(columns::MODE.to_owned(), Value::from(s.mode.name()));
+    state
+}
+
+/// An event as the summary lists it: `{kind, t}`, with `from` and `to` for a mode switch,
+/// and `name` and the full `state` for an observable.
+pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
+    let mut m = Map::new();
+    m.insert("kind".into(), Value::from(e.kind.name()));
+    m.insert("t".into(), finite_or_null(e.t));
+    match &e.kind {
+        EventKind::ModeSwitch { from, to } => {
+            m.insert("from".into(), Value::from(from.name()));
+            m.insert("to".into(), Value::from(to.name()));
+        }
+        EventKind::Observed { index, sample } => {
+            m.insert(
+                "name".into(),
+                Value::from(scene.observe[*index].name.as_str()),
+            );
+            m.insert("state".into(), Value::Object(state_map(sample)));
+        }
+        EventKind::SlipStop | EventKind::LostContact | EventKind::Painleve => {}
+    }
+    Value::Object(m)
+}
+
+/// The warnings as sentences; repeats of one kind are said once, with their count.
+pub fn warning_messages(warnings: &[RunWarning]) -> Vec<String> {
+    let stiff: Vec<f64> = warnings
+        .iter()
+        .map(|w| match w {
+            RunWarning::Stiff { t, .. } => *t,
+        })
+        .collect();
+    match stiff.as_slice() {
+        [] => Vec::new(),
+        [t] => vec![format!(
+            "the problem looks stiff at t = {t} s; an explicit method will be slow here"
+        )],
+        [first, .., last] => vec![format!(
+            "the problem looks stiff {} times, from t = {first} s to t = {last} s; an explicit method will be slow there",
+            stiff.len()
+        )],
+    }
+}
+
 /// A sentence explaining the status; `t` is where the run ended \[s\].
-pub fn status_message(status: &Status, t: f64) -> String {
+pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
     match status {
         Status::Completed => format!("reached t_end = {t} s"),
+        Status::Observed { index } => {
+            let o = &scene.observe[*index];
+            format!(
+                "observable {:?} ({} crossed {}) at t = {t} s, where the scene asked the run to end",
+                o.name,
+                columns::NUMERIC_COLUMNS[o.column].0,
+                o.crosses
+            )
+        }
         Status::LostContact => format!(
             "the normal force reached zero at t = {t} s: the body leaves the plane (free flight is not simulated)"
         ),
@@ -161,7 +226,26 @@ pub fn status_message(status: &Status, t: f64) -> String {
                 "the slip speed reached zero at t = {t} s, where the pure sliding model ends (model = \"coulomb\" goes on rolling)"
             )
         }
-        Status::Painleve(m) | Status::SolverFailure(m) | Status::Chattering(m) => m.clone(),
+        Status::Painleve { error: None, .. } => format!(
+            "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) reached 0, \
+             so Coulomb sliding has no consistent contact force (reduce contact.friction or use the rolling model)"
+        ),
+        Status::Painleve {
+            denominator,
+            error: Some(e),
+        } => format!(
+            "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) fell to {denominator:.1e}, \
+             so N grows without bound (a tangential impact) and Coulomb sliding has no consistent contact force ({e})"
+        ),
+        Status::SolverFailure { mode, error } => format!("{error} (mode {})", mode.name()),
+        Status::Chattering { switches } => format!(
+            "more than {switches} switches between sliding and rolling by t = {t} s; the motion is chattering at the friction-cone boundary"
+        ),
+        Status::NonFinite { column, value } => {
+            format!(
+                "stopped at t = {t} s: the state became non-finite ({column} = {value}); the samples before it are kept"
+            )
+        }
         Status::Cancelled => format!("cancelled at t = {t} s"),
     }
 }

@@ -217,11 +217,12 @@ impl Table {
     /// `drift` column when present; else (E + W − E0 − W0)/|E0 + W0| (E alone when no
     /// work is dissipated). `None` without an energy column.
     pub fn drift(&self) -> Option<(Vec<f64>, &'static str)> {
+        let w = self.column("work").filter(|w| w.iter().any(|v| *v != 0.0));
         if let Some(d) = self.column("drift") {
-            return Some((d.to_vec(), "conserved quantity"));
+            // The run's own: E where energy is conserved, else E + W.
+            return Some((d.to_vec(), if w.is_some() { "E + W" } else { "E" }));
         }
         let e = self.column("energy")?;
-        let w = self.column("work").filter(|w| w.iter().any(|v| *v != 0.0));
         let total: Vec<f64> = match w {
             Some(w) => e.iter().zip(w).map(|(e, w)| e + w).collect(),
             None => e.to_vec(),
@@ -768,7 +769,7 @@ mod tests {
             (t.mode(0), t.mode(1), t.mode(2)),
             (Some("sliding"), Some("rolling"), Some("sliding"))
         );
-        assert_eq!(t.drift().unwrap().1, "conserved quantity");
+        assert_eq!(t.drift().unwrap(), (vec![0.0, 1e-12, 2e-12], "E"));
         assert!(
             t.require(&["x"], "the path panel")
                 .unwrap_err()

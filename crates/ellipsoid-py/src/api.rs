@@ -56,10 +56,7 @@ fn finish(
         Err(Failure::Model(e)) => return Err(errors::scenario_error(py, &e)),
         Err(Failure::Panic(msg)) => return Err(errors::internal_error(py, &msg)),
     };
-    let failure = match &run.non_finite {
-        Some(note) => Some(note.clone()),
-        None => errors::status_error(&run.status).map(str::to_owned),
-    };
+    let failure = errors::status_error(&run.status, &run.summary.message);
     let status = run.summary.status;
     let traj = Bound::new(py, Trajectory::new(run))?;
     match failure {

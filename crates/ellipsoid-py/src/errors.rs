@@ -221,13 +221,13 @@ fn errno_of(py: Python<'_>, kind: std::io::ErrorKind) -> Option<i32> {
         .ok()
 }
 
-/// Whether a run that ended with `status` is an error (`Some(message)`) or an outcome.
-/// `Cancelled` is handled by the caller (user interrupt or non-finite state) before this.
-pub fn status_error(status: &Status) -> Option<&str> {
+/// Whether a run that ended with `status` is an error (`Some(message)`, the summary's
+/// `message`) or an outcome.
+pub fn status_error(status: &Status, message: &str) -> Option<String> {
     match status {
-        Status::Completed | Status::LostContact | Status::SlipStopped => None,
-        Status::Painleve(m) | Status::SolverFailure(m) | Status::Chattering(m) => Some(m),
-        Status::Cancelled => Some("the run was cancelled"),
+        Status::Cancelled => Some("the run was cancelled".to_owned()),
+        s if s.is_error() => Some(message.to_owned()),
+        _ => None,
     }
 }
 

@@ -37,8 +37,6 @@ pub struct Run {
     pub samples: Vec<Sample>,
     pub summary: Summary,
     pub status: Status,
-    /// Why the run was stopped on a non-finite sample (the summary's message says it too).
-    pub non_finite: Option<String>,
 }
 
 /// Why a run produced no result.
@@ -51,8 +49,8 @@ pub enum Failure {
 }
 
 /// Simulates `scenario` exactly as the command-line tool's `run` does
-/// (`ellipsoid_io::run`): stops at the first non-finite sample (not kept), or when
-/// `cancel` is set.
+/// (`ellipsoid_io::run`): stops at the first non-finite sample (not kept; status
+/// `non_finite`), or when `cancel` is set.
 pub fn run(
     scenario: Scenario,
     keep_samples: bool,
@@ -76,7 +74,6 @@ pub fn run(
         samples,
         summary: finished.summary,
         status: finished.outcome.status,
-        non_finite: finished.non_finite,
     })
 }
 

@@ -23,7 +23,10 @@ use crate::scenario::PyScenario;
 /// [rad/s]; `omega_x`, `omega_y`, `omega_z` [rad/s] (body axes); `vx`, `vy`, `vz` [m/s]
 /// (velocity of G); `energy` [J]; `normal_force` [N]; `slip_speed` [m/s] (speed of the
 /// contact point); `mode` (str array: "frictionless", "sliding" or "rolling"); `work` [J]
-/// (dissipated so far). The arrays are read-only views of the run (copy to modify).
+/// (dissipated so far); `omega_world_x`, `omega_world_y`, `omega_world_z` [rad/s] (world
+/// axes); `contact_x`, `contact_y` [m] (contact point on the plane); `drift` [1]
+/// (relative drift of E, or of E + W where E is not conserved). The arrays are read-only
+/// views of the run (copy to modify).
 ///
 /// `len(traj)` is the number of samples. A run that ends early (loss of contact, the pure
 /// sliding model's slip stop) is still a Trajectory: `status` and `events` say why.
@@ -254,6 +257,36 @@ impl Trajectory {
     fn work<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.column(py, 19)
     }
+    /// Angular velocity about world x [rad/s].
+    #[getter]
+    fn omega_world_x<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.column(py, 20)
+    }
+    /// Angular velocity about world y [rad/s].
+    #[getter]
+    fn omega_world_y<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.column(py, 21)
+    }
+    /// Angular velocity about the vertical, world z [rad/s] (the vertical spin).
+    #[getter]
+    fn omega_world_z<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.column(py, 22)
+    }
+    /// x of the contact point on the plane [m].
+    #[getter]
+    fn contact_x<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.column(py, 23)
+    }
+    /// y of the contact point on the plane [m].
+    #[getter]
+    fn contact_y<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.column(py, 24)
+    }
+    /// Relative drift of the scene's conserved quantity (E, or E + W) since t = 0 [1].
+    #[getter]
+    fn drift<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.column(py, 25)
+    }
     /// Contact regime of each sample: "frictionless", "sliding" or "rolling" (numpy str array).
     #[getter]
     fn mode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
@@ -301,7 +334,8 @@ impl Trajectory {
     }
 
     /// Located events, in time order: dicts `{"kind": ..., "t": [s]}`, kind one of
-    /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "painleve".
+    /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "painleve",
+    /// "observed" (with "name" and "state", a dict of every column at the event).
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let json = serde_json::to_string(&self.summary.events)

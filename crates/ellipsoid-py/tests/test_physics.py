@@ -123,3 +123,26 @@ def test_val_frictionless_nutation_period_matches_quadrature() -> None:
     got = measured_period(traj)
     # The issue asks for 1e-6; the run and the reference agree to ~1e-13.
     assert abs(got - expected) / expected < 1e-9, (got, expected)
+
+
+def test_observe_reports_the_tippe_top_passing_the_horizontal() -> None:
+    """`simulate(..., observe=[...])`: the crossing of θ = π/2 is an event with its name
+    and full state, θ there is π/2, and a terminal observable ends the run there."""
+    import math
+
+    scenarios = Path(__file__).resolve().parents[3] / "scenarios"
+    obs = {"name": "horizontal", "column": "theta", "crosses": math.pi / 2, "direction": "up"}
+    traj = ellipsoid.simulate(scenarios / "tippe-top.toml", observe=[obs])
+    events = [e for e in traj.events if e["kind"] == "observed"]
+    assert len(events) == 1 and events[0]["name"] == "horizontal"
+    t = events[0]["t"]
+    assert abs(t - 0.750628) < 1e-6
+    assert abs(events[0]["state"]["theta"] - math.pi / 2) < 1e-9
+    stopped = ellipsoid.simulate(scenarios / "tippe-top.toml", observe=[dict(obs, terminal=True)])
+    assert stopped.status == "observed" and stopped.t[-1] == t
+    # omega_world_z is the vertical spin φ̇ + ψ̇ cos θ (Euler's kinematics)
+    vertical = traj.phi_dot + traj.psi_dot * np.cos(traj.theta)
+    ok = np.sin(traj.theta) > 1e-6
+    assert np.max(np.abs(traj.omega_world_z - vertical)[ok]) < 1e-9 * np.max(np.abs(traj.omega_z))
+    with pytest.raises(ellipsoid.ScenarioError, match="theta"):
+        ellipsoid.simulate(scenarios / "tippe-top.toml", observe=[dict(obs, column="thetta")])

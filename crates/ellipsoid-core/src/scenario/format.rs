@@ -28,6 +28,7 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
     let solver = read_solver(ctx, &root)?;
     let (t_end, sample_times) = read_output(ctx, &root)?;
     let check = read_check(ctx, &root)?;
+    let observe = read_observe(ctx, &root)?;
     let scene = Scene {
         body,
         gravity,
@@ -37,6 +38,7 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
         solver,
         t_end,
         sample_times,
+        observe,
     };
     scene.validate().map_err(|e| ctx.model(tree, &e))?;
     Ok((scene, check))
@@ -701,4 +703,101 @@ pub(super) fn read_check(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Check> {
         }
     }
     Ok(Check { status, drift })
+}
+
+/// The `[[observe]]` array of tables: events on output columns (docs/scenarios.md,
+/// "Observables").
+pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Vec<Observe>> {
+    let Some(got) = root.get("observe") else {
+        return Ok(Vec::new());
+    };
+    let Value::Array(items) = &got.node().value else {
+        return Err(ctx.wrong_type(root, got, "an array of tables ([[observe]] entries)"));
+    };
+    if items.len() > MAX_OBSERVE {
+        return Err(ctx.bad(
+            ErrorKind::Invalid,
+            root,
+            got,
+            format!("{} entries; at most {MAX_OBSERVE} observables", items.len()),
+        ));
+    }
+    let columns: Vec<&'static str> = crate::columns::NUMERIC_COLUMNS
+        .iter()
+        .map(|c| c.0)
+        .collect();
+    let mut out: Vec<Observe> = Vec::with_capacity(items.len());
+    for (k, item) in items.iter().enumerate() {
+        let sec = ctx.table_of(
+            &format!("observe[{k}]"),
+            item,
+            &item.origin,
+            &OBSERVE_KEYS,
+            "an observable: name, column, crosses, direction, terminal",
+        )?;
+        let name = match sec.get("name") {
+            None => return Err(ctx.missing(&sec, "name", "give the observable a name (a string)")),
+            Some(g) => match &g.node().value {
+                Value::Str(s) if !s.is_empty() && s.len() <= 100 => {
+                    if out.iter().any(|o| &o.name == s) {
+                        return Err(ctx.bad(
+                            ErrorKind::Invalid,
+                            &sec,
+                            g,
+                            "observable names must be unique",
+                        ));
+                    }
+                    s.clone()
+                }
+                Value::Str(_) => {
+                    return Err(ctx.bad(ErrorKind::Invalid, &sec, g, "a name of 1 to 100 bytes"));
+                }
+                _ => return Err(ctx.wrong_type(&sec, g, "a string: the observable's name")),
+            },
+        };
+        let (column, _) = ctx.choice(&sec, "column", &columns)?.ok_or_else(|| {
+            ctx.missing(
+                &sec,
+                "column",
+                "give the output column to watch (e.g. \"theta\")",
+            )
+        })?;
+        let crosses = ctx.required(&sec, "crosses", "the value the column crosses, in its unit")?;
+        if !crosses.is_finite() {
+            let g = sec.get("crosses").expect("just read");
+            return Err(ctx.bad(
+                ErrorKind::Invalid,
+                &sec,
+                g,
+                "the value crossed must be finite",
+            ));
+        }
+        let direction = match ctx.choice(&sec, "direction", &DIRECTIONS)?.map(|(d, _)| d) {
+            Some("up") => Direction::Rising,
+            Some("down") => Direction::Falling,
+            _ => Direction::Either,
+        };
+        let terminal = match sec.get("terminal") {
+            None => false,
+            Some(g) => match g.node().value {
+                Value::Bool(b) => b,
+                _ => {
+                    return Err(ctx.wrong_type(
+                        &sec,
+                        g,
+                        "true or false: whether the run ends at the first crossing",
+                    ));
+                }
+            },
+        };
+        let column = crate::columns::index(column).expect("a column name from the list");
+        out.push(Observe {
+            name,
+            column,
+            crosses,
+            direction,
+            terminal,
+        });
+    }
+    Ok(out)
 }

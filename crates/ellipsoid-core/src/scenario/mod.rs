@@ -30,8 +30,10 @@ use toml::de::{DeTable, DeValue};
 use crate::body::{Body, uniform_inertia};
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
-use crate::integrate::Method;
-use crate::simulate::{ContactModel, EffectSet, InitialState, Scene, SolverSettings};
+use crate::integrate::{Direction, Method};
+use crate::simulate::{
+    ContactModel, EffectSet, InitialState, MAX_OBSERVE, Observe, Scene, SolverSettings,
+};
 use crate::state::EulerAngles;
 
 mod format;
@@ -58,28 +60,15 @@ pub const DEFAULT_MAX_STEPS: u64 = 10_000_000;
 pub const DEFAULT_REGULARISATION: f64 = 1e-3;
 /// Most output samples a scenario may ask for (10⁷ rows of CSV is already ~3 GB).
 pub const MAX_SAMPLES: usize = 10_000_000;
-/// The invariants a `[check]` table may bound (the fields of `simulate::Drift`).
-pub const DRIFT_NAMES: [&str; 6] = [
-    "energy",
-    "energy_plus_work",
-    "momentum",
-    "angular_momentum_z",
-    "axial_spin",
-    "jellett",
-];
-/// The run statuses a `[check]` table may expect (the `status` names of `simulate::Status`).
-pub const STATUS_NAMES: [&str; 7] = [
-    "completed",
-    "lost_contact",
-    "slip_stopped",
-    "painleve",
-    "solver_failure",
-    "chattering",
-    "cancelled",
-];
+/// The invariants a `[check]` table may bound (declared in `invariants::Invariant`).
+pub const DRIFT_NAMES: [&str; 6] = crate::invariants::Invariant::NAMES;
+/// The run statuses a `[check]` table may expect (declared in `simulate::Status`).
+pub const STATUS_NAMES: [&str; 9] = crate::simulate::Status::NAMES;
+const OBSERVE_KEYS: [&str; 5] = ["name", "column", "crosses", "direction", "terminal"];
+const DIRECTIONS: [&str; 3] = ["up", "down", "either"];
 
-const TOP_KEYS: [&str; 7] = [
-    "body", "initial", "contact", "effects", "solver", "output", "check",
+const TOP_KEYS: [&str; 8] = [
+    "body", "initial", "contact", "effects", "solver", "output", "check", "observe",
 ];
 const BODY_KEYS: [&str; 7] = [
     "a",

@@ -93,13 +93,14 @@ impl Ctx<'_> {
     pub(super) fn model(&self, tree: &Node, err: &ModelError) -> ScenarioError {
         let scenario_like = Locator { tree };
         let ModelError::Invalid {
+            key,
             quantity,
             value,
             rule,
         } = err;
         self.error(
             ErrorKind::Invalid,
-            &scenario_like.origin_of(quantity),
+            &scenario_like.origin_of(key),
             Some(quantity.clone()),
             Some(value.clone()),
             rule.clone(),
@@ -113,13 +114,9 @@ pub(super) struct Locator<'t> {
 }
 
 impl Locator<'_> {
-    /// The origin of the key a physics quantity names, or of the nearest table holding it.
-    pub(super) fn origin_of(&self, quantity: &str) -> Origin {
-        let path: Vec<String> = quantity
-            .split(['.', ' '])
-            .filter(|s| !s.is_empty())
-            .map(str::to_owned)
-            .collect();
+    /// The origin of a key (a dotted path), or of the nearest table holding it.
+    pub(super) fn origin_of(&self, key: &str) -> Origin {
+        let path: Vec<String> = key.split('.').map(str::to_owned).collect();
         // A quantity may name a key's degree twin or general form, or a key left to its
         // default (body.b defaults to body.a).
         let mut candidates = vec![path.clone()];
@@ -133,7 +130,7 @@ impl Locator<'_> {
         if path == ["body", "b"] {
             candidates.push(vec!["body".into(), "a".into()]);
         }
-        // Then the table: "initial state" → [initial]; "solver" → [solver].
+        // Then the table: "initial" → [initial]; "solver" → [solver].
         candidates.extend(path.first().map(|first| vec![first.clone()]));
         candidates
             .iter()

@@ -325,7 +325,8 @@ fn effects_and_check_tables() {
 #[test]
 fn physics_errors_found_later_are_located() {
     let s = ok(PAPER, &[]);
-    let e = s.locate(&ModelError::invalid(
+    let e = s.locate(&ModelError::derived(
+        "initial",
         "initial state",
         "N = -1 N",
         "the plane must push",

@@ -175,6 +175,24 @@ class Trajectory:
     def work(self) -> _FloatArray:
         """Work dissipated so far [J]."""
     @property
+    def omega_world_x(self) -> _FloatArray:
+        """Angular velocity about world x [rad/s]."""
+    @property
+    def omega_world_y(self) -> _FloatArray:
+        """Angular velocity about world y [rad/s]."""
+    @property
+    def omega_world_z(self) -> _FloatArray:
+        """Angular velocity about the vertical, world z [rad/s] (the vertical spin)."""
+    @property
+    def contact_x(self) -> _FloatArray:
+        """x of the contact point on the plane [m]."""
+    @property
+    def contact_y(self) -> _FloatArray:
+        """y of the contact point on the plane [m]."""
+    @property
+    def drift(self) -> _FloatArray:
+        """Relative drift of the scene's conserved quantity (E, or E + W) since t = 0 [1]."""
+    @property
     def mode(self) -> npt.NDArray[np.str_]:
         """Contact regime per sample: "frictionless", "sliding" or "rolling"."""
     @property

@@ -35,11 +35,11 @@ def _panels(panels: str | Sequence[str] | None) -> list[str]:
 
 
 def _drift(traj: Any) -> tuple[np.ndarray, str]:
-    d = getattr(traj, "drift", None)
-    if isinstance(d, np.ndarray):
-        return d, "conserved quantity"
     e, w = np.asarray(traj.energy), np.asarray(traj.work)
     dissipative = bool(np.any(w != 0))
+    d = getattr(traj, "drift", None)
+    if isinstance(d, np.ndarray):  # the run's own: E where energy is conserved, else E + W
+        return d, ("E + W" if dissipative else "E")
     total = e + w if dissipative else e
     scale = abs(total[0]) if total[0] != 0 else max(float(np.max(np.abs(total))), np.finfo(float).tiny)
     return (total - total[0]) / scale, ("E + W" if dissipative else "E")

@@ -1,0 +1,123 @@
+//! The output columns, declared once: name, unit, and how each is read off a sample.
+//!
+//! ```text
+//! column        unit    meaning
+//! t             s       time
+//! x, y, z       m       position of the centre of mass G (z from the contact constraint)
+//! theta..psi    rad     z-x-z Euler angles (paper eq. 1), φ and ψ unwrapped
+//! *_dot         rad/s   their rates
+//! omega_x..z    rad/s   angular velocity in body axes
+//! vx, vy, vz    m/s     velocity of G
+//! energy        J       E = ½m|v_G|² + ½ωᵀIω + m g z_G
+//! normal_force  N       N = F·e3
+//! slip_speed    m/s     |v_C|, speed of the material contact point
+//! mode          -       contact regime: frictionless | sliding | rolling
+//! work          J       work dissipated so far (friction and effects)
+//! omega_world_* rad/s   angular velocity in world axes (omega_world_z: the vertical spin)
+//! contact_x, _y m       the contact point C on the plane
+//! drift         1       (Q − Q(0))/scale of the scene's conserved quantity Q: E where
+//!                       energy is conserved, else E + W (docs/physics.md, "Invariants")
+//! ```
+//! Observables (`[[observe]]`) name these columns too.
+
+use crate::simulate::Sample;
+
+/// Number of numeric columns.
+pub const NUMERIC: usize = 26;
+
+/// Numeric columns in file order (`mode` sits between `slip_speed` and `work`), with units.
+pub const NUMERIC_COLUMNS: [(&str, &str); NUMERIC] = [
+    ("t", "s"),
+    ("x", "m"),
+    ("y", "m"),
+    ("z", "m"),
+    ("theta", "rad"),
+    ("phi", "rad"),
+    ("psi", "rad"),
+    ("theta_dot", "rad/s"),
+    ("phi_dot", "rad/s"),
+    ("psi_dot", "rad/s"),
+    ("omega_x", "rad/s"),
+    ("omega_y", "rad/s"),
+    ("omega_z", "rad/s"),
+    ("vx", "m/s"),
+    ("vy", "m/s"),
+    ("vz", "m/s"),
+    ("energy", "J"),
+    ("normal_force", "N"),
+    ("slip_speed", "m/s"),
+    ("work", "J"),
+    ("omega_world_x", "rad/s"),
+    ("omega_world_y", "rad/s"),
+    ("omega_world_z", "rad/s"),
+    ("contact_x", "m"),
+    ("contact_y", "m"),
+    ("drift", "1"),
+];
+
+/// Index in [`NUMERIC_COLUMNS`] before which the `mode` column is written.
+pub const MODE_POSITION: usize = 19;
+
+/// Name of the string column.
+pub const MODE: &str = "mode";
+
+/// All column names in file order.
+pub fn names() -> Vec<&'static str> {
+    let mut v: Vec<&str> = NUMERIC_COLUMNS.iter().map(|c| c.0).collect();
+    v.insert(MODE_POSITION, MODE);
+    v
+}
+
+/// Column → unit (`mode` has the unit "1": a name, dimensionless).
+pub fn units() -> Vec<(&'static str, &'static str)> {
+    let mut v = NUMERIC_COLUMNS.to_vec();
+    v.insert(MODE_POSITION, (MODE, "1"));
+    v
+}
+
+/// The numeric values of a sample, in [`NUMERIC_COLUMNS`] order.
+pub fn values(s: &Sample) -> [f64; NUMERIC] {
+    let (p, a, w, v) = (&s.position, &s.angles, &s.omega, &s.velocity);
+    [
+        s.t,
+        p.x,
+        p.y,
+        p.z,
+        a.theta,
+        a.phi,
+        a.psi,
+        a.theta_dot,
+        a.phi_dot,
+        a.psi_dot,
+        w.x,
+        w.y,
+        w.z,
+        v.x,
+        v.y,
+        v.z,
+        s.energy,
+        s.normal_force,
+        s.slip_speed,
+        s.work,
+        s.omega_world.x,
+        s.omega_world.y,
+        s.omega_world.z,
+        s.contact.x,
+        s.contact.y,
+        s.drift,
+    ]
+}
+
+/// The index in [`NUMERIC_COLUMNS`] of the numeric column called `name`.
+pub fn index(name: &str) -> Option<usize> {
+    NUMERIC_COLUMNS.iter().position(|c| c.0 == name)
+}
+
+/// The first non-finite value of a sample, as (column, value).
+pub fn non_finite(s: &Sample) -> Option<(&'static str, f64)> {
+    values(s)
+        .iter()
+        .zip(NUMERIC_COLUMNS.iter())
+        .find(|(v, _)| !v.is_finite())
+        .map(|(v, c)| (c.0, *v))
+}

@@ -1,0 +1,342 @@
+//! The hybrid machine: runs a scene's contact phases one segment at a time, each
+//! integrated until t_end or a terminal event, and moves between them as the phases
+//! direct (docs/physics.md, models 1–5; `phase` for the phases themselves). Observables
+//! (`Scene::observe`) are watched in every phase.
+
+use std::cell::Cell;
+use std::ops::ControlFlow;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use nalgebra::Vector3;
+
+use crate::columns;
+use crate::effects::Effect;
+use crate::error::ModelError;
+use crate::integrate::{self, Action, Direction, Event, Options, Stats, StopReason, Warning};
+use crate::invariants::{Conservation, Invariant, Invariants};
+use crate::model::{ContactLaw, Evaluation, Frictionless, Rolling, Sliding, System};
+use crate::state::{self, EulerAngles, State};
+
+use super::outcome::{EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
+use super::phase::{Next, Phase, Watch, phase, slip_is_zero};
+use super::recorder::Recorder;
+use super::scene::{ContactModel, Scene};
+
+/// Most mode switches a run may make before it is declared chattering.
+const MAX_SWITCHES: usize = 10_000;
+
+/// The three contact laws over one set of effects, and the scene they run.
+pub(super) struct Machine<'s, E> {
+    pub(super) scene: &'s Scene,
+    pub(super) cancel: Option<Arc<AtomicBool>>,
+    pub(super) free: System<Frictionless, E>,
+    pub(super) slide: System<Sliding, E>,
+    pub(super) roll: System<Rolling, E>,
+}
+
+/// Where a segment ended, with the watch list it used.
+pub(super) struct Segment {
+    pub(super) solution: integrate::Solution<{ state::DIM }>,
+    pub(super) watches: Vec<Watch>,
+}
+
+impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
+    pub(super) fn new(scene: &'s Scene, effects: E, cancel: Option<Arc<AtomicBool>>) -> Self {
+        let body = scene.body.clone();
+        let g = scene.gravity;
+        let friction = scene.contact.friction().unwrap_or(0.0);
+        Machine {
+            scene,
+            cancel,
+            free: System {
+                body: body.clone(),
+                gravity: g,
+                contact: Frictionless,
+                effects,
+            },
+            slide: System {
+                body: body.clone(),
+                gravity: g,
+                contact: Sliding { friction },
+                effects,
+            },
+            roll: System {
+                body,
+                gravity: g,
+                contact: Rolling,
+                effects,
+            },
+        }
+    }
+
+    /// Runs the scene from its initial state, handing every sample to `observer`.
+    pub(super) fn run(
+        &self,
+        observer: &mut dyn FnMut(&Sample) -> ControlFlow<()>,
+    ) -> Result<Outcome, ModelError> {
+        let (mut mode, mut y) = self.start()?;
+        let mut t = 0.0;
+        let (initial_sample, initial_invariants) = phase::<E>(mode).sample(self, t, &y, None);
+        let mut rec = Recorder::new(
+            observer,
+            self.conservation(),
+            &initial_invariants,
+            self.scales(&y, &initial_invariants),
+            initial_sample.angles,
+        );
+        let mut events = Vec::new();
+        let mut stats = Stats::default();
+        let mut warnings = Vec::new();
+        let mut switches = 0usize;
+
+        let status = if matches!(self.scene.contact, ContactModel::Sliding { .. })
+            && slip_is_zero(self, &y)
+        {
+            // Only the pure sliding model starts here with zero slip (see `start`).
+            events.push(EventRecord {
+                kind: EventKind::SlipStop,
+                t,
+            });
+            Status::SlipStopped
+        } else {
+            loop {
+                let current = phase::<E>(mode);
+                let seg = current.segment(self, t, y, &mut rec)?;
+                let sol = seg.solution;
+                add_stats(&mut stats, &sol.stats);
+                warnings.extend(sol.warnings.iter().map(|w| match *w {
+                    Warning::Stiff { t } => RunWarning::Stiff { t, mode },
+                }));
+                t = sol.t;
+                y = sol.y;
+                for record in &sol.events {
+                    if let Watch::Observe(index) = seg.watches[record.index] {
+                        let (sample, _) =
+                            current.sample(self, record.t, &record.y, Some(&rec.angles));
+                        events.push(EventRecord {
+                            kind: EventKind::Observed {
+                                index,
+                                sample: Box::new(sample),
+                            },
+                            t: record.t,
+                        });
+                    }
+                }
+                let next = match sol.stop {
+                    StopReason::Reached => Next::Stop(Status::Completed),
+                    StopReason::Cancelled => {
+                        Next::Stop(rec.stopped.take().unwrap_or(Status::Cancelled))
+                    }
+                    StopReason::Failed(e) => {
+                        Next::Stop(current.on_failure(self, t, &y, e, &mut events))
+                    }
+                    StopReason::Event { index } => match seg.watches[index] {
+                        Watch::Observe(index) => Next::Stop(Status::Observed { index }),
+                        watch => current.on_event(self, watch, t, &mut y, &mut events),
+                    },
+                };
+                match next {
+                    Next::Stop(status) => break status,
+                    Next::Go(to) => mode = to,
+                }
+                switches += 1;
+                if switches > MAX_SWITCHES {
+                    break Status::Chattering {
+                        switches: MAX_SWITCHES,
+                    };
+                }
+            }
+        };
+
+        let (final_sample, final_invariants) =
+            phase::<E>(mode).sample(self, t, &y, Some(&rec.angles));
+        if !status.completed() && rec.last_t < t && !matches!(status, Status::NonFinite { .. }) {
+            // The trajectory ends where the run stopped (the run is over, so a request
+            // to cancel from this last row changes nothing).
+            let _ = rec.emit(final_sample, final_invariants);
+        }
+        rec.deviate(&final_invariants);
+        let final_sample = Sample {
+            drift: rec.relative_drift(&final_invariants),
+            ..final_sample
+        };
+        Ok(Outcome {
+            drift: rec.drift(),
+            status,
+            events,
+            stats,
+            warnings,
+            final_state: y,
+            final_sample,
+            initial_invariants,
+            final_invariants,
+        })
+    }
+
+    /// Which invariants the scene conserves.
+    fn conservation(&self) -> Conservation {
+        let scene = self.scene;
+        let body = &scene.body;
+        let (a, i, g) = (body.semi_axes(), body.inertia(), body.com_offset());
+        let conservative = !scene.effects.any();
+        let axisymmetric_inertia =
+            i[(0, 1)] == 0.0 && i[(0, 2)] == 0.0 && i[(1, 2)] == 0.0 && i[(0, 0)] == i[(1, 1)];
+        let revolution = a.x == a.y && g.x == 0.0 && g.y == 0.0 && axisymmetric_inertia;
+        Conservation {
+            conservative,
+            frictionless: conservative && scene.contact == ContactModel::Frictionless,
+            energy: conservative
+                && matches!(
+                    scene.contact,
+                    ContactModel::Frictionless | ContactModel::Rolling
+                ),
+            revolution,
+            sphere: revolution && a.x == a.z,
+        }
+    }
+
+    /// Each invariant's drift scale at the initial state `y` (see [`Invariant::scale`]).
+    fn scales(&self, y: &State, inv: &Invariants) -> [f64; 6] {
+        let kin = self.slide.evaluate(y).kin;
+        Invariant::ALL.map(|which| which.scale(&self.scene.body, &kin, inv))
+    }
+
+    /// Integrates phase `P` from (t0, y0) until t_end or a terminal event.
+    pub(super) fn segment<P: Phase>(
+        &self,
+        t0: f64,
+        y0: State,
+        rec: &mut Recorder<'_>,
+    ) -> Result<Segment, ModelError> {
+        let scene = self.scene;
+        let sys = P::system(self);
+        let mut watches = P::watches(self);
+        watches.extend((0..scene.observe.len()).map(Watch::Observe));
+        // The driver evaluates every event function at the same (t, y) in turn: evaluate
+        // the model once per state for all of them.
+        let last: Cell<Option<(f64, State, Evaluation)>> = Cell::new(None);
+        let evaluate = |t: f64, y: &State| match last.get() {
+            Some((tc, yc, ev)) if tc == t && yc == *y => ev,
+            _ => {
+                let ev = sys.evaluate(y);
+                last.set(Some((t, *y, ev)));
+                ev
+            }
+        };
+        // Observables unwrap φ and ψ against the last emitted row.
+        let angles = Cell::new(rec.angles);
+        let (evaluate, angles_ref) = (&evaluate, &angles);
+        let events: Vec<Event<'_, { state::DIM }>> = watches
+            .iter()
+            .map(|&w| match w {
+                Watch::Observe(k) => {
+                    let o = &scene.observe[k];
+                    Event {
+                        g: Box::new(move |t, y: &State| {
+                            let ev = evaluate(t, y);
+                            columns::values(
+                                &self
+                                    .sample_of(sys, P::MODE, t, y, &ev, Some(&angles_ref.get()))
+                                    .0,
+                            )[o.column]
+                                - o.crosses
+                        }),
+                        direction: o.direction,
+                        action: if o.terminal {
+                            Action::Stop
+                        } else {
+                            Action::Continue
+                        },
+                    }
+                }
+                w => Event {
+                    g: Box::new(move |t, y: &State| P::watch(self, w, &evaluate(t, y), y)),
+                    direction: Direction::Falling,
+                    action: Action::Stop,
+                },
+            })
+            .collect();
+        let mut options = Options::new(scene.solver.rtol, scene.solver.atol);
+        options.h0 = scene.solver.initial_step;
+        options.max_steps = scene.solver.max_steps;
+        options.cancel = self.cancel.clone();
+        let samples = &scene.sample_times[rec.next_sample..];
+        let solution = integrate::integrate(
+            scene.solver.method,
+            sys,
+            t0,
+            y0,
+            scene.t_end,
+            &options,
+            &events,
+            samples,
+            &mut |t, y| {
+                let (sample, inv) = self.sample_with(sys, P::MODE, t, y, Some(&rec.angles));
+                rec.next_sample += 1;
+                let flow = rec.emit(sample, inv);
+                angles.set(rec.angles);
+                flow
+            },
+        )
+        .map_err(|e| {
+            ModelError::invalid(
+                "solver",
+                e.to_string(),
+                "the integrator rejected these settings",
+            )
+        })?;
+        Ok(Segment { solution, watches })
+    }
+
+    /// The output row and invariants of state `y` under `sys` (the `drift` column is
+    /// filled in by the recorder).
+    pub(super) fn sample_with<C: ContactLaw>(
+        &self,
+        sys: &System<C, E>,
+        mode: Mode,
+        t: f64,
+        y: &State,
+        prev: Option<&EulerAngles>,
+    ) -> (Sample, Invariants) {
+        self.sample_of(sys, mode, t, y, &sys.evaluate(y), prev)
+    }
+
+    fn sample_of<C: ContactLaw>(
+        &self,
+        sys: &System<C, E>,
+        mode: Mode,
+        t: f64,
+        y: &State,
+        ev: &Evaluation,
+        prev: Option<&EulerAngles>,
+    ) -> (Sample, Invariants) {
+        let kin = &ev.kin;
+        let inv = Invariants::from_kinematics(&sys.body, sys.gravity, kin, y[state::WORK]);
+        let position = Vector3::new(y[state::POS], y[state::POS + 1], kin.contact.height);
+        let sample = Sample {
+            t,
+            position,
+            angles: EulerAngles::from_rotation(&kin.rot, &kin.omega, prev),
+            omega: kin.omega,
+            omega_world: kin.rot * kin.omega,
+            velocity: kin.v_g,
+            contact: position.xy() + (kin.rot * kin.contact.r).xy(),
+            energy: inv.energy,
+            work: y[state::WORK],
+            normal_force: ev.response.normal,
+            slip_speed: kin.slip.norm(),
+            drift: 0.0,
+            mode,
+        };
+        (sample, inv)
+    }
+}
+
+fn add_stats(total: &mut Stats, s: &Stats) {
+    total.accepted += s.accepted;
+    total.rejected += s.rejected;
+    total.rhs_evals += s.rhs_evals;
+    total.events += s.events;
+    total.min_step = total.min_step.min(s.min_step);
+}

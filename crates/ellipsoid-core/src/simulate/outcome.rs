@@ -1,0 +1,198 @@
+//! What a run reports, as data: the output row ([`Sample`]), the located events, why the
+//! run ended ([`Status`], carrying its numbers), warnings and the [`Outcome`]. Names are
+//! declared here once; sentences are made by the callers (`ellipsoid-io`, the CLI, Python).
+
+use nalgebra::{Vector2, Vector3};
+use serde::Serialize;
+
+use crate::integrate::{IntegrateError, Stats};
+use crate::invariants::{Drift, Invariants};
+use crate::state::{EulerAngles, State};
+
+/// The contact phase in force (docs/physics.md, models 1–5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    Frictionless,
+    Sliding,
+    Rolling,
+}
+
+impl Mode {
+    /// Every mode, in [`Mode::NAMES`] order.
+    pub const ALL: [Mode; 3] = [Mode::Frictionless, Mode::Sliding, Mode::Rolling];
+    /// Their names in output files.
+    pub const NAMES: [&'static str; 3] = ["frictionless", "sliding", "rolling"];
+
+    /// Its name in output files.
+    pub fn name(self) -> &'static str {
+        Mode::NAMES[self as usize]
+    }
+}
+
+/// One output row (SI units; see `columns` for every column).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Sample {
+    pub t: f64,
+    /// Position of G \[m\] (z from the contact constraint).
+    pub position: Vector3<f64>,
+    pub angles: EulerAngles,
+    /// Body angular velocity [rad/s].
+    pub omega: Vector3<f64>,
+    /// Angular velocity in world axes [rad/s].
+    pub omega_world: Vector3<f64>,
+    /// Velocity of G [m/s].
+    pub velocity: Vector3<f64>,
+    /// The contact point C on the plane \[m\].
+    pub contact: Vector2<f64>,
+    pub energy: f64,
+    /// Dissipated work W \[J\].
+    pub work: f64,
+    pub normal_force: f64,
+    /// |v_C| [m/s].
+    pub slip_speed: f64,
+    /// Relative drift of the scene's conserved quantity (E, or E + W) since t = 0.
+    pub drift: f64,
+    pub mode: Mode,
+}
+
+/// What happened during a run.
+#[derive(Debug, Clone, PartialEq)]
+pub enum EventKind {
+    /// The slip speed reached zero.
+    SlipStop,
+    /// The contact phase changed.
+    ModeSwitch { from: Mode, to: Mode },
+    /// N reached zero: the body leaves the plane.
+    LostContact,
+    /// The sliding normal-force denominator reached zero.
+    Painleve,
+    /// Observable `index` of the scene (`Scene::observe`) crossed its value; `sample` is
+    /// the full state there.
+    Observed { index: usize, sample: Box<Sample> },
+}
+
+impl EventKind {
+    /// Its `kind` in summaries.
+    pub fn name(&self) -> &'static str {
+        match self {
+            EventKind::SlipStop => "slip_stop",
+            EventKind::ModeSwitch { .. } => "mode_switch",
+            EventKind::LostContact => "lost_contact",
+            EventKind::Painleve => "painleve",
+            EventKind::Observed { .. } => "observed",
+        }
+    }
+}
+
+/// A located event.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EventRecord {
+    pub kind: EventKind,
+    /// Time \[s\].
+    pub t: f64,
+}
+
+/// Why a run ended, with the numbers that say so (the time is the final sample's).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Status {
+    /// Reached t_end.
+    Completed,
+    /// A terminal observable (`Scene::observe[index]`) crossed its value.
+    Observed { index: usize },
+    /// N reached zero (an outcome, not an error).
+    LostContact,
+    /// The pure sliding model's slip reached zero (an outcome).
+    SlipStopped,
+    /// The sliding normal force has no consistent value (an error): its denominator
+    /// 1 + m u·I⁻¹(r × d) fell to `denominator` (0 at a located event; small when the
+    /// integrator failed first, with `error`).
+    Painleve {
+        denominator: f64,
+        error: Option<IntegrateError>,
+    },
+    /// The integrator failed in `mode` (an error).
+    SolverFailure { mode: Mode, error: IntegrateError },
+    /// More than `switches` mode switches (an error).
+    Chattering { switches: usize },
+    /// A sample held NaN or infinity: `column` = `value` (an error; never reported as a result).
+    NonFinite { column: &'static str, value: f64 },
+    /// The caller asked to stop.
+    Cancelled,
+}
+
+impl Status {
+    /// The names of every status, as summaries and `[check]` tables spell them.
+    pub const NAMES: [&'static str; 9] = [
+        "completed",
+        "observed",
+        "lost_contact",
+        "slip_stopped",
+        "painleve",
+        "solver_failure",
+        "chattering",
+        "non_finite",
+        "cancelled",
+    ];
+
+    /// Its name in summaries (`status` field).
+    pub fn name(&self) -> &'static str {
+        Status::NAMES[match self {
+            Status::Completed => 0,
+            Status::Observed { .. } => 1,
+            Status::LostContact => 2,
+            Status::SlipStopped => 3,
+            Status::Painleve { .. } => 4,
+            Status::SolverFailure { .. } => 5,
+            Status::Chattering { .. } => 6,
+            Status::NonFinite { .. } => 7,
+            Status::Cancelled => 8,
+        }]
+    }
+
+    /// Whether the run reached its end time.
+    pub fn completed(&self) -> bool {
+        matches!(self, Status::Completed)
+    }
+
+    /// Whether the run ended where the scene asked it to: at t_end or at a terminal
+    /// observable.
+    pub fn finished(&self) -> bool {
+        matches!(self, Status::Completed | Status::Observed { .. })
+    }
+
+    /// Whether the run ended on an error (not an outcome of the physics or a request).
+    pub fn is_error(&self) -> bool {
+        matches!(
+            self,
+            Status::Painleve { .. }
+                | Status::SolverFailure { .. }
+                | Status::Chattering { .. }
+                | Status::NonFinite { .. }
+        )
+    }
+}
+
+/// Something the caller should know about a run that still went on.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RunWarning {
+    /// The integrator's stiffness test fired at `t` in `mode`: an explicit method is
+    /// slow there.
+    Stiff { t: f64, mode: Mode },
+}
+
+/// The result of a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    pub status: Status,
+    pub events: Vec<EventRecord>,
+    pub stats: Stats,
+    pub warnings: Vec<RunWarning>,
+    /// State where the run ended.
+    pub final_state: State,
+    /// Output row where the run ended.
+    pub final_sample: Sample,
+    pub initial_invariants: Invariants,
+    pub final_invariants: Invariants,
+    pub drift: Drift,
+}

@@ -1,0 +1,185 @@
+//! Contact phases: each declares its ODE system (a contact law over the scene's effects;
+//! the law's `ContactLaw::ROLLING` is its kinematics kind — whether v_G is a state or
+//! follows from the no-slip constraint; z_G and v_Gz follow from the contact constraint in
+//! every phase so far), its watch functions, and for each watch the phase that follows
+//! and the state map at the switch. The hybrid machine (`machine`) runs any of them; adding a phase is a new
+//! module here and one line in [`phase`], the registry.
+//!
+//! | phase | law | watches (g falling through 0) | on the event |
+//! |---|---|---|---|
+//! | frictionless | F = N e3 | N | stop: lost contact |
+//! | sliding | Coulomb, F = N(e3 − μ ŝ) | N, v_C·s_ref, \|v_C\| − floor, Painlevé denominator | slip stop → rolling (inside the cone, after the sticking impulse) or stop; Painlevé → stop |
+//! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left → sliding, slip opposite the friction rolling needed |
+
+mod frictionless;
+mod rolling;
+mod sliding;
+
+use std::marker::PhantomData;
+
+use crate::effects::Effect;
+use crate::error::ModelError;
+use crate::integrate::IntegrateError;
+use crate::invariants::Invariants;
+use crate::model::{ContactLaw, Evaluation, Response, System};
+use crate::state::{EulerAngles, State};
+
+use super::machine::{Machine, Segment};
+use super::outcome::{EventRecord, Mode, Sample, Status};
+use super::recorder::Recorder;
+
+pub(super) use frictionless::FrictionlessPhase;
+pub(super) use rolling::RollingPhase;
+pub(super) use rolling::after_slip_stop;
+pub(super) use sliding::{SlidingPhase, set_reference, slip_is_zero};
+
+/// A watch function of a phase, or an observable of the scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Watch {
+    /// g = N (loss of contact).
+    Normal,
+    /// g = v_C·s_ref (slip stop).
+    Slip,
+    /// g = |v_C| − max(ε·scale, v_min) (a grazing slip stop; see `sliding::slip_floor`).
+    SlipFloor,
+    /// g = Painlevé denominator.
+    Painleve,
+    /// g = μN − |F_h| (rolling leaves the friction cone).
+    Cone(f64),
+    /// g = column − value of `Scene::observe[k]`.
+    Observe(usize),
+}
+
+/// What a phase's event leads to.
+pub(super) enum Next {
+    /// The run ends.
+    Stop(Status),
+    /// The run goes on in this phase (the same one for a renewed state).
+    Go(Mode),
+}
+
+/// A contact phase (see the module docs).
+pub(super) trait Phase {
+    const MODE: Mode;
+    type Law: ContactLaw;
+    /// Its ODE system.
+    fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Self::Law, E>;
+    /// Its watch functions (each falling through zero is an event).
+    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<Watch>;
+    /// The value of one of its watches at a state.
+    fn watch<E: Effect + Copy>(m: &Machine<'_, E>, watch: Watch, ev: &Evaluation, y: &State)
+    -> f64;
+    /// What the event of `watch` at (t, y) leads to; may change `y` (the state map at the
+    /// switch) and records what happened in `events`.
+    fn on_event<E: Effect + Copy>(
+        m: &Machine<'_, E>,
+        watch: Watch,
+        t: f64,
+        y: &mut State,
+        events: &mut Vec<EventRecord>,
+    ) -> Next;
+    /// The status when the integrator fails in this phase at (t, y), recording in
+    /// `events` what that failure means physically, if anything.
+    fn on_failure<E: Effect + Copy>(
+        _m: &Machine<'_, E>,
+        _t: f64,
+        _y: &State,
+        error: IntegrateError,
+        _events: &mut Vec<EventRecord>,
+    ) -> Status {
+        Status::SolverFailure {
+            mode: Self::MODE,
+            error,
+        }
+    }
+}
+
+/// A phase seen through the machine's scene effects `E` (object-safe, for the registry).
+pub(super) trait AnyPhase<E> {
+    fn segment(
+        &self,
+        m: &Machine<'_, E>,
+        t0: f64,
+        y0: State,
+        rec: &mut Recorder<'_>,
+    ) -> Result<Segment, ModelError>;
+    fn sample(
+        &self,
+        m: &Machine<'_, E>,
+        t: f64,
+        y: &State,
+        prev: Option<&EulerAngles>,
+    ) -> (Sample, Invariants);
+    fn response(&self, m: &Machine<'_, E>, y: &State) -> Response;
+    fn on_event(
+        &self,
+        m: &Machine<'_, E>,
+        watch: Watch,
+        t: f64,
+        y: &mut State,
+        events: &mut Vec<EventRecord>,
+    ) -> Next;
+    fn on_failure(
+        &self,
+        m: &Machine<'_, E>,
+        t: f64,
+        y: &State,
+        error: IntegrateError,
+        events: &mut Vec<EventRecord>,
+    ) -> Status;
+}
+
+struct Registered<P>(PhantomData<P>);
+
+impl<P: Phase, E: Effect + Copy + 'static> AnyPhase<E> for Registered<P> {
+    fn segment(
+        &self,
+        m: &Machine<'_, E>,
+        t0: f64,
+        y0: State,
+        rec: &mut Recorder<'_>,
+    ) -> Result<Segment, ModelError> {
+        m.segment::<P>(t0, y0, rec)
+    }
+    fn sample(
+        &self,
+        m: &Machine<'_, E>,
+        t: f64,
+        y: &State,
+        prev: Option<&EulerAngles>,
+    ) -> (Sample, Invariants) {
+        m.sample_with(P::system(m), P::MODE, t, y, prev)
+    }
+    fn response(&self, m: &Machine<'_, E>, y: &State) -> Response {
+        P::system(m).evaluate(y).response
+    }
+    fn on_event(
+        &self,
+        m: &Machine<'_, E>,
+        watch: Watch,
+        t: f64,
+        y: &mut State,
+        events: &mut Vec<EventRecord>,
+    ) -> Next {
+        P::on_event(m, watch, t, y, events)
+    }
+    fn on_failure(
+        &self,
+        m: &Machine<'_, E>,
+        t: f64,
+        y: &State,
+        error: IntegrateError,
+        events: &mut Vec<EventRecord>,
+    ) -> Status {
+        P::on_failure(m, t, y, error, events)
+    }
+}
+
+/// The registry: the phase of each mode.
+pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyPhase<E> {
+    match mode {
+        Mode::Frictionless => &Registered::<FrictionlessPhase>(PhantomData),
+        Mode::Sliding => &Registered::<SlidingPhase>(PhantomData),
+        Mode::Rolling => &Registered::<RollingPhase>(PhantomData),
+    }
+}

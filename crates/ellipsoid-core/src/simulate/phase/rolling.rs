@@ -1,0 +1,107 @@
+//! The rolling phase (docs/physics.md, model 3): no slip, F from the 3×3 constraint solve.
+//! Watches: loss of contact (g = N) and, in the Coulomb model, the friction cone
+//! (g = μN − |F_h|); leaving the cone starts sliding opposite to the friction rolling
+//! needed.
+
+use nalgebra::Vector2;
+
+use crate::effects::Effect;
+use crate::integrate::OdeSystem;
+use crate::model::{Evaluation, Rolling, System};
+use crate::state::State;
+
+use super::sliding::set_reference;
+use super::{Next, Phase, Watch};
+use crate::simulate::machine::Machine;
+use crate::simulate::outcome::{EventKind, EventRecord, Mode, Status};
+use crate::simulate::scene::ContactModel;
+
+pub(in crate::simulate) struct RollingPhase;
+
+impl Phase for RollingPhase {
+    const MODE: Mode = Mode::Rolling;
+    type Law = Rolling;
+
+    fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Rolling, E> {
+        &m.roll
+    }
+
+    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<Watch> {
+        let mut w = vec![Watch::Normal];
+        if let ContactModel::Coulomb { friction } = m.scene.contact {
+            w.push(Watch::Cone(friction));
+        }
+        w
+    }
+
+    fn watch<E: Effect + Copy>(
+        _m: &Machine<'_, E>,
+        watch: Watch,
+        ev: &Evaluation,
+        _y: &State,
+    ) -> f64 {
+        match watch {
+            Watch::Cone(mu) => Rolling::cone_margin(&ev.response, mu),
+            _ => ev.response.normal,
+        }
+    }
+
+    fn on_event<E: Effect + Copy>(
+        m: &Machine<'_, E>,
+        watch: Watch,
+        t: f64,
+        y: &mut State,
+        events: &mut Vec<EventRecord>,
+    ) -> Next {
+        if let Watch::Cone(_) = watch {
+            start_sliding_from_rest(m, y);
+            events.push(EventRecord {
+                kind: EventKind::ModeSwitch {
+                    from: Mode::Rolling,
+                    to: Mode::Sliding,
+                },
+                t,
+            });
+            Next::Go(Mode::Sliding)
+        } else {
+            events.push(EventRecord {
+                kind: EventKind::LostContact,
+                t,
+            });
+            Next::Stop(Status::LostContact)
+        }
+    }
+}
+
+/// At zero slip under Coulomb friction (a residual slip removed by [`Rolling::stick`]):
+/// roll if the cone holds (|F_h| ≤ μN), else start sliding opposite to the friction
+/// rolling would need.
+pub(in crate::simulate) fn after_slip_stop<E: Effect>(
+    m: &Machine<'_, E>,
+    mu: f64,
+    y: &mut State,
+) -> Mode {
+    Rolling::stick(&m.scene.body, y);
+    m.roll.project(y);
+    let response = m.roll.evaluate(y).response;
+    if Rolling::cone_margin(&response, mu) >= 0.0 {
+        Mode::Rolling
+    } else {
+        start_sliding_from_rest(m, y);
+        Mode::Sliding
+    }
+}
+
+/// Sets the slip reference to −F_h/|F_h| of the rolling contact force: the slip that
+/// develops when rolling fails opposes the friction it needed.
+fn start_sliding_from_rest<E: Effect>(m: &Machine<'_, E>, y: &mut State) {
+    let f_h = m.roll.evaluate(y).response.force.xy();
+    set_reference(
+        y,
+        if f_h.norm() > 0.0 {
+            -f_h.normalize()
+        } else {
+            Vector2::x()
+        },
+    );
+}

@@ -1,0 +1,278 @@
+//! What a run simulates: the scene's body, contact model, effects, initial state, solver
+//! settings, output times and observables, and the checks no other layer makes.
+
+use nalgebra::{Vector2, Vector3};
+
+use crate::body::Body;
+use crate::columns::{self, NUMERIC_COLUMNS};
+use crate::effects::{AirDrag, RollingResistance, SpinFriction};
+use crate::error::{ModelError, number};
+use crate::integrate::{self, Direction, Method};
+use crate::state::EulerAngles;
+
+/// The contact model a scene asks for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactModel {
+    /// F = N e3.
+    Frictionless,
+    /// Coulomb friction while slipping; stops when the slip does.
+    Sliding { friction: f64 },
+    /// No slip, unlimited friction.
+    Rolling,
+    /// Sliding and rolling with transitions; `friction` is μ.
+    Coulomb { friction: f64 },
+}
+
+impl ContactModel {
+    /// μ of the models with Coulomb friction.
+    pub fn friction(&self) -> Option<f64> {
+        match *self {
+            ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } => {
+                Some(friction)
+            }
+            ContactModel::Frictionless | ContactModel::Rolling => None,
+        }
+    }
+}
+
+/// The optional effects a scene names (absent = not simulated, no cost).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EffectSet {
+    pub air_drag: Option<AirDrag>,
+    pub rolling_resistance: Option<RollingResistance>,
+    pub spin_friction: Option<SpinFriction>,
+}
+
+impl EffectSet {
+    /// Whether any effect is present.
+    pub fn any(&self) -> bool {
+        self.air_drag.is_some() || self.rolling_resistance.is_some() || self.spin_friction.is_some()
+    }
+}
+
+/// Initial conditions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct InitialState {
+    /// Euler angles and rates (paper eq. 1) [rad, rad/s].
+    pub angles: EulerAngles,
+    /// Body angular velocity [rad/s]; when given it replaces the Euler-angle rates.
+    pub omega_body: Option<Vector3<f64>>,
+    /// Horizontal position of G \[m\].
+    pub position: Vector2<f64>,
+    /// Horizontal velocity of G [m/s]. Must be `None` for rolling, where it is implied;
+    /// `None` means zero for frictionless and sliding, and no slip (v_G = −ω × r) for
+    /// Coulomb.
+    pub velocity: Option<Vector2<f64>>,
+}
+
+/// Integrator settings.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SolverSettings {
+    pub method: Method,
+    pub rtol: f64,
+    pub atol: f64,
+    /// Initial step hint for the adaptive methods \[s\].
+    pub initial_step: Option<f64>,
+    pub max_steps: u64,
+}
+
+/// An event on an output column that the user asks for (`[[observe]]`): the times at
+/// which `column` crosses the value `crosses` in `direction`, located on the dense output
+/// like the contact events.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Observe {
+    /// The user's name for it, unique in the scene.
+    pub name: String,
+    /// Index of the column in [`NUMERIC_COLUMNS`].
+    pub column: usize,
+    /// The value crossed, in the column's unit.
+    pub crosses: f64,
+    pub direction: Direction,
+    /// Whether the run ends at the first crossing (status `observed`).
+    pub terminal: bool,
+}
+
+/// Most observables a scene may name.
+pub const MAX_OBSERVE: usize = 64;
+
+/// Everything a run needs.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Scene {
+    pub body: Body,
+    /// g [m/s²].
+    pub gravity: f64,
+    pub contact: ContactModel,
+    pub effects: EffectSet,
+    pub initial: InitialState,
+    pub solver: SolverSettings,
+    /// End time \[s\].
+    pub t_end: f64,
+    /// Output times, sorted, within [0, t_end] \[s\].
+    pub sample_times: Vec<f64>,
+    /// Events on output columns to locate and report.
+    pub observe: Vec<Observe>,
+}
+
+impl Scene {
+    /// Checks the settings that the body and the integrator do not check themselves.
+    pub fn validate(&self) -> Result<(), ModelError> {
+        if !(self.t_end.is_finite() && self.t_end > 0.0) {
+            return Err(ModelError::invalid(
+                "output.t_end",
+                number(self.t_end),
+                "the end time must be positive and finite (s)",
+            ));
+        }
+        if !(self.gravity.is_finite() && self.gravity >= 0.0) {
+            return Err(ModelError::invalid(
+                "effects.gravity",
+                number(self.gravity),
+                "g must be finite and non-negative (m/s^2)",
+            ));
+        }
+        if let Some(friction) = self.contact.friction()
+            && !(friction.is_finite() && friction >= 0.0)
+        {
+            return Err(ModelError::invalid(
+                "contact.friction",
+                number(friction),
+                "the Coulomb coefficient must be finite and non-negative",
+            ));
+        }
+        if let Some(bad) = self
+            .sample_times
+            .iter()
+            .find(|t| !(t.is_finite() && **t >= 0.0 && **t <= self.t_end))
+        {
+            return Err(ModelError::invalid(
+                "output.times",
+                number(*bad),
+                format!(
+                    "output times must lie within [0, t_end = {}] s",
+                    number(self.t_end)
+                ),
+            ));
+        }
+        if let Some(w) = self.sample_times.windows(2).find(|w| w[1] <= w[0]) {
+            return Err(ModelError::invalid(
+                "output.times",
+                format!("{} after {}", number(w[1]), number(w[0])),
+                "output times must be strictly increasing",
+            ));
+        }
+        if let Method::Rk4 { h } = self.solver.method {
+            if h > self.t_end {
+                return Err(ModelError::invalid(
+                    "solver.step",
+                    number(h),
+                    format!(
+                        "the fixed step must not exceed output.t_end = {} s",
+                        number(self.t_end)
+                    ),
+                ));
+            }
+            let steps = (self.t_end / h - (integrate::RK4_LAST_STRETCH - 1.0)).ceil();
+            if steps > self.solver.max_steps as f64 {
+                return Err(ModelError::invalid(
+                    "solver.step",
+                    number(h),
+                    format!(
+                        "rk4 would take {} steps to t_end = {} s, more than solver.max_steps = {} (raise the step or max_steps)",
+                        number(steps),
+                        number(self.t_end),
+                        self.solver.max_steps
+                    ),
+                ));
+            }
+        }
+        let init = &self.initial;
+        let vectors = [
+            ("initial.position", init.position.as_slice().to_vec()),
+            (
+                "initial.velocity",
+                init.velocity.map_or(vec![], |v| v.as_slice().to_vec()),
+            ),
+            (
+                "initial.omega_body",
+                init.omega_body.map_or(vec![], |w| w.as_slice().to_vec()),
+            ),
+        ];
+        for (name, v) in vectors {
+            if v.iter().any(|x| !x.is_finite()) {
+                return Err(ModelError::invalid(
+                    name,
+                    format!("{v:?}"),
+                    "every component must be finite",
+                ));
+            }
+        }
+        let a = &self.initial.angles;
+        for (name, v) in [
+            ("theta", a.theta),
+            ("phi", a.phi),
+            ("psi", a.psi),
+            ("theta_dot", a.theta_dot),
+            ("phi_dot", a.phi_dot),
+            ("psi_dot", a.psi_dot),
+        ] {
+            if !v.is_finite() {
+                return Err(ModelError::invalid(
+                    format!("initial.{name}"),
+                    number(v),
+                    "must be finite",
+                ));
+            }
+        }
+        self.validate_observe()
+    }
+
+    fn validate_observe(&self) -> Result<(), ModelError> {
+        if self.observe.len() > MAX_OBSERVE {
+            return Err(ModelError::invalid(
+                "observe",
+                format!("{} entries", self.observe.len()),
+                format!("at most {MAX_OBSERVE} observables"),
+            ));
+        }
+        for (k, o) in self.observe.iter().enumerate() {
+            if o.name.is_empty() || o.name.len() > 100 {
+                return Err(ModelError::invalid(
+                    "observe.name",
+                    format!("{:?}", o.name),
+                    "an observable needs a name of 1 to 100 bytes",
+                ));
+            }
+            if self.observe[..k].iter().any(|p| p.name == o.name) {
+                return Err(ModelError::invalid(
+                    "observe.name",
+                    format!("{:?}", o.name),
+                    "observable names must be unique",
+                ));
+            }
+            if o.column >= NUMERIC_COLUMNS.len() {
+                return Err(ModelError::invalid(
+                    "observe.column",
+                    o.column,
+                    format!("not a numeric column (one of {})", columns_list()),
+                ));
+            }
+            if !o.crosses.is_finite() {
+                return Err(ModelError::invalid(
+                    "observe.crosses",
+                    number(o.crosses),
+                    "the value crossed must be finite",
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The numeric column names, comma-separated (for messages).
+pub(crate) fn columns_list() -> String {
+    columns::NUMERIC_COLUMNS
+        .iter()
+        .map(|c| c.0)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
