@@ -282,7 +282,19 @@ fn rates_panel(area: &Area<'_>, table: &Table) -> Res {
     if let Some(w) = table.column("omega_world_z") {
         s.push(series("ω_z, world (omega_world_z)", RED, t, w));
     }
-    time_chart(area, table, "Euler rates", "rate (rad/s)", &s, false, false)
+    time_chart(
+        area,
+        table,
+        if s.len() > 3 {
+            "Euler rates and the vertical spin"
+        } else {
+            "Euler rates"
+        },
+        "rate (rad/s)",
+        &s,
+        false,
+        false,
+    )
 }
 
 fn energy_panel(area: &Area<'_>, table: &Table) -> Res {

@@ -86,7 +86,7 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None) -> Any:
             if wz is not None:
                 ax.plot(t, wz, label="ω_z, world (omega_world_z)")
             ax.set_ylabel("rate (rad/s)")
-            ax.set_title("Euler rates")
+            ax.set_title("Euler rates" + (" and the vertical spin" if wz is not None else ""))
             ax.legend(loc="upper right")
             _time_axis(ax, traj)
         elif name == "energy":
