@@ -935,3 +935,39 @@ fn hard_10_short_dip_of_the_normal_force_is_a_loss_of_contact() {
         format!("loss of contact at {t_ref:.10} s; settings agree to {worst:.1e} s"),
     );
 }
+
+// 11 ------------------------------------------------- magnitudes beyond double precision
+
+/// A spin-friction coefficient of 1e15 m on the tippe top (accepted by the format, but
+/// 1e17 times the body's size) collapses the steps to ~1e-22 s at t ≈ 1e-18 s. The run
+/// fails after the first pace check (1e4 steps) with `Collapsed`, naming the projected
+/// step count, instead of grinding through max_steps = 1e7 steps (69 s before the check).
+#[test]
+fn hard_11_collapsing_steps_fail_at_the_first_pace_check() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/tippe-top.toml"
+    );
+    let scenario =
+        ellipsoid_core::scenario::load(std::path::Path::new(path), &["effects.spin_friction=1e15"])
+            .unwrap();
+    let (out, _) = run(&scenario.scene);
+    let Status::SolverFailure {
+        error: integrate::IntegrateError::Collapsed {
+            steps, projected, ..
+        },
+        ..
+    } = out.status
+    else {
+        panic!("{:?}", out.status)
+    };
+    assert!(steps <= 10_000 && out.stats.accepted + out.stats.rejected <= 20_000);
+    assert!(projected > integrate::HOPELESS_FACTOR * 1e7);
+    measured(
+        "11 collapsing steps",
+        format!(
+            "stopped after {steps} steps at t = {:.1e} s; projected {projected:.0e} steps",
+            out.final_sample.t
+        ),
+    );
+}

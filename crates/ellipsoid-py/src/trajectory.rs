@@ -313,8 +313,9 @@ impl Trajectory {
         self.summary_dict(py, &self.summary)
     }
 
-    /// Why the run ended: "completed", "lost_contact", "slip_stopped" (outcomes), or
-    /// "painleve", "solver_failure", "chattering", "cancelled" (on a SimulationError's
+    /// Why the run ended (one of `Status::NAMES`): "completed", "observed" (a terminal
+    /// observable), "lost_contact", "slip_stopped" (outcomes), or "painleve",
+    /// "solver_failure", "chattering", "non_finite", "cancelled" (on a SimulationError's
     /// trajectory).
     #[getter]
     fn status(&self) -> &'static str {

@@ -27,6 +27,18 @@ const NONFINITE_SHRINK: f64 = 0.2;
 /// reported as `NonFinite` (its cause), not `StepSizeTooSmall`.
 const NONFINITE_MEMORY: u64 = 50;
 
+/// A run whose pace after [`PACE_CHECK_STEPS`] steps projects more than this many times
+/// `max_steps` to reach t_end fails at once ([`IntegrateError::Collapsed`]) instead of
+/// grinding through `max_steps` to the same failure. The margin is wide: a stiff start
+/// that later relaxes (a slip grazing zero, docs/hard-cases.md row 2b, projects ~1.5×
+/// max_steps in its first milliseconds) is never stopped by it, while a scene beyond
+/// double precision (a spin of 1e18 rad/s, a friction coefficient of 1e15) projects
+/// 1e15× and is stopped after 1e4 steps.
+pub const HOPELESS_FACTOR: f64 = 1e6;
+/// How many steps (accepted + rejected) a run takes before its pace is judged, and how
+/// often after that.
+const PACE_CHECK_STEPS: u64 = 10_000;
+
 /// Integrates dy/dt = f(t, y) from (t0, y0) to t_end.
 ///
 /// - `events`: zero crossings of each g (filtered by direction) are located on the dense
@@ -169,6 +181,21 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                     y,
                     StopReason::Failed(IntegrateError::MaxSteps { t, steps }),
                 );
+            }
+            if steps >= PACE_CHECK_STEPS && steps.is_multiple_of(PACE_CHECK_STEPS) {
+                let projected = steps as f64 * (t_end - t0) / (t - t0);
+                if !(projected <= HOPELESS_FACTOR * self.options.max_steps as f64) {
+                    return self.finish(
+                        t,
+                        y,
+                        StopReason::Failed(IntegrateError::Collapsed {
+                            t,
+                            h,
+                            steps,
+                            projected,
+                        }),
+                    );
+                }
             }
             // Hairer: 0.1·|h| ≤ |t|·uround means t + h no longer resolves the stages.
             if controller.is_some() && (h <= 10.0 * f64::EPSILON * t.abs() || h < f64::MIN_POSITIVE)

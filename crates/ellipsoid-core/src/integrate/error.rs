@@ -16,6 +16,19 @@ pub enum IntegrateError {
         "gave up at t = {t} s after {steps} steps (accepted + rejected); raise max_steps or loosen the tolerances"
     )]
     MaxSteps { t: f64, steps: u64 },
+    /// The steps have collapsed: at the pace of the first `steps` steps, reaching t_end
+    /// would take `projected` steps, more than [`HOPELESS_FACTOR`](super::HOPELESS_FACTOR)
+    /// times max_steps.
+    #[error(
+        "the steps collapsed: after {steps} steps the integration reached only t = {t} s (last step {h:.1e} s), so t_end would take ~{projected:.0e} steps; \
+         the scene's magnitudes are likely beyond what double precision can integrate (check the units and sizes: spins, coefficients, semi-axes, g)"
+    )]
+    Collapsed {
+        t: f64,
+        h: f64,
+        steps: u64,
+        projected: f64,
+    },
     /// The right-hand side kept returning NaN or infinity although the step was reduced.
     #[error(
         "the right-hand side returned a non-finite value (NaN or infinity) just after t = {t} s, and reducing the step did not help"
