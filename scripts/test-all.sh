@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test of the project on a machine that has only the toolchains (Rust via
-# rustup, Python 3.10+): installs the HDF5 system library if missing, runs the Rust
+# rustup, Python 3.10+): installs the HDF5 system library, Chromium and the DejaVu fonts
+# if missing, runs the Rust
 # tests (release: the physics tests integrate for real), builds the Python wheel in a
 # fresh venv and runs pytest. Exits non-zero on the first failure.
 set -euo pipefail
@@ -38,6 +39,7 @@ case "$target" in /*) ;; *) target="$PWD/$target" ;; esac
 export ELLIPSOID_CLI="$target/release/ellipsoid"
 [ -x "$ELLIPSOID_CLI" ] || cargo build --release --features ellipsoid-cli/hdf5 -p ellipsoid-cli
 export ELLIPSOID_EXPECT_HDF5=1
+export ELLIPSOID_EXPECT_BROWSER=1  # installed above: a browser test that cannot find it fails
 rm -rf .venv
 python3 -m venv .venv
 .venv/bin/python -m pip install --quiet --disable-pip-version-check maturin numpy pytest scipy h5py pandas mypy matplotlib websocket-client pillow
@@ -46,6 +48,6 @@ python3 -m venv .venv
 
 # 4. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
 echo "== browser"
-ELLIPSOID_EXPECT_BROWSER=1 .venv/bin/python -m pytest -q tests/browser
+.venv/bin/python -m pytest -q tests/browser
 
 echo "all tests passed"

@@ -88,3 +88,33 @@ def test_plot_without_matplotlib_says_how_to_get_it() -> None:
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert "IMPORT Trajectory.plot needs matplotlib (`pip install matplotlib`)" in out.stdout, out.stdout + out.stderr
+
+
+def test_repr_html_runs_in_a_browser(tmp_path: Path) -> None:
+    """The iframe of `_repr_html_`, in a page as a notebook would hold it, shows the viewer
+    in headless Chromium (skipped without one; scripts/test-all.sh installs it)."""
+    import os
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "tests" / "browser"))
+    import cdp
+
+    exe = cdp.chromium_path()
+    if exe is None:
+        if os.environ.get("ELLIPSOID_EXPECT_BROWSER") == "1":
+            pytest.fail("no Chromium found")
+        pytest.skip("no Chromium found: apt-get install -y chromium")
+    page = tmp_path / "notebook.html"
+    page.write_text("<!DOCTYPE html><html><body><p>cell output:</p>" + tippe_top()._repr_html_() + "</body></html>", encoding="utf-8")
+
+    def check(p: cdp.Page) -> None:
+        p.goto(page.as_uri())
+        # The viewer sets data-ready in its own document, inside the iframe: its frame
+        # renders; the outer page sees the iframe's pixels.
+        p.pump(3.0)
+        assert p.errors() == []
+        box = p.rect("iframe")
+        img = p.screenshot(box)
+        saturated = (img.max(axis=2) - img.min(axis=2)) > 60
+        assert saturated.mean() > 0.01, "the iframe shows no body"
+
+    cdp.with_page(check)
