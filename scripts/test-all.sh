@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Runs every test of the project on a machine that has only the toolchains (Rust via
 # rustup, Python 3.10+): installs the HDF5 system library, Chromium and the DejaVu fonts
-# if missing, runs the Rust
-# tests (release: the physics tests integrate for real), builds the Python wheel in a
-# fresh venv and runs pytest. Exits non-zero on the first failure.
+# if missing, runs the Rust tests (release: the physics tests integrate for real), builds
+# the Python wheel in a fresh venv and runs pytest, then the viewer's browser tests.
+# Exits non-zero on the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
