@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Runs every test of the project on a machine that has only the toolchains (Rust via
-# rustup, Python 3.10+): installs the HDF5 system library if missing, runs the Rust
-# tests (release: the physics tests integrate for real), builds the Python wheel in a
-# fresh venv and runs pytest. Exits non-zero on the first failure.
+# rustup, Python 3.10+): installs the HDF5 system library, Chromium and the DejaVu fonts
+# if missing, runs the Rust tests (release: the physics tests integrate for real), builds
+# the Python wheel in a fresh venv and runs pytest, then the viewer's browser tests.
+# Exits non-zero on the first failure.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -11,6 +12,14 @@ if ! pkg-config --exists hdf5 2>/dev/null; then
   sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo"
   $sudo apt-get install -y --no-install-recommends libhdf5-dev pkg-config \
     || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends libhdf5-dev pkg-config; }
+fi
+
+# 1b. Headless Chromium for the viewer's browser tests, and a font for the PNG figures
+#     (Debian packages; the tests never download a browser).
+if ! command -v chromium >/dev/null 2>&1 || [ ! -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ]; then
+  sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo"
+  $sudo apt-get install -y --no-install-recommends chromium fonts-dejavu-core \
+    || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends chromium fonts-dejavu-core; }
 fi
 
 # 2. Rust: formatting and lints first (cheap, and a red CI should say why at once), then
@@ -30,10 +39,15 @@ case "$target" in /*) ;; *) target="$PWD/$target" ;; esac
 export ELLIPSOID_CLI="$target/release/ellipsoid"
 [ -x "$ELLIPSOID_CLI" ] || cargo build --release --features ellipsoid-cli/hdf5 -p ellipsoid-cli
 export ELLIPSOID_EXPECT_HDF5=1
+export ELLIPSOID_EXPECT_BROWSER=1  # installed above: a browser test that cannot find it fails
 rm -rf .venv
 python3 -m venv .venv
-.venv/bin/python -m pip install --quiet --disable-pip-version-check maturin numpy pytest scipy h5py pandas mypy
+.venv/bin/python -m pip install --quiet --disable-pip-version-check maturin numpy pytest scipy h5py pandas mypy matplotlib websocket-client pillow
 .venv/bin/python -m pip install --quiet --disable-pip-version-check ./crates/ellipsoid-py -C maturin.build-args="--features hdf5"
 .venv/bin/python -m pytest -q crates/ellipsoid-py/tests
+
+# 4. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
+echo "== browser"
+.venv/bin/python -m pytest -q tests/browser
 
 echo "all tests passed"

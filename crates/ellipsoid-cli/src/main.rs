@@ -7,9 +7,11 @@
 mod check;
 mod cli;
 mod error;
+mod figure;
 mod precision;
 mod progress;
 mod run;
+mod visual;
 
 use std::process::ExitCode;
 
@@ -35,6 +37,8 @@ fn main() -> ExitCode {
         cli::Command::Run(args) => run::run(args),
         cli::Command::Check(args) => check::check(args),
         cli::Command::Precision(args) => precision::precision(args),
+        cli::Command::Plot(args) => visual::plot(args),
+        cli::Command::View(args) => visual::view(args),
     };
     match result {
         Ok(code) => code,
