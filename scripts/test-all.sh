@@ -2,13 +2,13 @@
 # Runs every test of the project on a machine that has only the toolchains (Rust via
 # rustup, Python 3.10+, a C compiler): runs the Rust tests (release: the physics tests
 # integrate for real), a fixed 60 s fuzzing budget on the scenario parser, builds the
-# Python wheel with `pip wheel` into a fresh venv and runs pytest. Exits non-zero on the
-# first failure.
+# Python wheel with `pip wheel` into a fresh venv and runs pytest, then the viewer's
+# browser tests. Exits non-zero on the first failure.
 #
 # HDF5 is built from source (HDF5 2.x, linked statically) by the default build: that needs
 # CMake >= 3.26. If the system's is older or missing, one comes from PyPI into the venv.
-# h5dump (Debian's hdf5-tools) is installed if missing, for the test that reads our
-# files with it; nothing else is installed on the system.
+# Installed from Debian if missing: h5dump (hdf5-tools, for the test that reads our files
+# with it), Chromium and the DejaVu fonts (the viewer's browser tests, the PNG figures).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fuzz_seconds="${ELLIPSOID_FUZZ_SECONDS:-60}"
@@ -17,7 +17,7 @@ fuzz_seconds="${ELLIPSOID_FUZZ_SECONDS:-60}"
 rm -rf .venv
 python3 -m venv .venv
 pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
-"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis
+"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow
 cmake_ok() { command -v cmake >/dev/null && printf '%s\n3.26\n' "$(cmake --version | head -1 | awk '{print $3}')" | sort -V -C -r 2>/dev/null; }
 if [ -z "${CMAKE:-}" ] && ! cmake_ok; then
   "${pip[@]}" 'cmake>=3.26'
@@ -27,6 +27,14 @@ if ! command -v h5dump >/dev/null; then
   sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo"
   $sudo apt-get install -y --no-install-recommends hdf5-tools \
     || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends hdf5-tools; }
+fi
+
+# 1b. Headless Chromium for the viewer's browser tests, and a font for the PNG figures
+#     (Debian packages; the tests never download a browser).
+if ! command -v chromium >/dev/null 2>&1 || [ ! -f /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf ]; then
+  sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo"
+  $sudo apt-get install -y --no-install-recommends chromium fonts-dejavu-core \
+    || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends chromium fonts-dejavu-core; }
 fi
 
 # 2. Rust: formatting and lints first (cheap, and a red CI should say why at once), then
@@ -51,9 +59,14 @@ case "$target" in /*) ;; *) target="$PWD/$target" ;; esac
 export ELLIPSOID_CLI="$target/release/ellipsoid"
 [ -x "$ELLIPSOID_CLI" ] || cargo build --release -p ellipsoid-cli
 export ELLIPSOID_EXPECT_HDF5=1
+export ELLIPSOID_EXPECT_BROWSER=1  # installed above: a browser test that cannot find it fails
 rm -rf "$target/wheels"
 .venv/bin/python -m pip wheel --quiet --disable-pip-version-check --no-deps -w "$target/wheels" ./crates/ellipsoid-py
 "${pip[@]}" "$target"/wheels/ellipsoid-*.whl
 .venv/bin/python -m pytest -q crates/ellipsoid-py/tests
+
+# 4. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
+echo "== browser"
+.venv/bin/python -m pytest -q tests/browser
 
 echo "all tests passed"

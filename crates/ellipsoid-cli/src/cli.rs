@@ -34,13 +34,21 @@ pub enum Command {
     /// quadrature), otherwise the final-state error against DOP853 at rtol = 1e-14. See
     /// docs/performance.md.
     Precision(PrecisionArgs),
+    /// Draw a trajectory file (CSV or HDF5) as a multi-panel figure (SVG or PNG): θ(t),
+    /// Euler rates, energy and relative drift (log axis), normal force and slip speed with
+    /// the contact mode shaded, paths on the plane; events marked.
+    Plot(PlotArgs),
+    /// Write a self-contained 3-D viewer page (HTML, opens offline) of a trajectory file:
+    /// the body moving on the plane with its contact trace, play/pause, speed, a time
+    /// slider, θ(t) and energy plots with a linked cursor.
+    View(ViewArgs),
 }
 
 #[derive(Debug, Args)]
 pub struct RunArgs {
     /// The scenario file (TOML; see docs/scenarios.md).
     pub scenario: PathBuf,
-    /// Trajectory file: `.csv`, or `.h5` (build with `--features hdf5`). Directories are
+    /// Trajectory file: `.csv`, or `.h5` (in the default build). Directories are
     /// created as needed. Default: out/STEM.csv, STEM the scenario file name without .toml.
     #[arg(short, long, value_name = "OUT.csv|OUT.h5")]
     pub output: Option<PathBuf>,
@@ -92,4 +100,52 @@ pub struct CheckArgs {
     /// Override a scenario value before validation (as for `run`). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+}
+
+#[derive(Debug, Args)]
+pub struct PlotArgs {
+    /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run`.
+    #[arg(value_name = "OUT.csv|OUT.h5")]
+    pub input: PathBuf,
+    /// The figure: `.svg` or `.png` (directories created as needed).
+    #[arg(short, long, value_name = "FIG.svg|FIG.png")]
+    pub output: PathBuf,
+    /// Panels, comma-separated, drawn top to bottom: theta, rates, energy, forces, path.
+    #[arg(
+        long,
+        value_name = "LIST",
+        default_value = "theta,rates,energy,forces,path"
+    )]
+    pub panels: String,
+    /// The run's JSON summary (`ellipsoid run --summary`): marks its events and, through the
+    /// scenario it names, gives the body's shape for the contact path. An `.h5` file
+    /// carries its own.
+    #[arg(long, value_name = "FILE.json")]
+    pub summary: Option<PathBuf>,
+    /// Title line (default: the input file name).
+    #[arg(long)]
+    pub title: Option<String>,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct ViewArgs {
+    /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run`.
+    #[arg(value_name = "OUT.csv|OUT.h5")]
+    pub input: PathBuf,
+    /// The page: `.html` (directories created as needed).
+    #[arg(short, long, value_name = "VIEW.html")]
+    pub output: PathBuf,
+    /// The run's JSON summary (`ellipsoid run --summary`): events, and the body's shape
+    /// through the scenario it names. An `.h5` file carries its own.
+    #[arg(long, value_name = "FILE.json")]
+    pub summary: Option<PathBuf>,
+    /// Page title (default: the input file name).
+    #[arg(long)]
+    pub title: Option<String>,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
 }

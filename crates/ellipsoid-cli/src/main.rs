@@ -7,10 +7,12 @@
 mod check;
 mod cli;
 mod error;
+mod figure;
 mod interrupt;
 mod precision;
 mod progress;
 mod run;
+mod visual;
 
 use std::process::ExitCode;
 
@@ -36,6 +38,8 @@ fn main() -> ExitCode {
         cli::Command::Run(args) => run::run(args),
         cli::Command::Check(args) => check::check(args),
         cli::Command::Precision(args) => precision::precision(args),
+        cli::Command::Plot(args) => visual::plot(args),
+        cli::Command::View(args) => visual::view(args),
     };
     match result {
         Ok(code) => code,

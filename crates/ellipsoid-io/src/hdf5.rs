@@ -1,4 +1,5 @@
-//! HDF5 trajectories (feature `hdf5`; links the system libhdf5).
+//! HDF5 trajectories (feature `hdf5`: the system libhdf5; with `hdf5-static`, the default
+//! of the CLI and the Python package, the HDF5 C library built from source and linked in).
 //!
 //! Layout, readable by h5py without special knowledge:
 //! ```text

@@ -3,7 +3,8 @@
 //! JSON, every file written atomically (a temporary file in the target's directory,
 //! renamed into place only when complete).
 //!
-//! Column names and units are declared once, in [`columns`].
+//! Column names and units are declared once, in [`columns`]. Trajectories are read back by
+//! [`table`]; [`viewer`] makes the self-contained 3-D viewer page from one.
 
 pub mod atomic;
 pub mod columns;
@@ -12,6 +13,8 @@ pub mod csv;
 pub mod hdf5;
 pub mod run;
 pub mod summary;
+pub mod table;
+pub mod viewer;
 
 use std::path::{Path, PathBuf};
 
@@ -222,7 +225,11 @@ mod tests {
         if cfg!(feature = "hdf5") {
             assert_eq!(h5.unwrap(), Format::Hdf5);
         } else {
-            assert!(h5.unwrap_err().to_string().contains("--features hdf5"));
+            assert!(
+                h5.unwrap_err()
+                    .to_string()
+                    .contains("built without HDF5 support")
+            );
         }
     }
 

@@ -115,6 +115,40 @@ impl Trajectory {
 
 use pyo3::types::IntoPyDict;
 
+/// A path on the plane as two numpy arrays, x and y [m].
+type XyArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
+
+impl Trajectory {
+    /// The run as a table for the viewer: the same columns, events and body as
+    /// `ellipsoid view OUT.csv --summary S.json` reads back, so the pages are identical.
+    fn table(&self) -> ellipsoid_io::table::Table {
+        let names = NUMERIC_COLUMNS.map(|c| c.0);
+        let mut t = ellipsoid_io::table::Table::from_rows(
+            &self.scenario.inner.source,
+            &names,
+            self.samples.len(),
+            |i| {
+                let s = &self.samples[i];
+                (columns::values(s).to_vec(), s.mode.name().to_owned())
+            },
+        );
+        if let Ok(v) = serde_json::from_str::<serde_json::Value>(&self.summary.to_json()) {
+            t.apply_events(&v);
+        }
+        t.set_body(
+            &self.scenario.inner.scene.body,
+            &format!("body from {}", self.scenario.inner.source),
+        );
+        t
+    }
+
+    fn page(&self, py: Python<'_>, title: Option<&str>) -> PyResult<String> {
+        let title = title.unwrap_or(&self.scenario.inner.source);
+        ellipsoid_io::viewer::html(&self.table(), title)
+            .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))
+    }
+}
+
 fn readonly(arr: &Bound<'_, PyAny>) -> PyResult<()> {
     let kwargs = [("write", false)].into_py_dict(arr.py())?;
     arr.call_method("setflags", (), Some(&kwargs))?;
@@ -381,6 +415,68 @@ impl Trajectory {
                 &OutputError::Hdf5Unavailable { path },
             ))
         }
+    }
+
+    /// The 3-D viewer page of this run (the same HTML as `ellipsoid view`): the body on the
+    /// plane with its contact trace, play/pause, speed, a time slider, θ(t) and energy
+    /// plots with a linked cursor; self-contained (opens offline). With `path`, writes it
+    /// there atomically and returns None; without, returns the HTML text.
+    #[pyo3(signature = (path=None, *, title=None))]
+    fn view(
+        &self,
+        py: Python<'_>,
+        path: Option<PathBuf>,
+        title: Option<String>,
+    ) -> PyResult<Option<String>> {
+        let html = self.page(py, title.as_deref())?;
+        match path {
+            None => Ok(Some(html)),
+            Some(p) => {
+                ellipsoid_io::atomic::write(&p, html.as_bytes())
+                    .map_err(|e| errors::output_error(py, &e))?;
+                Ok(None)
+            }
+        }
+    }
+
+    /// Jupyter: the viewer inline, in an iframe.
+    fn _repr_html_(&self, py: Python<'_>) -> PyResult<String> {
+        let html = self.page(py, None)?;
+        let doc = html.replace('&', "&amp;").replace('"', "&quot;");
+        Ok(format!(
+            "<iframe srcdoc=\"{doc}\" style=\"width: 100%; height: 680px; border: 1px solid #ccc\" sandbox=\"allow-scripts\"></iframe>"
+        ))
+    }
+
+    /// The geometric centre C0's path on the plane, (x, y) [m] (used by `plot`); None
+    /// when C0 is G.
+    fn _centre_path<'py>(&self, py: Python<'py>) -> Option<XyArrays<'py>> {
+        self.table()
+            .centre_path()
+            .map(|(x, y)| (PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
+    }
+
+    /// The contact point's path on the plane, (x, y) [m], from G, the Euler angles and the
+    /// body's shape (used by `plot`).
+    fn _contact_path<'py>(&self, py: Python<'py>) -> Option<XyArrays<'py>> {
+        self.table()
+            .contact_path()
+            .map(|(x, y)| (PyArray1::from_vec(py, x), PyArray1::from_vec(py, y)))
+    }
+
+    /// The multi-panel figure of `ellipsoid plot` drawn with matplotlib (needed; raises
+    /// ImportError saying how to install it): `panels` a comma-separated string or a list
+    /// of "theta", "rates", "energy", "forces", "path" (default: all). Returns the
+    /// matplotlib Figure.
+    #[pyo3(signature = (panels=None))]
+    fn plot<'py>(
+        slf: &Bound<'py, Self>,
+        panels: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        slf.py()
+            .import("ellipsoid._plot")?
+            .getattr("plot")?
+            .call1((slf, panels))
     }
 
     /// Writes the trajectory in the format its extension names (`.csv`, `.h5`, `.hdf5`),

@@ -5,7 +5,7 @@ SI units and radians throughout; the unit of every column and argument is in its
 
 import os
 import pathlib
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from typing import Any, ClassVar, Final, Literal, final, overload
 
 import numpy as np
@@ -229,6 +229,14 @@ class Trajectory:
     def to_csv(self, path: _Path) -> None: ...
     def to_hdf5(self, path: _Path) -> None: ...
     def save(self, path: _Path) -> None: ...
+    @overload
+    def view(self, path: None = None, *, title: str | None = None) -> str:
+        """The 3-D viewer page (the HTML of `ellipsoid view`), as text."""
+    @overload
+    def view(self, path: _Path, *, title: str | None = None) -> None:
+        """Writes the 3-D viewer page to `path`."""
+    def plot(self, panels: str | Sequence[str] | None = None) -> Any:
+        """The panels of `ellipsoid plot` as a matplotlib Figure (needs matplotlib)."""
 
 @final
 class PrecisionTable:

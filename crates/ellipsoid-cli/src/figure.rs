@@ -1,0 +1,678 @@
+//! `ellipsoid plot`'s multi-panel figure, in the paper's style, as SVG (plotters' SVG
+//! backend; text sizes estimated, no font read) and PNG (the same SVG rendered by resvg
+//! with a system sans-serif font, e.g. Debian's fonts-dejavu-core).
+//!
+//! ```text
+//! panel    draws                                                         needs
+//! theta    θ(t)                                                          theta
+//! rates    θ̇, φ̇, ψ̇ (and the world-frame vertical spin ω_z if present)    theta_dot, phi_dot, psi_dot
+//! energy   E (and E + W when work is dissipated); the relative drift      energy
+//!          of the conserved quantity, |ΔE|/|E0| or |Δ(E + W)|/|E0 + W0|
+//!          (the `drift` column when present), on a log axis
+//! forces   normal force N and slip speed, contact mode shaded            normal_force, slip_speed
+//! path     the paths on the plane of the contact point, G and C0                 x, y (contact: contact_x/y,
+//!                                                                        or the body's shape)
+//! ```
+//! Every time axis marks the events (dashed purple lines). Long runs are drawn from the
+//! min/max envelope of each series (`ellipsoid_io::viewer::envelope`), so peaks survive.
+
+use ellipsoid_io::table::Table;
+use ellipsoid_io::viewer::envelope;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// Panel names, in drawing order.
+pub const PANELS: [&str; 5] = ["theta", "rates", "energy", "forces", "path"];
+
+/// Points per series after decimation (two per bucket).
+const BUCKETS: usize = 2_000;
+/// Figure width and height of one panel row (px).
+const WIDTH: u32 = 1100;
+const ROW: u32 = 300;
+/// Drift values below this are drawn at it (an exact zero has no place on a log axis).
+const FLOOR: f64 = 1e-17;
+
+const BLUE: RGBColor = RGBColor(0x1f, 0x77, 0xb4);
+const ORANGE: RGBColor = RGBColor(0xff, 0x7f, 0x0e);
+const GREEN: RGBColor = RGBColor(0x2c, 0xa0, 0x2c);
+const RED: RGBColor = RGBColor(0xd6, 0x27, 0x28);
+const GREY: RGBColor = RGBColor(0x80, 0x80, 0x80);
+const EVENT: RGBColor = RGBColor(0x80, 0x40, 0xa0);
+
+/// Shading per contact mode (light, behind the curves).
+fn mode_color(name: &str) -> RGBColor {
+    match name {
+        "sliding" => RGBColor(0xff, 0xe3, 0xc4),
+        "rolling" => RGBColor(0xd4, 0xf0, 0xd4),
+        "frictionless" => RGBColor(0xee, 0xee, 0xee),
+        _ => RGBColor(0xe0, 0xe0, 0xf8),
+    }
+}
+
+/// Parses `--panels a,b,c`: known names, no repeats, at least one.
+pub fn parse_panels(spec: &str) -> Result<Vec<&'static str>, String> {
+    let mut out = Vec::new();
+    for name in spec.split(',').map(str::trim) {
+        let Some(p) = PANELS.iter().find(|p| **p == name) else {
+            return Err(format!(
+                "--panels: unknown panel {name:?}; the panels are {}",
+                PANELS.join(", ")
+            ));
+        };
+        if out.contains(p) {
+            return Err(format!("--panels: {name:?} is named twice"));
+        }
+        out.push(*p);
+    }
+    Ok(out)
+}
+
+/// The columns each panel needs, checked before anything is drawn.
+pub fn check_columns(table: &Table, panels: &[&str]) -> Result<(), String> {
+    for p in panels {
+        let need: &[&str] = match *p {
+            "theta" => &["theta"],
+            "rates" => &["theta_dot", "phi_dot", "psi_dot"],
+            "energy" => &["energy"],
+            "forces" => &["normal_force", "slip_speed"],
+            _ => &["x", "y"],
+        };
+        table.require(need, &format!("the {p} panel"))?;
+    }
+    Ok(())
+}
+
+type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+type Res = Result<(), String>;
+fn err<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+
+/// A short tick label: at most 4 significant digits, scientific outside 1e-3..1e4.
+fn tick(v: f64) -> String {
+    let a = v.abs();
+    if a == 0.0 {
+        "0".into()
+    } else if !(1e-3..1e4).contains(&a) {
+        format!("{v:.1e}")
+    } else {
+        let s = format!("{:.*}", (3 - a.log10().floor() as i32).max(0) as usize, v);
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_owned()
+        } else {
+            s
+        }
+    }
+}
+
+/// Bounds of `values` padded by 5 %, never empty.
+fn bounds<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+        (lo.min(*v), hi.max(*v))
+    });
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05)
+        .max(hi.abs().max(lo.abs()) * 1e-9)
+        .max(1e-12);
+    (lo - pad, hi + pad)
+}
+
+struct Series {
+    name: String,
+    color: RGBColor,
+    points: Vec<(f64, f64)>,
+}
+
+fn series(name: &str, color: RGBColor, t: &[f64], v: &[f64]) -> Series {
+    let (ts, vs) = envelope(t, v, BUCKETS);
+    Series {
+        name: name.to_owned(),
+        color,
+        points: ts.into_iter().zip(vs).collect(),
+    }
+}
+
+/// Spans of constant mode, as (t_start, t_end, mode name).
+fn mode_spans(table: &Table) -> Vec<(f64, f64, String)> {
+    let t = table.t();
+    let Some(m) = &table.modes else {
+        return Vec::new();
+    };
+    let mut spans = Vec::new();
+    let mut start = 0;
+    for i in 1..=m.len() {
+        if i == m.len() || m[i] != m[start] {
+            let end = if i == m.len() { t[i - 1] } else { t[i] };
+            spans.push((t[start], end, table.mode(start).unwrap_or("").to_owned()));
+            start = i;
+        }
+    }
+    spans
+}
+
+/// One chart of quantities against time: title, y label (with unit), series, the mode
+/// shading, the events; `log` draws log10 of the values with decade labels.
+fn time_chart(
+    area: &Area<'_>,
+    table: &Table,
+    title: &str,
+    y_desc: &str,
+    series: &[Series],
+    log: bool,
+    shade: bool,
+) -> Res {
+    let t = table.t();
+    let (t0, t1) = (t[0], t[t.len() - 1].max(t[0] + 1e-12));
+    let (mut y0, mut y1) = bounds(series.iter().flat_map(|s| s.points.iter().map(|p| &p.1)));
+    if log {
+        (y0, y1) = (y0.floor(), y1.ceil().max(y0.floor() + 1.0));
+    }
+    let mut chart = ChartBuilder::on(area)
+        .caption(title, ("sans-serif", 19))
+        .margin(10)
+        .x_label_area_size(46)
+        .y_label_area_size(84)
+        .build_cartesian_2d(t0..t1, y0..y1)
+        .map_err(err)?;
+    if shade {
+        for (a, b, mode) in mode_spans(table) {
+            chart
+                .draw_series([Rectangle::new(
+                    [(a, y0), (b, y1)],
+                    mode_color(&mode).filled(),
+                )])
+                .map_err(err)?;
+        }
+    }
+    let decade = |v: &f64| {
+        if (v - v.round()).abs() < 1e-9 {
+            format!("1e{}", v.round() as i64)
+        } else {
+            String::new()
+        }
+    };
+    let yscale = y0.abs().max(y1.abs());
+    let linear = |v: &f64| tick(*v);
+    let ylinear = move |v: &f64| tick(if v.abs() < 1e-9 * yscale { 0.0 } else { *v });
+    let ylab: &dyn Fn(&f64) -> String = if log { &decade } else { &ylinear };
+    chart
+        .configure_mesh()
+        .x_desc("time t (s)")
+        .y_desc(y_desc)
+        .x_label_formatter(&linear)
+        .y_label_formatter(ylab)
+        .y_labels(if log { (y1 - y0) as usize + 1 } else { 6 })
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 16))
+        .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(BLACK.mix(0.08))
+        .draw()
+        .map_err(err)?;
+    for e in &table.events {
+        chart
+            .draw_series(DashedLineSeries::new(
+                [(e.t, y0), (e.t, y1)],
+                5,
+                4,
+                EVENT.stroke_width(1),
+            ))
+            .map_err(err)?;
+    }
+    for s in series {
+        let color = s.color;
+        chart
+            .draw_series(LineSeries::new(
+                s.points.iter().copied(),
+                color.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(s.name.clone())
+            .legend(move |(x, y)| PathElement::new([(x, y), (x + 22, y)], color.stroke_width(2)));
+    }
+    let mut labels = chart.configure_series_labels();
+    labels
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.4))
+        .label_font(("sans-serif", 15));
+    if series.len() > 1 || !table.events.is_empty() {
+        labels.draw().map_err(err)?;
+    }
+    Ok(())
+}
+
+fn theta_panel(area: &Area<'_>, table: &Table) -> Res {
+    let t = table.t();
+    let theta = table.column("theta").expect("checked");
+    time_chart(
+        area,
+        table,
+        "tilt of the symmetry axis θ",
+        "θ (rad)",
+        &[series("θ", BLUE, t, theta)],
+        false,
+        false,
+    )
+}
+
+fn rates_panel(area: &Area<'_>, table: &Table) -> Res {
+    let t = table.t();
+    let mut s = vec![
+        series(
+            "θ̇ (theta_dot)",
+            BLUE,
+            t,
+            table.column("theta_dot").expect("checked"),
+        ),
+        series(
+            "φ̇ (phi_dot)",
+            ORANGE,
+            t,
+            table.column("phi_dot").expect("checked"),
+        ),
+        series(
+            "ψ̇ (psi_dot)",
+            GREEN,
+            t,
+            table.column("psi_dot").expect("checked"),
+        ),
+    ];
+    if let Some(w) = table.column("omega_world_z") {
+        s.push(series("ω_z, world (omega_world_z)", RED, t, w));
+    }
+    time_chart(
+        area,
+        table,
+        if s.len() > 3 {
+            "Euler rates and the vertical spin"
+        } else {
+            "Euler rates"
+        },
+        "rate (rad/s)",
+        &s,
+        false,
+        false,
+    )
+}
+
+fn energy_panel(area: &Area<'_>, table: &Table) -> Res {
+    let (left, right) = area.split_horizontally(WIDTH / 2);
+    let t = table.t();
+    let e = table.column("energy").expect("checked");
+    let mut s = vec![series("E", BLUE, t, e)];
+    if let Some(w) = table.column("work").filter(|w| w.iter().any(|v| *v != 0.0)) {
+        let ew: Vec<f64> = e.iter().zip(w).map(|(e, w)| e + w).collect();
+        s.push(series("E + W", GREEN, t, &ew));
+    }
+    time_chart(&left, table, "energy", "energy (J)", &s, false, false)?;
+    let (d, name) = table.drift().expect("energy present");
+    let logd: Vec<f64> = d.iter().map(|v| v.abs().max(FLOOR).log10()).collect();
+    let title = format!("relative drift of {name}");
+    time_chart(
+        &right,
+        table,
+        &title,
+        "|relative drift| (1, log)",
+        &[series(&format!("|Δ{name}| / |{name}(0)|"), RED, t, &logd)],
+        true,
+        false,
+    )
+}
+
+fn forces_panel(area: &Area<'_>, table: &Table) -> Res {
+    let (left, right) = area.split_horizontally(WIDTH / 2);
+    let t = table.t();
+    let title = |q: &str| {
+        let modes = table
+            .mode_names
+            .iter()
+            .filter(|m| !m.is_empty())
+            .map(|m| m.as_str())
+            .collect::<Vec<_>>();
+        if modes.is_empty() {
+            q.to_owned()
+        } else {
+            format!("{q} (shaded: {})", shading_legend(&modes))
+        }
+    };
+    time_chart(
+        &left,
+        table,
+        &title("normal force"),
+        "normal force N (N)",
+        &[series(
+            "N",
+            BLUE,
+            t,
+            table.column("normal_force").expect("checked"),
+        )],
+        false,
+        true,
+    )?;
+    time_chart(
+        &right,
+        table,
+        &title("slip speed"),
+        "slip speed |v_C| (m/s)",
+        &[series(
+            "slip speed",
+            ORANGE,
+            t,
+            table.column("slip_speed").expect("checked"),
+        )],
+        false,
+        true,
+    )
+}
+
+fn shading_legend(modes: &[&str]) -> String {
+    modes
+        .iter()
+        .map(|m| {
+            let c = match *m {
+                "sliding" => "orange",
+                "rolling" => "green",
+                "frictionless" => "grey",
+                _ => "lilac",
+            };
+            format!("{m} {c}")
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+fn path_panel(area: &Area<'_>, table: &Table) -> Res {
+    let x = table.column("x").expect("checked");
+    let y = table.column("y").expect("checked");
+    let contact = table.contact_path();
+    let centre = table.centre_path();
+    let title = if contact.is_some() {
+        format!(
+            "paths on the plane: contact point, G{}",
+            if centre.is_some() { ", centre C0" } else { "" }
+        )
+    } else {
+        format!(
+            "path of G on the plane (contact point unknown: {})",
+            table.shape_note
+        )
+    };
+    // Equal scales on both axes: a square plot area in the middle of the row.
+    let (w, h) = area.dim_in_pixel();
+    let side = h.min(w) as i32;
+    let pad = ((w as i32 - side) / 2).max(0);
+    let row = area;
+    let area = area.margin(0, 0, pad, pad);
+    let mut xs: Vec<&f64> = x.iter().collect();
+    let mut ys: Vec<&f64> = y.iter().collect();
+    for (cx, cy) in contact.iter().chain(centre.iter()) {
+        xs.extend(cx.iter());
+        ys.extend(cy.iter());
+    }
+    let (mut x0, mut x1) = bounds(xs.into_iter());
+    let (mut y0, mut y1) = bounds(ys.into_iter());
+    let half = ((x1 - x0).max(y1 - y0)) / 2.0;
+    let (mx, my) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    (x0, x1, y0, y1) = (mx - half, mx + half, my - half, my + half);
+    let mut chart = ChartBuilder::on(&area)
+        .caption(title, ("sans-serif", 17))
+        .margin(10)
+        .x_label_area_size(46)
+        .y_label_area_size(84)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(err)?;
+    let scale = x0.abs().max(x1.abs()).max(y0.abs()).max(y1.abs());
+    let fmt = move |v: &f64| tick(if v.abs() < 1e-9 * scale { 0.0 } else { *v });
+    chart
+        .configure_mesh()
+        .x_desc("x (m)")
+        .y_desc("y (m)")
+        .x_label_formatter(&fmt)
+        .y_label_formatter(&fmt)
+        .x_labels(4)
+        .y_labels(6)
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 16))
+        .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(BLACK.mix(0.08))
+        .draw()
+        .map_err(err)?;
+    let decimate = |xs: &[f64], ys: &[f64]| -> Vec<(f64, f64)> {
+        let step = (xs.len() / (4 * BUCKETS)).max(1);
+        let mut p: Vec<(f64, f64)> = xs
+            .iter()
+            .zip(ys)
+            .step_by(step)
+            .map(|(a, b)| (*a, *b))
+            .collect();
+        p.push((xs[xs.len() - 1], ys[ys.len() - 1]));
+        p
+    };
+    chart
+        .draw_series(LineSeries::new(decimate(x, y), GREY.stroke_width(2)))
+        .map_err(err)?;
+    if let Some((cx, cy)) = &centre {
+        chart
+            .draw_series(LineSeries::new(decimate(cx, cy), ORANGE.stroke_width(1)))
+            .map_err(err)?;
+    }
+    if let Some((cx, cy)) = &contact {
+        chart
+            .draw_series(LineSeries::new(decimate(cx, cy), BLUE.stroke_width(1)))
+            .map_err(err)?;
+    }
+    chart
+        .draw_series([Circle::new((x[0], y[0]), 5, GREEN.filled())])
+        .map_err(err)?;
+    // The legend beside the square, where it hides nothing.
+    let (lx, ly) = (pad + side + 10, 60);
+    let mut entries = vec![("G", GREY), ("start", GREEN)];
+    if centre.is_some() {
+        entries.insert(1, ("centre C0", ORANGE));
+    }
+    if contact.is_some() {
+        entries.insert(1, ("contact point", BLUE));
+    }
+    for (k, (name, color)) in entries.into_iter().enumerate() {
+        let y = ly + 24 * k as i32;
+        if name == "start" {
+            row.draw(&Circle::new((lx + 11, y), 5, color.filled()))
+                .map_err(err)?;
+        } else {
+            row.draw(&Rectangle::new(
+                [(lx, y - 1), (lx + 22, y + 1)],
+                color.filled(),
+            ))
+            .map_err(err)?;
+        }
+        row.draw(&Text::new(
+            name,
+            (lx + 30, y - 9),
+            ("sans-serif", 15).into_font(),
+        ))
+        .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// The figure as SVG text: one row per panel, a title line on top.
+pub fn svg(table: &Table, panels: &[&str], title: &str) -> Result<String, String> {
+    check_columns(table, panels)?;
+    let head = 40;
+    let height = head + ROW * panels.len() as u32;
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, (WIDTH, height)).into_drawing_area();
+        root.fill(&WHITE).map_err(err)?;
+        let (top, body) = root.split_vertically(head);
+        top.draw(&Text::new(
+            title.to_owned(),
+            (14, 10),
+            ("sans-serif", 18).into_font(),
+        ))
+        .map_err(err)?;
+        let rows = body.split_evenly((panels.len(), 1));
+        for (area, p) in rows.iter().zip(panels) {
+            match *p {
+                "theta" => theta_panel(area, table)?,
+                "rates" => rates_panel(area, table)?,
+                "energy" => energy_panel(area, table)?,
+                "forces" => forces_panel(area, table)?,
+                _ => path_panel(area, table)?,
+            }
+        }
+        root.present().map_err(err)?;
+    }
+    Ok(out)
+}
+
+/// Renders SVG text to PNG bytes with resvg, text in a system sans-serif font (DejaVu Sans
+/// when installed). Fails, saying what to install, when no font is found.
+pub fn png(svg: &str) -> Result<Vec<u8>, String> {
+    use resvg::{tiny_skia, usvg};
+    let mut opt = usvg::Options::default();
+    let db = opt.fontdb_mut();
+    db.load_system_fonts();
+    if let Ok(dir) = std::env::var("ELLIPSOID_FONT_DIR") {
+        db.load_fonts_dir(dir);
+    }
+    let family = ["DejaVu Sans", "Liberation Sans", "Noto Sans", "FreeSans"]
+        .into_iter()
+        .find(|f| {
+            db.faces()
+                .any(|face| face.families.iter().any(|(n, _)| n == f))
+        });
+    match family {
+        Some(f) => db.set_sans_serif_family(f),
+        None if db.is_empty() => {
+            return Err("no font found to draw the PNG's text (install one, e.g. `apt-get install -y fonts-dejavu-core`, or set ELLIPSOID_FONT_DIR), or write SVG with -o FIG.svg".into());
+        }
+        None => {
+            let first = db
+                .faces()
+                .next()
+                .and_then(|f| f.families.first().map(|n| n.0.clone()))
+                .unwrap_or_default();
+            db.set_sans_serif_family(first);
+        }
+    }
+    let tree = usvg::Tree::from_str(svg, &opt).map_err(|e| format!("cannot read the SVG: {e}"))?;
+    let size = tree.size().to_int_size();
+    let mut pixmap =
+        tiny_skia::Pixmap::new(size.width(), size.height()).ok_or("the figure has no size")?;
+    pixmap.fill(tiny_skia::Color::WHITE);
+    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    pixmap
+        .encode_png()
+        .map_err(|e| format!("cannot encode the PNG: {e}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table() -> Table {
+        let names = [
+            "t",
+            "x",
+            "y",
+            "z",
+            "theta",
+            "phi",
+            "psi",
+            "theta_dot",
+            "phi_dot",
+            "psi_dot",
+            "energy",
+            "normal_force",
+            "slip_speed",
+            "work",
+        ];
+        let mut t = Table::from_rows("mem.csv", &names, 500, |i| {
+            let t = i as f64 * 1e-3;
+            let v = vec![
+                t,
+                0.01 * t.cos(),
+                0.01 * t.sin(),
+                0.02,
+                0.2 + 0.1 * (40.0 * t).sin(),
+                t,
+                60.0 * t,
+                4.0 * (40.0 * t).cos(),
+                1.0,
+                60.0,
+                0.03 - 1e-3 * t,
+                0.5,
+                0.1 * (1.0 - t),
+                1e-3 * t * (1.0 + 1e-12),
+            ];
+            (
+                v,
+                if i < 300 {
+                    "sliding".into()
+                } else {
+                    "rolling".into()
+                },
+            )
+        });
+        t.events.push(ellipsoid_io::table::Event {
+            t: 0.3,
+            kind: "mode_switch".into(),
+            label: "sliding → rolling".into(),
+        });
+        t
+    }
+
+    #[test]
+    fn every_panel_names_its_axes_with_units() {
+        let svg = svg(&table(), &PANELS, "test").unwrap();
+        for label in [
+            "time t (s)",
+            "θ (rad)",
+            "rate (rad/s)",
+            "energy (J)",
+            "|relative drift| (1, log)",
+            "normal force N (N)",
+            "slip speed |v_C| (m/s)",
+            "x (m)",
+            "y (m)",
+            "E + W",
+            "sliding orange",
+        ] {
+            assert!(
+                svg.contains(&label.replace('&', "&amp;")),
+                "missing {label}"
+            );
+        }
+        assert!(svg.contains("1e-"), "decade labels on the drift axis");
+    }
+
+    #[test]
+    fn panels_are_parsed_strictly() {
+        assert_eq!(parse_panels("theta, path").unwrap(), ["theta", "path"]);
+        assert!(
+            parse_panels("theta,thetaa")
+                .unwrap_err()
+                .contains("unknown panel \"thetaa\"")
+        );
+        assert!(parse_panels("path,path").unwrap_err().contains("twice"));
+        let mut t = table();
+        t.columns.retain(|c| c.0 != "slip_speed");
+        assert!(
+            svg(&t, &["forces"], "x")
+                .unwrap_err()
+                .contains("the forces panel needs the column `slip_speed`")
+        );
+    }
+
+    #[test]
+    fn ticks_are_short() {
+        assert_eq!(tick(0.0), "0");
+        assert_eq!(tick(0.25), "0.25");
+        assert_eq!(tick(12.5), "12.5");
+        assert_eq!(tick(1.5e-5), "1.5e-5");
+        assert_eq!(tick(-0.000123456), "-1.2e-4");
+    }
+}

@@ -1,0 +1,118 @@
+//! `ellipsoid plot` and `ellipsoid view`: a trajectory file (CSV or HDF5) read back and
+//! drawn as a multi-panel figure (SVG or PNG, [`crate::figure`]) or as the self-contained
+//! 3-D viewer page (`ellipsoid_io::viewer`). Events and the body come from the summary
+//! (`--summary`, or the one stored in an HDF5 file) and the scenario it names.
+
+use std::path::Path;
+use std::process::ExitCode;
+
+use ellipsoid_io::atomic;
+use ellipsoid_io::table::{self, Table};
+
+use crate::cli::{PlotArgs, ViewArgs};
+use crate::error::CliError;
+use crate::figure;
+
+/// Reads the trajectory and, if given, the summary.
+fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliError> {
+    let mut t = table::read(input).map_err(|e| CliError::Usage(e.to_string()))?;
+    if let Some(p) = summary {
+        let s = table::read_summary(p).map_err(|e| CliError::Usage(e.to_string()))?;
+        t.apply_summary(&s, None);
+    }
+    Ok(t)
+}
+
+/// Refuses an output whose extension is not one of `allowed` (so it cannot be the
+/// input), or that is not a regular file.
+fn check_output(output: &Path, allowed: &[&str], what: &str) -> Result<String, CliError> {
+    let ext = output
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    if !allowed.contains(&ext.as_str()) {
+        return Err(CliError::Usage(format!(
+            "{}: unknown {what} format {ext:?}; use {}",
+            output.display(),
+            allowed
+                .iter()
+                .map(|e| format!(".{e}"))
+                .collect::<Vec<_>>()
+                .join(" or ")
+        )));
+    }
+    atomic::check_target(output)?;
+    Ok(ext)
+}
+
+/// Writes `bytes` atomically, making the directory if needed.
+fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
+    if let Some(dir) = output
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty() && !d.exists())
+    {
+        std::fs::create_dir_all(dir).map_err(|e| ellipsoid_io::OutputError::Io {
+            path: dir.to_owned(),
+            source: e,
+        })?;
+    }
+    atomic::write(output, bytes)?;
+    Ok(())
+}
+
+pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
+    let ext = check_output(&args.output, &["svg", "png"], "figure")?;
+    let panels = figure::parse_panels(&args.panels).map_err(CliError::Usage)?;
+    let table = load(&args.input, args.summary.as_deref())?;
+    figure::check_columns(&table, &panels).map_err(CliError::Usage)?;
+    if table.shape.is_none()
+        && table.contact_path().is_none()
+        && panels.contains(&"path")
+        && !args.quiet
+    {
+        eprintln!("note: {}", table.shape_note);
+    }
+    let title = args.title.clone().unwrap_or_else(|| table.source.clone());
+    let svg = figure::svg(&table, &panels, &title).map_err(CliError::Plot)?;
+    let bytes = if ext == "png" {
+        figure::png(&svg).map_err(CliError::Plot)?
+    } else {
+        svg.into_bytes()
+    };
+    put(&args.output, &bytes)?;
+    if !args.quiet {
+        eprintln!(
+            "wrote {} ({} panels: {}; {} rows, {} events)",
+            args.output.display(),
+            panels.len(),
+            panels.join(", "),
+            table.rows(),
+            table.events.len()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+pub fn view(args: &ViewArgs) -> Result<ExitCode, CliError> {
+    check_output(&args.output, &["html", "htm"], "page")?;
+    let table = load(&args.input, args.summary.as_deref())?;
+    let title = args.title.clone().unwrap_or_else(|| table.source.clone());
+    let page =
+        ellipsoid_io::viewer::html(&table, &title).map_err(|e| CliError::Usage(e.to_string()))?;
+    if table.shape.is_none() && !args.quiet {
+        eprintln!("note: {}", table.shape_note);
+    }
+    put(&args.output, page.as_bytes())?;
+    if !args.quiet {
+        let frames =
+            ellipsoid_io::viewer::frame_indices(&table, ellipsoid_io::viewer::MAX_FRAMES).len();
+        eprintln!(
+            "wrote {} ({} rows shown as {frames} poses, {} events, {:.1} MB)",
+            args.output.display(),
+            table.rows(),
+            table.events.len(),
+            page.len() as f64 / 1e6
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}

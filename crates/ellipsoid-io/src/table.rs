@@ -1,0 +1,900 @@
+//! Trajectory files read back (CSV, and HDF5 with the `hdf5` feature) as named columns,
+//! with what the plots and the viewer need besides: the events (from a JSON summary or
+//! the summary stored in an HDF5 file) and the body's shape (from the scenario, when it
+//! can be found), so that the contact point can be placed on the plane.
+//!
+//! Columns are read by name, so a file with more columns than this build writes (e.g.
+//! `omega_world_x`, `contact_x`, `drift`) is read whole, and one with fewer is read as
+//! long as it has `t`; each consumer says which columns it needs.
+//!
+//! Bounds: at most [`MAX_ROWS`] rows and [`MAX_FILE_BYTES`] bytes; every number finite;
+//! times non-decreasing. Every error names the file, and the line, column and value.
+
+use std::collections::BTreeMap;
+use std::io::{BufRead, BufReader, Read};
+use std::path::{Path, PathBuf};
+
+use ellipsoid_core::scenario::{self, MAX_SAMPLES};
+use nalgebra::{Matrix3, Vector3};
+use serde_json::Value;
+
+/// Most rows read (the most a scenario may produce).
+pub const MAX_ROWS: usize = MAX_SAMPLES;
+/// Largest trajectory or summary file read (a 10⁷-row CSV is about 4.6 GB).
+pub const MAX_FILE_BYTES: u64 = 6 << 30;
+/// Largest JSON summary read.
+pub const MAX_SUMMARY_BYTES: u64 = 64 << 20;
+
+/// Why a trajectory could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    #[error("{path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The content is not a trajectory this program can read.
+    #[error("{path}{}: {message}", line.map(|l| format!(":{l}")).unwrap_or_default())]
+    Format {
+        path: PathBuf,
+        line: Option<u64>,
+        message: String,
+    },
+    /// `.h5` asked of a build without the `hdf5` feature.
+    #[error("{path}: {}", crate::HDF5_HINT)]
+    Hdf5Unavailable { path: PathBuf },
+}
+
+impl ReadError {
+    fn format(path: &Path, line: Option<u64>, message: impl Into<String>) -> Self {
+        ReadError::Format {
+            path: path.to_owned(),
+            line,
+            message: message.into(),
+        }
+    }
+}
+
+/// A located event, for marking on plots and the viewer's timeline.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Event {
+    /// Time \[s\].
+    pub t: f64,
+    /// `mode_switch`, `slip_stop`, `lost_contact`, `painleve`, or an observable's name.
+    pub kind: String,
+    /// Short text: `sliding → rolling`, `slip stop`, …
+    pub label: String,
+}
+
+/// The body's geometry, enough to draw it and place its contact point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Shape {
+    /// Semi-axes (a, b, c) along body x, y, z \[m\].
+    pub semi_axes: [f64; 3],
+    /// G − C0 in body axes \[m\].
+    pub com_offset: [f64; 3],
+}
+
+impl Shape {
+    /// The world position of the contact point for G at `g` and z-x-z Euler angles
+    /// (θ, φ, ψ): C0 = G − R g_b, C = C0 + R p_c with p_c = −A²ζ/√(ζᵀA²ζ), ζ = Rᵀe3
+    /// (docs/physics.md, "Contact geometry").
+    pub fn contact_point(&self, g: [f64; 3], theta: f64, phi: f64, psi: f64) -> [f64; 3] {
+        let r = euler_rotation(theta, phi, psi);
+        let a = Vector3::from(self.semi_axes);
+        let a2 = a.component_mul(&a);
+        let zeta = r.transpose() * Vector3::z();
+        let a2z = a2.component_mul(&zeta);
+        let p_c = -a2z / zeta.dot(&a2z).sqrt();
+        let c = Vector3::from(g) + r * (p_c - Vector3::from(self.com_offset));
+        [c.x, c.y, c.z]
+    }
+}
+
+/// R = Rz(φ) Rx(θ) Rz(ψ), body → world (paper eq. 1).
+pub fn euler_rotation(theta: f64, phi: f64, psi: f64) -> Matrix3<f64> {
+    let rz = |a: f64| {
+        let (s, c) = a.sin_cos();
+        Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
+    };
+    let (s, c) = theta.sin_cos();
+    rz(phi) * Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c) * rz(psi)
+}
+
+/// A trajectory as columns.
+#[derive(Debug, Clone, Default)]
+pub struct Table {
+    /// Where it came from (a file name, or the scenario's name for a run in memory).
+    pub source: String,
+    /// Numeric columns in file order: name and values.
+    pub columns: Vec<(String, Vec<f64>)>,
+    /// The `mode` column as indices into `mode_names`, if the file has one.
+    pub modes: Option<Vec<u8>>,
+    /// Names of the contact modes met, in order of first appearance.
+    pub mode_names: Vec<String>,
+    /// Located events, in time order.
+    pub events: Vec<Event>,
+    /// The body, when the scenario could be found.
+    pub shape: Option<Shape>,
+    /// Where the shape came from, or why there is none (one sentence).
+    pub shape_note: String,
+    /// Status of the run, if known (`completed`, `lost_contact`, …).
+    pub status: Option<String>,
+}
+
+impl Table {
+    /// The column `name`, if present.
+    pub fn column(&self, name: &str) -> Option<&[f64]> {
+        self.columns
+            .iter()
+            .find(|c| c.0 == name)
+            .map(|c| c.1.as_slice())
+    }
+
+    /// The columns `names`, or an error naming the first one missing and what needs it.
+    pub fn require(&self, names: &[&str], needed_by: &str) -> Result<Vec<&[f64]>, String> {
+        names
+            .iter()
+            .map(|n| {
+                self.column(n).ok_or_else(|| {
+                    format!(
+                        "{needed_by} needs the column `{n}`, which {} does not have",
+                        self.source
+                    )
+                })
+            })
+            .collect()
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.column("t").map_or(0, <[f64]>::len)
+    }
+
+    /// Time column (every table has one).
+    pub fn t(&self) -> &[f64] {
+        self.column("t").unwrap_or(&[])
+    }
+
+    /// The mode name of row `i`.
+    pub fn mode(&self, i: usize) -> Option<&str> {
+        self.modes
+            .as_ref()
+            .and_then(|m| m.get(i))
+            .and_then(|&k| self.mode_names.get(k as usize))
+            .map(String::as_str)
+    }
+
+    /// The contact point's horizontal path: the `contact_x`, `contact_y` columns when the
+    /// file has them, else computed from G, the Euler angles and the shape; `None` if
+    /// neither is possible.
+    pub fn contact_path(&self) -> Option<(Vec<f64>, Vec<f64>)> {
+        if let (Some(x), Some(y)) = (self.column("contact_x"), self.column("contact_y")) {
+            return Some((x.to_vec(), y.to_vec()));
+        }
+        let shape = self.shape?;
+        let cols = self
+            .require(&["x", "y", "z", "theta", "phi", "psi"], "the contact path")
+            .ok()?;
+        let n = self.rows();
+        let (mut cx, mut cy) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        #[allow(clippy::needless_range_loop)] // row i of six columns at once
+        for i in 0..n {
+            let c = shape.contact_point(
+                [cols[0][i], cols[1][i], cols[2][i]],
+                cols[3][i],
+                cols[4][i],
+                cols[5][i],
+            );
+            cx.push(c[0]);
+            cy.push(c[1]);
+        }
+        Some((cx, cy))
+    }
+
+    /// The path of the geometric centre C0 = G − R g_b on the plane (paper Figs. 15–24);
+    /// `None` without the shape, or when C0 is G (no centre-of-mass offset).
+    pub fn centre_path(&self) -> Option<(Vec<f64>, Vec<f64>)> {
+        let shape = self
+            .shape
+            .filter(|s| s.com_offset.iter().any(|v| *v != 0.0))?;
+        let cols = self
+            .require(&["x", "y", "theta", "phi", "psi"], "the centre path")
+            .ok()?;
+        let g = Vector3::from(shape.com_offset);
+        let n = self.rows();
+        let (mut cx, mut cy) = (Vec::with_capacity(n), Vec::with_capacity(n));
+        #[allow(clippy::needless_range_loop)] // row i of five columns at once
+        for i in 0..n {
+            let c = euler_rotation(cols[2][i], cols[3][i], cols[4][i]) * g;
+            cx.push(cols[0][i] - c.x);
+            cy.push(cols[1][i] - c.y);
+        }
+        Some((cx, cy))
+    }
+
+    /// The relative drift of the scene's conserved quantity per row, and its name: the
+    /// `drift` column when present; else (E + W − E0 − W0)/|E0 + W0| (E alone when no
+    /// work is dissipated). `None` without an energy column.
+    pub fn drift(&self) -> Option<(Vec<f64>, &'static str)> {
+        let w = self.column("work").filter(|w| w.iter().any(|v| *v != 0.0));
+        if let Some(d) = self.column("drift") {
+            // The run's own: E where energy is conserved, else E + W.
+            return Some((d.to_vec(), if w.is_some() { "E + W" } else { "E" }));
+        }
+        let e = self.column("energy")?;
+        let total: Vec<f64> = match w {
+            Some(w) => e.iter().zip(w).map(|(e, w)| e + w).collect(),
+            None => e.to_vec(),
+        };
+        let e0 = *total.first()?;
+        let scale = if e0 != 0.0 {
+            e0.abs()
+        } else {
+            total
+                .iter()
+                .fold(0.0f64, |m, v| m.max(v.abs()))
+                .max(f64::MIN_POSITIVE)
+        };
+        Some((
+            total.iter().map(|v| (v - e0) / scale).collect(),
+            if w.is_some() { "E + W" } else { "E" },
+        ))
+    }
+
+    /// Builds a table from rows of `names` (numeric columns) and modes, e.g. a run held in
+    /// memory. `values(i)` gives row i.
+    pub fn from_rows(
+        source: &str,
+        names: &[&str],
+        rows: usize,
+        mut values: impl FnMut(usize) -> (Vec<f64>, String),
+    ) -> Table {
+        let mut columns: Vec<(String, Vec<f64>)> = names
+            .iter()
+            .map(|n| ((*n).to_owned(), Vec::with_capacity(rows)))
+            .collect();
+        let mut modes = Vec::with_capacity(rows);
+        let mut mode_names = Vec::new();
+        for i in 0..rows {
+            let (v, mode) = values(i);
+            for (col, x) in columns.iter_mut().zip(v) {
+                col.1.push(x);
+            }
+            modes.push(mode_index(&mut mode_names, &mode));
+        }
+        Table {
+            source: source.to_owned(),
+            columns,
+            modes: Some(modes),
+            mode_names,
+            ..Default::default()
+        }
+    }
+
+    /// Sets the events, status and shape from a run summary (the JSON of `--summary`).
+    /// The shape comes from `scenario_text` if given, else from the scenario file the
+    /// summary names (with its overrides), if it can be read.
+    pub fn apply_summary(&mut self, summary: &Value, scenario_text: Option<&str>) {
+        self.apply_events(summary);
+        let source = summary
+            .get("scenario")
+            .and_then(Value::as_str)
+            .unwrap_or("the scenario");
+        let overrides: Vec<String> = summary
+            .get("overrides")
+            .and_then(Value::as_array)
+            .map(|a| {
+                a.iter()
+                    .filter_map(|v| v.as_str().map(str::to_owned))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let parsed = match scenario_text {
+            Some(text) => scenario::parse(text, source, &overrides),
+            None if summary.get("scenario").is_some() => {
+                scenario::load(Path::new(source), &overrides)
+            }
+            None => return,
+        };
+        match parsed {
+            Ok(s) => self.set_body(&s.scene.body, &format!("body from {source}")),
+            Err(e) => {
+                self.shape_note = format!("body unknown (the scenario could not be read: {e})")
+            }
+        }
+    }
+
+    /// Sets the events and status from a run summary, nothing else.
+    pub fn apply_events(&mut self, summary: &Value) {
+        if let Some(events) = summary.get("events").and_then(Value::as_array) {
+            self.events = events.iter().filter_map(event).collect();
+            self.events.sort_by(|a, b| a.t.total_cmp(&b.t));
+        }
+        self.status = summary
+            .get("status")
+            .and_then(Value::as_str)
+            .map(str::to_owned);
+    }
+
+    /// Sets the shape from a body.
+    pub fn set_body(&mut self, body: &ellipsoid_core::body::Body, note: &str) {
+        let (a, g) = (body.semi_axes(), body.com_offset());
+        self.shape = Some(Shape {
+            semi_axes: [a.x, a.y, a.z],
+            com_offset: [g.x, g.y, g.z],
+        });
+        self.shape_note = note.to_owned();
+    }
+}
+
+fn mode_index(names: &mut Vec<String>, mode: &str) -> u8 {
+    match names.iter().position(|n| n == mode) {
+        Some(k) => k as u8,
+        None => {
+            names.push(mode.to_owned());
+            (names.len() - 1).min(255) as u8
+        }
+    }
+}
+
+/// An event of a summary's `events` list: `{kind, t, …}` (mode switches carry `from`,
+/// `to`; observables `name`).
+fn event(v: &Value) -> Option<Event> {
+    let t = v.get("t")?.as_f64().filter(|t| t.is_finite())?;
+    let kind = v
+        .get("kind")
+        .and_then(Value::as_str)
+        .unwrap_or("event")
+        .to_owned();
+    let text = |k: &str| v.get(k).and_then(Value::as_str);
+    let label = match (text("name"), text("from"), text("to")) {
+        (Some(name), _, _) => name.to_owned(),
+        (None, Some(from), Some(to)) => format!("{from} → {to}"),
+        _ => kind.replace('_', " "),
+    };
+    Some(Event { t, kind, label })
+}
+
+/// Reads a JSON summary (`ellipsoid run --summary FILE.json`).
+pub fn read_summary(path: &Path) -> Result<Value, ReadError> {
+    let text = read_bounded(path, MAX_SUMMARY_BYTES)?;
+    let text = String::from_utf8(text)
+        .map_err(|_| ReadError::format(path, None, "the summary is not UTF-8 text"))?;
+    let v: Value = serde_json::from_str(&text).map_err(|e| {
+        ReadError::format(
+            path,
+            Some(e.line() as u64),
+            format!("not a JSON summary: {e}"),
+        )
+    })?;
+    if !v.is_object() || v.get("events").is_none() {
+        return Err(ReadError::format(
+            path,
+            None,
+            "not a run summary (no `events` field); write one with `ellipsoid run --summary FILE.json`",
+        ));
+    }
+    Ok(v)
+}
+
+fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
+    let io = |e| ReadError::Io {
+        path: path.to_owned(),
+        source: e,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let meta = file.metadata().map_err(io)?;
+    if !meta.is_file() {
+        return Err(ReadError::format(path, None, "not a regular file"));
+    }
+    if meta.len() > limit {
+        return Err(ReadError::format(
+            path,
+            None,
+            format!("{} bytes is more than the {limit} read at most", meta.len()),
+        ));
+    }
+    let mut buf = Vec::with_capacity(meta.len() as usize);
+    file.take(limit + 1).read_to_end(&mut buf).map_err(io)?;
+    Ok(buf)
+}
+
+/// Reads a trajectory file by extension: `.csv`, or `.h5`/`.hdf5` (feature `hdf5`; the
+/// events and the body then come from the summary and scenario stored in the file).
+pub fn read(path: &Path) -> Result<Table, ReadError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "csv" => read_csv(path),
+        "h5" | "hdf5" => read_hdf5(path),
+        _ => Err(ReadError::format(
+            path,
+            None,
+            format!(
+                "unknown trajectory format {ext:?}; give a .csv or .h5 file written by `ellipsoid run`"
+            ),
+        )),
+    }
+}
+
+/// Reads a CSV trajectory: a header of column names (`t` required), one row per sample,
+/// `mode` as a name, every other value a finite number.
+pub fn read_csv(path: &Path) -> Result<Table, ReadError> {
+    let io = |e| ReadError::Io {
+        path: path.to_owned(),
+        source: e,
+    };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let meta = file.metadata().map_err(io)?;
+    if !meta.is_file() {
+        return Err(ReadError::format(path, None, "not a regular file"));
+    }
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(ReadError::format(
+            path,
+            None,
+            format!(
+                "{} bytes is more than the {MAX_FILE_BYTES} read at most",
+                meta.len()
+            ),
+        ));
+    }
+    let mut reader = BufReader::with_capacity(1 << 16, file);
+    let mut line = String::new();
+    let n = reader
+        .read_line(&mut line)
+        .map_err(|e| bad_text(path, 1, e))?;
+    if n == 0 {
+        return Err(ReadError::format(
+            path,
+            None,
+            "the file is empty; expected a header line such as `t,x,y,z,theta,…`",
+        ));
+    }
+    let header: Vec<String> = line
+        .trim_end_matches(['\n', '\r'])
+        .split(',')
+        .map(|s| s.trim().to_owned())
+        .collect();
+    let mut seen = BTreeMap::new();
+    for (k, name) in header.iter().enumerate() {
+        if name.is_empty() {
+            return Err(ReadError::format(
+                path,
+                Some(1),
+                format!("column {} of the header has no name", k + 1),
+            ));
+        }
+        if seen.insert(name.as_str(), k).is_some() {
+            return Err(ReadError::format(
+                path,
+                Some(1),
+                format!("the column `{name}` appears twice in the header"),
+            ));
+        }
+    }
+    if !seen.contains_key("t") {
+        return Err(ReadError::format(
+            path,
+            Some(1),
+            format!(
+                "the header has no `t` column (got `{}`); is this a trajectory written by `ellipsoid run`?",
+                truncate(line.trim(), 80)
+            ),
+        ));
+    }
+    let mode_col = seen.get("mode").copied();
+    let mut columns: Vec<(String, Vec<f64>)> = header
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| Some(*k) != mode_col)
+        .map(|(_, n)| (n.clone(), Vec::new()))
+        .collect();
+    let t_index = columns
+        .iter()
+        .position(|c| c.0 == "t")
+        .expect("checked above");
+    let mut modes = mode_col.map(|_| Vec::new());
+    let mut mode_names = Vec::new();
+    let mut lineno = 1u64;
+    let mut last_t = f64::NEG_INFINITY;
+    loop {
+        line.clear();
+        let n = reader
+            .read_line(&mut line)
+            .map_err(|e| bad_text(path, lineno + 1, e))?;
+        if n == 0 {
+            break;
+        }
+        lineno += 1;
+        let text = line.trim_end_matches(['\n', '\r']);
+        if text.is_empty() {
+            continue;
+        }
+        if columns[0].1.len() >= MAX_ROWS {
+            return Err(ReadError::format(
+                path,
+                Some(lineno),
+                format!("more than {MAX_ROWS} rows"),
+            ));
+        }
+        let mut fields = text.split(',');
+        let mut numeric = 0;
+        for (k, name) in header.iter().enumerate() {
+            let Some(field) = fields.next() else {
+                return Err(ReadError::format(
+                    path,
+                    Some(lineno),
+                    format!(
+                        "{} fields where the header has {} (the column `{name}` is missing)",
+                        k,
+                        header.len()
+                    ),
+                ));
+            };
+            if Some(k) == mode_col {
+                let m = modes.as_mut().expect("mode column");
+                m.push(mode_index(&mut mode_names, field.trim()));
+                continue;
+            }
+            let v: f64 = field.trim().parse().map_err(|_| {
+                ReadError::format(
+                    path,
+                    Some(lineno),
+                    format!("column `{name}`: {:?} is not a number", truncate(field, 40)),
+                )
+            })?;
+            if !v.is_finite() {
+                return Err(ReadError::format(
+                    path,
+                    Some(lineno),
+                    format!("column `{name}` = {v}: values must be finite"),
+                ));
+            }
+            columns[numeric].1.push(v);
+            numeric += 1;
+        }
+        if fields.next().is_some() {
+            return Err(ReadError::format(
+                path,
+                Some(lineno),
+                format!(
+                    "more fields than the {} columns of the header",
+                    header.len()
+                ),
+            ));
+        }
+        let t = *columns[t_index].1.last().expect("just pushed");
+        if t < last_t {
+            return Err(ReadError::format(
+                path,
+                Some(lineno),
+                format!("t = {t} s comes after t = {last_t} s: times must not decrease"),
+            ));
+        }
+        last_t = t;
+    }
+    if columns[0].1.is_empty() {
+        return Err(ReadError::format(path, None, "no rows after the header"));
+    }
+    Ok(Table {
+        source: path.display().to_string(),
+        columns,
+        modes,
+        mode_names,
+        shape_note: "body unknown: pass the run's --summary FILE.json (or an .h5 file) to draw the body and its contact point".to_owned(),
+        ..Default::default()
+    })
+}
+
+fn bad_text(path: &Path, line: u64, e: std::io::Error) -> ReadError {
+    if e.kind() == std::io::ErrorKind::InvalidData {
+        ReadError::format(path, Some(line), "not UTF-8 text (is this a CSV file?)")
+    } else {
+        ReadError::Io {
+            path: path.to_owned(),
+            source: e,
+        }
+    }
+}
+
+fn truncate(s: &str, n: usize) -> String {
+    if s.chars().count() <= n {
+        s.to_owned()
+    } else {
+        format!("{}…", s.chars().take(n).collect::<String>())
+    }
+}
+
+#[cfg(not(feature = "hdf5"))]
+fn read_hdf5(path: &Path) -> Result<Table, ReadError> {
+    Err(ReadError::Hdf5Unavailable {
+        path: path.to_owned(),
+    })
+}
+
+/// Reads an HDF5 trajectory written by `ellipsoid run -o FILE.h5`: the datasets listed in
+/// the root attribute `columns`, the events and status from the stored summary, the body
+/// from the stored scenario.
+#[cfg(feature = "hdf5")]
+fn read_hdf5(path: &Path) -> Result<Table, ReadError> {
+    use h5::types::{FixedAscii, VarLenUnicode};
+    use hdf5_metno as h5;
+    let meta = std::fs::metadata(path).map_err(|e| ReadError::Io {
+        path: path.to_owned(),
+        source: e,
+    })?;
+    if !meta.is_file() {
+        return Err(ReadError::format(path, None, "not a regular file"));
+    }
+    let fail = |e: h5::Error| ReadError::format(path, None, format!("HDF5: {e}"));
+    let file = h5::File::open(path).map_err(|e| {
+        ReadError::format(
+            path,
+            None,
+            format!("not an HDF5 file written by `ellipsoid run` ({e})"),
+        )
+    })?;
+    let attr = |name: &str| -> Option<String> {
+        file.attr(name)
+            .ok()?
+            .read_scalar::<VarLenUnicode>()
+            .ok()
+            .map(|v| v.as_str().to_owned())
+    };
+    let names = attr("columns").ok_or_else(|| {
+        ReadError::format(
+            path,
+            None,
+            "no `columns` attribute: not a trajectory written by `ellipsoid run`",
+        )
+    })?;
+    let mut columns = Vec::new();
+    let mut modes = None;
+    let mut mode_names = Vec::new();
+    for name in names.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+        let ds = file.dataset(name).map_err(|e| {
+            ReadError::format(
+                path,
+                None,
+                format!("the column `{name}` listed in `columns` has no dataset ({e})"),
+            )
+        })?;
+        if ds.size() > MAX_ROWS {
+            return Err(ReadError::format(
+                path,
+                None,
+                format!(
+                    "the column `{name}` has {} rows, more than {MAX_ROWS}",
+                    ds.size()
+                ),
+            ));
+        }
+        if name == crate::columns::MODE {
+            let raw = ds.read_raw::<FixedAscii<32>>().map_err(fail)?;
+            modes = Some(
+                raw.iter()
+                    .map(|m| mode_index(&mut mode_names, m.as_str()))
+                    .collect::<Vec<_>>(),
+            );
+            continue;
+        }
+        let data = ds.read_raw::<f64>().map_err(|e| {
+            ReadError::format(
+                path,
+                None,
+                format!("the column `{name}` is not float64 ({e})"),
+            )
+        })?;
+        if let Some((i, v)) = data.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+            return Err(ReadError::format(
+                path,
+                None,
+                format!("column `{name}`, row {}: {v}: values must be finite", i + 1),
+            ));
+        }
+        columns.push((name.to_owned(), data));
+    }
+    let Some(t) = columns.iter().find(|c| c.0 == "t") else {
+        return Err(ReadError::format(path, None, "no `t` column"));
+    };
+    if t.1.is_empty() {
+        return Err(ReadError::format(path, None, "no rows"));
+    }
+    if let Some(w) = t.1.windows(2).position(|w| w[1] < w[0]) {
+        return Err(ReadError::format(
+            path,
+            None,
+            format!("t decreases at row {}: times must not decrease", w + 2),
+        ));
+    }
+    let n = t.1.len();
+    if let Some(c) = columns.iter().find(|c| c.1.len() != n) {
+        return Err(ReadError::format(
+            path,
+            None,
+            format!(
+                "the column `{}` has {} rows where `t` has {n}",
+                c.0,
+                c.1.len()
+            ),
+        ));
+    }
+    if modes.as_ref().is_some_and(|m| m.len() != n) {
+        return Err(ReadError::format(
+            path,
+            None,
+            format!("the `mode` column has a different length from `t` ({n})"),
+        ));
+    }
+    let mut table = Table {
+        source: path.display().to_string(),
+        columns,
+        modes,
+        mode_names,
+        shape_note: "body unknown: the file stores no scenario".to_owned(),
+        ..Default::default()
+    };
+    if let Some(summary) = attr("summary").and_then(|s| serde_json::from_str::<Value>(&s).ok()) {
+        table.apply_summary(&summary, attr("scenario").as_deref());
+    }
+    Ok(table)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p
+    }
+
+    #[test]
+    fn csv_reads_any_columns_by_name_and_modes_by_index() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = write(
+            dir.path(),
+            "a.csv",
+            "t,theta,mode,drift\n0,0.1,sliding,0\n0.5,0.2,rolling,1e-12\n1,0.3,sliding,2e-12\n",
+        );
+        let t = read(&p).unwrap();
+        assert_eq!(t.t(), &[0.0, 0.5, 1.0]);
+        assert_eq!(t.column("drift").unwrap(), &[0.0, 1e-12, 2e-12]);
+        assert_eq!(
+            (t.mode(0), t.mode(1), t.mode(2)),
+            (Some("sliding"), Some("rolling"), Some("sliding"))
+        );
+        assert_eq!(t.drift().unwrap(), (vec![0.0, 1e-12, 2e-12], "E"));
+        assert!(
+            t.require(&["x"], "the path panel")
+                .unwrap_err()
+                .contains("`x`")
+        );
+    }
+
+    #[test]
+    fn csv_errors_name_the_file_line_column_and_value() {
+        let dir = tempfile::tempdir().unwrap();
+        let cases = [
+            ("", "empty"),
+            ("x,y\n1,2\n", "no `t` column"),
+            (
+                "t,x\n0,1\n1,abc\n",
+                ":3: column `x`: \"abc\" is not a number",
+            ),
+            (
+                "t,x\n0,1\n1,inf\n",
+                ":3: column `x` = inf: values must be finite",
+            ),
+            ("t,x\n0,1\n1\n", ":3: 1 fields where the header has 2"),
+            ("t,x\n0,1,2\n", ":2: more fields"),
+            ("t,x\n1,1\n0,1\n", ":3: t = 0 s comes after t = 1 s"),
+            ("t,t\n0,1\n", "appears twice"),
+            ("t,x\n", "no rows"),
+        ];
+        for (k, (text, want)) in cases.iter().enumerate() {
+            let p = write(dir.path(), &format!("c{k}.csv"), text);
+            let err = read(&p).unwrap_err().to_string();
+            assert!(
+                err.starts_with(&p.display().to_string()) && err.contains(want),
+                "{text:?}: {err}"
+            );
+        }
+        let err = read(&dir.path().join("missing.csv"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("missing.csv") && err.contains("No such file"),
+            "{err}"
+        );
+        assert!(
+            read(&write(dir.path(), "x.txt", "t\n0\n"))
+                .unwrap_err()
+                .to_string()
+                .contains("unknown trajectory format")
+        );
+        let bin = dir.path().join("bin.csv");
+        std::fs::write(&bin, [0xff, 0xfe, 0x00, b'\n']).unwrap();
+        assert!(read(&bin).unwrap_err().to_string().contains("not UTF-8"));
+    }
+
+    #[test]
+    fn drift_is_relative_to_the_initial_energy_plus_work() {
+        let t = Table::from_rows("m", &["t", "energy", "work"], 3, |i| {
+            (
+                vec![
+                    i as f64,
+                    2.0 - i as f64 * 0.5,
+                    i as f64 * 0.5 * (1.0 + 1e-9),
+                ],
+                "sliding".into(),
+            )
+        });
+        let (d, name) = t.drift().unwrap();
+        assert_eq!(name, "E + W");
+        assert!((d[2] - 1e-9 / 2.0).abs() < 1e-15, "{d:?}");
+    }
+
+    #[test]
+    fn contact_point_of_a_tilted_sphere_is_below_its_centre() {
+        // A sphere of radius 0.1 with G 0.02 below C0: the contact point lies under C0.
+        let s = Shape {
+            semi_axes: [0.1; 3],
+            com_offset: [0.0, 0.0, -0.02],
+        };
+        let theta: f64 = 0.7;
+        // C0 is at G + R(0,0,0.02); the contact point at C0 − 0.1 e3.
+        let g = [1.0, 2.0, 0.1 - 0.02 * theta.cos()];
+        let c = s.contact_point(g, theta, 0.3, 1.1);
+        let r = euler_rotation(theta, 0.3, 1.1);
+        let c0 = Vector3::from(g) + r * Vector3::new(0.0, 0.0, 0.02);
+        assert!(
+            (c[0] - c0.x).abs() < 1e-15 && (c[1] - c0.y).abs() < 1e-15 && c[2].abs() < 1e-15,
+            "{c:?} {c0:?}"
+        );
+    }
+
+    #[test]
+    fn the_centre_lies_above_g_by_the_offset() {
+        let mut t = Table::from_rows("m", &["t", "x", "y", "theta", "phi", "psi"], 1, |_| {
+            (vec![0.0, 1.0, 2.0, 0.5, 0.2, 0.0], "rolling".into())
+        });
+        assert!(t.centre_path().is_none(), "no shape");
+        t.shape = Some(Shape {
+            semi_axes: [0.1; 3],
+            com_offset: [0.0, 0.0, -0.02],
+        });
+        let (x, y) = t.centre_path().unwrap();
+        // C0 = G + 0.02 e3*, e3* = (sin φ sin θ, −cos φ sin θ, cos θ).
+        let (st, sp, cp) = (0.5f64.sin(), 0.2f64.sin(), 0.2f64.cos());
+        assert!(
+            (x[0] - (1.0 + 0.02 * sp * st)).abs() < 1e-15
+                && (y[0] - (2.0 - 0.02 * cp * st)).abs() < 1e-15
+        );
+        t.shape = Some(Shape {
+            semi_axes: [0.1; 3],
+            com_offset: [0.0; 3],
+        });
+        assert!(t.centre_path().is_none(), "C0 is G");
+    }
+
+    #[test]
+    fn summary_events_and_labels() {
+        let v: Value = serde_json::from_str(r#"{"status":"completed","events":[{"kind":"mode_switch","from":"sliding","to":"rolling","t":0.3},{"kind":"slip_stop","t":0.1}]}"#).unwrap();
+        let mut t = Table::default();
+        t.apply_summary(&v, None);
+        assert_eq!(
+            t.events
+                .iter()
+                .map(|e| (e.t, e.label.as_str()))
+                .collect::<Vec<_>>(),
+            [(0.1, "slip stop"), (0.3, "sliding → rolling")]
+        );
+        assert!(t.shape.is_none());
+    }
+}

@@ -1,0 +1,390 @@
+//! The 3-D viewer: one self-contained HTML page (no network: three.js r170 and its MIT
+//! licence are inlined from `assets/three/`, the trajectory is embedded) showing the
+//! body as it is — its semi-axes, meridians and an equatorial band that make the spin
+//! visible, the symmetry axis and G — on the plane with the trace of the contact point;
+//! play/pause, speed, a time slider, events, and θ(t) and energy plots whose cursor
+//! follows the 3-D view. Shared by `ellipsoid view` and Python's `Trajectory.view()`.
+//!
+//! Decimation: at most [`MAX_FRAMES`] poses, spread evenly in time, plus the samples on
+//! both sides of every event and mode change (the page interpolates between poses); the
+//! plots get the min/max envelope of every sample in [`PLOT_BUCKETS`] buckets, so no peak
+//! is lost. A 10⁶-sample run makes a page of about 2 MB.
+
+use crate::table::Table;
+
+/// Most poses embedded in a page (plus the samples kept around events).
+pub const MAX_FRAMES: usize = 20_000;
+/// Buckets of the plots' min/max envelope (two points each).
+pub const PLOT_BUCKETS: usize = 1_500;
+
+const THREE: &str = include_str!("../assets/three/three.module.min.js");
+const THREE_LICENSE: &str = include_str!("../assets/three/LICENSE");
+const TEMPLATE: &str = include_str!("../assets/viewer.html");
+const SCRIPT: &str = include_str!("../assets/viewer.js");
+
+/// Indices of the rows shown as poses: all of them if there are at most `max`; else `max`
+/// evenly spaced in time, plus the rows on both sides of each event time and mode change.
+pub fn frame_indices(table: &Table, max: usize) -> Vec<usize> {
+    let t = table.t();
+    let n = t.len();
+    if n <= max.max(2) {
+        return (0..n).collect();
+    }
+    let (t0, t1) = (t[0], t[n - 1]);
+    let mut keep: Vec<usize> = Vec::with_capacity(max + 16);
+    for k in 0..max {
+        let target = t0 + (t1 - t0) * k as f64 / (max - 1) as f64;
+        keep.push(t.partition_point(|v| *v < target).min(n - 1));
+    }
+    let mut around = |i: usize| {
+        keep.push(i.saturating_sub(1));
+        keep.push(i.min(n - 1));
+    };
+    for e in &table.events {
+        around(t.partition_point(|v| *v < e.t));
+    }
+    if let Some(m) = &table.modes {
+        let mut extra = 0;
+        for i in 1..m.len() {
+            if m[i] != m[i - 1] && extra < max {
+                around(i);
+                extra += 1;
+            }
+        }
+    }
+    keep.push(n - 1);
+    keep.sort_unstable();
+    keep.dedup();
+    keep
+}
+
+/// The min/max envelope of `v` against `t`: for each of `buckets` runs of consecutive
+/// rows, its smallest and largest value in time order (all rows if there are few).
+pub fn envelope(t: &[f64], v: &[f64], buckets: usize) -> (Vec<f64>, Vec<f64>) {
+    let n = t.len().min(v.len());
+    if n <= 2 * buckets {
+        return (t[..n].to_vec(), v[..n].to_vec());
+    }
+    let (mut ts, mut vs) = (
+        Vec::with_capacity(2 * buckets),
+        Vec::with_capacity(2 * buckets),
+    );
+    for b in 0..buckets {
+        let (lo, hi) = (
+            b * n / buckets,
+            ((b + 1) * n / buckets).max(b * n / buckets + 1),
+        );
+        let (mut imin, mut imax) = (lo, lo);
+        for i in lo..hi {
+            if v[i] < v[imin] {
+                imin = i;
+            }
+            if v[i] > v[imax] {
+                imax = i;
+            }
+        }
+        for i in if imin <= imax {
+            [imin, imax]
+        } else {
+            [imax, imin]
+        } {
+            ts.push(t[i]);
+            vs.push(v[i]);
+        }
+    }
+    (ts, vs)
+}
+
+fn b64_f32(values: impl Iterator<Item = f64>) -> String {
+    let bytes: Vec<u8> = values.flat_map(|v| (v as f32).to_le_bytes()).collect();
+    base64(&bytes)
+}
+
+/// Standard base64 with padding.
+fn base64(bytes: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for c in bytes.chunks(3) {
+        let n = (u32::from(c[0]) << 16)
+            | (u32::from(*c.get(1).unwrap_or(&0)) << 8)
+            | u32::from(*c.get(2).unwrap_or(&0));
+        for k in 0..4 {
+            if k <= c.len() {
+                out.push(A[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// Escapes text for HTML element content and attribute values.
+fn html_escape(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// Why a page could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ViewError {
+    /// A column the viewer needs is absent.
+    #[error("{0}")]
+    Missing(String),
+}
+
+/// The viewer page for `table`, titled `title`.
+pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
+    let need = ["t", "x", "y", "z", "theta", "phi", "psi"];
+    let cols = table
+        .require(&need, "the viewer")
+        .map_err(ViewError::Missing)?;
+    let idx = frame_indices(table, MAX_FRAMES);
+    let pick = |c: &[f64]| b64_f32(idx.iter().map(|&i| c[i]));
+    let mut frames = serde_json::Map::new();
+    frames.insert("n".into(), idx.len().into());
+    for (name, c) in need.iter().zip(&cols) {
+        frames.insert((*name).into(), pick(c).into());
+    }
+    let contact = table.contact_path();
+    if let Some((cx, cy)) = &contact {
+        frames.insert("cx".into(), pick(cx).into());
+        frames.insert("cy".into(), pick(cy).into());
+    }
+    if let Some(m) = &table.modes {
+        frames.insert(
+            "mode".into(),
+            b64_f32(idx.iter().map(|&i| f64::from(m[i]))).into(),
+        );
+    }
+    let t = table.t();
+    let series = |v: &[f64]| {
+        let (ts, vs) = envelope(t, v, PLOT_BUCKETS);
+        serde_json::json!({ "t": b64_f32(ts.into_iter()), "v": b64_f32(vs.into_iter()), "n": 0 })
+    };
+    let mut plots = Vec::new();
+    let mut theta = series(cols[4]);
+    theta["n"] = envelope(t, cols[4], PLOT_BUCKETS).0.len().into();
+    theta["label"] = "θ (rad)".into();
+    theta["name"] = "theta".into();
+    plots.push(theta);
+    if let Some(e) = table.column("energy") {
+        let work = table.column("work").filter(|w| w.iter().any(|v| *v != 0.0));
+        // E constant to display precision (a conserving scene): its relative deviation,
+        // which shows the drift, instead of a flat line with identical tick labels.
+        let (lo, hi) = e
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(*v), hi.max(*v))
+            });
+        let scale = e[0].abs().max(f64::MIN_POSITIVE);
+        let relative: Option<Vec<f64>> = (work.is_none() && hi - lo <= 1e-6 * scale)
+            .then(|| e.iter().map(|v| (v - e[0]) / scale).collect());
+        let shown = relative.as_deref().unwrap_or(e);
+        let mut energy = series(shown);
+        energy["n"] = envelope(t, shown, PLOT_BUCKETS).0.len().into();
+        energy["label"] = if relative.is_some() {
+            "energy: (E − E(0)) / |E(0)| (1)"
+        } else {
+            "energy E (J)"
+        }
+        .into();
+        energy["name"] = "energy".into();
+        if let Some(w) = work {
+            let ew: Vec<f64> = e.iter().zip(w).map(|(e, w)| e + w).collect();
+            let (ts, vs) = envelope(t, &ew, PLOT_BUCKETS);
+            energy["t2"] = b64_f32(ts.iter().copied()).into();
+            energy["v2"] = b64_f32(vs.into_iter()).into();
+            energy["n2"] = ts.len().into();
+            energy["label"] = "energy E, E + W (J)".into();
+        }
+        plots.push(energy);
+    }
+    let shape = table
+        .shape
+        .map(|s| serde_json::json!({ "semi_axes": s.semi_axes, "com_offset": s.com_offset }));
+    let data = serde_json::json!({
+        "title": title,
+        "rows": table.rows(),
+        "t0": t[0],
+        "t1": t[t.len() - 1],
+        "status": table.status,
+        "shape": shape,
+        "shape_note": table.shape_note,
+        "contact": contact.is_some(),
+        "modes": table.mode_names,
+        "events": table.events.iter().map(|e| serde_json::json!({ "t": e.t, "kind": e.kind, "label": e.label })).collect::<Vec<_>>(),
+        "frames": frames,
+        "plots": plots,
+    });
+    // Inside a script element `</script` would end it and `<!--` change how it is parsed;
+    // JSON never needs `<` outside strings, and inside them `\u003c` is the same text.
+    let data = data.to_string().replace('<', "\\u003c");
+    Ok(fill(
+        TEMPLATE,
+        &[
+            ("TITLE", &html_escape(title)),
+            ("THREE_LICENSE", THREE_LICENSE),
+            ("DATA", &data),
+            ("VIEWER", SCRIPT),
+            ("THREE", THREE),
+        ],
+    ))
+}
+
+/// The template with each `{{KEY}}` replaced by its value (values are not scanned again).
+fn fill(template: &str, values: &[(&str, &str)]) -> String {
+    let mut out =
+        String::with_capacity(template.len() + values.iter().map(|v| v.1.len()).sum::<usize>());
+    let mut rest = template;
+    while let Some(start) = rest.find("{{") {
+        out.push_str(&rest[..start]);
+        let after = &rest[start + 2..];
+        match after.find("}}").and_then(|end| {
+            values
+                .iter()
+                .find(|v| v.0 == &after[..end])
+                .map(|v| (end, v.1))
+        }) {
+            Some((end, value)) => {
+                out.push_str(value);
+                rest = &after[end + 2..];
+            }
+            None => {
+                out.push_str("{{");
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::table::Event;
+
+    fn table(n: usize) -> Table {
+        Table::from_rows(
+            "mem",
+            &["t", "x", "y", "z", "theta", "phi", "psi", "energy"],
+            n,
+            |i| {
+                let t = i as f64 * 1e-3;
+                (
+                    vec![
+                        t,
+                        0.0,
+                        0.0,
+                        0.01,
+                        0.1 + (t * 50.0).sin() * 0.05,
+                        t,
+                        60.0 * t,
+                        1.0,
+                    ],
+                    if i < n / 3 {
+                        "sliding".into()
+                    } else {
+                        "rolling".into()
+                    },
+                )
+            },
+        )
+    }
+
+    #[test]
+    fn frames_are_bounded_and_keep_events_and_mode_changes() {
+        let mut t = table(100_000);
+        t.events.push(Event {
+            t: 12.3456,
+            kind: "slip_stop".into(),
+            label: "slip stop".into(),
+        });
+        let idx = frame_indices(&t, 1000);
+        assert!(idx.len() <= 1000 + 8 && idx.len() >= 990, "{}", idx.len());
+        assert!(idx.windows(2).all(|w| w[0] < w[1]));
+        assert_eq!((idx[0], *idx.last().unwrap()), (0, 99_999));
+        let ts = t.t();
+        assert!(
+            idx.iter().any(|&i| ts[i] < 12.3456 && ts[i + 1] >= 12.3456),
+            "the sample before the event is kept"
+        );
+        assert!(
+            idx.contains(&(100_000 / 3)) && idx.contains(&(100_000 / 3 - 1)),
+            "both sides of the mode change"
+        );
+        assert_eq!(frame_indices(&table(50), 1000).len(), 50);
+    }
+
+    #[test]
+    fn the_envelope_keeps_every_extreme() {
+        let t: Vec<f64> = (0..100_000).map(|i| i as f64).collect();
+        let mut v = vec![0.0; 100_000];
+        v[77_777] = 5.0;
+        v[12_345] = -3.0;
+        let (ts, vs) = envelope(&t, &v, 100);
+        assert!(ts.len() <= 200 && ts.windows(2).all(|w| w[0] <= w[1]));
+        assert!(vs.contains(&5.0) && vs.contains(&-3.0));
+    }
+
+    #[test]
+    fn base64_matches_the_standard() {
+        assert_eq!(base64(b""), "");
+        assert_eq!(base64(b"f"), "Zg==");
+        assert_eq!(base64(b"fo"), "Zm8=");
+        assert_eq!(base64(b"foo"), "Zm9v");
+        assert_eq!(base64(b"foobar"), "Zm9vYmFy");
+    }
+
+    #[test]
+    fn the_page_is_self_contained_and_escaped() {
+        let page = html(&table(10), "a </script><b> & c <!--").unwrap();
+        assert!(!page.contains("c <!--"), "no comment opener in the data");
+        assert!(page.contains("a &lt;/script&gt;&lt;b&gt; &amp; c"));
+        assert_eq!(
+            page.matches("</script>").count(),
+            page.matches("<script").count(),
+            "every script closed once"
+        );
+        assert!(
+            page.contains("Copyright © 2010-2024 three.js authors"),
+            "licence inlined"
+        );
+        for remote in ["http://", "https://", "//cdn", "src=\""] {
+            assert!(
+                !page.contains(&format!("<script {remote}"))
+                    && !page.contains(&format!("<link href=\"{remote}")),
+                "{remote}"
+            );
+        }
+        for key in [
+            "{{TITLE}}",
+            "{{DATA}}",
+            "{{VIEWER}}",
+            "{{THREE}}",
+            "{{THREE_LICENSE}}",
+        ] {
+            assert!(!page.contains(key), "{key} filled");
+        }
+        assert!(
+            html(&table(10), "{{DATA}}")
+                .unwrap()
+                .contains("<title>{{DATA}}"),
+            "values are not filled again"
+        );
+        let mut t = table(10);
+        t.columns.retain(|c| c.0 != "psi");
+        assert!(html(&t, "x").unwrap_err().to_string().contains("`psi`"));
+    }
+
+    #[test]
+    fn the_vendored_library_cannot_end_its_script_element() {
+        for text in [THREE, SCRIPT, THREE_LICENSE] {
+            let lower = text.to_ascii_lowercase();
+            assert!(!lower.contains("</script") && !lower.contains("<!--"));
+        }
+    }
+}

@@ -1,0 +1,120 @@
+"""`Trajectory.view`, `_repr_html_` and `Trajectory.plot`."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import ellipsoid
+from conftest import SCENARIOS
+
+
+def tippe_top() -> ellipsoid.Trajectory:
+    return ellipsoid.simulate(str(SCENARIOS / "tippe-top.toml"), output={"t_end": 1.5})
+
+
+def test_view_is_the_command_line_page_byte_for_byte(cli: Path, tmp_path: Path) -> None:
+    scenario = str(SCENARIOS / "tippe-top.toml")
+    done = subprocess.run(
+        [str(cli), "run", scenario, "-o", str(tmp_path / "t.csv"), "--summary", str(tmp_path / "t.json"), "--set", "output.t_end=1.5", "-q"],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    done = subprocess.run(
+        [str(cli), "view", str(tmp_path / "t.csv"), "--summary", str(tmp_path / "t.json"), "-o", str(tmp_path / "cli.html"), "--title", "tt", "-q"],
+        capture_output=True,
+        text=True,
+    )
+    assert done.returncode == 0, done.stderr
+    traj = ellipsoid.simulate(scenario, **{"output.t_end": 1.5})
+    page = traj.view(title="tt")
+    assert isinstance(page, str)
+    assert page == (tmp_path / "cli.html").read_text(encoding="utf-8")
+    assert traj.view(tmp_path / "py.html", title="tt") is None
+    assert (tmp_path / "py.html").read_text(encoding="utf-8") == page
+
+
+def test_view_page_carries_the_run() -> None:
+    page = tippe_top().view()
+    assert page.startswith("<!DOCTYPE html>") and "three.js authors" in page
+    assert '"semi_axes":[' in page and "sliding → rolling" in page
+
+
+def test_view_to_an_unwritable_place_is_an_output_error(tmp_path: Path) -> None:
+    with pytest.raises(ellipsoid.OutputError, match="nowhere"):
+        tippe_top().view(tmp_path / "nowhere" / "v.html")
+
+
+def test_repr_html_is_the_viewer_in_an_iframe() -> None:
+    import html as html_lib
+
+    traj = tippe_top()
+    html = traj._repr_html_()
+    assert html.startswith('<iframe srcdoc="')
+    assert html.count('"') == 6, "the page is escaped inside the attribute"
+    srcdoc = html[len('<iframe srcdoc="') : html.index('" style=')]
+    assert html_lib.unescape(srcdoc) == traj.view(), "the iframe holds the viewer page"
+
+
+def test_plot_draws_every_panel_with_units() -> None:
+    pytest.importorskip("matplotlib")
+    fig = tippe_top().plot()
+    labels = {ax.get_ylabel() for ax in fig.axes} | {ax.get_xlabel() for ax in fig.axes}
+    for want in ["θ (rad)", "rate (rad/s)", "energy (J)", "|relative drift| (1, log)", "normal force N (N)", "slip speed |v_C| (m/s)", "x (m)", "y (m)", "time t (s)"]:
+        assert want in labels, want
+    assert len(fig.axes) == 7
+    for ax in fig.axes:
+        assert ax.lines, f"{ax.get_title()}: nothing drawn"
+    path = [ax for ax in fig.axes if ax.get_xlabel() == "x (m)"][0]
+    assert [ln.get_label() for ln in path.lines][:2] == ["G", "contact point"]
+    drift = [ax for ax in fig.axes if ax.get_yscale() == "log"][0]
+    assert "E + W" in drift.get_title()
+    one = tippe_top().plot("theta, path")
+    assert len(one.axes) == 2
+    with pytest.raises(ValueError, match="unknown panel 'wobble'"):
+        tippe_top().plot(["theta", "wobble"])
+
+
+def test_plot_without_matplotlib_says_how_to_get_it() -> None:
+    code = (
+        "import sys; sys.modules['matplotlib'] = None; sys.modules['matplotlib.figure'] = None\n"
+        "import ellipsoid\n"
+        f"t = ellipsoid.simulate({str(SCENARIOS / 'nutation.toml')!r}, output={{'t_end': 0.1}})\n"
+        "try:\n    t.plot()\nexcept ImportError as e:\n    print('IMPORT', e)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert "IMPORT Trajectory.plot needs matplotlib (`pip install matplotlib`)" in out.stdout, out.stdout + out.stderr
+
+
+def test_repr_html_runs_in_a_browser(tmp_path: Path) -> None:
+    """The iframe of `_repr_html_`, in a page as a notebook would hold it, shows the viewer
+    in headless Chromium (skipped without one; scripts/test-all.sh installs it)."""
+    import os
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[3] / "tests" / "browser"))
+    import cdp
+
+    exe = cdp.chromium_path()
+    if exe is None:
+        if os.environ.get("ELLIPSOID_EXPECT_BROWSER") == "1":
+            pytest.fail("no Chromium found")
+        pytest.skip("no Chromium found: apt-get install -y chromium")
+    page = tmp_path / "notebook.html"
+    page.write_text("<!DOCTYPE html><html><body><p>cell output:</p>" + tippe_top()._repr_html_() + "</body></html>", encoding="utf-8")
+
+    def check(p: cdp.Page) -> None:
+        p.goto(page.as_uri())
+        # The viewer sets data-ready in its own document, inside the iframe: its frame
+        # renders; the outer page sees the iframe's pixels.
+        p.pump(3.0)
+        assert p.errors() == []
+        box = p.rect("iframe")
+        img = p.screenshot(box)
+        saturated = (img.max(axis=2) - img.min(axis=2)) > 60
+        assert saturated.mean() > 0.01, "the iframe shows no body"
+
+    cdp.with_page(check)

@@ -1,0 +1,169 @@
+"""The viewer page (`ellipsoid view`) in a real browser: headless Chromium from the system
+packages, driven over the DevTools protocol (tests/browser/cdp.py). Each test builds its
+page from a real run of the `ellipsoid` binary and checks what a person would see."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+
+# A prolate uniform ellipsoid (a = b = 0.02 m, c = 0.04 m) at rest: upright (θ = 0) it
+# stands on its tip, on its side (θ = π/2, φ = 0) its axis lies along −y.
+EGG = """
+[body]
+a = 0.02
+c = 0.04
+mass = 0.1
+inertia = "uniform"
+[initial]
+theta = {theta}
+[contact]
+model = "frictionless"
+[output]
+t_end = 0.05
+dt = 0.01
+"""
+
+
+def run(cli: Path, tmp: Path, scenario: Path, name: str, *sets: str, ext: str = "csv") -> Path:
+    out = tmp / f"{name}.{ext}"
+    summary = tmp / f"{name}.json"
+    args = [str(cli), "run", str(scenario), "-o", str(out), "--summary", str(summary), "-q"]
+    for s in sets:
+        args += ["--set", s]
+    done = subprocess.run(args, capture_output=True, text=True)
+    assert done.returncode in (0, 3), done.stderr
+    html = tmp / f"{name}.html"
+    view = [str(cli), "view", str(out), "-o", str(html), "-q"] + (["--summary", str(summary)] if ext == "csv" else [])
+    done = subprocess.run(view, capture_output=True, text=True)
+    assert done.returncode == 0, done.stderr
+    return html
+
+
+def open_page(page, html: Path) -> float:
+    page.goto(html.as_uri())
+    return page.wait("document.body && document.body.dataset.ready === '1'")
+
+
+def scene_shot(page):
+    return page.screenshot(page.rect("#scene canvas"))
+
+
+def body_mask(img: np.ndarray) -> np.ndarray:
+    """Pixels of the body's painted parts: saturated colours (blue meridians, orange band,
+    red axis); the sky, the plane and the grid are nearly grey."""
+    return (img.max(axis=2) - img.min(axis=2)) > 60
+
+
+def test_page_loads_offline_without_console_errors(cli: Path, tmp_path: Path, page) -> None:
+    html = run(cli, tmp_path, REPO / "scenarios/tippe-top.toml", "tt", "output.t_end=1.5")
+    open_page(page, html)
+    page.pump(0.3)
+    assert page.errors() == []
+    for url in page.requests():
+        assert url.startswith(("file:", "blob:", "data:")), f"network request: {url}"
+    assert page.eval("document.getElementById('three-license').textContent").count("three.js authors") == 1
+    info = page.eval("({f: ellipsoidViewer.frames, s: ellipsoidViewer.shapeKnown, c: ellipsoidViewer.contactKnown, r: ellipsoidViewer.rendered()})")
+    assert info["f"] == 1501 and info["s"] and info["c"] and info["r"] >= 1
+    assert "slip stop" in page.eval("document.getElementById('events').textContent")
+    img = scene_shot(page)
+    assert img.std() > 10, "the 3-D view is blank"
+    assert body_mask(img).sum() > 2000, "the body is not drawn"
+
+
+def test_the_body_is_drawn_where_and_as_the_trajectory_puts_it(cli: Path, tmp_path: Path, page) -> None:
+    boxes = {}
+    for name, theta in (("upright", 0.0), ("lying", math.pi / 2)):
+        toml = tmp_path / f"{name}.toml"
+        toml.write_text(EGG.format(theta=theta))
+        open_page(page, run(cli, tmp_path, toml, name))
+        # Camera on the +x side, level: world y runs across the screen, z up it.
+        page.eval("ellipsoidViewer.setCamera({az: 0, el: 0.05, dist: 0.4})")
+        img = scene_shot(page)
+        ys, xs = np.nonzero(body_mask(img))
+        assert len(xs) > 1000, f"{name}: body not visible"
+        boxes[name] = (xs.max() - xs.min(), ys.max() - ys.min())
+        # Its centre C0 (G + R·(0, 0, 0) here: no offset) projects where the pixels are.
+        p = page.eval("ellipsoidViewer.pose()")
+        r = page.rect("#scene canvas")
+        cx, cy = page.eval(f"ellipsoidViewer.project({p['x']}, {p['y']}, {p['z']})")
+        assert abs(xs.mean() + r["x"] - cx) < 12 and abs(ys.mean() + r["y"] - cy) < 12, f"{name}: body centre at {(xs.mean(), ys.mean())}, G projects to {(cx - r['x'], cy - r['y'])}"
+        assert page.errors() == []
+    (wu, hu), (wl, hl) = boxes["upright"], boxes["lying"]
+    assert hu > 1.5 * wu, f"upright egg drawn {wu}×{hu} px: should be tall"
+    assert wl > 1.5 * hl, f"lying egg drawn {wl}×{hl} px: should be wide"
+
+
+def test_the_slider_changes_the_pose_and_play_advances_time(cli: Path, tmp_path: Path, page) -> None:
+    html = run(cli, tmp_path, REPO / "scenarios/nutation.toml", "nut", "output.t_end=1")
+    open_page(page, html)
+    before = scene_shot(page)
+    slider = page.rect("#slider")
+    # A click at 60 % of the slider's track, as a user would.
+    page.click(slider["x"] + 0.6 * slider["width"], slider["y"] + slider["height"] / 2)
+    page.pump(0.2)
+    t = page.eval("ellipsoidViewer.time()")
+    assert 0.5 < t < 0.7, f"slider at 60 % gave t = {t}"
+    after = scene_shot(page)
+    changed = (np.abs(after - before).max(axis=2) > 40).mean()
+    assert changed > 0.01, f"only {100 * changed:.2f} % of the view changed with the time"
+    assert abs(page.eval("ellipsoidViewer.pose().psi") - page.eval(f"ellipsoidViewer.pose({t})").get("psi")) < 1e-9
+    page.eval("ellipsoidViewer.seek(0)")
+    page.click(*(lambda r: (r["x"] + r["width"] / 2, r["y"] + r["height"] / 2))(page.rect("#play")))
+    start = time.monotonic()
+    page.pump(0.8)
+    t1 = page.eval("ellipsoidViewer.time()")
+    assert page.eval("ellipsoidViewer.playing()")
+    elapsed = time.monotonic() - start
+    assert 0.05 * elapsed < t1 <= 0.25 * elapsed + 0.05, f"playing at 0.25x for {elapsed:.2f} s reached t = {t1}"
+    assert page.errors() == []
+
+
+def cursor_column(img: np.ndarray) -> float:
+    """Mean x of the plot cursor (exactly rgb(220, 0, 0))."""
+    hit = (np.abs(img[:, :, 0] - 220) < 12) & (img[:, :, 1] < 25) & (img[:, :, 2] < 25)
+    cols = np.nonzero(hit.sum(axis=0) > 20)[0]
+    assert len(cols), "no cursor in the plot"
+    return float(cols.mean())
+
+
+def test_the_plot_cursor_follows_the_slider(cli: Path, tmp_path: Path, page) -> None:
+    html = run(cli, tmp_path, REPO / "scenarios/nutation.toml", "nut", "output.t_end=2")
+    open_page(page, html)
+    slider = page.rect("#slider")
+    xs = []
+    for frac in (0.25, 0.75):
+        page.click(slider["x"] + frac * slider["width"], slider["y"] + slider["height"] / 2)
+        page.pump(0.15)
+        t = page.eval("ellipsoidViewer.time()")
+        plot = page.rect("#plot-theta")
+        x = cursor_column(page.screenshot(plot))
+        want = page.eval(f"ellipsoidViewer.plotX('theta', {t})")
+        assert abs(x + 0.5 - want) < 2.5, f"cursor at {x}, t = {t} belongs at {want}"
+        xs.append(x)
+    # Half the run apart: half the plot width (360 px less the 80 px of margins) apart.
+    assert abs((xs[1] - xs[0]) - 0.5 * 280) < 6, xs
+    assert page.errors() == []
+
+
+def test_a_million_samples_open_in_under_two_seconds(cli: Path, tmp_path: Path, page) -> None:
+    import os
+
+    ext = "h5" if os.environ.get("ELLIPSOID_EXPECT_HDF5") == "1" else "csv"
+    html = run(cli, tmp_path, REPO / "scenarios/nutation.toml", "big", "output.dt=1e-5", ext=ext)
+    info = subprocess.run([str(cli), "view", str(tmp_path / f"big.{ext}"), "-o", str(tmp_path / "big2.html")], capture_output=True, text=True)
+    assert "1000001 rows" in info.stderr, info.stderr
+    open_page(page, html)
+    ready_ms = page.eval("ellipsoidViewer.readyAt")
+    frames = page.eval("ellipsoidViewer.frames")
+    assert frames <= 20_010, frames
+    assert ready_ms < 2000, f"the page took {ready_ms:.0f} ms to show the first frame"
+    print(f"10^6 samples: {html.stat().st_size / 1e6:.1f} MB page, {frames} poses, ready in {ready_ms:.0f} ms")
+    assert page.errors() == []

@@ -1,0 +1,396 @@
+//! `ellipsoid plot` and `ellipsoid view` as a user runs them: every panel drawn for a
+//! bundled scene (SVG naming its axes with units; PNG not blank, with the series'
+//! colours), the paths read from CSV with a summary and from HDF5, and bad input (exit 2,
+//! one line naming the file, column or value, nothing written, no panic).
+//! The viewer page itself is tested in a real browser: tests/browser/test_viewer.py.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
+
+fn scenarios() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .canonicalize()
+        .expect("scenarios/ exists")
+}
+
+fn ellipsoid(dir: &Path, args: &[&str]) -> Output {
+    Command::new(BIN)
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// The tippe top (coulomb: sliding, then rolling after the slip stops at 1.1 s), 1.5 s,
+/// as CSV with its summary.
+fn tippe_top(dir: &Path) -> (PathBuf, PathBuf) {
+    let toml = scenarios().join("tippe-top.toml");
+    let o = ellipsoid(
+        dir,
+        &[
+            "run",
+            toml.to_str().unwrap(),
+            "-o",
+            "tt.csv",
+            "--summary",
+            "tt.json",
+            "--set",
+            "output.t_end=1.5",
+            "-q",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    (dir.join("tt.csv"), dir.join("tt.json"))
+}
+
+/// Pixels of a PNG as RGBA.
+fn pixels(png: &Path) -> (u32, u32, Vec<u8>) {
+    let p = resvg::tiny_skia::Pixmap::load_png(png).expect("a PNG");
+    (p.width(), p.height(), p.data().to_vec())
+}
+
+/// How many pixels are within 40 (per channel) of `rgb`.
+fn count_near(data: &[u8], rgb: [u8; 3]) -> usize {
+    data.chunks(4)
+        .filter(|p| (0..3).all(|k| (i32::from(p[k]) - i32::from(rgb[k])).abs() < 40))
+        .count()
+}
+
+#[test]
+fn every_panel_names_its_axes_with_units_and_draws_its_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, summary) = tippe_top(dir.path());
+    let cases: [(&str, &[&str], [u8; 3]); 5] = [
+        ("theta", &["time t (s)", "θ (rad)"], [0x1f, 0x77, 0xb4]),
+        (
+            "rates",
+            &[
+                "time t (s)",
+                "rate (rad/s)",
+                "θ̇ (theta_dot)",
+                "φ̇ (phi_dot)",
+                "ψ̇ (psi_dot)",
+            ],
+            [0xff, 0x7f, 0x0e],
+        ),
+        (
+            "energy",
+            &[
+                "time t (s)",
+                "energy (J)",
+                "|relative drift| (1, log)",
+                "relative drift of E + W",
+                "E + W",
+            ],
+            [0xd6, 0x27, 0x28],
+        ),
+        (
+            "forces",
+            &[
+                "time t (s)",
+                "normal force N (N)",
+                "slip speed |v_C| (m/s)",
+                "sliding orange, rolling green",
+            ],
+            [0xff, 0x7f, 0x0e],
+        ),
+        (
+            "path",
+            &[
+                "x (m)",
+                "y (m)",
+                "paths on the plane: contact point, G, centre C0",
+                "centre C0",
+                "contact point",
+            ],
+            [0x1f, 0x77, 0xb4],
+        ),
+    ];
+    for (panel, labels, color) in cases {
+        let svg = dir.path().join(format!("{panel}.svg"));
+        let png = dir.path().join(format!("{panel}.png"));
+        for out in [&svg, &png] {
+            let o = ellipsoid(
+                dir.path(),
+                &[
+                    "plot",
+                    csv.to_str().unwrap(),
+                    "--summary",
+                    summary.to_str().unwrap(),
+                    "--panels",
+                    panel,
+                    "-o",
+                    out.to_str().unwrap(),
+                ],
+            );
+            assert!(o.status.success(), "{panel}: {}", stderr(&o));
+        }
+        let text = std::fs::read_to_string(&svg).unwrap();
+        for label in labels {
+            assert!(
+                text.contains(&label.replace('&', "&amp;")),
+                "{panel}: the SVG lacks {label:?}"
+            );
+        }
+        // The events (slip stop, mode switch at 1.1 s) are marked on every time axis.
+        if panel != "path" {
+            assert!(
+                text.contains("stroke=\"#8040A0\""),
+                "{panel}: no event line"
+            );
+        }
+        let (w, h, data) = pixels(&png);
+        assert_eq!(w, 1100, "{panel}");
+        let inked = data
+            .chunks(4)
+            .filter(|p| p[0] < 200 || p[1] < 200 || p[2] < 200)
+            .count();
+        let share = inked as f64 / f64::from(w * h);
+        assert!(
+            share > 0.02,
+            "{panel}: only {:.2} % of the PNG is drawn",
+            100.0 * share
+        );
+        let n = count_near(&data, color);
+        assert!(
+            n > 300,
+            "{panel}: {n} pixels of the series colour {color:?}: the data is not drawn"
+        );
+    }
+    // Shading: the forces panel shows both modes' colours.
+    let (_, _, data) = pixels(&dir.path().join("forces.png"));
+    assert!(
+        count_near(&data, [0xff, 0xe3, 0xc4]) > 1000
+            && count_near(&data, [0xd4, 0xf0, 0xd4]) > 1000,
+        "sliding and rolling shaded"
+    );
+}
+
+/// The CSV without the columns `names` (a file from before they existed).
+fn drop_columns(csv: &Path, names: &[&str], out: &Path) {
+    let text = std::fs::read_to_string(csv).unwrap();
+    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let keep: Vec<usize> = (0..header.len())
+        .filter(|&k| !names.contains(&header[k]))
+        .collect();
+    let mut o = String::new();
+    for line in text.lines() {
+        let f: Vec<&str> = line.split(',').collect();
+        o.push_str(&keep.iter().map(|&k| f[k]).collect::<Vec<_>>().join(","));
+        o.push('\n');
+    }
+    std::fs::write(out, o).unwrap();
+}
+
+#[test]
+fn without_a_summary_the_contact_path_comes_from_its_columns_or_g_is_drawn_and_says_why() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, _) = tippe_top(dir.path());
+    let plot = |input: &str| {
+        let o = ellipsoid(
+            dir.path(),
+            &["plot", input, "--panels", "path,theta", "-o", "p.svg"],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        (
+            stderr(&o),
+            std::fs::read_to_string(dir.path().join("p.svg")).unwrap(),
+        )
+    };
+    // contact_x, contact_y in the file: the contact path without the body (and no C0).
+    let (err, text) = plot(csv.to_str().unwrap());
+    assert!(!err.contains("note:"), "{err}");
+    assert!(
+        text.contains("paths on the plane: contact point, G") && !text.contains("centre C0"),
+        "contact path from its columns, no centre without the body"
+    );
+    // An older file without them, and no summary: G's path, and the figure says why.
+    let old = dir.path().join("old.csv");
+    drop_columns(&csv, &["contact_x", "contact_y"], &old);
+    let (err, text) = plot(old.to_str().unwrap());
+    assert!(err.contains("note: body unknown"), "{err}");
+    assert!(
+        text.contains("path of G on the plane (contact point unknown"),
+        "the figure says why there is no contact path"
+    );
+    assert!(
+        !text.contains("stroke=\"#8040A0\""),
+        "no events without a summary"
+    );
+}
+
+#[test]
+fn hdf5_carries_its_own_events_and_body() {
+    if !cfg!(feature = "hdf5") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, summary) = tippe_top(dir.path());
+    let toml = scenarios().join("tippe-top.toml");
+    let o = ellipsoid(
+        dir.path(),
+        &[
+            "run",
+            toml.to_str().unwrap(),
+            "-o",
+            "tt.h5",
+            "--set",
+            "output.t_end=1.5",
+            "-q",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let a = ellipsoid(
+        dir.path(),
+        &["plot", "tt.h5", "-o", "a.svg", "--title", "x", "-q"],
+    );
+    let b = ellipsoid(
+        dir.path(),
+        &[
+            "plot",
+            csv.to_str().unwrap(),
+            "--summary",
+            summary.to_str().unwrap(),
+            "-o",
+            "b.svg",
+            "--title",
+            "x",
+            "-q",
+        ],
+    );
+    assert!(
+        a.status.success() && b.status.success(),
+        "{}{}",
+        stderr(&a),
+        stderr(&b)
+    );
+    let (a, b) = (
+        std::fs::read_to_string(dir.path().join("a.svg")).unwrap(),
+        std::fs::read_to_string(dir.path().join("b.svg")).unwrap(),
+    );
+    assert!(
+        a == b,
+        "the HDF5 file and the CSV with its summary draw the same figure"
+    );
+    let v = ellipsoid(dir.path(), &["view", "tt.h5", "-o", "v.html", "-q"]);
+    assert!(v.status.success(), "{}", stderr(&v));
+    let page = std::fs::read_to_string(dir.path().join("v.html")).unwrap();
+    assert!(
+        page.contains("\"semi_axes\":[") && page.contains("sliding → rolling"),
+        "body and events in the page"
+    );
+}
+
+#[test]
+fn view_writes_one_offline_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, summary) = tippe_top(dir.path());
+    let o = ellipsoid(
+        dir.path(),
+        &[
+            "view",
+            csv.to_str().unwrap(),
+            "--summary",
+            summary.to_str().unwrap(),
+            "-o",
+            "sub/v.html",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = std::fs::read_to_string(dir.path().join("sub/v.html")).unwrap();
+    assert!(page.len() > 700_000, "three.js inlined");
+    assert!(
+        page.contains("Copyright © 2010-2024 three.js authors"),
+        "its licence inlined"
+    );
+    assert!(
+        !page.contains("src=\"http") && !page.contains("href=\"http"),
+        "nothing fetched"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.path().join("sub")).unwrap().count(),
+        1,
+        "no temporary left"
+    );
+}
+
+#[test]
+fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, summary) = tippe_top(dir.path());
+    let d = dir.path();
+    std::fs::write(d.join("bad.csv"), "t,theta\n0,0.1\n0.1,zz\n").unwrap();
+    std::fs::write(d.join("short.csv"), "t,theta\n0,0.1\n0.1,0.2\n").unwrap();
+    std::fs::write(d.join("bad.json"), "{\"status\": 1").unwrap();
+    let csv = csv.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["plot", "missing.csv", "-o", "f.svg"],
+            "missing.csv: No such file",
+        ),
+        (
+            vec!["plot", "bad.csv", "-o", "f.svg"],
+            "bad.csv:3: column `theta`: \"zz\" is not a number",
+        ),
+        (
+            vec!["plot", "short.csv", "-o", "f.svg"],
+            "the rates panel needs the column `theta_dot`, which short.csv does not have",
+        ),
+        (
+            vec![
+                "plot",
+                "short.csv",
+                "-o",
+                "f.svg",
+                "--panels",
+                "theta,wobble",
+            ],
+            "unknown panel \"wobble\"; the panels are theta, rates, energy, forces, path",
+        ),
+        (
+            vec!["plot", csv, "-o", "f.pdf"],
+            "f.pdf: unknown figure format \"pdf\"; use .svg or .png",
+        ),
+        (
+            vec!["plot", csv, "-o", csv],
+            "unknown figure format \"csv\"",
+        ),
+        (
+            vec!["plot", csv, "-o", "f.svg", "--summary", "bad.json"],
+            "bad.json:1: not a JSON summary",
+        ),
+        (
+            vec!["plot", "tt.json", "-o", "f.svg"],
+            "tt.json: unknown trajectory format \"json\"",
+        ),
+        (
+            vec!["view", "short.csv", "-o", "v.html"],
+            "the viewer needs the column `x`, which short.csv does not have",
+        ),
+        (
+            vec!["view", csv, "-o", "v.svg"],
+            "unknown page format \"svg\"; use .html or .htm",
+        ),
+    ];
+    let _ = summary;
+    for (args, want) in cases {
+        let o = ellipsoid(d, &args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert!(
+            err.starts_with("error: ") && err.contains(want) && err.trim_end().lines().count() == 1,
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    for f in ["f.svg", "f.pdf", "v.html", "v.svg"] {
+        assert!(!d.join(f).exists(), "{f} written");
+    }
+}
