@@ -3,15 +3,11 @@
 
 use super::*;
 
-pub(super) const CHECK_KEYS: [&str; 7] = [
-    "status",
-    "energy",
-    "energy_plus_work",
-    "momentum",
-    "angular_momentum_z",
-    "axial_spin",
-    "jellett",
-];
+/// `status` and the invariants' names (declared in `invariants::Invariant`).
+pub(super) const CHECK_KEYS: [&str; 7] = {
+    let n = DRIFT_NAMES;
+    ["status", n[0], n[1], n[2], n[3], n[4], n[5]]
+};
 
 /// An empty table standing in for an optional table that is absent.
 pub(super) static EMPTY: Node = Node {
