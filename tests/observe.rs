@@ -220,3 +220,29 @@ fn bad_observables_are_refused() {
         assert!(e.contains(expect), "{set}: {e}");
     }
 }
+
+/// The drift column can be observed too. At rtol 1e-6 the nutation scene's energy drifts
+/// by 1e-9 to 1e-8; half the final state's drift is crossed somewhere between t = 0
+/// (drift 0) and t_end (the drift is continuous on the dense output), and the event's state
+/// carries that drift. (Output rows between step ends add the dense output's own error,
+/// larger at loose tolerances, so the rows' drift is not the measure here.)
+#[test]
+fn the_drift_column_is_observable() {
+    let loose = ["solver.rtol=1e-6", "solver.atol=1e-8"];
+    let (plain, _) = run(&scenario("nutation.toml", &loose));
+    let level = 0.5 * plain.final_sample.drift;
+    assert!(level.abs() > 1e-10, "the loose run drifts ({level:e})");
+    let set = format!("observe=[{{ name = \"drift\", column = \"drift\", crosses = {level:e} }}]");
+    let mut sets = loose.to_vec();
+    sets.push(&set);
+    let (out, _) = run(&scenario("nutation.toml", &sets));
+    let events = observed(&out);
+    let (_, sample) = events
+        .first()
+        .expect("the drift crosses half its final value");
+    assert!(
+        (sample.drift - level).abs() < 1e-6 * level.abs(),
+        "drift {} at the event, level {level}",
+        sample.drift
+    );
+}

@@ -112,8 +112,9 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                 y = sol.y;
                 for record in &sol.events {
                     if let Watch::Observe(index) = seg.watches[record.index] {
-                        let (sample, _) =
+                        let (mut sample, inv) =
                             current.sample(self, record.t, &record.y, Some(&rec.angles));
+                        sample.drift = rec.relative_drift(&inv);
                         events.push(EventRecord {
                             kind: EventKind::Observed {
                                 index,
@@ -226,6 +227,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         };
         // Observables unwrap φ and ψ against the last emitted row.
         let angles = Cell::new(rec.angles);
+        let gauge = rec.gauge();
         let (evaluate, angles_ref) = (&evaluate, &angles);
         let events: Vec<Event<'_, { state::DIM }>> = watches
             .iter()
@@ -235,12 +237,10 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                     Event {
                         g: Box::new(move |t, y: &State| {
                             let ev = evaluate(t, y);
-                            columns::values(
-                                &self
-                                    .sample_of(sys, P::MODE, t, y, &ev, Some(&angles_ref.get()))
-                                    .0,
-                            )[o.column]
-                                - o.crosses
+                            let (mut sample, inv) =
+                                self.sample_of(sys, P::MODE, t, y, &ev, Some(&angles_ref.get()));
+                            sample.drift = gauge.of(&inv);
+                            columns::values(&sample)[o.column] - o.crosses
                         }),
                         direction: o.direction,
                         action: if o.terminal {

@@ -10,6 +10,20 @@ use crate::state::EulerAngles;
 
 use super::outcome::{Sample, Status};
 
+/// (Q − Q(0))/scale for the quantity Q of the `drift` column.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct DriftGauge {
+    which: Invariant,
+    initial: f64,
+    scale: f64,
+}
+
+impl DriftGauge {
+    pub(super) fn of(&self, inv: &Invariants) -> f64 {
+        (self.which.value(inv) - self.initial) / self.scale
+    }
+}
+
 pub(super) struct Recorder<'o> {
     /// The caller's observer: every sample, in time order; `Break` cancels the run.
     observer: &'o mut dyn FnMut(&Sample) -> ControlFlow<()>,
@@ -69,8 +83,18 @@ impl<'o> Recorder<'o> {
 
     /// (I − I(0))/scale of the `drift` column's quantity.
     pub(super) fn relative_drift(&self, inv: &Invariants) -> f64 {
+        self.gauge().of(inv)
+    }
+
+    /// The `drift` column's definition, detached from the recorder (for event functions
+    /// that need the column while the recorder is lent to the sample observer).
+    pub(super) fn gauge(&self) -> DriftGauge {
         let k = self.headline as usize;
-        (self.headline.value(inv) - self.initial[k]) / self.scale[k]
+        DriftGauge {
+            which: self.headline,
+            initial: self.initial[k],
+            scale: self.scale[k],
+        }
     }
 
     /// Hands a sample to the observer, unless it is not finite: then the run stops with
