@@ -378,7 +378,8 @@ pub fn read_summary(path: &Path) -> Result<Value, ReadError> {
     Ok(v)
 }
 
-fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
+/// Opens `path`, which must be a regular file of at most `limit` bytes.
+fn open_bounded(path: &Path, limit: u64) -> Result<(std::fs::File, u64), ReadError> {
     let io = |e| ReadError::Io {
         path: path.to_owned(),
         source: e,
@@ -395,8 +396,18 @@ fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
             format!("{} bytes is more than the {limit} read at most", meta.len()),
         ));
     }
-    let mut buf = Vec::with_capacity(meta.len() as usize);
-    file.take(limit + 1).read_to_end(&mut buf).map_err(io)?;
+    Ok((file, meta.len()))
+}
+
+fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
+    let (file, len) = open_bounded(path, limit)?;
+    let mut buf = Vec::with_capacity(len as usize);
+    file.take(limit + 1)
+        .read_to_end(&mut buf)
+        .map_err(|e| ReadError::Io {
+            path: path.to_owned(),
+            source: e,
+        })?;
     Ok(buf)
 }
 
@@ -423,25 +434,7 @@ pub fn read(path: &Path) -> Result<Table, ReadError> {
 /// Reads a CSV trajectory: a header of column names (`t` required), one row per sample,
 /// `mode` as a name, every other value a finite number.
 pub fn read_csv(path: &Path) -> Result<Table, ReadError> {
-    let io = |e| ReadError::Io {
-        path: path.to_owned(),
-        source: e,
-    };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let meta = file.metadata().map_err(io)?;
-    if !meta.is_file() {
-        return Err(ReadError::format(path, None, "not a regular file"));
-    }
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(ReadError::format(
-            path,
-            None,
-            format!(
-                "{} bytes is more than the {MAX_FILE_BYTES} read at most",
-                meta.len()
-            ),
-        ));
-    }
+    let (file, _) = open_bounded(path, MAX_FILE_BYTES)?;
     let mut reader = BufReader::with_capacity(1 << 16, file);
     let mut line = String::new();
     let n = reader
