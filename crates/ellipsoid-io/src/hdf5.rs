@@ -192,3 +192,73 @@ pub fn read(path: &Path) -> Result<Hdf5Trajectory, OutputError> {
         attributes,
     })
 }
+
+/// The values of one column of a table written by [`write_table`].
+pub enum TableData {
+    F64(Vec<f64>),
+    I64(Vec<i64>),
+    Text(Vec<String>),
+}
+
+/// One column of a table written by [`write_table`].
+pub struct TableColumn {
+    /// Dataset name (any UTF-8 without `/`; `/` is replaced by `∕`).
+    pub name: String,
+    /// Its `units` attribute.
+    pub unit: String,
+    /// What marks a cell without a value, if some have none (its `missing` attribute).
+    pub missing: Option<String>,
+    pub data: TableData,
+}
+
+/// Writes a table (a parameter study's results) as one dataset per column at the root,
+/// each with a `units` attribute (and `missing` where some cells have no value), plus
+/// the root string attributes `attrs` and `columns` (the names in order, as a JSON list);
+/// atomically (a temporary beside `path`, renamed into place).
+pub fn write_table(
+    path: &Path,
+    columns: &[TableColumn],
+    attrs: &[(&str, &str)],
+) -> Result<(), OutputError> {
+    let tmp = atomic::temporary(path)?.into_temp_path();
+    let fail = |e: h5::Error| OutputError::Hdf5 {
+        path: path.to_owned(),
+        message: e.to_string(),
+    };
+    {
+        let file = h5::File::create(&tmp).map_err(fail)?;
+        let mut names = Vec::new();
+        for c in columns {
+            let name = c.name.replace('/', "∕");
+            let builder = file.new_dataset_builder();
+            let ds = match &c.data {
+                TableData::F64(v) => builder.with_data(v.as_slice()).create(name.as_str()),
+                TableData::I64(v) => builder.with_data(v.as_slice()).create(name.as_str()),
+                TableData::Text(v) => {
+                    let v: Vec<VarLenUnicode> = v
+                        .iter()
+                        .map(|s| s.replace('\0', "").parse().unwrap_or_default())
+                        .collect();
+                    builder.with_data(v.as_slice()).create(name.as_str())
+                }
+            }
+            .map_err(fail)?;
+            str_attr(&ds, "units", &c.unit).map_err(fail)?;
+            if let Some(m) = &c.missing {
+                str_attr(&ds, "missing", m).map_err(fail)?;
+            }
+            names.push(serde_json::Value::from(name));
+        }
+        str_attr(
+            &file,
+            "columns",
+            &serde_json::Value::Array(names).to_string(),
+        )
+        .map_err(fail)?;
+        for (k, v) in attrs {
+            str_attr(&file, k, v).map_err(fail)?;
+        }
+        file.close().map_err(fail)?;
+    }
+    atomic::Prepared::new(tmp, path).commit()
+}

@@ -4,11 +4,14 @@
 //! - [`check`]: what follows from a scenario without simulating it (`ellipsoid check`,
 //!   `ellipsoid.check`);
 //! - [`precision`]: the work–precision study (`ellipsoid precision`,
-//!   `ellipsoid.precision`), with its log–log plots drawn by [`plot`].
+//!   `ellipsoid.precision`), with its log–log plots drawn by [`plot`];
+//! - [`study`]: parameter studies (`ellipsoid study`, `ellipsoid.study`): axes over any
+//!   scenario key, one table row per point, resumable through a journal.
 
 pub mod check;
 pub mod plot;
 pub mod precision;
+pub mod study;
 
 use ellipsoid_core::simulate::Drift;
 

@@ -1,0 +1,880 @@
+//! A study as data ([`Plan`]: base scenario, common changes, axes, outcomes), and the
+//! same study made ready to run ([`Study`]): the base document, the key paths, the
+//! columns of its table, and each point resolved to the scenario it runs.
+//!
+//! A point's scenario is the base with the study's `set` changes and the point's axis
+//! values applied as `--set` overrides (so a bad value is reported exactly as `ellipsoid
+//! run --set` reports it), and its **key** is a hash of the fully resolved scenario text:
+//! the base document with every change applied, written out by the `toml` crate in its
+//! canonical form. Two points that run the same scenario have the same key, whatever
+//! the study file looks like; a point whose scenario changed gets a new one.
+
+#![allow(clippy::result_large_err)] // errors of a whole study, made once, off the hot path
+
+use std::fmt::Write as _;
+use std::hash::Hasher;
+
+use ellipsoid_core::columns::NUMERIC_COLUMNS;
+use ellipsoid_core::invariants::Invariant;
+use ellipsoid_core::scenario::{
+    self, ErrorKind, Location, Scenario, ScenarioError, ScenarioErrors,
+};
+use serde::{Deserialize, Serialize};
+use siphasher::sip128::{Hasher128, SipHasher13};
+
+/// Most points a study may have (10⁷: a table of that many rows is already gigabytes).
+pub const MAX_POINTS: usize = 10_000_000;
+/// Most axes (and most keys of one Latin hypercube).
+pub const MAX_AXES: usize = 32;
+/// Most `also` keys of one axis, and most columns named in one outcome list.
+pub const MAX_KEYS: usize = 64;
+
+/// The base scenario: its TOML text, where it came from, and overrides already applied
+/// to it (a Python `Scenario` made by `replace`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Base {
+    pub text: String,
+    pub source: String,
+    pub overrides: Vec<String>,
+}
+
+/// How the axes combine into points.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Combine {
+    /// Every combination, in row-major order: the last axis varies fastest.
+    Grid,
+    /// Point i takes the i-th value of every axis (all axes as long as each other).
+    Zip,
+}
+
+/// The values of one key along an axis.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub enum Values {
+    /// Generated numbers (linspace, logspace, random, Latin hypercube).
+    Floats(Vec<f64>),
+    /// Values given one by one (`values = [...]`): numbers, strings, arrays, tables.
+    Given(Vec<toml::Value>),
+}
+
+impl Values {
+    pub fn len(&self) -> usize {
+        match self {
+            Values::Floats(v) => v.len(),
+            Values::Given(v) => v.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    fn get(&self, i: usize) -> toml::Value {
+        match self {
+            Values::Floats(v) => toml::Value::Float(v[i]),
+            Values::Given(v) => v[i].clone(),
+        }
+    }
+
+    /// Whether the table column is numeric (every value a number).
+    fn numeric(&self) -> bool {
+        match self {
+            Values::Floats(_) => true,
+            Values::Given(v) => v
+                .iter()
+                .all(|x| matches!(x, toml::Value::Float(_) | toml::Value::Integer(_))),
+        }
+    }
+}
+
+/// One key an axis sets (and others that take the same value, `also`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Dim {
+    /// Dotted path into the scenario, with `[i]` for array elements (`body.inertia[0]`).
+    pub key: String,
+    pub also: Vec<String>,
+    pub values: Values,
+}
+
+/// One axis: a key with its values, or several keys moving together (a Latin hypercube).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Axis {
+    pub dims: Vec<Dim>,
+}
+
+impl Axis {
+    pub fn len(&self) -> usize {
+        self.dims.first().map_or(0, |d| d.values.len())
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// What each row records besides the axis values, status, message and end time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Outcomes {
+    /// The first crossing time of each of the scenario's observables (`t_NAME [s]`).
+    pub observables: bool,
+    /// Output columns whose value at the end of the run is recorded (`final.COLUMN`).
+    #[serde(rename = "final")]
+    pub final_columns: Vec<String>,
+    /// Output columns whose smallest / largest sampled value is recorded.
+    pub min: Vec<String>,
+    pub max: Vec<String>,
+    /// Each invariant's largest relative drift (`drift.NAME [1]`; empty where not conserved).
+    pub drift: bool,
+    /// The run's wall-clock time (`wall_time [s]`).
+    pub wall_time: bool,
+    /// Right-hand-side evaluations of the integrator (`rhs_evals`).
+    pub rhs_evals: bool,
+}
+
+impl Default for Outcomes {
+    fn default() -> Self {
+        Outcomes {
+            observables: true,
+            final_columns: Vec::new(),
+            min: Vec::new(),
+            max: Vec::new(),
+            drift: true,
+            wall_time: true,
+            rhs_evals: true,
+        }
+    }
+}
+
+/// A study: everything needed to run it anywhere (it travels to Dask workers as JSON).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Plan {
+    /// The study file, or a name for a study given otherwise.
+    pub source: String,
+    pub base: Base,
+    /// Changes applied to the base for every point (dotted key → value).
+    pub set: Vec<(String, toml::Value)>,
+    pub axes: Vec<Axis>,
+    pub combine: Combine,
+    pub outcomes: Outcomes,
+}
+
+/// The type of a table column.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Type {
+    Int,
+    Float,
+    Text,
+}
+
+/// Where a column's values come from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Role {
+    Point,
+    Axis { axis: usize, dim: usize },
+    Status,
+    Message,
+    TFinal,
+    Observed(String),
+    Final(usize),
+    FinalMode,
+    Min(usize),
+    Max(usize),
+    Drift(Invariant),
+    WallTime,
+    RhsEvals,
+    Key,
+}
+
+/// A column of the study's table.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Column {
+    /// The name without its unit (`t_inverted`, `body.com_offset`).
+    pub name: String,
+    /// SI unit ("1" for dimensionless numbers), `None` for names and counts.
+    pub unit: Option<String>,
+    pub ty: Type,
+    /// Whether some rows may have no value (a run that failed, or never got there).
+    pub nullable: bool,
+    pub role: Role,
+}
+
+impl Column {
+    /// The header: `name [unit]`, or the name alone.
+    pub fn header(&self) -> String {
+        match &self.unit {
+            Some(u) => format!("{} [{u}]", self.name),
+            None => self.name.clone(),
+        }
+    }
+}
+
+/// A table cell.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Cell {
+    Null,
+    Int(i64),
+    Float(f64),
+    Text(String),
+}
+
+/// One segment of a key path.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) enum Seg {
+    Name(String),
+    Index(usize),
+}
+
+/// A key path, parsed once.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Path {
+    pub segs: Vec<Seg>,
+    /// The override key: the names before the first index (`body.inertia` for
+    /// `body.inertia[0]`).
+    pub head: String,
+    pub indexed: bool,
+}
+
+/// The rule for a key path, in messages.
+pub const KEY_RULE: &str = "a key is a dotted path of scenario keys, each [A-Za-z0-9_-]+ and optionally followed by [i] to pick element i of an array (e.g. body.inertia[0], observe[0].crosses)";
+
+pub(crate) fn parse_path(text: &str) -> Result<Path, String> {
+    if text.is_empty() || text.len() > 200 {
+        return Err(format!("{KEY_RULE}; at most 200 characters"));
+    }
+    let mut segs = Vec::new();
+    for part in text.split('.') {
+        let (name, mut rest) = part.split_at(part.find('[').unwrap_or(part.len()));
+        if name.is_empty()
+            || !name
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+        {
+            return Err(KEY_RULE.to_owned());
+        }
+        segs.push(Seg::Name(name.to_owned()));
+        while !rest.is_empty() {
+            let close = rest.find(']').ok_or_else(|| KEY_RULE.to_owned())?;
+            let digits = &rest[1..close];
+            let i: usize = digits
+                .parse()
+                .ok()
+                .filter(|i| *i < 1_000_000 && digits.chars().all(|c| c.is_ascii_digit()))
+                .ok_or_else(|| format!("{KEY_RULE}; an index is 0 to 999999"))?;
+            segs.push(Seg::Index(i));
+            rest = &rest[close + 1..];
+            if !rest.is_empty() && !rest.starts_with('[') {
+                return Err(KEY_RULE.to_owned());
+            }
+        }
+    }
+    let head: Vec<&str> = segs
+        .iter()
+        .map_while(|s| match s {
+            Seg::Name(n) => Some(n.as_str()),
+            Seg::Index(_) => None,
+        })
+        .collect();
+    Ok(Path {
+        indexed: head.len() < segs.len(),
+        head: head.join("."),
+        segs,
+    })
+}
+
+/// Sets `path` in `table` to `value`, making tables as needed; an index must name an
+/// element that exists.
+pub(crate) fn set_path(
+    table: &mut toml::Table,
+    path: &[Seg],
+    value: toml::Value,
+) -> Result<(), String> {
+    let Some((Seg::Name(first), rest)) = path.split_first() else {
+        return Err(KEY_RULE.to_owned());
+    };
+    if rest.is_empty() {
+        table.insert(first.clone(), value);
+        return Ok(());
+    }
+    let slot = table.entry(first.clone()).or_insert_with(|| match rest[0] {
+        Seg::Name(_) => toml::Value::Table(toml::Table::new()),
+        Seg::Index(_) => toml::Value::Array(Vec::new()),
+    });
+    set_in(slot, first, rest, value)
+}
+
+fn set_in(
+    slot: &mut toml::Value,
+    at: &str,
+    path: &[Seg],
+    value: toml::Value,
+) -> Result<(), String> {
+    match (&path[0], slot) {
+        (Seg::Name(_), toml::Value::Table(t)) => set_path(t, path, value),
+        (Seg::Index(i), toml::Value::Array(a)) => {
+            let len = a.len();
+            let elem = a.get_mut(*i).ok_or_else(|| {
+                format!("{at} has {len} elements in the base scenario; index {i} is out of range")
+            })?;
+            if path.len() == 1 {
+                *elem = value;
+                Ok(())
+            } else {
+                set_in(elem, &format!("{at}[{i}]"), &path[1..], value)
+            }
+        }
+        (Seg::Name(_), _) => Err(format!("{at} is not a table in the base scenario")),
+        (Seg::Index(_), _) => Err(format!("{at} is not an array in the base scenario")),
+    }
+}
+
+/// The value at `head` (a dotted path of names) in `table`.
+fn get_head<'t>(table: &'t toml::Table, head: &str) -> Option<&'t toml::Value> {
+    let mut parts = head.split('.');
+    let mut v = table.get(parts.next()?)?;
+    for p in parts {
+        v = v.as_table()?.get(p)?;
+    }
+    Some(v)
+}
+
+/// A value as the right-hand side of a `--set` override (TOML; floats in the shortest
+/// form that reads back exactly).
+pub fn value_text(v: &toml::Value) -> String {
+    match v {
+        toml::Value::Float(f) => format!("{f:e}"),
+        toml::Value::Integer(i) => i.to_string(),
+        other => other.to_string(),
+    }
+}
+
+/// The unit of a scenario key, for table headers (`None` if it has none or is unknown).
+pub fn key_unit(key: &str) -> Option<&'static str> {
+    let last = key
+        .rsplit('.')
+        .next()
+        .unwrap_or(key)
+        .split('[')
+        .next()
+        .unwrap_or("");
+    let table = key.split('.').next().unwrap_or("");
+    Some(match (table, last) {
+        (_, l) if l.ends_with("_deg") && l.contains("_dot") => "deg/s",
+        (_, l) if l.ends_with("_deg") => "deg",
+        ("body", "a" | "b" | "c" | "com_offset" | "com_offset_vector") => "m",
+        ("body", "mass") => "kg",
+        ("body", "inertia") => "kg m^2",
+        ("initial", "theta" | "phi" | "psi" | "angle") => "rad",
+        ("initial", "theta_dot" | "phi_dot" | "psi_dot" | "omega_body") => "rad/s",
+        ("initial", "position") => "m",
+        ("initial", "velocity") => "m/s",
+        ("contact", "friction") => "1",
+        ("effects", "gravity") => "m/s^2",
+        ("effects", "rolling_resistance" | "spin_friction" | "coefficient") => "m",
+        ("effects", "regularisation") => "rad/s",
+        ("effects", "linear") => "kg/s",
+        ("effects", "angular") => "kg m^2/s",
+        ("solver", "rtol" | "atol") => "1",
+        ("solver", "step") => "s",
+        ("output", "t_end" | "dt" | "times") => "s",
+        _ => return None,
+    })
+}
+
+/// A study ready to run: the plan, its base document, parsed keys and columns.
+#[derive(Debug, Clone)]
+pub struct Study {
+    pub plan: Plan,
+    /// The base with the `set` changes, as the `toml` crate reads it.
+    base_table: toml::Table,
+    /// The base's overrides followed by the `set` changes.
+    base_overrides: Vec<String>,
+    /// Key paths, by axis and dim: the key and its `also` keys.
+    paths: Vec<Vec<Vec<Path>>>,
+    /// Points per axis.
+    lens: Vec<usize>,
+    points: usize,
+    /// The base scenario's observable names (their columns).
+    pub observables: Vec<String>,
+    pub columns: Vec<Column>,
+    /// Index of the first outcome column (status).
+    outcome_start: usize,
+}
+
+/// A point resolved to the scenario it runs.
+#[derive(Debug, Clone)]
+pub struct Resolved {
+    /// `key=value` overrides of the base text, in order.
+    pub overrides: Vec<String>,
+    /// The fully resolved scenario text (canonical TOML).
+    pub text: String,
+    /// Hash of `text`: 32 hexadecimal digits (SipHash-1-3, 128 bits, key 0).
+    pub key: String,
+}
+
+/// An error of the study itself (not of one point), in the scenario errors' form.
+pub fn study_error(
+    source: &str,
+    key: Option<String>,
+    value: Option<String>,
+    rule: String,
+) -> ScenarioError {
+    ScenarioError {
+        kind: ErrorKind::Invalid,
+        location: Location {
+            source: source.to_owned(),
+            line: None,
+            column: None,
+            set: None,
+        },
+        key,
+        value,
+        rule,
+    }
+}
+
+/// The base document with its overrides applied, as the `toml` crate reads it.
+fn base_document(
+    base: &Base,
+    err: &dyn Fn(String) -> ScenarioError,
+) -> Result<toml::Table, ScenarioError> {
+    let mut table: toml::Table = base.text.parse().map_err(|e: toml::de::Error| {
+        err(format!(
+            "the base scenario is not valid TOML: {}",
+            e.message()
+        ))
+    })?;
+    for o in &base.overrides {
+        let (k, v) = o.split_once('=').ok_or_else(|| {
+            err(format!(
+                "the base scenario's override {o:?} is not key=value"
+            ))
+        })?;
+        let path = parse_path(k.trim()).map_err(err)?;
+        let value = parse_value(v.trim());
+        set_path(&mut table, &path.segs, value).map_err(err)?;
+    }
+    Ok(table)
+}
+
+/// A `--set` value: TOML, or else a bare word taken as a string (as the scenario parser does).
+pub(crate) fn parse_value(text: &str) -> toml::Value {
+    format!("v = {text}")
+        .parse::<toml::Table>()
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(text.to_owned()))
+}
+
+impl Study {
+    /// Checks the plan and prepares it: the base must be a valid scenario, every key a
+    /// valid path into it, the number of points at most [`MAX_POINTS`], and the first
+    /// point must not name an unknown key.
+    pub fn new(plan: Plan) -> Result<Study, ScenarioErrors> {
+        let src = plan.source.clone();
+        let err = |key: Option<String>, value: Option<String>, rule: String| {
+            ScenarioErrors::from(study_error(&src, key, value, rule))
+        };
+        if plan.axes.len() > MAX_AXES {
+            return Err(err(
+                Some("axis".into()),
+                Some(format!("{} axes", plan.axes.len())),
+                format!("a study has at most {MAX_AXES} axes"),
+            ));
+        }
+        let mut base_overrides = plan.base.overrides.clone();
+        for (k, v) in &plan.set {
+            base_overrides.push(format!("{k}={}", value_text(v)));
+        }
+        // The base as the study changes it must be a valid scenario.
+        let base_scenario =
+            scenario::parse_all(&plan.base.text, &plan.base.source, &base_overrides)?;
+        let mut base_table = base_document(&plan.base, &|rule| {
+            ScenarioErrors::from(study_error(&src, Some("base".into()), None, rule)).first()
+        })?;
+        for (k, v) in &plan.set {
+            let path = parse_path(k).map_err(|r| err(Some(format!("set.{k}")), None, r))?;
+            set_path(&mut base_table, &path.segs, v.clone())
+                .map_err(|r| err(Some(format!("set.{k}")), Some(value_text(v)), r))?;
+        }
+        let mut paths = Vec::new();
+        let mut lens = Vec::new();
+        for axis in &plan.axes {
+            let n = axis.len();
+            if axis.dims.is_empty() || n == 0 {
+                return Err(err(
+                    Some("axis".into()),
+                    None,
+                    "every axis needs at least one key and one value".into(),
+                ));
+            }
+            let mut dims = Vec::new();
+            for d in &axis.dims {
+                if d.values.len() != n {
+                    return Err(err(
+                        Some(format!("axis[{}]", d.key)),
+                        None,
+                        "every key of a Latin hypercube has n values".into(),
+                    ));
+                }
+                let mut keys = Vec::new();
+                for k in std::iter::once(&d.key).chain(&d.also) {
+                    let p = parse_path(k).map_err(|r| {
+                        err(
+                            Some(format!("axis[{}].key", d.key)),
+                            Some(format!("{k:?}")),
+                            r,
+                        )
+                    })?;
+                    // The path must reach into the base (indices exist, no scalar in the way).
+                    let mut probe = base_table.clone();
+                    set_path(&mut probe, &p.segs, d.values.get(0)).map_err(|r| {
+                        err(
+                            Some(format!("axis[{}].key", d.key)),
+                            Some(format!("{k:?}")),
+                            r,
+                        )
+                    })?;
+                    keys.push(p);
+                }
+                dims.push(keys);
+            }
+            paths.push(dims);
+            lens.push(n);
+        }
+        let points = match plan.combine {
+            Combine::Grid => lens.iter().try_fold(1usize, |acc, &n| {
+                acc.checked_mul(n).filter(|p| *p <= MAX_POINTS)
+            }),
+            Combine::Zip => {
+                if let Some((i, n)) = lens.iter().enumerate().find(|(_, n)| **n != lens[0]) {
+                    return Err(err(
+                        Some("combine".into()),
+                        Some("\"zip\"".into()),
+                        format!(
+                            "zipped axes must all have the same number of values: axis[{}] has {}, axis[{}] has {n}",
+                            plan.axes[0].dims[0].key, lens[0], plan.axes[i].dims[0].key
+                        ),
+                    ));
+                }
+                Some(lens.first().copied().unwrap_or(1)).filter(|p| *p <= MAX_POINTS)
+            }
+        };
+        let points = points.ok_or_else(|| {
+            let shown: Vec<String> = lens.iter().map(|n| n.to_string()).collect();
+            let total: f64 = match plan.combine {
+                Combine::Grid => lens.iter().map(|&n| n as f64).product(),
+                Combine::Zip => lens[0] as f64,
+            };
+            err(
+                Some("combine".into()),
+                Some(format!("{:?}", plan.combine).to_lowercase()),
+                format!(
+                    "{} = {total:e} points; a study has at most {MAX_POINTS} (split it into several studies)",
+                    shown.join(" × ")
+                ),
+            )
+        })?;
+        let observables: Vec<String> = base_scenario
+            .scene
+            .observe
+            .iter()
+            .map(|o| o.name.clone())
+            .collect();
+        let columns = columns(&plan, &observables).map_err(|(k, v, r)| err(Some(k), Some(v), r))?;
+        let outcome_start = columns
+            .iter()
+            .position(|c| c.role == Role::Status)
+            .unwrap_or(0);
+        let study = Study {
+            plan,
+            base_table,
+            base_overrides,
+            paths,
+            lens,
+            points,
+            observables,
+            columns,
+            outcome_start,
+        };
+        // A misspelt key fails every point the same way: say so now, at the axis.
+        if study.points > 0 {
+            let r = study.resolve(0).map_err(|(k, r)| err(Some(k), None, r))?;
+            if let Err(e) =
+                scenario::parse_all(&study.plan.base.text, &study.plan.base.source, &r.overrides)
+                && let Some(e) = e.0.iter().find(|e| {
+                    matches!(
+                        e.kind,
+                        ErrorKind::UnknownKey | ErrorKind::Override | ErrorKind::Syntax
+                    )
+                })
+            {
+                return Err(err(
+                    e.key.clone().map(|k| format!("axis key {k}")),
+                    e.value.clone(),
+                    format!(
+                        "{} (the first point, {})",
+                        e.rule,
+                        r.overrides[study.base_overrides.len()..].join(", ")
+                    ),
+                ));
+            }
+        }
+        Ok(study)
+    }
+
+    /// Number of points (rows).
+    pub fn len(&self) -> usize {
+        self.points
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.points == 0
+    }
+
+    /// The value index of each axis at point `index` (grid: row-major, last axis fastest).
+    pub fn coords(&self, index: usize) -> Vec<usize> {
+        match self.plan.combine {
+            Combine::Zip => vec![index; self.lens.len()],
+            Combine::Grid => {
+                let mut rest = index;
+                let mut c = vec![0; self.lens.len()];
+                for (i, n) in self.lens.iter().enumerate().rev() {
+                    c[i] = rest % n;
+                    rest /= n;
+                }
+                c
+            }
+        }
+    }
+
+    /// Point `index` as the overrides that make its scenario, its resolved text and key.
+    /// (An error names the key and why: an index out of range in the base.)
+    pub fn resolve(&self, index: usize) -> Result<Resolved, (String, String)> {
+        let coords = self.coords(index);
+        let mut table = self.base_table.clone();
+        let mut overrides = self.base_overrides.clone();
+        let mut heads: Vec<&str> = Vec::new();
+        for ((axis, paths), &c) in self.plan.axes.iter().zip(&self.paths).zip(&coords) {
+            for (dim, keys) in axis.dims.iter().zip(paths) {
+                let v = dim.values.get(c);
+                for p in keys {
+                    set_path(&mut table, &p.segs, v.clone()).map_err(|r| (dim.key.clone(), r))?;
+                    if p.indexed {
+                        heads.push(&p.head);
+                    } else {
+                        overrides.push(format!("{}={}", p.head, value_text(&v)));
+                    }
+                }
+            }
+        }
+        // Elements of arrays: the whole array, as resolved, once per array.
+        heads.sort_unstable();
+        heads.dedup();
+        for h in heads {
+            if let Some(v) = get_head(&table, h) {
+                overrides.push(format!("{h}={}", value_text(v)));
+            }
+        }
+        let text = toml::to_string(&table).map_err(|e| ("base".to_owned(), e.to_string()))?;
+        Ok(Resolved {
+            overrides,
+            key: hash_hex(&text),
+            text,
+        })
+    }
+
+    /// Point `index`'s scenario.
+    pub fn scenario(&self, r: &Resolved) -> Result<Scenario, ScenarioErrors> {
+        scenario::parse_all(&self.plan.base.text, &self.plan.base.source, &r.overrides)
+    }
+
+    /// The axis cells of point `index`, in column order.
+    pub fn axis_cells(&self, index: usize) -> Vec<Cell> {
+        let coords = self.coords(index);
+        let mut cells = Vec::new();
+        for (axis, &c) in self.plan.axes.iter().zip(&coords) {
+            for d in &axis.dims {
+                cells.push(match (&d.values, d.values.numeric()) {
+                    (Values::Floats(v), _) => Cell::Float(v[c]),
+                    (Values::Given(v), true) => Cell::Float(match &v[c] {
+                        toml::Value::Integer(i) => *i as f64,
+                        toml::Value::Float(f) => *f,
+                        _ => unreachable!("numeric"),
+                    }),
+                    (Values::Given(v), false) => Cell::Text(match &v[c] {
+                        toml::Value::String(s) => s.clone(),
+                        other => value_text(other),
+                    }),
+                });
+            }
+        }
+        cells
+    }
+
+    /// The outcome columns (status … rhs_evals), whose cells a run produces.
+    pub fn outcome_columns(&self) -> &[Column] {
+        &self.columns[self.outcome_start..self.columns.len() - 1]
+    }
+
+    /// A fingerprint of the outcome columns (names and types): a journal made for other
+    /// outcomes is not reused.
+    pub fn outcome_fingerprint(&self) -> String {
+        let mut s = String::new();
+        for c in self.outcome_columns() {
+            let _ = write!(s, "{}:{:?};", c.header(), c.ty);
+        }
+        hash_hex(&s)
+    }
+}
+
+/// SipHash-1-3 (128-bit output, key 0) of `text`, as 32 hexadecimal digits.
+pub fn hash_hex(text: &str) -> String {
+    let mut h = SipHasher13::new_with_keys(0, 0);
+    h.write(text.as_bytes());
+    format!("{:032x}", h.finish128().as_u128())
+}
+
+/// The table's columns: point, the axis values, then the outcomes, then the key.
+fn columns(plan: &Plan, observables: &[String]) -> Result<Vec<Column>, (String, String, String)> {
+    let col = |name: String, unit: Option<&str>, ty: Type, nullable: bool, role: Role| Column {
+        name,
+        unit: unit.map(str::to_owned),
+        ty,
+        nullable,
+        role,
+    };
+    let mut cols = vec![col("point".into(), None, Type::Int, false, Role::Point)];
+    for (a, axis) in plan.axes.iter().enumerate() {
+        for (d, dim) in axis.dims.iter().enumerate() {
+            let numeric = dim.values.numeric();
+            cols.push(col(
+                dim.key.clone(),
+                if numeric { key_unit(&dim.key) } else { None },
+                if numeric { Type::Float } else { Type::Text },
+                false,
+                Role::Axis { axis: a, dim: d },
+            ));
+        }
+    }
+    cols.push(col("status".into(), None, Type::Text, false, Role::Status));
+    cols.push(col(
+        "message".into(),
+        None,
+        Type::Text,
+        false,
+        Role::Message,
+    ));
+    cols.push(col(
+        "t_final".into(),
+        Some("s"),
+        Type::Float,
+        true,
+        Role::TFinal,
+    ));
+    let o = &plan.outcomes;
+    if o.observables {
+        for name in observables {
+            cols.push(col(
+                format!("t_{name}"),
+                Some("s"),
+                Type::Float,
+                true,
+                Role::Observed(name.clone()),
+            ));
+        }
+    }
+    let numeric = |list: &str, name: &str| -> Result<usize, (String, String, String)> {
+        ellipsoid_core::columns::index(name).ok_or_else(|| {
+            (
+                format!("outcomes.{list}"),
+                format!("{name:?}"),
+                format!(
+                    "expected the name of a numeric output column: {}",
+                    NUMERIC_COLUMNS.map(|c| c.0).join(", ")
+                ),
+            )
+        })
+    };
+    for name in &o.final_columns {
+        if name == "mode" {
+            cols.push(col(
+                "final.mode".into(),
+                None,
+                Type::Text,
+                true,
+                Role::FinalMode,
+            ));
+        } else {
+            let i = numeric("final", name)?;
+            cols.push(col(
+                format!("final.{name}"),
+                Some(NUMERIC_COLUMNS[i].1),
+                Type::Float,
+                true,
+                Role::Final(i),
+            ));
+        }
+    }
+    for name in &o.min {
+        let i = numeric("min", name)?;
+        cols.push(col(
+            format!("min.{name}"),
+            Some(NUMERIC_COLUMNS[i].1),
+            Type::Float,
+            true,
+            Role::Min(i),
+        ));
+    }
+    for name in &o.max {
+        let i = numeric("max", name)?;
+        cols.push(col(
+            format!("max.{name}"),
+            Some(NUMERIC_COLUMNS[i].1),
+            Type::Float,
+            true,
+            Role::Max(i),
+        ));
+    }
+    if o.drift {
+        for inv in Invariant::ALL {
+            cols.push(col(
+                format!("drift.{}", inv.name()),
+                Some("1"),
+                Type::Float,
+                true,
+                Role::Drift(inv),
+            ));
+        }
+    }
+    if o.wall_time {
+        cols.push(col(
+            "wall_time".into(),
+            Some("s"),
+            Type::Float,
+            true,
+            Role::WallTime,
+        ));
+    }
+    if o.rhs_evals {
+        cols.push(col(
+            "rhs_evals".into(),
+            None,
+            Type::Int,
+            true,
+            Role::RhsEvals,
+        ));
+    }
+    cols.push(col("key".into(), None, Type::Text, false, Role::Key));
+    let mut seen = std::collections::HashSet::new();
+    for c in &cols {
+        if !seen.insert(c.header()) {
+            return Err((
+                "outcomes".into(),
+                format!("{:?}", c.header()),
+                "two columns of the table have this name; name each key and column once".into(),
+            ));
+        }
+    }
+    Ok(cols)
+}

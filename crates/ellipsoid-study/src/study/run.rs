@@ -1,0 +1,203 @@
+//! Running points: one through the same path as `ellipsoid run` and `ellipsoid.sweep`
+//! (`ellipsoid_io::run::run`, summaries only), many on a rayon pool with the rows handed
+//! to the caller's thread as they finish.
+//!
+//! A point always gives a row: a scenario the parser or the physics rejects is a row with
+//! status `invalid` and the error as its message, a panic one with `internal_error`, and a
+//! run that stops on an error (Painlevé, solver failure, …) a row with that status, its
+//! message and the outcomes up to the stop. Only a cancelled run (Ctrl-C) gives none.
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+
+use ellipsoid_core::columns;
+use ellipsoid_core::simulate::{EventKind, Sample, Status};
+use rayon::prelude::*;
+
+use super::plan::{Cell, Role, Study};
+
+/// Version recorded in the summaries the runs make (the workspace's).
+pub const VERSION: &str = env!("CARGO_PKG_VERSION");
+
+/// Status of a row whose scenario was rejected (parse error, or a state the physics
+/// refuses at t = 0).
+pub const INVALID: &str = "invalid";
+/// Status of a row whose run panicked (a bug).
+pub const INTERNAL_ERROR: &str = "internal_error";
+
+/// The outcome of one point: its key and the outcome cells (status … rhs_evals).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointResult {
+    pub index: usize,
+    pub key: String,
+    pub cells: Vec<Cell>,
+}
+
+impl Study {
+    /// Runs point `index`; `None` if it was cancelled.
+    pub fn run_point(&self, index: usize, cancel: Option<&Arc<AtomicBool>>) -> Option<PointResult> {
+        let resolved = match self.resolve(index) {
+            Ok(r) => r,
+            Err((key, rule)) => {
+                return Some(PointResult {
+                    index,
+                    key: String::new(),
+                    cells: self.failed(INVALID, format!("{key}: {rule}")),
+                });
+            }
+        };
+        let key = resolved.key.clone();
+        let cells = catch_unwind(AssertUnwindSafe(|| self.run_resolved(&resolved, cancel)))
+            .unwrap_or_else(|p| {
+                Some(self.failed(INTERNAL_ERROR, crate::study::panic_message(&*p)))
+            })?;
+        Some(PointResult { index, key, cells })
+    }
+
+    fn run_resolved(
+        &self,
+        resolved: &super::plan::Resolved,
+        cancel: Option<&Arc<AtomicBool>>,
+    ) -> Option<Vec<Cell>> {
+        let scenario = match self.scenario(resolved) {
+            Ok(s) => s,
+            Err(e) => return Some(self.failed(INVALID, e.first().to_string())),
+        };
+        let cols = self.outcome_columns();
+        let extremes: Vec<(usize, bool)> = cols
+            .iter()
+            .filter_map(|c| match c.role {
+                Role::Min(i) => Some((i, false)),
+                Role::Max(i) => Some((i, true)),
+                _ => None,
+            })
+            .collect();
+        let mut ext: Vec<f64> = extremes
+            .iter()
+            .map(|(_, max)| {
+                if *max {
+                    f64::NEG_INFINITY
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect();
+        let mut samples = 0u64;
+        let finished =
+            ellipsoid_io::run::run(&scenario, None, VERSION, cancel.cloned(), |s: &Sample| {
+                samples += 1;
+                if !extremes.is_empty() {
+                    let v = columns::values(s);
+                    for ((i, max), e) in extremes.iter().zip(ext.iter_mut()) {
+                        *e = if *max { e.max(v[*i]) } else { e.min(v[*i]) };
+                    }
+                }
+                Ok::<(), std::convert::Infallible>(())
+            });
+        let finished = match finished {
+            Ok(f) => f,
+            Err(ellipsoid_io::run::Failure::Scenario(e)) => {
+                return Some(self.failed(INVALID, e.to_string()));
+            }
+            Err(ellipsoid_io::run::Failure::Sink(never)) => match never {},
+        };
+        let outcome = &finished.outcome;
+        if matches!(outcome.status, Status::Cancelled) {
+            return None;
+        }
+        let finite = |v: f64| {
+            if v.is_finite() {
+                Cell::Float(v)
+            } else {
+                Cell::Null
+            }
+        };
+        let fin = columns::values(&outcome.final_sample);
+        let mut e = 0;
+        let cells = cols
+            .iter()
+            .map(|c| match &c.role {
+                Role::Status => Cell::Text(finished.summary.status.to_owned()),
+                Role::Message => Cell::Text(finished.summary.message.clone()),
+                Role::TFinal => finite(outcome.final_sample.t),
+                Role::Observed(name) => outcome
+                    .events
+                    .iter()
+                    .find(|ev| {
+                        matches!(&ev.kind, EventKind::Observed { index, .. }
+                        if scenario.scene.observe.get(*index).is_some_and(|o| &o.name == name))
+                    })
+                    .map_or(Cell::Null, |ev| finite(ev.t)),
+                Role::Final(i) => finite(fin[*i]),
+                Role::FinalMode => Cell::Text(outcome.final_sample.mode.name().to_owned()),
+                Role::Min(_) | Role::Max(_) => {
+                    let v = ext[e];
+                    e += 1;
+                    if samples > 0 { finite(v) } else { Cell::Null }
+                }
+                Role::Drift(inv) => outcome.drift.get(*inv).map_or(Cell::Null, finite),
+                Role::WallTime => finite(finished.summary.wall_time_s),
+                Role::RhsEvals => {
+                    Cell::Int(i64::try_from(outcome.stats.rhs_evals).unwrap_or(i64::MAX))
+                }
+                Role::Point | Role::Axis { .. } | Role::Key => Cell::Null,
+            })
+            .collect();
+        Some(cells)
+    }
+
+    /// The outcome cells of a point that produced no run.
+    fn failed(&self, status: &str, message: String) -> Vec<Cell> {
+        self.outcome_columns()
+            .iter()
+            .map(|c| match c.role {
+                Role::Status => Cell::Text(status.to_owned()),
+                Role::Message => Cell::Text(message.clone()),
+                _ => Cell::Null,
+            })
+            .collect()
+    }
+
+    /// Runs the points `indices` on `threads` worker threads (0: one per CPU), handing
+    /// each result to `on_row` on the calling thread as it finishes (in completion order).
+    /// Stops starting points once `cancel` is set; runs in flight stop at their next
+    /// integration step and give no row.
+    pub fn run_many(
+        &self,
+        indices: &[usize],
+        threads: usize,
+        cancel: &Arc<AtomicBool>,
+        mut on_row: impl FnMut(PointResult),
+    ) -> Result<(), String> {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .stack_size(8 << 20)
+            .thread_name(|i| format!("ellipsoid-study-{i}"))
+            .build()
+            .map_err(|e| format!("cannot start the worker threads: {e}"))?;
+        let (tx, rx) = mpsc::channel::<PointResult>();
+        std::thread::scope(|scope| {
+            let worker = scope.spawn(move || {
+                pool.install(|| {
+                    indices
+                        .par_iter()
+                        .with_max_len(1)
+                        .for_each_with(tx, |tx, &i| {
+                            if cancel.load(Ordering::Relaxed) {
+                                return;
+                            }
+                            if let Some(r) = self.run_point(i, Some(cancel)) {
+                                let _ = tx.send(r);
+                            }
+                        });
+                });
+            });
+            for r in rx {
+                on_row(r);
+            }
+            worker.join().map_err(|p| crate::study::panic_message(&*p))
+        })
+    }
+}

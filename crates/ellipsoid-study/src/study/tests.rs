@@ -1,0 +1,246 @@
+use std::path::Path;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+use std::time::Instant;
+
+use super::plan::Values;
+use super::spec::{self, Naming};
+use super::*;
+
+const TOP: &str = include_str!("../../../../scenarios/tippe-top.toml");
+
+fn plan(doc: &str) -> Result<Plan, String> {
+    let base = Base {
+        text: TOP.to_owned(),
+        source: "tippe-top.toml".into(),
+        overrides: vec!["output.t_end=0.05".into(), "output.dt=0.01".into()],
+    };
+    spec::parse(doc, "s.toml", None, Some(base), Naming::File).map_err(|e| e.to_string())
+}
+
+fn study(doc: &str) -> Result<Study, String> {
+    Study::new(plan(doc)?).map_err(|e| e.to_string())
+}
+
+fn run_all(s: &Study) -> Vec<Vec<Cell>> {
+    let r = execute(s, None, 2, &Arc::new(AtomicBool::new(false)), |_| {}).unwrap();
+    s.rows(r)
+}
+
+fn header(s: &Study) -> Vec<String> {
+    s.columns.iter().map(Column::header).collect()
+}
+
+#[test]
+fn a_grid_is_row_major_with_the_last_axis_fastest() {
+    let s = study(
+        "[[axis]]\nkey = \"contact.friction\"\nvalues = [0.2, 0.3]\n[[axis]]\nkey = \"initial.phi_dot\"\nlinspace = [100, 200, 3]\n",
+    )
+    .unwrap();
+    assert_eq!(s.len(), 6);
+    let rows = run_all(&s);
+    let h = header(&s);
+    assert_eq!(
+        &h[..3],
+        ["point", "contact.friction [1]", "initial.phi_dot [rad/s]"]
+    );
+    let pairs: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| match (&r[1], &r[2]) {
+            (Cell::Float(a), Cell::Float(b)) => (*a, *b),
+            _ => panic!(),
+        })
+        .collect();
+    assert_eq!(
+        pairs,
+        vec![
+            (0.2, 100.0),
+            (0.2, 150.0),
+            (0.2, 200.0),
+            (0.3, 100.0),
+            (0.3, 150.0),
+            (0.3, 200.0)
+        ]
+    );
+    assert!(h.contains(&"drift.jellett [1]".to_owned()) && h.contains(&"wall_time [s]".to_owned()));
+    let status = h.iter().position(|c| c == "status").unwrap();
+    assert!(
+        rows.iter()
+            .all(|r| r[status] == Cell::Text("completed".into()))
+    );
+}
+
+#[test]
+fn the_same_scenario_has_the_same_key_and_a_changed_one_another() {
+    let s = study("[[axis]]\nkey = \"contact.friction\"\nvalues = [0.3, 0.2, 0.3]\n").unwrap();
+    let k: Vec<String> = (0..3).map(|i| s.resolve(i).unwrap().key).collect();
+    assert_eq!(k[0], k[2]);
+    assert_ne!(k[0], k[1]);
+    assert_eq!(k[0].len(), 32);
+    // The base at friction 0.3 written another way (the value given by the study's [set])
+    // resolves to the same text, so the same key.
+    let t = study("set = { \"contact.friction\" = 0.2 }\n[[axis]]\nkey = \"contact.friction\"\nvalues = [0.3]\n").unwrap();
+    assert_eq!(t.resolve(0).unwrap().key, k[0]);
+}
+
+#[test]
+fn an_element_of_an_array_and_tied_keys_change_together() {
+    let s = study(
+        "[[axis]]\nkey = \"body.inertia[0]\"\nalso = [\"body.inertia[1]\"]\nvalues = [6e-7, 9e-7]\n",
+    )
+    .unwrap();
+    let r = s.resolve(1).unwrap();
+    assert!(
+        r.overrides.last().unwrap().starts_with("body.inertia=["),
+        "{:?}",
+        r.overrides
+    );
+    let sc = s.scenario(&r).unwrap();
+    let i = sc.scene.body.inertia();
+    assert_eq!((i[(0, 0)], i[(1, 1)], i[(2, 2)]), (9e-7, 9e-7, 7e-7));
+    let e = study("[[axis]]\nkey = \"body.inertia[3]\"\nvalues = [1e-7]\n").unwrap_err();
+    assert!(e.contains("index 3 is out of range"), "{e}");
+}
+
+#[test]
+fn a_bad_value_is_a_row_with_its_status_and_message() {
+    let s = study("[[axis]]\nkey = \"contact.friction\"\nvalues = [0.3, -1.0]\n").unwrap();
+    let rows = run_all(&s);
+    let h = header(&s);
+    let (st, msg, tf) = (
+        h.iter().position(|c| c == "status").unwrap(),
+        h.iter().position(|c| c == "message").unwrap(),
+        h.iter().position(|c| c == "t_final [s]").unwrap(),
+    );
+    assert_eq!(rows[1][st], Cell::Text(INVALID.into()));
+    match &rows[1][msg] {
+        Cell::Text(m) => assert!(m.contains("contact.friction = -1"), "{m}"),
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(rows[1][tf], Cell::Null);
+    assert_eq!(rows[0][st], Cell::Text("completed".into()));
+}
+
+#[test]
+fn a_misspelt_key_is_an_error_of_the_study() {
+    let e = study("[[axis]]\nkey = \"contact.fricton\"\nvalues = [0.3]\n").unwrap_err();
+    assert!(
+        e.contains("contact.fricton") && e.contains("did you mean"),
+        "{e}"
+    );
+}
+
+#[test]
+fn hostile_study_files_fail_fast_naming_key_value_and_rule() {
+    let cases = [
+        (
+            "[[axis]]\nkey = \"contact.friction\"\nlinspace = [0, 1, 1000000000]\n",
+            "s.toml:3:19: axis[0].linspace = 1000000000: n must be an integer from 1 to 10000000",
+        ),
+        (
+            "[[axis]]\nkey = \"contact.friction\"\nlinspace = [0.1, 1, 100000]\n[[axis]]\nkey = \"initial.phi_dot\"\nlinspace = [1, 2, 10000]\n",
+            "combine = grid: 100000 × 10000 = 1e9 points; a study has at most 10000000",
+        ),
+        (
+            "[[axis]]\nkey = \"contact.friction\"\nrandom = { low = 1, high = 0, n = 3 }\n",
+            "axis[0].random.high = 0: low must be below high",
+        ),
+        (
+            "[[axis]]\nkey = \"contact.friction\"\nlogspace = [0, 1, 3]\n",
+            "start and stop must be > 0",
+        ),
+        (
+            "[[axis]]\nkey = \"contact.friction\"\nvalues = [0.1]\nlinspace = [0, 1, 2]\n",
+            "an axis has one generator",
+        ),
+        (
+            "[[axis]]\nkey = \"a..b\"\nvalues = [0.1]\n",
+            "axis[0].key = \"a..b\": a key is a dotted path",
+        ),
+        ("x = 1\n", "s.toml:1:1: x: unknown key in the study"),
+        (
+            &format!("a = {}1{}\n", "[".repeat(100_000), "]".repeat(100_000)),
+            "TOML syntax error",
+        ),
+        (
+            "[[axis]]\nkeys = [\"contact.friction\"]\nlatin_hypercube = { low = [0], high = [1, 2], n = 5 }\n",
+            "one bound per key",
+        ),
+    ];
+    for (doc, expected) in cases {
+        let t = Instant::now();
+        let e = study(doc).unwrap_err();
+        assert!(
+            t.elapsed().as_secs_f64() < 0.5,
+            "{expected}: {:?}",
+            t.elapsed()
+        );
+        assert!(e.contains(expected), "expected {expected:?} in {e:?}");
+    }
+}
+
+#[test]
+fn zip_and_latin_hypercube_make_one_point_per_value() {
+    let s = study(
+        "combine = \"zip\"\n[[axis]]\nkey = \"contact.friction\"\nrandom = { low = 0.1, high = 0.5, n = 4, seed = 3 }\n[[axis]]\nkeys = [\"initial.phi_dot\", \"initial.theta\"]\nlatin_hypercube = { low = [100, 0.05], high = [200, 0.2], n = 4, seed = 1 }\n",
+    )
+    .unwrap();
+    assert_eq!(s.len(), 4);
+    assert_eq!(s.columns[3].header(), "initial.theta [rad]");
+    let mismatch = study("combine = \"zip\"\n[[axis]]\nkey = \"contact.friction\"\nvalues = [0.1, 0.2]\n[[axis]]\nkey = \"initial.theta\"\nvalues = [0.1]\n").unwrap_err();
+    assert!(mismatch.contains("same number of values"), "{mismatch}");
+    match &s.plan.axes[1].dims[0].values {
+        Values::Floats(v) => assert!(v.iter().all(|x| (100.0..200.0).contains(x))),
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_resumed_study_gives_the_table_of_an_uninterrupted_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let doc = "[[axis]]\nkey = \"contact.friction\"\nlinspace = [0.1, 0.5, 6]\n[outcomes]\nmax = [\"theta\"]\nfinal = [\"theta\", \"mode\"]\n";
+    let s = study(doc).unwrap();
+    let full = run_all(&s);
+    // Half the rows already in the journal, as an interrupted study leaves them.
+    let j = dir.path().join("j");
+    let (mut journal, _) =
+        Journal::open(&j, &s.outcome_fingerprint(), s.outcome_columns().len()).unwrap();
+    for i in [0, 2, 5] {
+        journal.append(&s.run_point(i, None).unwrap()).unwrap();
+    }
+    drop(journal);
+    let mut seen = Tally::default();
+    let r = execute(&s, Some(&j), 2, &Arc::new(AtomicBool::new(false)), |t| {
+        seen = *t
+    })
+    .unwrap();
+    assert_eq!((seen.done, seen.resumed, seen.total), (6, 3, 6));
+    let resumed = s.rows(r);
+    let wall = s
+        .columns
+        .iter()
+        .position(|c| c.name == "wall_time")
+        .unwrap();
+    let strip = |rows: &[Vec<Cell>]| -> Vec<Vec<Cell>> {
+        rows.iter()
+            .map(|r| {
+                r.iter()
+                    .enumerate()
+                    .filter(|(i, _)| *i != wall)
+                    .map(|(_, c)| c.clone())
+                    .collect()
+            })
+            .collect()
+    };
+    assert_eq!(strip(&resumed), strip(&full));
+    // And the table writes.
+    let csv = dir.path().join("t.csv");
+    table::write(&csv, &s.columns, &resumed, "s.toml").unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        text.starts_with("point,contact.friction [1],status,message,t_final [s],"),
+        "{text}"
+    );
+    assert_eq!(text.lines().count(), 7);
+    assert!(Path::new(&csv).exists());
+}
