@@ -42,6 +42,34 @@ pub enum Command {
     /// the body moving on the plane with its contact trace, play/pause, speed, a time
     /// slider, θ(t) and energy plots with a linked cursor.
     View(ViewArgs),
+    /// Run a parameter study: every point of a study file's axes over a base scenario, in
+    /// parallel on all cores, one table row per run (CSV, Parquet or HDF5). Resumable:
+    /// finished rows are kept in RESULTS.journal beside the table, and a rerun skips them.
+    ///
+    /// Exit status: 0 the table was written (failed runs are rows with their status and
+    /// message); 2 bad input (nothing run); 1 output error; 130/143 interrupted by
+    /// SIGINT/SIGTERM (the finished rows stay in the journal; rerun to finish). See
+    /// docs/studies.md.
+    Study(StudyArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct StudyArgs {
+    /// The study file (TOML; see docs/studies.md).
+    pub study: PathBuf,
+    /// The table: `.csv`, `.parquet` or `.h5` (by extension). Its journal is
+    /// RESULTS.journal in the same directory. Directories are created as needed.
+    #[arg(short, long, value_name = "RESULTS.parquet|.csv|.h5")]
+    pub output: PathBuf,
+    /// Worker threads (default: one per CPU).
+    #[arg(short, long, value_name = "N")]
+    pub jobs: Option<usize>,
+    /// Ignore and replace the journal of an earlier run (start over).
+    #[arg(long)]
+    pub fresh: bool,
+    /// Print nothing but errors on standard error.
+    #[arg(short, long)]
+    pub quiet: bool,
 }
 
 #[derive(Debug, Args)]

@@ -12,6 +12,7 @@ mod interrupt;
 mod precision;
 mod progress;
 mod run;
+mod study;
 mod visual;
 
 use std::process::ExitCode;
@@ -40,6 +41,7 @@ fn main() -> ExitCode {
         cli::Command::Precision(args) => precision::precision(args),
         cli::Command::Plot(args) => visual::plot(args),
         cli::Command::View(args) => visual::view(args),
+        cli::Command::Study(args) => study::study(args),
     };
     match result {
         Ok(code) => code,

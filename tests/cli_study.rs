@@ -1,0 +1,219 @@
+//! `ellipsoid study` (issue #15): the kill test — a study killed by SIGKILL mid-way loses
+//! only its runs in flight, never leaves a table behind, and its rerun completes with a
+//! table identical to an uninterrupted run's (every column but the measured wall time) —
+//! plus SIGINT, resuming, and the errors of a hostile study file.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output, Stdio};
+use std::time::{Duration, Instant};
+
+const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
+
+fn scenarios() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../scenarios")
+        .canonicalize()
+        .unwrap()
+}
+
+/// A study of 400 nutation runs of 1 s (a few ms each: about a second on 2 cores), with
+/// every kind of outcome column.
+fn write_study(dir: &Path) -> PathBuf {
+    let path = dir.join("study.toml");
+    let text = format!(
+        "base = {:?}\n[set]\n\"output.t_end\" = 1.0\n\"output.dt\" = 0.01\nobserve = [{{ name = \"tilt\", column = \"theta\", crosses = 0.2, direction = \"up\" }}]\n\
+         [[axis]]\nkey = \"initial.psi_dot\"\nlinspace = [20.0, 80.0, 20]\n\
+         [[axis]]\nkey = \"initial.theta_deg\"\nlinspace = [5.0, 30.0, 20]\n\
+         [outcomes]\nfinal = [\"theta\", \"mode\"]\nmin = [\"normal_force\"]\nmax = [\"theta\"]\n",
+        scenarios().join("nutation.toml")
+    );
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+fn study(dir: &Path, args: &[&str]) -> Output {
+    Command::new(BIN)
+        .arg("study")
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the binary runs")
+}
+
+/// The CSV table without its wall-time column (a measurement, different in every run).
+fn table_without_wall_time(path: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let wall = header.iter().position(|h| *h == "wall_time [s]").unwrap();
+    std::iter::once(text.lines().next().unwrap())
+        .chain(lines)
+        .map(|l| {
+            // The messages hold no commas in this study, so splitting is exact.
+            l.split(',')
+                .enumerate()
+                .filter(|(i, _)| *i != wall)
+                .map(|(_, c)| c.to_owned())
+                .collect()
+        })
+        .collect()
+}
+
+fn journal_rows(path: &Path) -> usize {
+    std::fs::read_to_string(path)
+        .map(|t| t.lines().count().saturating_sub(1))
+        .unwrap_or(0)
+}
+
+#[test]
+fn a_study_killed_mid_way_resumes_to_the_table_of_an_uninterrupted_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = write_study(dir.path());
+    let spec = spec.to_str().unwrap();
+
+    let whole = study(dir.path(), &[spec, "-o", "whole.csv", "-q"]);
+    assert!(
+        whole.status.success(),
+        "{}",
+        String::from_utf8_lossy(&whole.stderr)
+    );
+    let expected = table_without_wall_time(&dir.path().join("whole.csv"));
+    assert_eq!(expected.len(), 401);
+
+    // Killed once the journal holds some rows but far from all.
+    let mut child = Command::new(BIN)
+        .args(["study", spec, "-o", "killed.csv", "-q"])
+        .current_dir(dir.path())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let journal = dir.path().join("killed.csv.journal");
+    let start = Instant::now();
+    while journal_rows(&journal) < 40 {
+        assert!(start.elapsed() < Duration::from_secs(60), "no progress");
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the study ended before it was killed"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    let kept = journal_rows(&journal);
+    assert!(
+        kept < 400,
+        "killed too late to prove anything ({kept} rows)"
+    );
+    assert!(
+        !dir.path().join("killed.csv").exists(),
+        "no table before the study is complete"
+    );
+
+    let again = study(dir.path(), &[spec, "-o", "killed.csv"]);
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert!(again.status.success(), "{stderr}");
+    assert!(stderr.contains("from the journal"), "{stderr}");
+    assert_eq!(
+        table_without_wall_time(&dir.path().join("killed.csv")),
+        expected
+    );
+
+    // A rerun of a finished study runs nothing and writes the same table again.
+    let third = study(dir.path(), &[spec, "-o", "killed.csv"]);
+    let stderr = String::from_utf8_lossy(&third.stderr);
+    assert!(stderr.contains("(0 run now"), "{stderr}");
+    assert_eq!(
+        table_without_wall_time(&dir.path().join("killed.csv")),
+        expected
+    );
+}
+
+#[test]
+fn sigint_stops_the_study_keeping_its_rows_and_writing_no_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let spec = write_study(dir.path());
+    let child = Command::new(BIN)
+        .args(["study", spec.to_str().unwrap(), "-o", "t.parquet"])
+        .current_dir(dir.path())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let journal = dir.path().join("t.parquet.journal");
+    let start = Instant::now();
+    while journal_rows(&journal) < 10 {
+        assert!(start.elapsed() < Duration::from_secs(60), "no progress");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if out.status.code() == Some(0) {
+        return; // it finished before the signal arrived (a fast machine): nothing to check
+    }
+    assert_eq!(out.status.code(), Some(130), "{stderr}");
+    assert!(
+        stderr.contains("interrupted by SIGINT after") && stderr.contains("rerun the same command"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("t.parquet").exists());
+    assert!(journal_rows(&journal) >= 10);
+}
+
+#[test]
+fn a_hostile_study_file_is_refused_at_once_naming_key_value_and_rule() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = scenarios().join("nutation.toml");
+    let cases = [
+        (
+            format!(
+                "base = {base:?}\n[[axis]]\nkey = \"initial.psi_dot\"\nlinspace = [1, 2, 1000000000]\n"
+            ),
+            "study.toml:4:19: axis[0].linspace = 1000000000: n must be an integer from 1 to 10000000",
+        ),
+        (
+            format!(
+                "base = {base:?}\n[[axis]]\nkey = \"initial.psi_dot\"\nlinspace = [1, 2, 100000]\n[[axis]]\nkey = \"initial.theta\"\nlinspace = [0.1, 0.2, 10000]\n"
+            ),
+            "combine = grid: 100000 × 10000 = 1e9 points; a study has at most 10000000",
+        ),
+        (
+            format!(
+                "base = {base:?}\nx = {}1{}\n",
+                "[".repeat(50_000),
+                "]".repeat(50_000)
+            ),
+            "TOML syntax error",
+        ),
+        (
+            format!("base = {base:?}\n[[axis]]\nkey = \"initial.psi_dott\"\nvalues = [1.0]\n"),
+            "did you mean",
+        ),
+        (
+            "[[axis]]\nkey = \"a\"\nvalues = [1]\n".to_owned(),
+            "base is missing",
+        ),
+    ];
+    for (text, expected) in cases {
+        std::fs::write(dir.path().join("study.toml"), &text).unwrap();
+        let t = Instant::now();
+        let out = study(dir.path(), &["study.toml", "-o", "t.csv"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            t.elapsed() < Duration::from_secs(1),
+            "{expected}: {:?}",
+            t.elapsed()
+        );
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(
+            stderr.starts_with("error: ") && stderr.contains(expected),
+            "expected {expected:?} in {stderr}"
+        );
+        assert!(!dir.path().join("t.csv").exists());
+    }
+    let out = study(dir.path(), &["study.toml", "-o", "t.xlsx"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains(".csv, .parquet or .h5"));
+}
