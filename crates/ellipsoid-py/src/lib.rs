@@ -6,6 +6,8 @@
 //!   `ellipsoid-io`, so files are the command-line tool's byte for byte);
 //! - [`study`]: `precision` (`PrecisionTable`) and `check`, from `ellipsoid-study` (the code
 //!   behind `ellipsoid precision` and `ellipsoid check`);
+//! - [`parameter_study`]: `Study` and `make_study`, parameter studies from `ellipsoid-study`
+//!   (`ellipsoid.study` itself, with executors and the DataFrame, is `python/ellipsoid/_study.py`);
 //! - [`errors`]: the exception tree, one base class `EllipsoidError`.
 //!
 //! The Python sources (`python/ellipsoid/`) re-export these names and carry the stubs.
@@ -13,6 +15,7 @@
 mod api;
 mod convert;
 mod errors;
+mod parameter_study;
 mod run;
 mod scenario;
 mod study;
@@ -33,6 +36,8 @@ fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scenario::PyScenario>()?;
     m.add_class::<trajectory::Trajectory>()?;
     m.add_class::<study::PrecisionTable>()?;
+    m.add_class::<parameter_study::PyStudy>()?;
+    m.add_function(wrap_pyfunction!(parameter_study::make_study, m)?)?;
     m.add_function(wrap_pyfunction!(scenario::load, m)?)?;
     m.add_function(wrap_pyfunction!(api::simulate, m)?)?;
     m.add_function(wrap_pyfunction!(api::sweep, m)?)?;

@@ -18,6 +18,11 @@ work–precision study of `ellipsoid precision` and returns a `PrecisionTable` (
 columns named like its `precision.csv`, `to_pandas()`), writing the same CSV and plots
 when `out` is given.
 
+`study(base, axes)` runs a parameter study — axes over any scenario key, a grid or zipped,
+locally on every core or on a `concurrent.futures` executor or a Dask client — and returns
+its table as a pandas DataFrame, one row per run (docs/studies.md); `load_study(path)`
+reads a study file.
+
 Errors: every exception derives from `EllipsoidError`: `ScenarioError` (a ValueError) for
 bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Python type),
 `SimulationError` (a RuntimeError, with the partial `.trajectory`) for a run
@@ -44,6 +49,7 @@ from ellipsoid._ellipsoid import (
     simulate,
     sweep,
 )
+from ellipsoid._study import Study, load_study, study
 
 __all__ = [
     "COLUMNS",
@@ -53,6 +59,7 @@ __all__ = [
     "OutputError",
     "PrecisionTable",
     "Scenario",
+    "Study",
     "ScenarioError",
     "ScenarioTypeError",
     "SimulationError",
@@ -60,7 +67,9 @@ __all__ = [
     "__version__",
     "check",
     "load",
+    "load_study",
     "precision",
     "simulate",
+    "study",
     "sweep",
 ]

@@ -20,12 +20,14 @@ __all__ = [
     "PrecisionTable",
     "Scenario",
     "ScenarioError",
+    "Study",
     "ScenarioTypeError",
     "SimulationError",
     "Trajectory",
     "__version__",
     "check",
     "load",
+    "make_study",
     "precision",
     "simulate",
     "sweep",
@@ -237,6 +239,51 @@ class Trajectory:
         """Writes the 3-D viewer page to `path`."""
     def plot(self, panels: str | Sequence[str] | None = None) -> Any:
         """The panels of `ellipsoid plot` as a matplotlib Figure (needs matplotlib)."""
+
+@final
+class Study:
+    """A parameter study ready to run: a base scenario, axes over its keys, the outcomes to
+    record (docs/studies.md). `Study.load(path)` reads a study file; `ellipsoid.study(...)`
+    runs one and returns its table as a pandas DataFrame. Picklable (as JSON)."""
+
+    @staticmethod
+    def load(path: _Path) -> Study:
+        """Reads a study file; its `base` path is relative to the file."""
+    @staticmethod
+    def from_json(text: str) -> Study:
+        """A study from `to_json()`'s text."""
+    def to_json(self) -> str:
+        """The study as JSON (what pickling sends to workers)."""
+    def __reduce__(self) -> tuple[Any, tuple[str]]: ...
+    def replace(self, base: Scenario | _Path | None = None, outcomes: _Table | None = None) -> Study:
+        """This study with another base scenario and/or outcomes."""
+    def __len__(self) -> int: ...
+    @property
+    def source(self) -> str:
+        """The study file, or "ellipsoid.study"."""
+    @property
+    def columns(self) -> list[str]:
+        """Column headers of the table, `name [unit]`."""
+    @property
+    def types(self) -> list[Literal["int", "float", "text"]]:
+        """Each column's type."""
+    @property
+    def nullable(self) -> list[bool]:
+        """Whether each column may hold no value (None) in some rows."""
+    @property
+    def units(self) -> dict[str, str | None]:
+        """Header -> SI unit (None for names and counts)."""
+    def point(self, index: int) -> tuple[list[str], str]:
+        """The `key=value` overrides and the key (hash of the resolved scenario) of point `index`."""
+    def run(
+        self, start: int = 0, stop: int | None = None, threads: int | None = None, journal: _Path | None = None
+    ) -> list[tuple[Any, ...]]:
+        """Runs points `start` to `stop` (exclusive) without the GIL; their rows in point order."""
+    def write(self, path: _Path, rows: list[tuple[Any, ...]]) -> None:
+        """Writes rows from `run` as the table at `path` (.csv, .h5; .parquet if built in), atomically."""
+
+def make_study(base: Scenario | _Path, axes: Mapping[str | tuple[str, ...], Any], outcomes: _Table | None = None, combine: Literal["grid", "zip"] | None = None) -> Study:
+    """A study from Python arguments (what `ellipsoid.study` calls)."""
 
 @final
 class PrecisionTable:

@@ -1,0 +1,163 @@
+"""Parameter studies: ``ellipsoid.study`` (docs/studies.md).
+
+The points run in Rust (``Study.run``: a rayon sweep without the GIL). Locally, one sweep
+over every point on all cores. With an ``executor`` (a ``concurrent.futures.Executor`` or a
+``dask.distributed.Client``) the points are cut into chunks of about ``chunk_seconds`` of
+work each (measured on a short pilot run here), each chunk is one task running
+``Study.run(start, stop)`` on the worker, and the chunks' rows are gathered in point order.
+Every point is deterministic, so the table is the same whichever way it ran, and a chunk
+that ran twice (a Dask worker lost mid-task and the task resubmitted) gives the same rows.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+from typing import Any, Literal
+
+from ellipsoid._ellipsoid import Study, make_study
+
+__all__ = ["study", "load_study", "Study"]
+
+
+def load_study(path: "str | os.PathLike[str]") -> Study:
+    """Reads a study file (TOML, docs/studies.md); its ``base`` is relative to the file."""
+    return Study.load(path)
+
+
+_STUDIES: dict[str, Study] = {}
+
+
+def _study_from_json(text: str) -> Study:
+    """The study of `text`, parsed once per process (the last few are kept)."""
+    st = _STUDIES.get(text)
+    if st is None:
+        if len(_STUDIES) >= 8:
+            _STUDIES.pop(next(iter(_STUDIES)))
+        st = _STUDIES[text] = Study.from_json(text)
+    return st
+
+
+def _run_chunk(text: str, start: int, stop: int, threads: int = 1) -> list:
+    """One task: points ``start`` to ``stop`` of the study given as JSON (a worker keeps
+    the last few studies it saw, so the JSON is parsed once per worker, not per chunk)."""
+    return _study_from_json(text).run(start, stop, threads)
+
+
+def _is_dask(executor: Any) -> bool:
+    return type(executor).__module__.split(".")[0] == "distributed" and hasattr(executor, "scheduler_info")
+
+
+def _slots(executor: Any) -> int:
+    """How many chunks the executor runs at once."""
+    if _is_dask(executor):
+        return max(1, sum(executor.nthreads().values()))
+    n = getattr(executor, "_max_workers", None)
+    return int(n) if n else (os.cpu_count() or 1)
+
+
+def _frame(st: Study, rows: list):
+    import pandas as pd  # type: ignore[import-untyped,unused-ignore]  # optional: pandas-stubs may be absent
+
+    cols = st.columns
+    df = pd.DataFrame.from_records(rows, columns=cols) if rows else pd.DataFrame({c: [] for c in cols})
+    for name, ty, nullable in zip(cols, st.types, st.nullable):
+        if ty == "float":
+            df[name] = df[name].astype("Float64" if nullable else "float64")
+        elif ty == "int":
+            df[name] = df[name].astype("Int64" if nullable else "int64")
+    df.attrs["units"] = dict(st.units)
+    df.attrs["study"] = st.source
+    return df
+
+
+def study(
+    base: Any,
+    axes: Any,
+    outcomes: "dict | None" = None,
+    executor: Any = None,
+    *,
+    combine: "Literal['grid', 'zip'] | None" = None,
+    workers: "int | None" = None,
+    journal: "str | os.PathLike[str] | None" = None,
+    chunk_seconds: float = 2.0,
+    out: "str | os.PathLike[str] | None" = None,
+):
+    """Runs a parameter study and returns its table as a ``pandas.DataFrame``.
+
+    ``base``: an ``ellipsoid.Scenario`` or the path of a scenario file (None with a
+    ``Study`` from a file: its own base). ``axes``: a dict from dotted scenario keys to
+    lists of values — a grid in row-major order, the last key varying fastest — or to a
+    generator dict (``{"linspace": [start, stop, n]}``, ``{"logspace": [...]}``,
+    ``{"random": {"low": ..., "high": ..., "n": ..., "seed": ...}}``, with a tuple of keys
+    ``{"latin_hypercube": {"low": [...], "high": [...], "n": ..., "seed": ...}}``; a tuple
+    of keys with a list sets them all to each value); or an ``ellipsoid.Study`` (from
+    ``load_study``). ``outcomes``: the ``[outcomes]`` table as a dict (``final``, ``min``,
+    ``max``: column names; ``observables``, ``drift``, ``wall_time``, ``rhs_evals``: bools).
+    ``combine``: "grid" (default) or "zip".
+
+    ``executor``: None (every core of this machine), a ``concurrent.futures.Executor``, or
+    a ``dask.distributed.Client``; ``chunk_seconds`` sizes its tasks. ``workers``: threads
+    for the local run (default one per CPU). ``journal``: a file keeping finished rows
+    (local runs only): rerunning skips them, so a killed study resumes. ``out``: also write
+    the table there (.csv, .h5; .parquet with pandas' ``to_parquet``).
+
+    The columns are the file's (``ellipsoid study``): ``point``, the axis values, then
+    ``status``, ``message``, ``t_final [s]``, ``t_NAME [s]`` per observable, the chosen
+    ``final.``/``min.``/``max.`` columns, ``drift.NAME [1]``, ``wall_time [s]``,
+    ``rhs_evals``, ``key``; floats and counts that may have no value use pandas' nullable
+    dtypes (``Float64``, ``Int64``: ``pd.NA``, never NaN). A run that fails is a row with
+    its status and message. ``df.attrs["units"]`` maps each column to its SI unit.
+    """
+    if isinstance(axes, Study):
+        st = axes.replace(base=base, outcomes=outcomes) if (base is not None or outcomes is not None) else axes
+        if combine is not None:
+            raise ValueError("combine belongs to the study file when axes is an ellipsoid.Study")
+    else:
+        st = make_study(base, axes, outcomes, combine)
+    n = len(st)
+    if executor is None:
+        rows = st.run(0, n, workers or 0, journal)
+    else:
+        if journal is not None:
+            raise ValueError("journal= is for local runs; with an executor the chunks are resubmitted instead")
+        rows = _distributed(st, executor, chunk_seconds)
+    df = _frame(st, rows)
+    if out is not None:
+        ext = os.fspath(out).rsplit(".", 1)[-1].lower()
+        if ext in ("parquet", "pq"):
+            df.to_parquet(out, index=False)
+        else:
+            st.write(out, rows)
+    return df
+
+
+def _distributed(st: Study, executor: Any, chunk_seconds: float) -> list:
+    n = len(st)
+    if not (chunk_seconds > 0):
+        raise ValueError(f"chunk_seconds = {chunk_seconds!r}: give a positive number of seconds")
+    # A pilot of a few points here sizes the chunks (and its rows are kept).
+    pilot = min(n, 4)
+    t0 = time.perf_counter()
+    rows = st.run(0, pilot, 1)
+    per_point = (time.perf_counter() - t0) / max(pilot, 1)
+    slots = _slots(executor)
+    rest = n - pilot
+    size = max(1, int(chunk_seconds / max(per_point, 1e-6)))
+    # At least about four chunks per slot, so that a slow chunk or a lost worker does not
+    # leave the others idle.
+    size = min(size, max(1, math.ceil(rest / (4 * slots)))) if rest else 1
+    text = st.to_json()
+    dask = _is_dask(executor)
+    payload = executor.scatter(text, broadcast=True) if dask else text
+    futures = []
+    for start in range(pilot, n, size):
+        stop = min(n, start + size)
+        if dask:
+            futures.append(executor.submit(_run_chunk, payload, start, stop, 1, pure=False, retries=3))
+        else:
+            futures.append(executor.submit(_run_chunk, text, start, stop, 1))
+    for f in futures:  # in point order; each result as it is needed
+        rows.extend(f.result())
+    return rows

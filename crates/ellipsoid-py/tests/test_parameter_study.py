@@ -1,0 +1,189 @@
+"""ellipsoid.study (issue #15): the table of a parameter study, the same however it ran —
+locally, from the command line, on a concurrent.futures executor, on a Dask LocalCluster of
+two worker processes, and on that cluster with one worker killed mid-study."""
+
+from __future__ import annotations
+
+import concurrent.futures
+import os
+import pickle
+import signal
+import subprocess
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+import ellipsoid
+from conftest import SCENARIOS
+
+pd = pytest.importorskip("pandas")
+
+# 160 frictionless nutation runs of 2 s (a few ms each), every kind of outcome column.
+AXES = {"initial.psi_dot": {"linspace": [20.0, 80.0, 16]}, "initial.theta_deg": [5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0]}
+OUTCOMES = {"final": ["theta", "mode"], "min": ["normal_force"], "max": ["theta"]}
+OBSERVE = [{"name": "tilt", "column": "theta", "crosses": 0.3, "direction": "up"}]
+
+
+def base() -> ellipsoid.Scenario:
+    return ellipsoid.load(SCENARIOS / "nutation.toml", output={"t_end": 2.0, "dt": 0.01}, observe=OBSERVE)
+
+
+def deterministic(df):
+    """Every column but the measured wall time."""
+    return df.drop(columns=["wall_time [s]"]).reset_index(drop=True)
+
+
+@pytest.fixture(scope="module")
+def local():
+    return ellipsoid.study(base(), AXES, OUTCOMES)
+
+
+def test_the_table_has_the_files_columns_units_and_nullable_dtypes(local) -> None:
+    df = local
+    assert len(df) == 160
+    assert list(df.columns[:3]) == ["point", "initial.psi_dot [rad/s]", "initial.theta_deg [deg]"]
+    assert "t_tilt [s]" in df.columns and "drift.energy [1]" in df.columns and df.columns[-1] == "key"
+    # Grid in row-major order: the last key varies fastest.
+    assert list(df["initial.theta_deg [deg]"][:3]) == [5.0, 10.0, 15.0]
+    assert (df["initial.psi_dot [rad/s]"][:10] == 20.0).all()
+    assert (df["status"] == "completed").all()
+    assert str(df["t_final [s]"].dtype) == "Float64" and str(df["rhs_evals"].dtype) == "Int64"
+    # A tilt of 5° never reaches 0.3 rad: no value (pd.NA, not NaN); a larger one does.
+    assert df["t_tilt [s]"].isna()[0] and not df["t_tilt [s]"].isna().all()
+    for col in df.columns:  # no NaN anywhere: missing values are pd.NA
+        if str(df[col].dtype) in ("Float64", "float64"):
+            assert not (df[col].dropna().astype(float) != df[col].dropna().astype(float)).any(), col
+    # Frictionless: energy conserved; Jellett's quantity is not (not a sphere): no value.
+    assert (df["drift.energy [1]"] < 1e-8).all() and df["drift.jellett [1]"].isna().all()
+    assert df.attrs["units"]["t_tilt [s]"] == "s"
+    assert df["key"].nunique() == 160
+
+
+def test_a_failed_point_is_a_row_with_its_status_and_message() -> None:
+    df = ellipsoid.study(base(), {"body.mass": [0.05, -1.0]})
+    assert list(df["status"]) == ["completed", "invalid"]
+    assert "body.mass = -1" in df["message"][1] and "positive" in df["message"][1]
+    assert df["t_final [s]"].isna()[1]
+
+
+def test_errors_of_the_study_are_scenario_errors_naming_key_value_and_rule() -> None:
+    t = time.perf_counter()
+    with pytest.raises(ellipsoid.ScenarioError) as e:
+        ellipsoid.study(base(), {"initial.psi_dot": {"linspace": [0, 1, 10**9]}, "initial.theta": [0.1]})
+    assert time.perf_counter() - t < 0.5
+    assert e.value.key == 'axes["initial.psi_dot"].linspace' and e.value.value == "1000000000"
+    assert "n must be an integer from 1 to 10000000" in str(e.value)
+    with pytest.raises(ellipsoid.ScenarioError, match="1e10 points; a study has at most 10000000"):
+        ellipsoid.study(base(), {"initial.psi_dot": {"linspace": [1, 2, 100000]}, "initial.theta": {"linspace": [0.1, 0.2, 100000]}})
+    with pytest.raises(ellipsoid.ScenarioError, match="did you mean `psi_dot`"):
+        ellipsoid.study(base(), {"initial.psi_dott": [1.0]})
+    with pytest.raises(ellipsoid.ScenarioTypeError):
+        ellipsoid.study(base(), [1, 2])
+    with pytest.raises(ellipsoid.ScenarioError, match="expected the name of a numeric output column"):
+        ellipsoid.study(base(), {"initial.psi_dot": [1.0]}, {"max": ["thetta"]})
+
+
+def test_a_study_pickles_and_a_journal_resumes(tmp_path: Path, local) -> None:
+    st = ellipsoid.Study.from_json(ellipsoid._ellipsoid.make_study(base(), AXES, OUTCOMES).to_json())
+    assert pickle.loads(pickle.dumps(st)).columns == st.columns
+    journal = tmp_path / "j"
+    first = ellipsoid.study(base(), AXES, OUTCOMES, journal=journal)
+    assert len(journal.read_text().splitlines()) == 161
+    t = time.perf_counter()
+    again = ellipsoid.study(base(), AXES, OUTCOMES, journal=journal)
+    # Every row from the journal (wall times included), nothing run again.
+    pd.testing.assert_frame_equal(again, first)
+    assert time.perf_counter() - t < 2.0
+    pd.testing.assert_frame_equal(deterministic(first), deterministic(local))
+
+
+def test_the_command_line_writes_the_same_table(cli: Path, tmp_path: Path, local) -> None:
+    spec = tmp_path / "s.toml"
+    spec.write_text(
+        f'base = "{SCENARIOS / "nutation.toml"}"\n'
+        '[set]\n"output.t_end" = 2.0\n"output.dt" = 0.01\n'
+        'observe = [{ name = "tilt", column = "theta", crosses = 0.3, direction = "up" }]\n'
+        '[[axis]]\nkey = "initial.psi_dot"\nlinspace = [20.0, 80.0, 16]\n'
+        '[[axis]]\nkey = "initial.theta_deg"\nvalues = [5.0, 10.0, 15.0, 20.0, 25.0, 30.0, 35.0, 40.0, 45.0, 50.0]\n'
+        '[outcomes]\nfinal = ["theta", "mode"]\nmin = ["normal_force"]\nmax = ["theta"]\n'
+    )
+    out = tmp_path / "t.csv"
+    r = subprocess.run([str(cli), "study", str(spec), "-o", str(out), "-q"], capture_output=True, text=True)
+    if "unrecognized subcommand" in r.stderr:
+        pytest.skip(f"{cli} predates `ellipsoid study`")
+    assert r.returncode == 0, r.stderr
+    from_file = ellipsoid.study(None, ellipsoid.load_study(spec))
+    csv = pd.read_csv(out)
+    assert list(csv.columns) == list(local.columns)
+    # The file's study and the Python one resolve to the same scenarios: the same keys.
+    assert list(csv["key"]) == list(local["key"]) == list(from_file["key"])
+    for col in local.columns:
+        if col in ("wall_time [s]",):
+            continue
+        a = local[col].astype(object).where(local[col].notna(), None).tolist()
+        b = csv[col].astype(object).where(csv[col].notna(), None).tolist()
+        assert a == b, col
+
+
+def test_a_concurrent_futures_executor_gives_the_local_table(local) -> None:
+    with concurrent.futures.ThreadPoolExecutor(2) as ex:
+        df = ellipsoid.study(base(), AXES, OUTCOMES, executor=ex, chunk_seconds=0.01)
+    pd.testing.assert_frame_equal(deterministic(df), deterministic(local))
+    with concurrent.futures.ProcessPoolExecutor(2) as ex:
+        df = ellipsoid.study(base(), AXES, OUTCOMES, executor=ex, chunk_seconds=0.05)
+    pd.testing.assert_frame_equal(deterministic(df), deterministic(local))
+
+
+@pytest.fixture(scope="module")
+def dask_client():
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+    client = distributed.Client(cluster)
+    try:
+        yield client
+    finally:
+        client.close()
+        cluster.close()
+
+
+def test_a_dask_local_cluster_gives_the_local_table(dask_client, local) -> None:
+    df = ellipsoid.study(base(), AXES, OUTCOMES, executor=dask_client, chunk_seconds=0.02)
+    pd.testing.assert_frame_equal(deterministic(df), deterministic(local))
+
+
+def test_a_dask_worker_killed_mid_study_still_gives_the_complete_identical_table(dask_client, local) -> None:
+    # Longer runs (6 s each) so that the study is still going when the worker dies.
+    slow = ellipsoid.load(SCENARIOS / "nutation.toml", output={"t_end": 6.0, "dt": 0.01}, observe=OBSERVE)
+    expected = ellipsoid.study(slow, AXES, OUTCOMES)
+    pids = dask_client.run(os.getpid)
+    result: dict = {}
+
+    def run() -> None:
+        try:
+            result["df"] = ellipsoid.study(slow, AXES, OUTCOMES, executor=dask_client, chunk_seconds=0.05)
+        except BaseException as e:  # noqa: BLE001 - reported below
+            result["error"] = e
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    # Kill a worker once the cluster has finished some chunks (and is busy with others).
+    deadline = time.monotonic() + 60
+    while time.monotonic() < deadline:
+        done = dask_client.run_on_scheduler(lambda dask_scheduler: sum(t.state == "memory" for t in dask_scheduler.tasks.values() if str(t.key).startswith("_run_chunk")))
+        if done >= 2:
+            break
+        time.sleep(0.01)
+    victim = sorted(pids.values())[0]
+    assert thread.is_alive(), "the study ended before a worker could be killed"
+    os.kill(victim, signal.SIGKILL)
+    # Chunks that were on the dead worker are marked suspicious by the scheduler and rerun.
+    time.sleep(0.5)
+    lost = dask_client.run_on_scheduler(lambda dask_scheduler: sum(t.suspicious > 0 for t in dask_scheduler.tasks.values()))
+    thread.join(120)
+    assert not thread.is_alive()
+    assert "error" not in result, result.get("error")
+    assert thread is not None and not any(p == victim for p in dask_client.run(os.getpid).values()), "the worker was not replaced"
+    assert lost >= 1, "no chunk was running on the killed worker"
+    pd.testing.assert_frame_equal(deterministic(result["df"]), deterministic(expected))
