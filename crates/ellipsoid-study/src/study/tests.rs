@@ -244,3 +244,14 @@ fn a_resumed_study_gives_the_table_of_an_uninterrupted_one() {
     assert_eq!(text.lines().count(), 7);
     assert!(Path::new(&csv).exists());
 }
+
+#[test]
+fn a_plan_travels_as_json_without_changing_a_bit() {
+    let s = study("[[axis]]\nkey = \"body.inertia[0]\"\nalso = [\"body.inertia[1]\"]\nlinspace = [3.85e-7, 1.12e-6, 40]\n[[axis]]\nkey = \"contact.friction\"\nrandom = { low = 0.1, high = 0.5, n = 7, seed = 9 }\n").unwrap();
+    let json = serde_json::to_string(&s.plan).unwrap();
+    let back = Study::new(serde_json::from_str(&json).unwrap()).unwrap();
+    assert_eq!(back.plan, s.plan);
+    for i in 0..s.len() {
+        assert_eq!(back.resolve(i).unwrap().key, s.resolve(i).unwrap().key);
+    }
+}
