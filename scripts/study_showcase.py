@@ -1,7 +1,7 @@
 """The figures of docs/studies.md, drawn from the tables of two studies:
 
-    ellipsoid study scenarios/studies/tippe-top-map.toml -o out/tippe-top-map.parquet
-    ellipsoid study scenarios/studies/egg-rise.toml -o out/egg-rise.parquet
+    ellipsoid study studies/tippe-top-map.toml -o out/tippe-top-map.parquet
+    ellipsoid study studies/egg-rise.toml -o out/egg-rise.parquet
     .venv/bin/python scripts/study_showcase.py [--out docs/studies]
 
 Needs pandas, pyarrow and matplotlib. Prints the numbers the text quotes (how many points
