@@ -1,6 +1,6 @@
 """Dask LocalCluster (2 worker processes, 1 thread each) against the local rayon sweep on
 the same machine, for a tippe-top map of N runs (default 10⁴: the map of
-scenarios/studies/tippe-top-map.toml on a 100 × 100 grid). Prints runs/s of each and the
+studies/tippe-top-map.toml on a 100 × 100 grid). Prints runs/s of each and the
 ratio; checks that the two tables agree (every column but wall time).
 
     .venv/bin/python benches/dask_throughput.py [N]

@@ -1,5 +1,5 @@
 //! Parameter studies (issue #15): trajectories per second for the tippe-top turn-over map
-//! (scenarios/studies/tippe-top-map.toml: 8 s each, rtol 1e-8, summaries only) on one and
+//! (studies/tippe-top-map.toml: 8 s each, rtol 1e-8, summaries only) on one and
 //! on two cores, and the study's own cost per run against the bare `simulate` of the same
 //! scenarios (parse, resolve and hash the point, run through `ellipsoid_io::run`, record
 //! the outcomes).
@@ -19,8 +19,7 @@ use ellipsoid_core::simulate::simulate;
 use ellipsoid_study::study::{Study, spec};
 
 fn map() -> Study {
-    let path =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/studies/tippe-top-map.toml");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../studies/tippe-top-map.toml");
     Study::new(spec::load(&path).expect("the map study")).expect("valid")
 }
 

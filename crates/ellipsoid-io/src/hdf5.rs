@@ -213,7 +213,8 @@ pub struct TableColumn {
 
 /// Writes a table (a parameter study's results) as one dataset per column at the root,
 /// each with a `units` attribute (and `missing` where some cells have no value), plus
-/// the root string attributes `attrs` and `columns` (the names in order, as a JSON list);
+/// the root string attributes `attrs` and `columns` (the dataset names in order, as a JSON
+/// list);
 /// atomically (a temporary beside `path`, renamed into place).
 pub fn write_table(
     path: &Path,

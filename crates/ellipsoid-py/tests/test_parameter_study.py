@@ -5,6 +5,8 @@ two worker processes, and on that cluster with one worker killed mid-study."""
 from __future__ import annotations
 
 import concurrent.futures
+import importlib.util
+import json
 import os
 import pickle
 import signal
@@ -129,6 +131,30 @@ def test_the_command_line_writes_the_same_table(cli: Path, tmp_path: Path, local
         a = local[col].astype(object).where(local[col].notna(), None).tolist()
         b = csv[col].astype(object).where(csv[col].notna(), None).tolist()
         assert a == b, col
+    # The same table as Parquet (nulls as nulls) and HDF5 (a dataset per column).
+    pq = tmp_path / "t.parquet"
+    r = subprocess.run([str(cli), "study", str(spec), "-o", str(pq), "-q"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    if importlib.util.find_spec("pyarrow") is not None:
+        par = pd.read_parquet(pq)
+        assert list(par.columns) == list(local.columns)
+        assert list(par["key"]) == list(local["key"])
+        assert par["t_tilt [s]"].isna().tolist() == local["t_tilt [s]"].isna().tolist()
+        assert par["max.theta [rad]"].tolist() == local["max.theta [rad]"].astype(float).tolist()
+    if importlib.util.find_spec("h5py") is not None:
+        import h5py
+
+        h5 = tmp_path / "t.h5"
+        r = subprocess.run([str(cli), "study", str(spec), "-o", str(h5), "-q"], capture_output=True, text=True)
+        if r.returncode == 2 and "HDF5" in r.stderr:
+            pytest.skip("the command-line tool was built without HDF5")
+        assert r.returncode == 0, r.stderr
+        with h5py.File(h5) as f:
+            assert json.loads(f.attrs["headers"]) == list(local.columns)
+            assert json.loads(f.attrs["columns"])[:3] == ["point", "initial.psi_dot", "initial.theta_deg"]
+            assert f["max.theta"][:].tolist() == local["max.theta [rad]"].astype(float).tolist()
+            assert f["initial.psi_dot"].attrs["units"] == "rad/s"
+            assert json.loads(f.attrs["units"])["t_final [s]"] == "s"
 
 
 def test_a_concurrent_futures_executor_gives_the_local_table(local) -> None:

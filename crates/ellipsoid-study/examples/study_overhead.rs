@@ -43,7 +43,7 @@ fn main() {
         .nth(1)
         .map(PathBuf::from)
         .unwrap_or_else(|| {
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/studies/tippe-top-map.toml")
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../../studies/tippe-top-map.toml")
         });
     let study = Study::new(spec::load(&path).expect("study")).expect("valid");
     let points: Vec<usize> = (0..study.len())

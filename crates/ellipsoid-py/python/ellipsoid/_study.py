@@ -61,12 +61,16 @@ def _frame(st: Study, rows: list):
     import pandas as pd  # type: ignore[import-untyped,unused-ignore]  # optional: pandas-stubs may be absent
 
     cols = st.columns
-    df = pd.DataFrame.from_records(rows, columns=cols) if rows else pd.DataFrame({c: [] for c in cols})
-    for name, ty, nullable in zip(cols, st.types, st.nullable):
+    by_column = list(zip(*rows)) if rows else [()] * len(cols)
+    data = {}
+    for name, ty, nullable, values in zip(cols, st.types, st.nullable, by_column):
         if ty == "float":
-            df[name] = df[name].astype("Float64" if nullable else "float64")
+            data[name] = pd.array(values, dtype="Float64") if nullable else pd.array(values, dtype="float64")
         elif ty == "int":
-            df[name] = df[name].astype("Int64" if nullable else "int64")
+            data[name] = pd.array(values, dtype="Int64") if nullable else pd.array(values, dtype="int64")
+        else:
+            data[name] = pd.array(values, dtype="str")
+    df = pd.DataFrame(data, columns=cols)
     df.attrs["units"] = dict(st.units)
     df.attrs["study"] = st.source
     return df

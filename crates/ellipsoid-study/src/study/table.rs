@@ -7,8 +7,9 @@
 //! - **Parquet**: one column per table column (INT64, DOUBLE or UTF-8 BYTE_ARRAY), named by
 //!   the same headers, no value stored as null; key–value metadata `units` (JSON: header →
 //!   unit) and `study` (the study's source). Uncompressed (no codec is built in).
-//! - **HDF5**: one dataset per column at the root, named by the header, with a `units`
-//!   attribute; text as variable-length UTF-8 strings; float cells without a value hold NaN
+//! - **HDF5**: one dataset per column at the root, named by the column's name without its
+//!   unit (a `/` in a name would make a group), with a `units` attribute; root attributes
+//!   `columns` (the dataset names), `headers` (`name [unit]`), `units` (JSON), `study`; text as variable-length UTF-8 strings; float cells without a value hold NaN
 //!   and integer ones −1 (attribute `missing` says so), since HDF5 has no null.
 
 use std::io::Write;
@@ -100,11 +101,19 @@ pub fn write(
             f.commit()
         }
         #[cfg(feature = "hdf5")]
-        Ok(TableFormat::Hdf5) => ellipsoid_io::hdf5::write_table(
-            path,
-            &hdf5_columns(columns, rows),
-            &[("study", source)],
-        ),
+        Ok(TableFormat::Hdf5) => {
+            let headers: Vec<String> = columns.iter().map(Column::header).collect();
+            let headers = serde_json::Value::from(headers).to_string();
+            ellipsoid_io::hdf5::write_table(
+                path,
+                &hdf5_columns(columns, rows),
+                &[
+                    ("study", source),
+                    ("headers", &headers),
+                    ("units", &units_json(columns)),
+                ],
+            )
+        }
         #[allow(unreachable_patterns)] // formats this build lacks are refused by from_path
         Ok(_) => unreachable!("TableFormat::from_path refuses formats this build lacks"),
         Err(rule) => Err(OutputError::Io {
@@ -201,7 +210,7 @@ fn hdf5_columns(columns: &[Column], rows: &[Vec<Cell>]) -> Vec<ellipsoid_io::hdf
                 ),
             };
             TableColumn {
-                name: c.header(),
+                name: c.name.clone(),
                 unit: c.unit.clone().unwrap_or_else(|| "1".into()),
                 missing: c.nullable.then(|| match c.ty {
                     Type::Float => "NaN: no value (the run failed before, or never reached it, or the invariant is not conserved)".into(),
