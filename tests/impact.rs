@@ -432,3 +432,309 @@ fn inv_stiff_slip_approach_is_cheap() {
     let long = Vector3::new(0.23572346834630675, -1.0061143247807363, 6.889137790486399);
     assert_vec_close("impulse", &out.impulse, &long, 1e-12 * long.norm());
 }
+
+// ------------------------------------------------------------------ collinear and planar
+
+/// r ∥ e3 (any inertia, friction): k_tn = 0, so dv_n/dp = K_nn whatever the slip does
+/// and the velocity ratio is −e, as for a frictionless impact.
+#[test]
+fn val_collinear_velocity_ratio_is_minus_e() {
+    let mut rng = Rng(7);
+    for k in 0..2_000 {
+        let (mut body, _) = random_body(&mut rng);
+        let a = body.r.norm();
+        body.r = Vector3::new(0.0, 0.0, -a);
+        let v_n = contact_velocity(&body).z;
+        body.v_g.z -= v_n + rng.uniform(0.01, 1.0) * body.v_g.norm();
+        let e = rng.uniform(0.0, 1.0);
+        let out = resolve(
+            &body,
+            Tangential::Coulomb {
+                friction: rng.uniform(0.0, 2.0),
+            },
+            e,
+        );
+        let (vn0, vn1) = out.normal_velocity;
+        assert_close(
+            &format!("case {k}: v_n⁺"),
+            vn1,
+            -e * vn0,
+            1e-13 * contact_velocity(&body).norm(),
+        );
+    }
+}
+
+/// Planar impact (Stronge 2000 ch. 5): r = (r_x, 0, r_z), I⁻¹ diagonal, slip along x, so
+/// K_xx = 1/m + d₂ r_z², K_xz = −d₂ r_x r_z, K_zz = 1/m + d₂ r_x² and every phase is
+/// linear in p. The reference walks those phases by hand: slip with sign σ (dP_x/dp =
+/// −μσ), a stop at p_s = −u₀/(du/dp), then stick (|K_xz/K_xx| ≤ μ, dP_x/dp = −K_xz/K_xx)
+/// or reversal in the direction of K_xz; energetic restitution on the piecewise-quadratic
+/// W_n. `body` = (m, d₂, r_x, r_z); returns (P_x, p_f, stuck).
+fn planar_reference(
+    body: (f64, f64, f64, f64),
+    u0: f64,
+    vn0: f64,
+    mu: f64,
+    e: f64,
+) -> (f64, f64, bool) {
+    let (m, d2, rx, rz) = body;
+    let (kxx, kxz, kzz) = (
+        1.0 / m + d2 * rz * rz,
+        -d2 * rx * rz,
+        1.0 / m + d2 * rx * rx,
+    );
+    let sgn = u0.signum();
+    let (du1, dvn1, dpx1) = (-mu * sgn * kxx + kxz, -mu * sgn * kxz + kzz, -mu * sgn);
+    let p_s = if du1 * sgn < 0.0 {
+        -u0 / du1
+    } else {
+        f64::INFINITY
+    };
+    let a = -kxz / kxx;
+    let stick = a.abs() <= mu;
+    let (dvn2, dpx2) = if stick {
+        (kzz - kxz * kxz / kxx, a)
+    } else {
+        let s2 = kxz.signum();
+        (-mu * s2 * kxz + kzz, -mu * s2)
+    };
+    let segments = [(p_s, dvn1, dpx1), (f64::INFINITY, dvn2, dpx2)];
+    let (mut p, mut vn, mut w, mut px) = (0.0, vn0, 0.0, 0.0);
+    let mut target: Option<f64> = None;
+    for (end, c, dpx) in segments {
+        let advance = |x: f64, p: &mut f64, vn: &mut f64, w: &mut f64, px: &mut f64| {
+            *w += *vn * x + 0.5 * c * x * x;
+            *vn += c * x;
+            *px += dpx * x;
+            *p += x;
+        };
+        if target.is_none() && vn + c * (end - p) >= 0.0 {
+            advance(-vn / c, &mut p, &mut vn, &mut w, &mut px);
+            target = Some((1.0 - e * e) * w);
+        }
+        if let Some(t) = target {
+            let x = (-vn + (vn * vn + 2.0 * c * (t - w)).sqrt()) / c;
+            if p + x <= end {
+                advance(x, &mut p, &mut vn, &mut w, &mut px);
+                return (px, p, p > p_s && stick);
+            }
+        }
+        advance(end - p, &mut p, &mut vn, &mut w, &mut px);
+    }
+    unreachable!()
+}
+
+#[test]
+fn val_planar_stick_reversal_and_sliding() {
+    let (m, d2, rx, rz) = (1.0, 50.0, 0.4, -0.1); // K_xx = 1.5, K_xz = 2, K_zz = 9
+    let cases = [
+        // (u₀, v_n⁻, μ, e, slip stops, stuck at the end)
+        (-0.1, -1.0, 0.5, 0.7, true, false), // stop in compression, then reversal
+        (-0.1, -1.0, 1.5, 0.7, true, true),  // stop, then stick
+        (0.1, -1.0, 0.5, 0.7, false, false), // slip grows: one phase
+        (-0.5, -1.0, 0.5, 1.0, true, false), // stop during restitution, then reversal
+        (-0.1, -1.0, 0.5, 0.0, true, false), // plastic
+    ];
+    for (k, &(u0, vn0, mu, e, stops, stuck)) in cases.iter().enumerate() {
+        let body = Approach {
+            mass: m,
+            inertia_inv: Matrix3::from_diagonal(&Vector3::new(30.0, d2, 20.0)),
+            r: Vector3::new(rx, 0.0, rz),
+            v_g: Vector3::new(u0, 0.0, vn0),
+            omega: Vector3::zeros(),
+        };
+        let out = resolve(&body, Tangential::Coulomb { friction: mu }, e);
+        let (px, pz, want_stuck) = planar_reference((m, d2, rx, rz), u0, vn0, mu, e);
+        assert_eq!(want_stuck, stuck, "case {k}: reference branch");
+        assert_eq!(out.stuck, stuck, "case {k}: stuck {out:?}");
+        assert_eq!(out.slip_stop.is_some(), stops, "case {k}: stop {out:?}");
+        let want = Vector3::new(px, 0.0, pz);
+        assert_vec_close(
+            &format!("case {k}: impulse"),
+            &out.impulse,
+            &want,
+            1e-12 * want.norm(),
+        );
+        if stops && !stuck {
+            // reversed: the slip after the impact has the sign of K_xz = 2 > 0
+            assert!(
+                contact_velocity(&after(&body, &out)).x > 0.0,
+                "case {k}: reversal"
+            );
+        }
+    }
+}
+
+// ------------------------------------------------------------------ curving slip vs RK4
+
+/// Independent reference: classical RK4 at a fixed step in p on (P_x, P_y, W_n), with
+/// v_C = v_C⁻ + K P recomputed each stage; compression end and restitution end found by
+/// bisection on the length of a last RK4 step. Valid for slips that never stop.
+fn rk4_reference(body: &Approach, mu: f64, e: f64, steps: usize) -> Vector3<f64> {
+    let rx = body.r.cross_matrix();
+    let k = Matrix3::identity() / body.mass - rx * body.inertia_inv * rx;
+    let v0 = contact_velocity(body);
+    let f = |p: f64, y: &Vector3<f64>| {
+        let v = v0 + k * Vector3::new(y.x, y.y, p);
+        let s = v.xy().normalize();
+        Vector3::new(-mu * s.x, -mu * s.y, v.z)
+    };
+    let rk4 = |p: f64, y: &Vector3<f64>, h: f64| {
+        let k1 = f(p, y);
+        let k2 = f(p + 0.5 * h, &(y + k1 * (0.5 * h)));
+        let k3 = f(p + 0.5 * h, &(y + k2 * (0.5 * h)));
+        let k4 = f(p + h, &(y + k3 * h));
+        y + (k1 + k2 * 2.0 + k3 * 2.0 + k4) * (h / 6.0)
+    };
+    let v_n = |p: f64, y: &Vector3<f64>| (v0 + k * Vector3::new(y.x, y.y, p)).z;
+    // the frictionless p_f bounds the scale of the impact
+    let h = (1.0 + e) * -v0.z / k[(2, 2)] / steps as f64;
+    let (mut p, mut y) = (0.0, Vector3::zeros());
+    let march = |p: &mut f64, y: &mut Vector3<f64>, done: &dyn Fn(f64, &Vector3<f64>) -> bool| loop {
+        let y1 = rk4(*p, y, h);
+        if done(*p + h, &y1) {
+            let (mut lo, mut hi) = (0.0, h);
+            for _ in 0..200 {
+                let mid = 0.5 * (lo + hi);
+                if done(*p + mid, &rk4(*p, y, mid)) {
+                    hi = mid
+                } else {
+                    lo = mid
+                }
+            }
+            *y = rk4(*p, y, hi);
+            *p += hi;
+            return;
+        }
+        *y = y1;
+        *p += h;
+    };
+    march(&mut p, &mut y, &|p, y| v_n(p, y) >= 0.0);
+    let target = (1.0 - e * e) * y.z;
+    march(&mut p, &mut y, &|_, y| y.z >= target);
+    Vector3::new(y.x, y.y, p)
+}
+
+/// 3-D impacts whose slip direction turns by more than 0.3 rad without stopping (coupled
+/// K_tt, k_tn): the impulse agrees with the RK4 reference to 1e-10.
+#[test]
+fn val_curving_slip_against_rk4() {
+    let mut rng = Rng(99);
+    let (mut found, mut worst, mut max_turn) = (0, 0.0f64, 0.0f64);
+    for _ in 0..5_000 {
+        let (body, _) = random_body(&mut rng);
+        let (mu, e) = (rng.uniform(0.05, 1.0), rng.uniform(0.0, 1.0));
+        let out = resolve(&body, Tangential::Coulomb { friction: mu }, e);
+        let before = contact_velocity(&body).xy();
+        let after_t = contact_velocity(&after(&body, &out)).xy();
+        let turn = before.angle(&after_t);
+        if out.slip_stop.is_some() || turn < 0.3 || out.normal_velocity.0 > -0.05 * before.norm() {
+            continue;
+        }
+        let reference = rk4_reference(&body, mu, e, 20_000);
+        let err = (out.impulse - reference).norm() / reference.norm();
+        worst = worst.max(err);
+        max_turn = max_turn.max(turn);
+        assert!(
+            err <= 1e-10,
+            "impulse {:?} vs RK4 {reference:?}: {err:e} (turn {turn})",
+            out.impulse
+        );
+        found += 1;
+        if found == 20 {
+            break;
+        }
+    }
+    eprintln!(
+        "curving slip: {found} cases, max relative impulse error vs RK4 {worst:e}, max turn {max_turn:.2} rad"
+    );
+    assert_eq!(found, 20);
+}
+
+// ------------------------------------------------------------------ limits
+
+/// NoSlip is the limit μ → ∞ of Coulomb: the difference falls as 1/μ (100 times from
+/// μ = 1e5 to 1e7; the constant is largest, ~170/μ, where the tangential impulse alone
+/// separates the contact and the impact ends slipping with zero normal impulse).
+#[test]
+fn lim_no_slip_is_the_large_friction_limit() {
+    let mut rng = Rng(5);
+    let (mut worst6, mut worst_ratio) = (0.0f64, 0.0f64);
+    let mut ended_slipping = 0;
+    for k in 0..500 {
+        let (body, inertia) = random_body(&mut rng);
+        let e = rng.uniform(0.0, 1.0);
+        let limit = resolve(&body, Tangential::NoSlip, e);
+        let mut w = Worst::default();
+        w.check(k, &body, &inertia, &limit, e);
+        ended_slipping += !limit.stuck as u32;
+        let err = |mu: f64| {
+            let out = resolve(&body, Tangential::Coulomb { friction: mu }, e);
+            (out.impulse - limit.impulse).norm() / limit.impulse.norm()
+        };
+        let (e5, e6, e7) = (err(1e5), err(1e6), err(1e7));
+        worst6 = worst6.max(e6);
+        assert!(e6 <= 1e-3, "case {k}: μ = 1e6 differs by {e6:e}");
+        if e5 > 1e-9 {
+            worst_ratio = worst_ratio.max(e7 / e5);
+            assert!(
+                e7 <= 0.012 * e5,
+                "case {k}: no O(1/μ) convergence: {e5:e} → {e7:e}"
+            );
+        }
+    }
+    eprintln!(
+        "no-slip limit: max rel. diff at μ = 1e6 {worst6:e}, max err(1e7)/err(1e5) {worst_ratio:e}, {ended_slipping} ended slipping"
+    );
+}
+
+/// No impact, grazing, plastic, elastic, μ = 0, no initial slip: finite, sensible results.
+#[test]
+fn inv_edge_cases_are_finite() {
+    let sphere = |v_g: Vector3<f64>, omega: Vector3<f64>| Approach {
+        mass: 1.0,
+        inertia_inv: Matrix3::identity() / 0.4,
+        r: Vector3::new(0.0, 0.0, -1.0),
+        v_g,
+        omega,
+    };
+    let laws = [
+        Tangential::Frictionless,
+        Tangential::Coulomb { friction: 0.0 },
+        Tangential::Coulomb { friction: 0.5 },
+        Tangential::NoSlip,
+    ];
+    for law in laws {
+        for e in [0.0, 0.5, 1.0] {
+            // separating or resting: no impulse
+            for vz in [0.0, 1.0] {
+                let out = resolve(
+                    &sphere(Vector3::new(1.0, 0.0, vz), Vector3::zeros()),
+                    law,
+                    e,
+                );
+                assert_eq!(out.impulse, Vector3::zeros());
+                assert_eq!(out.energy_loss, 0.0);
+            }
+            for (v_g, omega) in [
+                (Vector3::new(1.0, 0.5, -1e-300), Vector3::new(0.0, 3.0, 1.0)), // grazing
+                (Vector3::new(0.0, 0.0, -2.0), Vector3::zeros()),               // no slip at all
+                (Vector3::new(1.0, 0.0, -1e-12), Vector3::zeros()),             // nearly grazing
+                (Vector3::new(1e-300, 0.0, -1.0), Vector3::zeros()),            // tiny slip
+            ] {
+                let body = sphere(v_g, omega);
+                let out = resolve(&body, law, e);
+                let all = [out.v_g, out.omega, out.impulse];
+                assert!(
+                    all.iter().all(|x| x.iter().all(|c| c.is_finite())),
+                    "{law:?} e {e}: {out:?}"
+                );
+                assert!(
+                    out.energy_loss >= 0.0 && out.impulse.z >= 0.0,
+                    "{law:?} e {e}: {out:?}"
+                );
+                assert!(out.normal_velocity.1 >= -1e-15, "{law:?} e {e}: {out:?}");
+            }
+        }
+    }
+}

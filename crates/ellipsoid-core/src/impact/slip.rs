@@ -307,7 +307,8 @@ impl Slip<'_> {
     }
 
     /// The slip heads straight at zero (d ŝ/dσ below RAY_TOL of |dv_t/dσ| / |v_t|) along
-    /// an incoming ray that attracts nearby directions: with ψ the slip's angle,
+    /// an incoming ray that attracts nearby directions (or, for one that does not, the
+    /// turning rate is round-off): with ψ the slip's angle,
     /// d(ŝ⊥·dv_t/dσ)/dψ = −ŝ·dv_t/dσ − α ŝ⊥ᵀ K_tt ŝ⊥ < 0. The attraction is fast when the
     /// approach is slow (rate |ŝ·dv_t/dσ| ≪ α K_tt), which makes the ODE stiff there.
     fn on_attracting_ray(&self, z: &Z) -> bool {
@@ -317,7 +318,14 @@ impl Slip<'_> {
         let g = self.contact.k_tt() * (-a * s_hat) + self.contact.k_tn() * self.drive.normal;
         let (radial, turning) = (s_hat.dot(&g), perp.dot(&g));
         let attracting = -radial - a * perp.dot(&(self.contact.k_tt() * perp)) < 0.0;
-        radial < 0.0 && attracting && turning.abs() <= RAY_TOL * g.norm()
+        // a ray that repels can only be followed from exactly on it (planar or symmetric
+        // impacts), i.e. to round-off
+        let tol = if attracting {
+            RAY_TOL
+        } else {
+            64.0 * f64::EPSILON
+        };
+        radial < 0.0 && turning.abs() <= tol * g.norm()
     }
 
     /// The rest of a straight slip to its stop, in closed form: dz/dσ is constant except
