@@ -864,7 +864,7 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
             ),
             vec![],
             Expect::Exact(
-                "error: bad.toml:11:1: initial.velocity = [1.0, 0.0]: not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it",
+                "error: bad.toml:11:1: initial.velocity = [1.0, 0.0]: not allowed for the rolling model on the plane, where the velocity of G is implied by ω (v_G = −ω × r); remove it (or start in flight, initial.height > 0)",
             ),
         ),
         (
@@ -874,12 +874,16 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
                     "theta = 0.1745\npsi_dot = 60.0",
                     "theta = 1.2\nphi_dot = 3000.0",
                 )
+                .replace(
+                    "model = \"frictionless\"",
+                    "model = \"frictionless\"\non_lift_off = \"stop\"",
+                )
                 .into(),
             ),
             vec![],
             Expect::Parts(
                 "error: bad.toml:8:2: initial normal force N = -",
-                "the plane must push on the body at t = 0 (N > 0); with these angles and rates the body would leave the plane at once",
+                "the plane must push on the body at t = 0 (N > 0) when contact.on_lift_off = \"stop\"; with these angles and rates the body would leave the plane at once",
             ),
         ),
         (

@@ -335,31 +335,39 @@ fn elastic_bounces_of_a_tilted_ellipsoid_keep_the_energy() {
     );
 }
 
-/// The fast egg on weak friction (hard case 10) no longer stops at its first loss of
-/// contact: it flies, lands (e = 0 by default) and goes on; E + W balances through every
-/// phase, the flight's gap is positive and its samples carry N = 0.
+fn bundled(name: &str) -> Scene {
+    let path = format!("{}/../../scenarios/{name}", env!("CARGO_MANIFEST_DIR"));
+    ellipsoid_core::scenario::load(std::path::Path::new(&path), &[] as &[&str])
+        .unwrap()
+        .scene
+}
+
+/// scenarios/egg-jump.toml: the fast egg on weak friction (hard case 10) no longer stops
+/// at its first loss of contact: it flies, lands (e = 0) and goes on, jumping again and
+/// again; E + W balances through every phase, flights have a positive gap and N = 0, and
+/// contact phases N ≥ 0.
 #[test]
 fn the_jumping_egg_flies_lands_and_goes_on() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios/egg.toml");
-    let sets = [
-        "contact.friction=0.03",
-        "initial.phi_dot=180",
-        "output.t_end=3",
-    ];
-    let scenario = ellipsoid_core::scenario::load(std::path::Path::new(path), &sets).unwrap();
-    let (out, samples) = run(&scenario.scene);
-    assert!(out.status.finished(), "{:?}", out.status);
-    let lift = out
+    let (out, samples) = run(&bundled("egg-jump.toml"));
+    assert_eq!(out.status, Status::Completed);
+    let lifts: Vec<f64> = out
         .events
         .iter()
-        .find(|e| e.kind == EventKind::LiftOff)
-        .expect("lift-off");
-    assert!((lift.t - 1.963235).abs() < 1e-5, "lift-off at {}", lift.t);
-    let down = out
+        .filter(|e| e.kind == EventKind::LiftOff)
+        .map(|e| e.t)
+        .collect();
+    let downs: Vec<f64> = out
         .events
         .iter()
-        .find(|e| matches!(e.kind, EventKind::Touchdown { .. }))
-        .expect("touchdown");
+        .filter(|e| matches!(e.kind, EventKind::Touchdown { .. }))
+        .map(|e| e.t)
+        .collect();
+    assert!(
+        (lifts[0] - 1.963235).abs() < 1e-5,
+        "lift-off at {}",
+        lifts[0]
+    );
+    assert!(lifts.len() > 10 && downs.len() == lifts.len());
     let flight: Vec<&Sample> = samples.iter().filter(|s| s.mode == Mode::Flight).collect();
     assert!(flight.iter().all(|s| s.gap >= 0.0 && s.normal_force == 0.0));
     assert!(
@@ -369,19 +377,217 @@ fn the_jumping_egg_flies_lands_and_goes_on() {
             .all(|s| s.normal_force >= 0.0 && s.gap == 0.0)
     );
     let apex = flight.iter().map(|s| s.gap).fold(0.0, f64::max);
+    let longest = lifts
+        .iter()
+        .zip(&downs)
+        .map(|(a, b)| b - a)
+        .fold(0.0, f64::max);
     let balance = out.drift.get(Invariant::EnergyPlusWork).unwrap();
     assert!(balance < 1e-9, "E + W drift {balance:e}");
     measured(
         "egg jump",
         format!(
-            "first flight {:.4} s from t = {:.6} s, apex gap {:.2e} m; {} lift-offs; E + W drift {balance:.1e}",
-            down.t - lift.t,
-            lift.t,
-            apex,
-            out.events
-                .iter()
-                .filter(|e| e.kind == EventKind::LiftOff)
-                .count()
+            "{} jumps from t = {:.6} s; first {:.4} s, longest {longest:.4} s; highest sample gap {apex:.2e} m; E + W drift {balance:.1e}",
+            lifts.len(),
+            lifts[0],
+            downs[0] - lifts[0],
+        ),
+    );
+}
+
+/// scenarios/drop.toml: a tilted ellipsoid dropped with friction and e = 0.6 bounces,
+/// every impact dissipating (never a gain), and settles into persistent contact; E + W
+/// balances; after settling it stays on the plane.
+#[test]
+fn a_dropped_ellipsoid_bounces_and_settles() {
+    let (out, samples) = run(&bundled("drop.toml"));
+    assert_eq!(out.status, Status::Completed);
+    let hits: Vec<_> = out
+        .events
+        .iter()
+        .filter_map(|e| match e.kind {
+            EventKind::Impact(hit) => Some((e.t, hit)),
+            _ => None,
+        })
+        .collect();
+    assert!(hits.len() > 5, "{} impacts", hits.len());
+    assert!(
+        hits.iter()
+            .all(|(_, h)| h.energy_loss >= 0.0 && h.impulse.z >= 0.0)
+    );
+    let (t_settle, last) = hits.last().unwrap();
+    assert!(last.persistent, "the last impact makes contact persistent");
+    assert!(
+        samples
+            .iter()
+            .filter(|s| s.t > *t_settle)
+            .all(|s| s.mode != Mode::Flight)
+    );
+    let balance = out.drift.get(Invariant::EnergyPlusWork).unwrap();
+    assert!(balance < 1e-9, "E + W drift {balance:e}");
+    measured(
+        "drop",
+        format!(
+            "{} impacts, persistent contact at t = {t_settle:.6} s; E + W drift {balance:.1e}",
+            hits.len()
+        ),
+    );
+}
+
+/// scenarios/tippe-top-jump.toml: the top with a large offset hops while turning over.
+#[test]
+fn a_tippe_top_with_a_large_offset_hops_while_turning_over() {
+    let (out, samples) = run(&bundled("tippe-top-jump.toml"));
+    assert_eq!(out.status, Status::Completed);
+    let lifts: Vec<f64> = out
+        .events
+        .iter()
+        .filter(|e| e.kind == EventKind::LiftOff)
+        .map(|e| e.t)
+        .collect();
+    let over = out
+        .events
+        .iter()
+        .find(|e| matches!(e.kind, EventKind::Observed { .. }))
+        .expect("θ passes π/2")
+        .t;
+    assert!(lifts.len() >= 5 && lifts[0] < over && lifts[lifts.len() - 1] > over);
+    let apex = samples.iter().map(|s| s.gap).fold(0.0, f64::max);
+    assert!(apex > 1e-4, "hops {apex:e} m high");
+    let balance = out.drift.get(Invariant::EnergyPlusWork).unwrap();
+    assert!(balance < 1e-9, "E + W drift {balance:e}");
+    measured(
+        "tippe-top jump",
+        format!(
+            "{} hops, θ passes π/2 at t = {over:.5} s, highest sample gap {apex:.2e} m",
+            lifts.len()
+        ),
+    );
+}
+
+/// Hard case: a grazing touchdown. A triaxial body (semi-axes 0.03, 0.02, 0.01 m) turns
+/// steadily about its long axis without gravity, so its lowest point's height h(t) rises
+/// to b = 0.02 m twice a turn. G held at z_G = b (1 + δ): with δ = 1e-12 the body passes
+/// without touching (no event, the gap stays ≥ 0), with δ = −1e-9 the touchdown is found
+/// at the first pass, at the analytic time where h = z_G, although the gap's slope there
+/// is only 8e-6 m/s.
+#[test]
+fn hard_grazing_touchdown_is_found_or_rightly_missed() {
+    let (b, c, w) = (0.02, 0.01, 10.0);
+    let run_at = |delta: f64| {
+        let z_g = b * (1.0 + delta);
+        let mut sc = flying(
+            triaxial(),
+            ContactModel::Frictionless,
+            angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            Vector3::zeros(),
+            z_g - c,
+            1.0,
+            1e-3,
+            1e-12,
+        );
+        sc.gravity = 0.0;
+        sc.landing.restitution = 1.0;
+        sc.initial.omega_body = Some(Vector3::new(w, 0.0, 0.0));
+        (z_g, run(&sc))
+    };
+    let (_, (miss, samples)) = run_at(1e-12);
+    assert_eq!(miss.status, Status::Completed);
+    assert_eq!(impacts(&miss), 0, "{:?}", miss.events);
+    assert!(samples.iter().all(|s| s.gap >= 0.0));
+    let (z_g, (hit, _)) = run_at(-1e-9);
+    let t = hit
+        .events
+        .iter()
+        .find(|e| matches!(e.kind, EventKind::Touchdown { .. }))
+        .expect("a touchdown")
+        .t;
+    // h(t)² = b² sin²(ωt) + c² cos²(ωt) = z_G² at the first pass.
+    let expect = (((z_g * z_g - c * c) / (b * b - c * c)).sqrt().asin()) / w;
+    assert!(
+        (t - expect).abs() < 1e-7,
+        "touchdown at {t}, expected {expect}"
+    );
+    let drift = hit.drift.get(Invariant::Energy).unwrap();
+    assert!(
+        drift < 1e-12,
+        "elastic frictionless: energy drift {drift:e}"
+    );
+    measured(
+        "grazing touchdown",
+        format!(
+            "found {:.1e} s from the analytic time; a pass 2e-14 m above the plane is no touchdown",
+            t - expect
+        ),
+    );
+}
+
+/// Hard case: an impact at the moment of lift-off. The tumbling body of hard case 3 at
+/// the spin where its normal force just reaches zero (found by bisection, then 1e-6
+/// above): it lifts off, flies a moment, lands at a speed near zero, and contact becomes
+/// persistent again — no chattering, E + W exact, N ≥ 0 in every contact sample.
+#[test]
+fn hard_impact_at_the_moment_of_lift_off() {
+    let ax = Vector3::new(0.02, 0.02, 0.04);
+    let body = Body::new(ax, 0.1, uniform_inertia(ax, 0.1), Vector3::zeros()).unwrap();
+    let tumble = |rate: f64, lift_off: LiftOff| {
+        let mut sc = scene(
+            body.clone(),
+            ContactModel::Frictionless,
+            angles(1.5, 0.0, 0.0, -rate, 0.0, 0.0),
+            Some(Vector2::zeros()),
+            0.3,
+            1e-4,
+            1e-12,
+        );
+        sc.landing.lift_off = lift_off;
+        run(&sc)
+    };
+    let (mut lo, mut hi) = (35.0, 45.0);
+    for _ in 0..40 {
+        let mid = 0.5 * (lo + hi);
+        if tumble(mid, LiftOff::Stop).0.status == Status::LostContact {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let (out, samples) = tumble(hi * (1.0 + 1e-6), LiftOff::Fly);
+    assert_eq!(out.status, Status::Completed, "{:?}", out.events);
+    let lift = out
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::LiftOff)
+        .expect("lift-off")
+        .t;
+    let (down, speed) = out
+        .events
+        .iter()
+        .find_map(|e| match e.kind {
+            EventKind::Touchdown { speed } => Some((e.t, speed)),
+            _ => None,
+        })
+        .expect("touchdown");
+    assert!(
+        down - lift < 1e-2 && speed < 1e-3,
+        "flight {:e} s, landing at {speed:e} m/s",
+        down - lift
+    );
+    assert!(
+        samples
+            .iter()
+            .filter(|s| s.mode != Mode::Flight)
+            .all(|s| s.normal_force >= 0.0)
+    );
+    assert!(samples.last().unwrap().mode == Mode::Frictionless);
+    let balance = out.drift.get(Invariant::EnergyPlusWork).unwrap();
+    assert!(balance < 1e-10, "E + W drift {balance:e}");
+    measured(
+        "impact at lift-off",
+        format!(
+            "θ̇ = {hi:.9} rad/s: flight {:.1e} s, landing at {speed:.1e} m/s, {} events; E + W drift {balance:.1e}",
+            down - lift,
+            out.events.len()
         ),
     );
 }

@@ -31,11 +31,12 @@ def needle(friction: float = 1.0, velocity=(1.0, 0.0)) -> ellipsoid.Scenario:
 
 
 def tumbling() -> ellipsoid.Scenario:
-    """A prolate body falling over fast enough (θ̇ = −45 rad/s) to leave the plane."""
+    """A prolate body falling over fast enough (θ̇ = −45 rad/s) to leave the plane (the
+    run stops there)."""
     return ellipsoid.Scenario(
         body=dict(a=0.02, c=0.04, mass=0.1, inertia="uniform"),
         initial=dict(theta=1.5, theta_dot=-45.0, velocity=[0.0, 0.0]),
-        contact=dict(model="frictionless"),
+        contact=dict(model="frictionless", on_lift_off="stop"),
         solver=dict(rtol=1e-12, atol=1e-12),
         output=dict(t_end=1.0, dt=1e-4),
         name="tumbling",
