@@ -76,7 +76,7 @@ fn column(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
 }
 
 /// The CSV header, exactly (docs/scenarios.md).
-const HEADER: &str = "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,omega_y,omega_z,vx,vy,vz,energy,normal_force,slip_speed,mode,work,omega_world_x,omega_world_y,omega_world_z,contact_x,contact_y,drift";
+const HEADER: &str = "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,omega_y,omega_z,vx,vy,vz,energy,normal_force,slip_speed,mode,work,omega_world_x,omega_world_y,omega_world_z,contact_x,contact_y,drift,gap";
 
 // ------------------------------------------------------------------ bundled scenarios
 
@@ -160,6 +160,9 @@ fn every_bundled_scenario_has_a_test() {
         "rolling-resistance",
         "spin-friction",
         "air-drag",
+        "egg-jump",
+        "drop",
+        "tippe-top-jump",
     ];
     for entry in std::fs::read_dir(scenarios()).unwrap() {
         let path = entry.unwrap().path();
@@ -295,6 +298,73 @@ fn scenario_spin_friction_slows_the_spin() {
     let wz = column(&h, &rows, "omega_z");
     assert!(wz.last().unwrap() < &(0.8 * wz[0]));
     assert!(s["final"]["work"].as_f64().unwrap() > 0.0);
+}
+
+/// The kinds of the summary's events, in order.
+fn event_kinds(s: &Value) -> Vec<&str> {
+    s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["kind"].as_str().unwrap())
+        .collect()
+}
+
+#[test]
+fn scenario_egg_jump_flies_and_lands_again_and_again() {
+    let (s, h, rows) = run_scenario("egg-jump", Some(2.3), "completed");
+    let kinds = event_kinds(&s);
+    let lifts = kinds.iter().filter(|k| **k == "lift_off").count();
+    assert!(lifts >= 5, "{lifts} lift-offs");
+    // the run may end in flight
+    let downs = kinds.iter().filter(|k| **k == "touchdown").count();
+    assert!(
+        downs == lifts || downs + 1 == lifts,
+        "{lifts} lift-offs, {downs} touchdowns"
+    );
+    let impact = s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["kind"] == "impact")
+        .unwrap();
+    assert!(
+        impact["energy_loss"].as_f64().unwrap() >= 0.0
+            && impact["impulse"][2].as_f64().unwrap() > 0.0
+    );
+    let mode = h.iter().position(|c| c == "mode").unwrap();
+    let gap = column(&h, &rows, "gap");
+    let flying: Vec<usize> = (0..rows.len())
+        .filter(|&i| rows[i][mode] == "flight")
+        .collect();
+    assert!(!flying.is_empty() && flying.iter().any(|&i| gap[i] > 0.0));
+    assert!(s["drift"]["energy_plus_work"].as_f64().unwrap() < 1e-9);
+}
+
+#[test]
+fn scenario_drop_bounces_and_settles() {
+    let (s, h, rows) = run_scenario("drop", Some(1.0), "completed");
+    let hits: Vec<&Value> = s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["kind"] == "impact")
+        .collect();
+    assert!(
+        hits.len() > 5 && hits.last().unwrap()["persistent"] == true,
+        "{hits:?}"
+    );
+    let mode = h.iter().position(|c| c == "mode").unwrap();
+    assert_eq!(rows[0][mode], "flight");
+    assert_ne!(rows.last().unwrap()[mode], "flight");
+}
+
+#[test]
+fn scenario_tippe_top_jump_hops_while_turning_over() {
+    let (s, _, _) = run_scenario("tippe-top-jump", Some(1.0), "completed");
+    let kinds = event_kinds(&s);
+    assert!(kinds.iter().filter(|k| **k == "lift_off").count() >= 5);
+    assert!(kinds.contains(&"observed"), "θ passes π/2");
 }
 
 #[test]
