@@ -623,3 +623,27 @@ fn without_gravity_the_body_flies_from_the_start() {
         "N = 0 at t = 0 with on_lift_off = stop"
     );
 }
+
+/// A rolling scene lands with the no-slip limit of the impact law: every impact ends with
+/// the contact stuck, and contact becomes persistent in rolling, E + W exact.
+#[test]
+fn a_rolling_scene_lands_without_slip() {
+    let mut sc = bundled("drop.toml");
+    sc.contact = ContactModel::Rolling;
+    let (out, samples) = run(&sc);
+    assert_eq!(out.status, Status::Completed);
+    let hits: Vec<_> = out
+        .events
+        .iter()
+        .filter_map(|e| match e.kind {
+            EventKind::Impact(hit) => Some(hit),
+            _ => None,
+        })
+        .collect();
+    assert!(!hits.is_empty() && hits.iter().all(|h| h.energy_loss >= 0.0));
+    assert!(hits.last().unwrap().persistent);
+    assert_eq!(samples.last().unwrap().mode, Mode::Rolling);
+    assert!(samples.last().unwrap().slip_speed < 1e-9);
+    let balance = out.drift.get(Invariant::EnergyPlusWork).unwrap();
+    assert!(balance < 1e-9, "E + W drift {balance:e}");
+}
