@@ -14,6 +14,7 @@ use crate::model::sliding::SLIP_FLOOR;
 use crate::model::{Evaluation, Sliding, System};
 use crate::state::{self, State};
 
+use super::flight::lift_off;
 use super::rolling::after_slip_stop;
 use super::{Next, Phase, Watch};
 use crate::simulate::machine::Machine;
@@ -71,7 +72,7 @@ impl Phase for SlidingPhase {
         }
     }
 
-    fn on_event<E: Effect + Copy>(
+    fn on_event<E: Effect + Copy + 'static>(
         m: &Machine<'_, E>,
         watch: Watch,
         t: f64,
@@ -119,13 +120,7 @@ impl Phase for SlidingPhase {
                 }
                 Next::Go(next)
             }
-            _ => {
-                events.push(EventRecord {
-                    kind: EventKind::LostContact,
-                    t,
-                });
-                Next::Stop(Status::LostContact)
-            }
+            _ => lift_off(m, Mode::Sliding, t, y, events),
         }
     }
 
