@@ -49,17 +49,18 @@ def tippe_top(path: Path, out: Path) -> None:
     t_h = t["t_horizontal [s]"].astype(float)
     flip = t_h.notna()
     crit = (1 - t.alpha < t.ratio) & (t.ratio < 1 + t.alpha)
-    jumped = t.status == "lost_contact"
+    jumped = t["t_jump [s]"].notna()
     failed = t.status.isin(["solver_failure", "chattering", "painleve", "non_finite", "invalid", "internal_error"])
     xs, ys, z = grid(t, "alpha", "ratio", t_h.to_numpy())
     _, _, zmax = grid(t, "alpha", "ratio", t["max.theta [rad]"].astype(float).to_numpy())
     # Agreement categories: 0 both turn, 1 neither, 2 map only (criterion says no),
-    # 3 criterion only, the model's run ended at a jump, 4 criterion only, the top stayed up.
+    # 3 criterion only (the top stays up), 4 the run failed (step budget).
     cat = np.select(
-        [flip & crit, ~flip & ~crit & ~jumped, flip & ~crit, crit & ~flip & jumped, crit & ~flip],
-        [0, 1, 2, 3, 4],
+        [failed, flip & crit, ~flip & ~crit, flip & ~crit, crit & ~flip],
+        [4, 0, 1, 2, 3],
         default=5,
     )
+    _, _, zj = grid(t, "alpha", "ratio", jumped.astype(float).to_numpy())
     _, _, zc = grid(t, "alpha", "ratio", cat.astype(float))
     a = np.linspace(0, xs.max() * 1.02, 50)
     fig, axs = plt.subplots(1, 3, figsize=(17, 5.2), constrained_layout=True)
@@ -74,17 +75,18 @@ def tippe_top(path: Path, out: Path) -> None:
     fig.colorbar(m, ax=ax, label="largest θ in the run [rad]")
     ax.set_title("how far it turns: max θ (π = fully inverted)")
     ax = axs[2]
-    colours = ["#1a9850", "#bdbdbd", "#fdae61", "#4575b4", "#d73027", "#000000"]
+    colours = ["#1a9850", "#bdbdbd", "#fdae61", "#d73027", "#000000", "#ffffff"]
     ax.pcolormesh(ex, ey, zc, cmap=ListedColormap(colours), vmin=-0.5, vmax=5.5, shading="flat")
+    ax.contourf(xs, ys, zj, levels=[0.5, 1.5], hatches=["////"], colors="none")
     labels = [
         "both: turns over",
         "both: stays up",
         "map only: passes π/2, settles on its side",
-        "criterion only: leaves the plane (lost contact) first",
         "criterion only: slip stops, rolls upright",
         "run failed (step budget)",
     ]
-    for c, lab in zip(colours, labels):
+    ax.fill([], [], hatch="////", facecolor="none", label="hops off the plane on the way")
+    for c, lab in zip(colours[: len(labels)], labels):
         ax.plot([], [], "s", color=c, label=lab, markersize=9)
     ax.legend(loc="upper left", fontsize=7.5, framealpha=0.9)
     ax.set_title("map against the criterion 1 − α < I1/I3 < 1 + α")
@@ -101,8 +103,8 @@ def tippe_top(path: Path, out: Path) -> None:
     print(
         f"  agree {int(((flip & crit) | (~flip & ~crit)).sum())} ({((flip & crit) | (~flip & ~crit)).mean():.0%}); "
         f"map only {int((flip & ~crit).sum())} (max θ {t['max.theta [rad]'][flip & ~crit].astype(float).median():.2f} rad median, all above 1 + α: {bool((t.ratio[flip & ~crit] > 1 + t.alpha[flip & ~crit]).all())}); "
-        f"criterion only {int((crit & ~flip).sum())}: lost contact {int((crit & ~flip & jumped).sum())}, "
-        f"stayed up rolling {int((crit & ~flip & ~jumped & ~failed).sum())}, failed {int((crit & ~flip & failed).sum())}"
+        f"criterion only {int((crit & ~flip).sum())}: stayed up rolling {int((crit & ~flip & ~failed & (t['final.mode'] == 'rolling')).sum())}, failed {int((crit & ~flip & failed).sum())}; "
+        f"failed {int(failed.sum())} (turned before failing {int((failed & flip).sum())}); hops {int(jumped.sum())} (of which turn over {int((jumped & flip).sum())}, inside the criterion {int((jumped & crit).sum())}; first hop {t['t_jump [s]'][jumped].astype(float).min():.2f} … {t['t_jump [s]'][jumped].astype(float).max():.2f} s, α ≥ {t.alpha[jumped].min():.2f})"
     )
     inside = flip & crit
     print(f"  inside the criterion: max θ median {t['max.theta [rad]'][inside].astype(float).median():.2f} rad; t(π/2) {t_h[inside].min():.2f} … {t_h[inside].max():.2f} s")
@@ -112,7 +114,7 @@ def egg(path: Path, out: Path) -> None:
     t = pd.read_parquet(path)
     xs, ys, zt = grid(t, "initial.phi_dot [rad/s]", "contact.friction [1]", t["min.theta [rad]"].astype(float).to_numpy())
     _, _, zr = grid(t, "initial.phi_dot [rad/s]", "contact.friction [1]", t["t_risen [s]"].astype(float).to_numpy())
-    jumped = (t.status == "lost_contact").to_numpy()
+    jumped = t["t_jump [s]"].notna().to_numpy()
     _, _, zj = grid(t, "initial.phi_dot [rad/s]", "contact.friction [1]", jumped.astype(float))
     ex, ey = edges(xs), edges(ys)
     fig, axs = plt.subplots(1, 2, figsize=(12, 4.8), constrained_layout=True)
@@ -123,18 +125,18 @@ def egg(path: Path, out: Path) -> None:
     ax = axs[1]
     m = ax.pcolormesh(ex, ey, np.ma.masked_invalid(zr), cmap="plasma", shading="flat")
     fig.colorbar(m, ax=ax, label="time the axis passes 45° [s]")
-    ax.set_title("when it rises; hatched: leaves the plane (jumps)")
+    ax.set_title("when it rises; hatched: it hops off the plane")
     for ax in axs:
         ax.contourf(xs, ys, zj, levels=[0.5, 1.5], hatches=["////"], colors="none")
         ax.set_xlabel("φ̇0 [rad/s]")
         ax.set_ylabel("μ [1]")
     fig.savefig(out / "egg-rise.png", dpi=110)
     rose = t["t_risen [s]"].notna()
-    print(f"egg: {len(t)} runs; statuses {t.status.value_counts().to_dict()}; rises past 45° in {int(rose.sum())}")
+    print(f"egg: {len(t)} runs; statuses {t.status.value_counts().to_dict()}; rises past 45° in {int(rose.sum())}; hops in {int(t['t_jump [s]'].notna().sum())} (rising too: {int((rose & t['t_jump [s]'].notna()).sum())}); largest μ that rises {t['contact.friction [1]'][rose].max():.3f}")
     for mu in sorted(t["contact.friction [1]"].unique())[::8]:
         sub = t[t["contact.friction [1]"] == mu]
         r = sub[sub["t_risen [s]"].notna()]["initial.phi_dot [rad/s]"]
-        j = sub[sub.status == "lost_contact"]["initial.phi_dot [rad/s]"]
+        j = sub[sub["t_jump [s]"].notna()]["initial.phi_dot [rad/s]"]
         print(f"  μ = {mu:.3f}: rises from φ̇0 = {r.min() if len(r) else float('nan'):.0f} rad/s; jumps from {j.min() if len(j) else float('nan'):.0f} rad/s")
 
 

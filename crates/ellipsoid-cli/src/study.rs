@@ -14,7 +14,9 @@ use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
 use ellipsoid_io::OutputError;
-use ellipsoid_study::study::{self, ExecError, Study, TableFormat, Tally, spec, table};
+use ellipsoid_study::study::{
+    self, ExecError, JournalError, Study, TableFormat, Tally, spec, table,
+};
 
 use crate::cli::StudyArgs;
 use crate::error::CliError;
@@ -86,13 +88,11 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
                 ),
             });
         }
-        Err(ExecError::Journal(e)) => {
-            return Err(OutputError::Io {
-                path: journal.clone(),
-                source: std::io::Error::other(e.to_string()),
-            }
-            .into());
+        Err(ExecError::Journal(JournalError::Io { path, source })) => {
+            return Err(OutputError::Io { path, source }.into());
         }
+        // A journal of another study, or not a journal: bad input, nothing was run.
+        Err(ExecError::Journal(e)) => return Err(CliError::Usage(e.to_string())),
         Err(ExecError::Internal(msg)) => {
             return Err(CliError::Usage(format!(
                 "internal error: {msg}; please report it"
