@@ -5,6 +5,11 @@
 //! Also the cost of the study's own steps for one point (resolve + parse, summary).
 //!
 //! `cargo run --release -p ellipsoid-study --example study_overhead [STUDY.toml]`
+//!
+//! With a second argument `bare`, `study` or `none` it runs the points once that way and
+//! prints nothing: for instruction counts, which do not depend on the machine's load
+//! (`perf stat -e instructions target/release/examples/study_overhead STUDY.toml bare`;
+//! `none` is the common setup, to subtract).
 
 use std::hint::black_box;
 use std::ops::ControlFlow;
@@ -53,6 +58,26 @@ fn main() {
         .iter()
         .map(|&i| study.scenario(&study.resolve(i).unwrap()).unwrap().scene)
         .collect();
+    match std::env::args().nth(2).as_deref() {
+        Some("none") => return,
+        Some("bare") => {
+            for s in &scenes {
+                black_box(simulate(black_box(s), &mut |x| {
+                    black_box(x);
+                    ControlFlow::Continue(())
+                }))
+                .ok();
+            }
+            return;
+        }
+        Some("study") => {
+            for &i in &points {
+                black_box(study.run_point(black_box(i), None));
+            }
+            return;
+        }
+        _ => {}
+    }
     let (mut bare, mut full) = (Vec::new(), Vec::new());
     for _ in 0..7 {
         let t = cpu_seconds();
