@@ -70,7 +70,10 @@ fn rhs(c: &mut Criterion) {
     group.bench_function("frictionless", |b| {
         b.iter(|| black_box(&free).rhs(0.0, black_box(&y)))
     });
-    let slide = system(Sliding { friction: 0.3 });
+    let slide = system(Sliding {
+        friction: 0.3,
+        disc: None,
+    });
     group.bench_function("sliding", |b| {
         b.iter(|| black_box(&slide).rhs(0.0, black_box(&y)))
     });
@@ -83,7 +86,10 @@ fn rhs(c: &mut Criterion) {
     let dragged = System {
         body: top(),
         gravity: 9.81,
-        contact: Sliding { friction: 0.3 },
+        contact: Sliding {
+            friction: 0.3,
+            disc: None,
+        },
         effects: AirDrag {
             linear: 1e-3,
             angular: 1e-8,

@@ -86,6 +86,7 @@ pub fn scene(
         body,
         gravity: G,
         contact,
+        disc: None,
         effects: EffectSet::default(),
         initial: InitialState {
             angles,

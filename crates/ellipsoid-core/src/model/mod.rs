@@ -11,10 +11,12 @@
 //! constraint cannot drift. The contact law ([`ContactLaw`]) decides F from the
 //! acceleration-level constraint z̈_G = −u·ω̇ − κ (and, when rolling, v_C = 0).
 
+pub mod contensou;
 mod frictionless;
 mod rolling;
 pub mod sliding;
 
+pub use contensou::ContactDisc;
 pub use frictionless::Frictionless;
 pub use rolling::Rolling;
 pub use sliding::Sliding;
@@ -96,6 +98,22 @@ pub trait ContactLaw {
     ) -> Response;
     /// Restores the law's algebraic relations on an accepted state (see [`OdeSystem::project`]).
     fn project(&self, _body: &Body, _y: &mut State) {}
+    /// [`ContactLaw::respond`] for a law that also adds a load of its own to the effects'
+    /// `load` (the drilling torque of a contact disc, per unit N): returns the total load,
+    /// which the power balance then books, and the response to it. By default the law
+    /// adds nothing.
+    #[inline]
+    fn respond_loaded(
+        &self,
+        body: &Body,
+        gravity: f64,
+        kin: &Kinematics,
+        y: &State,
+        load: Wrench,
+    ) -> (Wrench, Response) {
+        let response = self.respond(body, gravity, kin, y, &load);
+        (load, response)
+    }
 }
 
 /// The body on the plane under gravity, a contact law `C` and effects `E`.
@@ -112,6 +130,7 @@ pub struct System<C, E> {
 #[derive(Debug, Clone, Copy)]
 pub struct Evaluation {
     pub kin: Kinematics,
+    /// The effects' load, plus what the contact law adds (a contact disc's drilling torque).
     pub load: Wrench,
     pub response: Response,
 }
@@ -138,9 +157,9 @@ impl<C: ContactLaw, E: Effect> System<C, E> {
     pub fn evaluate(&self, y: &State) -> Evaluation {
         let kin = Kinematics::new(&self.body, y, C::ROLLING);
         let load = self.effects.wrench(&self.body, &kin);
-        let response = self
+        let (load, response) = self
             .contact
-            .respond(&self.body, self.gravity, &kin, y, &load);
+            .respond_loaded(&self.body, self.gravity, &kin, y, load);
         Evaluation {
             kin,
             load,

@@ -31,6 +31,7 @@ use crate::body::{Body, uniform_inertia};
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
 use crate::integrate::{Direction, Method};
+use crate::model::{ContactDisc, contensou};
 use crate::simulate::{
     ContactModel, EffectSet, InitialState, MAX_OBSERVE, Observe, Scene, SolverSettings,
 };
@@ -101,7 +102,7 @@ const INITIAL_KEYS: [&str; 17] = [
     "position",
     "velocity",
 ];
-const CONTACT_KEYS: [&str; 2] = ["model", "friction"];
+const CONTACT_KEYS: [&str; 4] = ["model", "friction", "contact_radius", "contact_law"];
 const CONTACT_MODELS: [&str; 4] = ["frictionless", "sliding", "rolling", "coulomb"];
 const EFFECT_KEYS: [&str; 4] = ["gravity", "rolling_resistance", "spin_friction", "air_drag"];
 const SOLVER_KEYS: [&str; 5] = ["method", "rtol", "atol", "step", "max_steps"];

@@ -58,7 +58,10 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             slide: System {
                 body: body.clone(),
                 gravity: g,
-                contact: Sliding { friction },
+                contact: Sliding {
+                    friction,
+                    disc: scene.disc,
+                },
                 effects,
             },
             roll: System {
@@ -90,10 +93,13 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         let mut warnings = Vec::new();
         let mut switches = 0usize;
 
-        let status = if matches!(self.scene.contact, ContactModel::Sliding { .. })
+        let status = if (matches!(self.scene.contact, ContactModel::Sliding { .. })
+            || self.scene.disc.is_some())
             && slip_is_zero(self, &y)
+            && self.slide.contact.stop_speed(&self.slide.evaluate(&y).kin) == 0.0
         {
-            // Only the pure sliding model starts here with zero slip (see `start`).
+            // Only the pure sliding model, or a contact disc with no spin either, starts
+            // here with zero slip (see `start`).
             events.push(EventRecord {
                 kind: EventKind::SlipStop,
                 t,
