@@ -199,7 +199,8 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                     ContactModel::Frictionless | ContactModel::Rolling
                 ),
             revolution,
-            sphere: revolution && a.x == a.z,
+            // The drilling torque of a contact disc changes Jellett's J = L_G·(G − C).
+            sphere: revolution && a.x == a.z && scene.disc.is_none(),
         }
     }
 
