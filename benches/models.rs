@@ -13,7 +13,8 @@ use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_mai
 use ellipsoid_core::body::Body;
 use ellipsoid_core::effects::AirDrag;
 use ellipsoid_core::integrate::{Method, OdeSystem, Options, integrate};
-use ellipsoid_core::model::{ContactLaw, Frictionless, Rolling, Sliding, System};
+use ellipsoid_core::model::contensou::Law;
+use ellipsoid_core::model::{ContactDisc, ContactLaw, Frictionless, Rolling, Sliding, System};
 use ellipsoid_core::scenario;
 use ellipsoid_core::simulate::{Scene, simulate};
 use ellipsoid_core::state::{self, EulerAngles, State};
@@ -81,6 +82,21 @@ fn rhs(c: &mut Criterion) {
     group.bench_function("rolling", |b| {
         b.iter(|| black_box(&roll).rhs(0.0, black_box(&y)))
     });
+    // The sliding law over a contact disc (Coulomb–Contensou, issue #14) against the point
+    // contact above: R = 0.5 mm puts d = |v_C|/(R|ω_n|) at 30 (the series in 1/d²),
+    // R = 12 mm at 1.3 (Carlson's R_F and R_D, the costliest branch).
+    for (name, radius) in [("sliding_disc", 5e-4), ("sliding_disc_d1", 1.2e-2)] {
+        let disc = system(Sliding {
+            friction: 0.3,
+            disc: Some(ContactDisc {
+                radius,
+                law: Law::Exact,
+            }),
+        });
+        group.bench_function(name, |b| {
+            b.iter(|| black_box(&disc).rhs(0.0, black_box(&y)))
+        });
+    }
     // The same sliding system with one effect present (air drag): what an absent effect
     // (the `()` above) saves.
     let dragged = System {

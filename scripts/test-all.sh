@@ -17,7 +17,7 @@ fuzz_seconds="${ELLIPSOID_FUZZ_SECONDS:-60}"
 rm -rf .venv
 python3 -m venv .venv
 pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
-"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow
+"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath
 cmake_ok() { command -v cmake >/dev/null && printf '%s\n3.26\n' "$(cmake --version | head -1 | awk '{print $3}')" | sort -V -C -r 2>/dev/null; }
 if [ -z "${CMAKE:-}" ] && ! cmake_ok; then
   "${pip[@]}" 'cmake>=3.26'
