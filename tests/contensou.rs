@@ -491,3 +491,36 @@ fn val_zero_spin_is_coulomb() {
     let (a, b) = (point.rhs(0.0, &y), with_disc.rhs(0.0, &y));
     assert!((a - b).norm() <= 1e-15 * a.norm(), "{a} vs {b}");
 }
+
+/// Ẇ books the drilling: the dissipated power is μN (f |v_C| + R g |ω_n|) ≥ 0, the
+/// power of the disc's traction field (force at C and torque about e3).
+#[test]
+fn val_dissipation_includes_the_drilling() {
+    let radius = 1e-2;
+    let sys = System {
+        body: triaxial(),
+        gravity: G,
+        contact: Sliding {
+            friction: 0.4,
+            disc: disc(radius, Law::Exact),
+        },
+        effects: (),
+    };
+    let mut y = triaxial_state();
+    y[state::VEL] = 0.05;
+    y[state::VEL + 1] = -0.02;
+    let ev = sys.evaluate(&y);
+    let omega_n = ev.kin.omega.dot(&ev.kin.contact.zeta);
+    let s = ev.kin.slip.norm();
+    let d = s / (radius * omega_n.abs());
+    let n = ev.response.normal;
+    let expected = 0.4 * n * (Law::Exact.f(d) * s + radius * Law::Exact.g(d) * omega_n.abs());
+    let got = ev.dissipation();
+    let drilling = 0.4 * n * radius * Law::Exact.g(d) * omega_n.abs();
+    assert!(n > 0.0 && drilling > 0.1 * got, "{drilling} of {got}");
+    assert!(
+        (got - expected).abs() <= 1e-13 * expected,
+        "{got} vs {expected}"
+    );
+    assert_eq!(sys.rhs(0.0, &y)[state::WORK], got);
+}

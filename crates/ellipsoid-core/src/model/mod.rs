@@ -7,6 +7,8 @@
 //!   ẋ_G     = v_G (horizontal),  q̇ = ½ q ⊗ ω_b
 //!   Ẇ       = −F·v_C − f·v_G − (τ + N τ_N)·ω_b      dissipated power (≥ 0)
 //! ```
+//! τ_N includes a contact disc's drilling torque per unit N (`contensou`, added by the
+//! law through [`ContactLaw::respond_loaded`]), so it enters N's solve and Ẇ.
 //! z_G and v_Gz are functions of the orientation (`geometry`), so the contact
 //! constraint cannot drift. The contact law ([`ContactLaw`]) decides F from the
 //! acceleration-level constraint z̈_G = −u·ω̇ − κ (and, when rolling, v_C = 0).

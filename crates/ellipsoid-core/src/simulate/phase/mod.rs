@@ -10,6 +10,10 @@
 //! | frictionless | F = N e3 | N | stop: lost contact |
 //! | sliding | Coulomb, F = N(e3 − μ ŝ) | N, v_C·s_ref, \|v_C\| − floor, Painlevé denominator | slip stop → rolling (inside the cone, after the sticking impulse) or stop; Painlevé → stop |
 //! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left → sliding, slip opposite the friction rolling needed |
+//!
+//! With a contact disc (`Scene::disc`) the sliding law is Coulomb–Contensou's and the
+//! sliding phase watches N, √(\|v_C\|² + (R ω_n)²) − floor and the Painlevé denominator;
+//! slip and spin stopping together ends the run (see `sliding`).
 
 mod frictionless;
 mod rolling;
