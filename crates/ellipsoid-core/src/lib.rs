@@ -11,6 +11,7 @@ pub mod columns;
 pub mod effects;
 pub mod error;
 pub mod geometry;
+pub mod impact;
 pub mod integrate;
 pub mod invariants;
 pub mod model;
