@@ -48,7 +48,7 @@ pub struct Kinematics {
 
 impl Kinematics {
     /// Kinematics of state `y`; with `rolling`, v_G = −ω × r (the state's v_G is ignored).
-    #[inline]
+    #[inline(always)]
     pub fn new(body: &Body, y: &State, rolling: bool) -> Self {
         let rot = state::rotation(y);
         let omega = state::omega(y);
