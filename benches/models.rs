@@ -1,4 +1,4 @@
-//! Cost of the physics: one right-hand-side evaluation per contact model, one step per
+//! Cost of the physics: one right-hand-side evaluation per contact model (and in flight), one step per
 //! method on the ellipsoid, whole runs of every bundled scenario, and sweep throughput
 //! on all cores against one.
 //!
@@ -14,7 +14,9 @@ use ellipsoid_core::body::Body;
 use ellipsoid_core::effects::AirDrag;
 use ellipsoid_core::integrate::{Method, OdeSystem, Options, integrate};
 use ellipsoid_core::model::contensou::Law;
-use ellipsoid_core::model::{ContactDisc, ContactLaw, Frictionless, Rolling, Sliding, System};
+use ellipsoid_core::model::{
+    ContactDisc, ContactLaw, Flight, Frictionless, Rolling, Sliding, System,
+};
 use ellipsoid_core::scenario;
 use ellipsoid_core::simulate::{Scene, simulate};
 use ellipsoid_core::state::{self, EulerAngles, State};
@@ -97,6 +99,14 @@ fn rhs(c: &mut Criterion) {
             b.iter(|| black_box(&disc).rhs(0.0, black_box(&y)))
         });
     }
+    // The same state off the plane (z_G and v_Gz are states in flight).
+    let mut flying = y;
+    flying[state::HEIGHT] = 0.05;
+    flying[state::VEL_Z] = 0.1;
+    let fly = system(Flight);
+    group.bench_function("flight", |b| {
+        b.iter(|| black_box(&fly).rhs(0.0, black_box(&flying)))
+    });
     // The same sliding system with one effect present (air drag): what an absent effect
     // (the `()` above) saves.
     let dragged = System {

@@ -76,7 +76,7 @@ fn column(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
 }
 
 /// The CSV header, exactly (docs/scenarios.md).
-const HEADER: &str = "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,omega_y,omega_z,vx,vy,vz,energy,normal_force,slip_speed,mode,work,omega_world_x,omega_world_y,omega_world_z,contact_x,contact_y,drift";
+const HEADER: &str = "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,omega_y,omega_z,vx,vy,vz,energy,normal_force,slip_speed,mode,work,omega_world_x,omega_world_y,omega_world_z,contact_x,contact_y,drift,gap";
 
 // ------------------------------------------------------------------ bundled scenarios
 
@@ -161,6 +161,9 @@ fn every_bundled_scenario_has_a_test() {
         "spin-friction",
         "air-drag",
         "tippe-top-disc",
+        "egg-jump",
+        "drop",
+        "tippe-top-jump",
     ];
     for entry in std::fs::read_dir(scenarios()).unwrap() {
         let path = entry.unwrap().path();
@@ -296,6 +299,73 @@ fn scenario_spin_friction_slows_the_spin() {
     let wz = column(&h, &rows, "omega_z");
     assert!(wz.last().unwrap() < &(0.8 * wz[0]));
     assert!(s["final"]["work"].as_f64().unwrap() > 0.0);
+}
+
+/// The kinds of the summary's events, in order.
+fn event_kinds(s: &Value) -> Vec<&str> {
+    s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["kind"].as_str().unwrap())
+        .collect()
+}
+
+#[test]
+fn scenario_egg_jump_flies_and_lands_again_and_again() {
+    let (s, h, rows) = run_scenario("egg-jump", Some(2.3), "completed");
+    let kinds = event_kinds(&s);
+    let lifts = kinds.iter().filter(|k| **k == "lift_off").count();
+    assert!(lifts >= 5, "{lifts} lift-offs");
+    // the run may end in flight
+    let downs = kinds.iter().filter(|k| **k == "touchdown").count();
+    assert!(
+        downs == lifts || downs + 1 == lifts,
+        "{lifts} lift-offs, {downs} touchdowns"
+    );
+    let impact = s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["kind"] == "impact")
+        .unwrap();
+    assert!(
+        impact["energy_loss"].as_f64().unwrap() >= 0.0
+            && impact["impulse"][2].as_f64().unwrap() > 0.0
+    );
+    let mode = h.iter().position(|c| c == "mode").unwrap();
+    let gap = column(&h, &rows, "gap");
+    let flying: Vec<usize> = (0..rows.len())
+        .filter(|&i| rows[i][mode] == "flight")
+        .collect();
+    assert!(!flying.is_empty() && flying.iter().any(|&i| gap[i] > 0.0));
+    assert!(s["drift"]["energy_plus_work"].as_f64().unwrap() < 1e-9);
+}
+
+#[test]
+fn scenario_drop_bounces_and_settles() {
+    let (s, h, rows) = run_scenario("drop", Some(1.0), "completed");
+    let hits: Vec<&Value> = s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["kind"] == "impact")
+        .collect();
+    assert!(
+        hits.len() > 5 && hits.last().unwrap()["persistent"] == true,
+        "{hits:?}"
+    );
+    let mode = h.iter().position(|c| c == "mode").unwrap();
+    assert_eq!(rows[0][mode], "flight");
+    assert_ne!(rows.last().unwrap()[mode], "flight");
+}
+
+#[test]
+fn scenario_tippe_top_jump_hops_while_turning_over() {
+    let (s, _, _) = run_scenario("tippe-top-jump", Some(1.0), "completed");
+    let kinds = event_kinds(&s);
+    assert!(kinds.iter().filter(|k| **k == "lift_off").count() >= 5);
+    assert!(kinds.contains(&"observed"), "θ passes π/2");
 }
 
 #[test]
@@ -893,7 +963,7 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
             ),
             vec![],
             Expect::Exact(
-                "error: bad.toml:11:1: initial.velocity = [1.0, 0.0]: not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it",
+                "error: bad.toml:11:1: initial.velocity = [1.0, 0.0]: not allowed for the rolling model on the plane, where the velocity of G is implied by ω (v_G = −ω × r); remove it (or start in flight, initial.height > 0)",
             ),
         ),
         (
@@ -903,12 +973,16 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
                     "theta = 0.1745\npsi_dot = 60.0",
                     "theta = 1.2\nphi_dot = 3000.0",
                 )
+                .replace(
+                    "model = \"frictionless\"",
+                    "model = \"frictionless\"\non_lift_off = \"stop\"",
+                )
                 .into(),
             ),
             vec![],
             Expect::Parts(
                 "error: bad.toml:8:2: initial normal force N = -",
-                "the plane must push on the body at t = 0 (N > 0); with these angles and rates the body would leave the plane at once",
+                "the plane must push on the body at t = 0 (N > 0) when contact.on_lift_off = \"stop\"; with these angles and rates the body would leave the plane at once",
             ),
         ),
         (

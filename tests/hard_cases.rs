@@ -890,6 +890,7 @@ fn hard_9_friction_limits_reduce_to_the_other_models() {
 fn hard_10_short_dip_of_the_normal_force_is_a_loss_of_contact() {
     let egg = |solver: &[&str]| {
         let mut sets = vec![
+            "contact.on_lift_off=\"stop\"",
             "contact.friction=0.03",
             "initial.phi_dot=180",
             "output.t_end=3",

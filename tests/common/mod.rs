@@ -6,7 +6,8 @@ use std::ops::ControlFlow;
 use ellipsoid_core::body::{Body, uniform_inertia};
 use ellipsoid_core::integrate::Method;
 use ellipsoid_core::simulate::{
-    self, ContactModel, EffectSet, InitialState, Outcome, Sample, Scene, SolverSettings,
+    self, ContactModel, EffectSet, InitialState, Landing, LiftOff, Outcome, Sample, Scene,
+    SolverSettings,
 };
 use ellipsoid_core::state::EulerAngles;
 use nalgebra::{Matrix3, Vector2, Vector3};
@@ -87,12 +88,19 @@ pub fn scene(
         gravity: G,
         contact,
         disc: None,
+        // The round-one questions: a loss of contact ends the run (flight tests say "fly").
+        landing: Landing {
+            lift_off: LiftOff::Stop,
+            ..Landing::default()
+        },
         effects: EffectSet::default(),
         initial: InitialState {
             angles,
             omega_body: None,
             position: Vector2::zeros(),
             velocity,
+            height: 0.0,
+            velocity_z: None,
         },
         solver: SolverSettings {
             method: Method::Dop853,

@@ -11,19 +11,20 @@
 //! energy        J       E = ½m|v_G|² + ½ωᵀIω + m g z_G
 //! normal_force  N       N = F·e3
 //! slip_speed    m/s     |v_C|, speed of the material contact point
-//! mode          -       contact regime: frictionless | sliding | rolling
+//! mode          -       contact regime: frictionless | sliding | rolling | flight
 //! work          J       work dissipated so far (friction and effects)
 //! omega_world_* rad/s   angular velocity in world axes (omega_world_z: the vertical spin)
 //! contact_x, _y m       the contact point C on the plane
 //! drift         1       (Q − Q(0))/scale of the scene's conserved quantity Q: E where
 //!                       energy is conserved, else E + W (docs/physics.md, "Invariants")
+//! gap           m       height of the body's lowest point above the plane (0 in contact)
 //! ```
 //! Observables (`[[observe]]`) name these columns too.
 
 use crate::simulate::Sample;
 
 /// Number of numeric columns.
-pub const NUMERIC: usize = 26;
+pub const NUMERIC: usize = 27;
 
 /// Numeric columns in file order (`mode` sits between `slip_speed` and `work`), with units.
 pub const NUMERIC_COLUMNS: [(&str, &str); NUMERIC] = [
@@ -53,6 +54,7 @@ pub const NUMERIC_COLUMNS: [(&str, &str); NUMERIC] = [
     ("contact_x", "m"),
     ("contact_y", "m"),
     ("drift", "1"),
+    ("gap", "m"),
 ];
 
 /// Index in [`NUMERIC_COLUMNS`] before which the `mode` column is written.
@@ -105,6 +107,7 @@ pub fn values(s: &Sample) -> [f64; NUMERIC] {
         s.contact.x,
         s.contact.y,
         s.drift,
+        s.gap,
     ]
 }
 

@@ -47,7 +47,7 @@ impl Invariants {
         let l_body = body.inertia() * kin.omega;
         let energy = 0.5 * m * kin.v_g.norm_squared()
             + 0.5 * kin.omega.dot(&l_body)
-            + m * gravity * kin.contact.height;
+            + m * gravity * kin.z_g();
         let p: Vector2<f64> = m * kin.v_g.xy();
         Invariants {
             energy,
@@ -85,6 +85,10 @@ pub struct Conservation {
     pub revolution: bool,
     /// A sphere (of revolution with a = c).
     pub sphere: bool,
+    /// No impact can dissipate energy: lift-off stops the run, or impacts are
+    /// frictionless and elastic (e = 1). Else E is conserved only until the first impact
+    /// and the `drift` column follows E + W (equal to E until then).
+    pub elastic_impacts: bool,
 }
 
 impl Invariant {

@@ -9,8 +9,10 @@
 //! 8..11  ω1, ω2, ω3    rad/s   angular velocity in body axes
 //! 11     W             J       work dissipated so far (contact friction and effects)
 //! 12..14 s_x, s_y      -       slip reference direction (sliding; see `model::sliding`)
+//!        z_G, v_Gz     m, m/s  in flight instead: height and vertical velocity of G
 //! ```
-//! z_G and v_Gz are not states: they follow from the orientation (exact contact).
+//! In contact z_G and v_Gz are not states: they follow from the orientation (exact
+//! contact). In flight (`model::flight`) they are, in the slots no contact law uses then.
 
 use nalgebra::{Matrix3, Quaternion, SVector, UnitQuaternion, Vector2, Vector3};
 
@@ -31,6 +33,10 @@ pub const OMEGA: usize = 8;
 pub const WORK: usize = 11;
 /// Index of the slip reference direction.
 pub const SLIP_REF: usize = 12;
+/// Index of z_G in flight (the slip reference's slots: no slip is tracked in flight).
+pub const HEIGHT: usize = 12;
+/// Index of v_Gz in flight.
+pub const VEL_Z: usize = 13;
 
 /// Horizontal position of G \[m\].
 #[inline]

@@ -179,6 +179,7 @@ mod tests {
             work: 0.0,
             normal_force: 0.5,
             slip_speed: 0.0,
+            gap: 0.0,
             mode: Mode::Sliding,
         }
     }
@@ -191,7 +192,7 @@ mod tests {
         let mut lines = text.lines();
         assert_eq!(
             lines.next().unwrap(),
-            "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,omega_y,omega_z,vx,vy,vz,energy,normal_force,slip_speed,mode,work,omega_world_x,omega_world_y,omega_world_z,contact_x,contact_y,drift"
+            "t,x,y,z,theta,phi,psi,theta_dot,phi_dot,psi_dot,omega_x,omega_y,omega_z,vx,vy,vz,energy,normal_force,slip_speed,mode,work,omega_world_x,omega_world_y,omega_world_z,contact_x,contact_y,drift,gap"
         );
         let row: Vec<&str> = lines.next().unwrap().split(',').collect();
         assert_eq!(row[19], "sliding");

@@ -163,7 +163,10 @@ pub fn state_map(s: &Sample) -> Map<String, Value> {
 }
 
 /// An event as the summary lists it: `{kind, t}`, with `from` and `to` for a mode switch,
-/// and `name` and the full `state` for an observable.
+/// `name` and the full `state` for an observable, the approach `speed` (m/s) for a
+/// touchdown, and for an impact its `impulse` (N s, world axes), `energy_loss` (J),
+/// whether the contact `stuck`, the `rebound` speed (m/s) and whether contact became
+/// `persistent`.
 pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
     let mut m = Map::new();
     m.insert("kind".into(), Value::from(e.kind.name()));
@@ -180,7 +183,26 @@ pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
             );
             m.insert("state".into(), Value::Object(state_map(sample)));
         }
-        EventKind::SlipStop | EventKind::LostContact | EventKind::Painleve => {}
+        EventKind::Touchdown { speed } => {
+            m.insert("speed".into(), finite_or_null(*speed));
+        }
+        EventKind::Impact(hit) => {
+            let p = &hit.impulse;
+            m.insert(
+                "impulse".into(),
+                Value::Array(vec![
+                    finite_or_null(p.x),
+                    finite_or_null(p.y),
+                    finite_or_null(p.z),
+                ]),
+            );
+            m.insert("energy_loss".into(), finite_or_null(hit.energy_loss));
+            m.insert("stuck".into(), Value::from(hit.stuck));
+            m.insert("rebound".into(), finite_or_null(hit.rebound));
+            m.insert("persistent".into(), Value::from(hit.persistent));
+        }
+        EventKind::SlipStop | EventKind::LostContact | EventKind::LiftOff | EventKind::Painleve => {
+        }
     }
     Value::Object(m)
 }
@@ -219,7 +241,7 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
             )
         }
         Status::LostContact => format!(
-            "the normal force reached zero at t = {t} s: the body leaves the plane (free flight is not simulated)"
+            "the normal force reached zero at t = {t} s: the body leaves the plane (the run stops there: contact.on_lift_off = \"stop\")"
         ),
         Status::SlipStopped if scene.disc.is_some() => format!(
             "the slip speed and the spin about the vertical reached zero together at t = {t} s, where the \

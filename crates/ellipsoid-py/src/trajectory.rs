@@ -22,10 +22,12 @@ use crate::scenario::PyScenario;
 /// `theta`, `phi`, `psi` [rad] (z-x-z Euler angles); `theta_dot`, `phi_dot`, `psi_dot`
 /// [rad/s]; `omega_x`, `omega_y`, `omega_z` [rad/s] (body axes); `vx`, `vy`, `vz` [m/s]
 /// (velocity of G); `energy` [J]; `normal_force` [N]; `slip_speed` [m/s] (speed of the
-/// contact point); `mode` (str array: "frictionless", "sliding" or "rolling"); `work` [J]
+/// contact point); `mode` (str array: "frictionless", "sliding", "rolling" or "flight");
+/// `work` [J]
 /// (dissipated so far); `omega_world_x`, `omega_world_y`, `omega_world_z` [rad/s] (world
 /// axes); `contact_x`, `contact_y` [m] (contact point on the plane); `drift` [1]
-/// (relative drift of E, or of E + W where E is not conserved). The arrays are read-only
+/// (relative drift of E, or of E + W where E is not conserved); `gap` [m] (lowest point
+/// above the plane, 0 in contact). The arrays are read-only
 /// views of the run (copy to modify).
 ///
 /// `len(traj)` is the number of samples. A run that ends early (loss of contact, the pure
@@ -287,7 +289,13 @@ impl Trajectory {
     fn drift<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.column(py, 25)
     }
-    /// Contact regime of each sample: "frictionless", "sliding" or "rolling" (numpy str array).
+    /// Height of the body's lowest point above the plane [m] (0 in contact).
+    #[getter]
+    fn gap<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        self.column(py, 26)
+    }
+    /// Contact regime of each sample: "frictionless", "sliding", "rolling" or "flight"
+    /// (numpy str array).
     #[getter]
     fn mode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.modes(py)

@@ -31,11 +31,12 @@ def needle(friction: float = 1.0, velocity=(1.0, 0.0)) -> ellipsoid.Scenario:
 
 
 def tumbling() -> ellipsoid.Scenario:
-    """A prolate body falling over fast enough (θ̇ = −45 rad/s) to leave the plane."""
+    """A prolate body falling over fast enough (θ̇ = −45 rad/s) to leave the plane (the
+    run stops there)."""
     return ellipsoid.Scenario(
         body=dict(a=0.02, c=0.04, mass=0.1, inertia="uniform"),
         initial=dict(theta=1.5, theta_dot=-45.0, velocity=[0.0, 0.0]),
-        contact=dict(model="frictionless"),
+        contact=dict(model="frictionless", on_lift_off="stop"),
         solver=dict(rtol=1e-12, atol=1e-12),
         output=dict(t_end=1.0, dt=1e-4),
         name="tumbling",
@@ -317,3 +318,28 @@ def test_hdf5_unavailable_says_how_to_get_it(tmp_path: Path) -> None:
         with pytest.raises(ellipsoid.OutputError, match=r"built without HDF5 support; reinstall it with the default features"):
             write(tmp_path / "x.h5")
     assert not list(tmp_path.iterdir())
+
+
+def test_a_dropped_body_flies_bounces_and_settles() -> None:
+    """scenarios/drop.toml through Python: flight rows, the gap column, impact events."""
+    traj = ellipsoid.simulate(REPO / "scenarios" / "drop.toml", output={"t_end": 1.0})
+    assert traj.completed
+    assert traj.mode[0] == "flight" and traj.mode[-1] != "flight"
+    flying = traj.mode == "flight"
+    assert (traj.gap[flying] >= 0).all() and (traj.gap[~flying] == 0).all()
+    assert (traj.normal_force[flying] == 0).all()
+    impacts = [e for e in traj.events if e["kind"] == "impact"]
+    assert impacts and all(e["energy_loss"] >= 0 for e in impacts)
+    assert impacts[-1]["persistent"] is True
+    # E + W is the balance: every impact books its loss in W.
+    balance = traj.energy + traj.work
+    assert abs(balance[-1] - balance[0]) < 1e-9 * abs(balance[0])
+
+
+def test_without_gravity_the_body_flies_and_stop_keeps_the_old_error() -> None:
+    traj = ellipsoid.simulate(NUTATION, effects={"gravity": 0.0}, output={"t_end": 0.2})
+    assert traj.completed and (traj.mode == "flight").all()
+    with pytest.raises(ellipsoid.ScenarioError, match="on_lift_off"):
+        ellipsoid.simulate(
+            NUTATION, effects={"gravity": 0.0}, contact={"on_lift_off": "stop"}, output={"t_end": 0.2}
+        )

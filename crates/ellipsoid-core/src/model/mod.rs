@@ -14,11 +14,13 @@
 //! acceleration-level constraint z̈_G = −u·ω̇ − κ (and, when rolling, v_C = 0).
 
 pub mod contensou;
+pub mod flight;
 mod frictionless;
 mod rolling;
 pub mod sliding;
 
 pub use contensou::ContactDisc;
+pub use flight::Flight;
 pub use frictionless::Frictionless;
 pub use rolling::Rolling;
 pub use sliding::Sliding;
@@ -44,11 +46,13 @@ pub struct Kinematics {
     pub v_g: Vector3<f64>,
     /// Horizontal velocity of the material contact point, v_C = v_G + ω × r [m/s].
     pub slip: Vector2<f64>,
+    /// Gap between the body's lowest point and the plane, z_G − h(ζ) \[m\]: 0 in contact.
+    pub gap: f64,
 }
 
 impl Kinematics {
     /// Kinematics of state `y`; with `rolling`, v_G = −ω × r (the state's v_G is ignored).
-    #[inline]
+    #[inline(always)]
     pub fn new(body: &Body, y: &State, rolling: bool) -> Self {
         let rot = state::rotation(y);
         let omega = state::omega(y);
@@ -67,7 +71,36 @@ impl Kinematics {
             contact,
             v_g,
             slip: v_h + spin_lever.xy(),
+            gap: 0.0,
         }
+    }
+
+    /// Kinematics of a state in flight (docs/physics.md, "Flight"): z_G and v_Gz are
+    /// states, the gap is g = z_G − h(ζ) with h(ζ) the height G would have touching
+    /// (`geometry`), and `contact` describes the body's lowest point; `slip` is that
+    /// point's horizontal velocity.
+    #[inline]
+    pub fn flying(body: &Body, y: &State) -> Self {
+        let rot = state::rotation(y);
+        let omega = state::omega(y);
+        let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
+        let contact = Contact::new(body, zeta, omega);
+        let spin_lever = rot * omega.cross(&contact.r);
+        let v_h = state::velocity(y);
+        Kinematics {
+            rot,
+            omega,
+            contact,
+            v_g: Vector3::new(v_h.x, v_h.y, y[state::VEL_Z]),
+            slip: v_h + spin_lever.xy(),
+            gap: y[state::HEIGHT] - contact.height,
+        }
+    }
+
+    /// Height of G, h(ζ) + gap \[m\].
+    #[inline]
+    pub fn z_g(&self) -> f64 {
+        self.contact.height + self.gap
     }
 }
 
@@ -89,6 +122,8 @@ pub struct Response {
 pub trait ContactLaw {
     /// Whether the horizontal velocity of G follows from the constraint (rolling).
     const ROLLING: bool;
+    /// Whether the body is off the plane: z_G and v_Gz are states (`model::flight`).
+    const FLIGHT: bool = false;
     /// Solves for the contact force given the kinematics, gravity g [m/s²] and effects.
     fn respond(
         &self,
@@ -157,7 +192,11 @@ impl<C: ContactLaw, E: Effect> System<C, E> {
     /// Evaluates kinematics, loads and the contact response at `y`.
     #[inline]
     pub fn evaluate(&self, y: &State) -> Evaluation {
-        let kin = Kinematics::new(&self.body, y, C::ROLLING);
+        let kin = if C::FLIGHT {
+            Kinematics::flying(&self.body, y)
+        } else {
+            Kinematics::new(&self.body, y, C::ROLLING)
+        };
         let load = self.effects.wrench(&self.body, &kin);
         let (load, response) = self
             .contact
@@ -188,6 +227,10 @@ impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
         dy.fixed_rows_mut::<3>(state::OMEGA)
             .copy_from(&ev.response.omega_dot);
         dy[state::WORK] = ev.dissipation();
+        if C::FLIGHT {
+            dy[state::HEIGHT] = ev.kin.v_g.z;
+            dy[state::VEL_Z] = accel.z;
+        }
         dy
     }
 

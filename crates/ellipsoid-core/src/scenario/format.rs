@@ -20,6 +20,7 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
     let body = read_body(ctx, tree, &root)?;
     let contact = read_contact(ctx, &root)?;
     let disc = read_disc(ctx, &root, contact)?;
+    let landing = read_landing(ctx, &root)?;
     let initial = read_initial(ctx, &root, contact)?;
     let (gravity, effects) = read_effects(ctx, &root)?;
     let solver = read_solver(ctx, &root)?;
@@ -31,6 +32,7 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
         gravity,
         contact,
         disc,
+        landing,
         effects,
         initial,
         solver,
@@ -233,6 +235,30 @@ pub(super) fn read_disc(
     }))
 }
 
+/// `[contact] restitution` and `on_lift_off` (docs/physics.md, "Flight").
+pub(super) fn read_landing(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Landing> {
+    let Some(sec) = ctx.section(root, "contact", &CONTACT_KEYS, "model and friction")? else {
+        return Ok(Landing::default());
+    };
+    let restitution = ctx
+        .checked(
+            &sec,
+            "restitution",
+            "e, the energetic coefficient of restitution",
+            |v| (0.0..=1.0).contains(&v),
+            "the coefficient of restitution must lie in [0, 1] (0: plastic, 1: elastic)",
+        )?
+        .unwrap_or(Landing::default().restitution);
+    let lift_off = match ctx.choice(&sec, "on_lift_off", &LiftOff::NAMES)? {
+        Some(("stop", _)) => LiftOff::Stop,
+        _ => LiftOff::Fly,
+    };
+    Ok(Landing {
+        restitution,
+        lift_off,
+    })
+}
+
 pub(super) fn read_initial(
     ctx: &Ctx<'_>,
     root: &Sec<'_>,
@@ -334,12 +360,36 @@ pub(super) fn read_initial(
     let position = ctx
         .numbers::<2>(&sec, "position", "x, y of G (m)")?
         .map_or_else(Vector2::zeros, Vector2::from);
-    let velocity = ctx
-        .numbers::<2>(&sec, "velocity", "the horizontal velocity of G (m/s)")?
-        .map(Vector2::from);
-    if let (Some(_), ContactModel::Rolling) = (velocity, contact) {
-        let got = sec.get("velocity").expect("just read");
-        return Err(ctx.bad(ErrorKind::Invalid, &sec, got, "not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it"));
+    let height = ctx
+        .checked(
+            &sec,
+            "height",
+            "the gap of the lowest point above the plane (m)",
+            |v| v >= 0.0,
+            "the gap above the plane must be finite and non-negative (m)",
+        )?
+        .unwrap_or(0.0);
+    let three = sec
+        .get("velocity")
+        .is_some_and(|got| matches!(&got.node().value, Value::Array(a) if a.len() == 3));
+    let (velocity, velocity_z) = if three {
+        let v = ctx.numbers::<3>(&sec, "velocity", "the velocity of G (m/s)")?;
+        (v.map(|v| Vector2::new(v[0], v[1])), v.map(|v| v[2]))
+    } else {
+        let v = ctx.numbers::<2>(
+            &sec,
+            "velocity",
+            "the horizontal velocity of G, [vx, vy] (or [vx, vy, vz] in flight) (m/s)",
+        )?;
+        (v.map(Vector2::from), None)
+    };
+    if let Some(got) = sec.get("velocity") {
+        if velocity_z.is_some() && height == 0.0 {
+            return Err(ctx.bad(ErrorKind::Invalid, &sec, got, "a vertical velocity (third component) needs a body that starts in flight (initial.height > 0); touching the plane, v_Gz follows from the contact"));
+        }
+        if contact == ContactModel::Rolling && height == 0.0 {
+            return Err(ctx.bad(ErrorKind::Invalid, &sec, got, "not allowed for the rolling model on the plane, where the velocity of G is implied by ω (v_G = −ω × r); remove it (or start in flight, initial.height > 0)"));
+        }
     }
     for (name, v) in [
         ("position", position.as_slice()),
@@ -370,6 +420,8 @@ pub(super) fn read_initial(
         omega_body: omega,
         position,
         velocity,
+        height,
+        velocity_z,
     })
 }
 

@@ -33,7 +33,8 @@ use crate::error::{ModelError, number};
 use crate::integrate::{Direction, Method};
 use crate::model::{ContactDisc, contensou};
 use crate::simulate::{
-    ContactModel, EffectSet, InitialState, MAX_OBSERVE, Observe, Scene, SolverSettings,
+    ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, Observe, Scene,
+    SolverSettings,
 };
 use crate::state::EulerAngles;
 
@@ -83,7 +84,7 @@ const BODY_KEYS: [&str; 7] = [
     "com_offset_vector",
     "inertia",
 ];
-const INITIAL_KEYS: [&str; 17] = [
+const INITIAL_KEYS: [&str; 18] = [
     "theta",
     "theta_deg",
     "phi",
@@ -101,8 +102,16 @@ const INITIAL_KEYS: [&str; 17] = [
     "rotation",
     "position",
     "velocity",
+    "height",
 ];
-const CONTACT_KEYS: [&str; 4] = ["model", "friction", "contact_radius", "contact_law"];
+const CONTACT_KEYS: [&str; 6] = [
+    "model",
+    "friction",
+    "restitution",
+    "on_lift_off",
+    "contact_radius",
+    "contact_law",
+];
 const CONTACT_MODELS: [&str; 4] = ["frictionless", "sliding", "rolling", "coulomb"];
 const EFFECT_KEYS: [&str; 4] = ["gravity", "rolling_resistance", "spin_friction", "air_drag"];
 const SOLVER_KEYS: [&str; 5] = ["method", "rtol", "atol", "step", "max_steps"];

@@ -147,7 +147,7 @@ fn errors_name_file_line_column_key_value_and_rule() {
         ),
         (
             edit("psi_dot = 60.0", "psi_dot = 60.0\nvelocity = [1, 0]"),
-            "x.toml:12:1: initial.velocity = [1, 0]: not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r); remove it",
+            "x.toml:12:1: initial.velocity = [1, 0]: not allowed for the rolling model on the plane, where the velocity of G is implied by ω (v_G = −ω × r); remove it (or start in flight, initial.height > 0)",
         ),
         (
             edit("dt = 1e-3", "dt = 1e-3\ntimes = [1.0]"),

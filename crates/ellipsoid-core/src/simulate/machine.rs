@@ -15,13 +15,13 @@ use crate::effects::Effect;
 use crate::error::ModelError;
 use crate::integrate::{self, Action, Direction, Event, Options, Stats, StopReason, Warning};
 use crate::invariants::{Conservation, Invariant, Invariants};
-use crate::model::{ContactLaw, Evaluation, Frictionless, Rolling, Sliding, System};
+use crate::model::{ContactLaw, Evaluation, Flight, Frictionless, Rolling, Sliding, System};
 use crate::state::{self, EulerAngles, State};
 
 use super::outcome::{EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
 use super::phase::{Next, Phase, Watch, phase, slip_is_zero};
 use super::recorder::Recorder;
-use super::scene::{ContactModel, Scene};
+use super::scene::{ContactModel, LiftOff, Scene};
 
 /// Most mode switches a run may make before it is declared chattering.
 const MAX_SWITCHES: usize = 10_000;
@@ -33,6 +33,7 @@ pub(super) struct Machine<'s, E> {
     pub(super) free: System<Frictionless, E>,
     pub(super) slide: System<Sliding, E>,
     pub(super) roll: System<Rolling, E>,
+    pub(super) fly: System<Flight, E>,
 }
 
 /// Where a segment ended, with the watch list it used.
@@ -65,9 +66,15 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                 effects,
             },
             roll: System {
-                body,
+                body: body.clone(),
                 gravity: g,
                 contact: Rolling,
+                effects,
+            },
+            fly: System {
+                body,
+                gravity: g,
+                contact: Flight,
                 effects,
             },
         }
@@ -81,9 +88,10 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         let (mut mode, mut y) = self.start()?;
         let mut t = 0.0;
         let (initial_sample, initial_invariants) = phase::<E>(mode).sample(self, t, &y, None);
+        let conservation = self.conservation();
         let mut rec = Recorder::new(
             observer,
-            self.conservation(),
+            conservation,
             &initial_invariants,
             self.scales(&y, &initial_invariants),
             initial_sample.angles,
@@ -93,8 +101,9 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         let mut warnings = Vec::new();
         let mut switches = 0usize;
 
-        let status = if (matches!(self.scene.contact, ContactModel::Sliding { .. })
-            || self.scene.disc.is_some())
+        let status = if mode != Mode::Flight
+            && (matches!(self.scene.contact, ContactModel::Sliding { .. })
+                || self.scene.disc.is_some())
             && slip_is_zero(self, &y)
             && self.slide.contact.stop_speed(&self.slide.evaluate(&y).kin) == 0.0
         {
@@ -130,6 +139,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                         });
                     }
                 }
+                let touchdown = matches!(sol.stop, StopReason::Event { index } if seg.watches[index] == Watch::Gap);
                 let next = match sol.stop {
                     StopReason::Reached => Next::Stop(Status::Completed),
                     StopReason::Cancelled => {
@@ -143,6 +153,12 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                         watch => current.on_event(self, watch, t, &mut y, &mut events),
                     },
                 };
+                if mode == Mode::Flight {
+                    rec.lose(Invariant::Jellett);
+                    if touchdown && !conservation.elastic_impacts {
+                        rec.lose(Invariant::Energy);
+                    }
+                }
                 match next {
                     Next::Stop(status) => break status,
                     Next::Go(to) => mode = to,
@@ -201,6 +217,9 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             revolution,
             // The drilling torque of a contact disc changes Jellett's J = L_G·(G − C).
             sphere: revolution && a.x == a.z && scene.disc.is_none(),
+            elastic_impacts: scene.landing.lift_off == LiftOff::Stop
+                || (scene.contact == ContactModel::Frictionless
+                    && scene.landing.restitution == 1.0),
         }
     }
 
@@ -320,7 +339,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
     ) -> (Sample, Invariants) {
         let kin = &ev.kin;
         let inv = Invariants::from_kinematics(&sys.body, sys.gravity, kin, y[state::WORK]);
-        let position = Vector3::new(y[state::POS], y[state::POS + 1], kin.contact.height);
+        let position = Vector3::new(y[state::POS], y[state::POS + 1], kin.z_g());
         let sample = Sample {
             t,
             position,
@@ -334,6 +353,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             normal_force: ev.response.normal,
             slip_speed: kin.slip.norm(),
             drift: 0.0,
+            gap: kin.gap,
             mode,
         };
         (sample, inv)

@@ -25,9 +25,12 @@ pub mod scene;
 mod start;
 
 pub use crate::invariants::Drift;
-pub use outcome::{EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
+pub use outcome::{
+    EventKind, EventRecord, ImpactReport, Mode, Outcome, RunWarning, Sample, Status,
+};
 pub use scene::{
-    ContactModel, EffectSet, InitialState, MAX_OBSERVE, Observe, Scene, SolverSettings,
+    ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, Observe, Scene,
+    SolverSettings,
 };
 
 use machine::Machine;

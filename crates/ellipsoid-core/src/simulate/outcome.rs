@@ -16,13 +16,20 @@ pub enum Mode {
     Frictionless,
     Sliding,
     Rolling,
+    /// Off the plane (docs/physics.md, "Flight").
+    Flight,
 }
 
 impl Mode {
     /// Every mode, in [`Mode::NAMES`] order.
-    pub const ALL: [Mode; 3] = [Mode::Frictionless, Mode::Sliding, Mode::Rolling];
+    pub const ALL: [Mode; 4] = [
+        Mode::Frictionless,
+        Mode::Sliding,
+        Mode::Rolling,
+        Mode::Flight,
+    ];
     /// Their names in output files.
-    pub const NAMES: [&'static str; 3] = ["frictionless", "sliding", "rolling"];
+    pub const NAMES: [&'static str; 4] = ["frictionless", "sliding", "rolling", "flight"];
 
     /// Its name in output files.
     pub fn name(self) -> &'static str {
@@ -53,6 +60,8 @@ pub struct Sample {
     pub slip_speed: f64,
     /// Relative drift of the scene's conserved quantity (E, or E + W) since t = 0.
     pub drift: f64,
+    /// Height of the body's lowest point above the plane \[m\] (0 in contact).
+    pub gap: f64,
     pub mode: Mode,
 }
 
@@ -63,8 +72,14 @@ pub enum EventKind {
     SlipStop,
     /// The contact phase changed.
     ModeSwitch { from: Mode, to: Mode },
-    /// N reached zero: the body leaves the plane.
+    /// N reached zero and the run stops there (`on_lift_off = "stop"`).
     LostContact,
+    /// N reached zero: the body leaves the plane and flies.
+    LiftOff,
+    /// The body's lowest point reached the plane, approaching at `speed` [m/s].
+    Touchdown { speed: f64 },
+    /// The impact at a touchdown (docs/physics.md, "Impact at touchdown").
+    Impact(ImpactReport),
     /// The sliding normal-force denominator reached zero.
     Painleve,
     /// Observable `index` of the scene (`Scene::observe`) crossed its value; `sample` is
@@ -79,10 +94,29 @@ impl EventKind {
             EventKind::SlipStop => "slip_stop",
             EventKind::ModeSwitch { .. } => "mode_switch",
             EventKind::LostContact => "lost_contact",
+            EventKind::LiftOff => "lift_off",
+            EventKind::Touchdown { .. } => "touchdown",
+            EventKind::Impact(_) => "impact",
             EventKind::Painleve => "painleve",
             EventKind::Observed { .. } => "observed",
         }
     }
+}
+
+/// What an impact did (world frame, SI units).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImpactReport {
+    /// The impulse P at the contact point [N·s] (P·e3 ≥ 0 is the normal impulse).
+    pub impulse: Vector3<f64>,
+    /// Kinetic energy the impact removed \[J\] (booked in W).
+    pub energy_loss: f64,
+    /// Whether the contact point's slip was zero when the impact ended.
+    pub stuck: bool,
+    /// Normal velocity of the contact point after the impact [m/s] (≥ 0: separating).
+    pub rebound: f64,
+    /// Whether contact became persistent here (the bounce was below the settling speed,
+    /// docs/physics.md "Settling"); the run goes on in contact.
+    pub persistent: bool,
 }
 
 /// A located event.

@@ -42,6 +42,9 @@ pub(super) struct Recorder<'o> {
     scale: [f64; 6],
     /// Largest |I(t) − I(0)| seen.
     deviation: [f64; 6],
+    /// The conserved invariants the run has since stopped conserving (after an impact
+    /// or a flight; see [`Recorder::lose`]).
+    lost: [bool; 6],
     /// Why the recorder stopped the run, if it did (a non-finite sample).
     pub(super) stopped: Option<Status>,
 }
@@ -55,7 +58,8 @@ impl<'o> Recorder<'o> {
         scale: [f64; 6],
         angles: EulerAngles,
     ) -> Self {
-        let headline = if Invariant::Energy.conserved(&conservation) {
+        let headline = if Invariant::Energy.conserved(&conservation) && conservation.elastic_impacts
+        {
             Invariant::Energy
         } else {
             Invariant::EnergyPlusWork
@@ -70,6 +74,7 @@ impl<'o> Recorder<'o> {
             initial: Invariant::ALL.map(|i| i.value(initial)),
             scale: scale.map(|s| s.max(f64::MIN_POSITIVE)),
             deviation: [0.0; 6],
+            lost: [false; 6],
             stopped: None,
         }
     }
@@ -111,12 +116,17 @@ impl<'o> Recorder<'o> {
         (self.observer)(&sample)
     }
 
-    /// The relative drift of each invariant the scene conserves.
+    /// Notes that the run no longer conserves `which` (an impact dissipated energy; a
+    /// flight moved the lever arm of Jellett's quantity without torque).
+    pub(super) fn lose(&mut self, which: Invariant) {
+        self.lost[which as usize] = true;
+    }
+
+    /// The relative drift of each invariant the run conserved.
     pub(super) fn drift(&self) -> Drift {
         Drift(Invariant::ALL.map(|which| {
             let k = which as usize;
-            which
-                .conserved(&self.conservation)
+            (which.conserved(&self.conservation) && !self.lost[k])
                 .then(|| self.deviation[k] / self.scale[k])
         }))
     }
@@ -151,6 +161,7 @@ mod tests {
             energy: true,
             revolution: true,
             sphere: false,
+            elastic_impacts: true,
         };
         let mut rec = Recorder::new(&mut observer, all, &inv, [1.0; 6], EulerAngles::default());
         let mut s = Sample {
@@ -166,6 +177,7 @@ mod tests {
             normal_force: 1.0,
             slip_speed: 0.0,
             drift: 0.0,
+            gap: 0.0,
             mode: Mode::Rolling,
         };
         assert!(rec.emit(s, inv).is_continue());

@@ -36,6 +36,39 @@ impl ContactModel {
     }
 }
 
+/// What happens when the normal force reaches zero (`[contact] on_lift_off`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LiftOff {
+    /// The body flies, lands and goes on (docs/physics.md, "Flight").
+    #[default]
+    Fly,
+    /// The run ends with status `lost_contact`.
+    Stop,
+}
+
+impl LiftOff {
+    /// The `on_lift_off` names, in declaration order.
+    pub const NAMES: [&'static str; 2] = ["fly", "stop"];
+}
+
+/// Leaving and landing on the plane (`[contact] restitution`, `on_lift_off`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Landing {
+    /// Energetic coefficient of restitution e ∈ [0, 1] (docs/physics.md, "Impact at
+    /// touchdown"); the default 0 (plastic) adds no bounce the scene did not ask for.
+    pub restitution: f64,
+    pub lift_off: LiftOff,
+}
+
+impl Default for Landing {
+    fn default() -> Self {
+        Landing {
+            restitution: 0.0,
+            lift_off: LiftOff::Fly,
+        }
+    }
+}
+
 /// The optional effects a scene names (absent = not simulated, no cost).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct EffectSet {
@@ -62,8 +95,12 @@ pub struct InitialState {
     pub position: Vector2<f64>,
     /// Horizontal velocity of G [m/s]. Must be `None` for rolling, where it is implied;
     /// `None` means zero for frictionless and sliding, and no slip (v_G = −ω × r) for
-    /// Coulomb.
+    /// Coulomb. A body that starts in flight may have any horizontal velocity.
     pub velocity: Option<Vector2<f64>>,
+    /// Gap of the lowest point above the plane at t = 0 \[m\]; > 0 starts in flight.
+    pub height: f64,
+    /// Vertical velocity of G [m/s]; only for a body that starts in flight (`None` = 0).
+    pub velocity_z: Option<f64>,
 }
 
 /// Integrator settings.
@@ -93,6 +130,11 @@ pub struct Observe {
     pub terminal: bool,
 }
 
+/// Highest start above the plane, in body sizes (largest semi-axis): a fall from
+/// 10⁶ sizes lasts √(2·10⁶ L/g), ample for any experiment, and keeps z_G's round-off
+/// (ε z_G) far below the body's size.
+pub const MAX_HEIGHT_SIZES: f64 = 1e6;
+
 /// Most observables a scene may name.
 pub const MAX_OBSERVE: usize = 64;
 
@@ -106,6 +148,8 @@ pub struct Scene {
     /// A flat contact disc under the friction models (Coulomb–Contensou friction,
     /// `model::contensou`); `None` is a point contact.
     pub disc: Option<ContactDisc>,
+    /// Leaving and landing on the plane.
+    pub landing: Landing,
     pub effects: EffectSet,
     pub initial: InitialState,
     pub solver: SolverSettings,
@@ -192,7 +236,42 @@ impl Scene {
                 ));
             }
         }
+        let e = self.landing.restitution;
+        if !(0.0..=1.0).contains(&e) {
+            return Err(ModelError::invalid(
+                "contact.restitution",
+                number(e),
+                "the coefficient of restitution must lie in [0, 1]",
+            ));
+        }
         let init = &self.initial;
+        let size = self.body.semi_axes().max();
+        if !(init.height.is_finite() && (0.0..=MAX_HEIGHT_SIZES * size).contains(&init.height)) {
+            return Err(ModelError::invalid(
+                "initial.height",
+                number(init.height),
+                format!(
+                    "the gap above the plane must be finite, ≥ 0 and at most {MAX_HEIGHT_SIZES:e} body sizes ({} m)",
+                    number(MAX_HEIGHT_SIZES * size)
+                ),
+            ));
+        }
+        if let Some(vz) = init.velocity_z {
+            if init.height == 0.0 {
+                return Err(ModelError::invalid(
+                    "initial.velocity",
+                    number(vz),
+                    "a vertical velocity (third component) needs a body that starts in flight (initial.height > 0); touching, v_Gz follows from the contact",
+                ));
+            }
+            if !vz.is_finite() {
+                return Err(ModelError::invalid(
+                    "initial.velocity",
+                    number(vz),
+                    "every component must be finite",
+                ));
+            }
+        }
         let vectors = [
             ("initial.position", init.position.as_slice().to_vec()),
             (

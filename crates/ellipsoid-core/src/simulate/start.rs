@@ -1,5 +1,7 @@
 //! The state a run starts from, and the checks it must pass: a finite state, a positive
-//! normal force, a consistent sliding force, no velocity given for rolling.
+//! normal force (or flight: a start above the plane, or one the plane cannot hold with
+//! `on_lift_off = "fly"`), a consistent sliding force, no velocity given for rolling on
+//! the plane.
 
 use crate::effects::Effect;
 use crate::error::{ModelError, number};
@@ -9,7 +11,8 @@ use crate::state::{self, State};
 use super::machine::Machine;
 use super::outcome::Mode;
 use super::phase::{after_slip_stop, phase, set_reference, slip_is_zero};
-use super::scene::{ContactModel, Scene};
+use super::scene::{ContactModel, LiftOff, Scene};
+use crate::model::Kinematics;
 
 impl<E: Effect + Copy + 'static> Machine<'_, E> {
     /// The initial phase and state, checked.
@@ -22,15 +25,23 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
         state::set_quaternion(&mut y, &init.angles.rotation());
         let omega = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
         y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&omega);
+        let flying = init.height > 0.0;
         match init.velocity {
             Some(v) => {
                 y[state::VEL] = v.x;
                 y[state::VEL + 1] = v.y;
             }
-            None if matches!(scene.contact, ContactModel::Coulomb { .. }) => {
+            None if !flying && matches!(scene.contact, ContactModel::Coulomb { .. }) => {
                 self.roll.project(&mut y)
             }
             None => {}
+        }
+        if flying {
+            let kin = Kinematics::new(&scene.body, &y, false);
+            y[state::HEIGHT] = kin.contact.height + init.height;
+            y[state::VEL_Z] = init.velocity_z.unwrap_or(0.0);
+            self.check_finite(Mode::Flight, &y)?;
+            return Ok((Mode::Flight, y));
         }
         let mode = match scene.contact {
             ContactModel::Frictionless => Mode::Frictionless,
@@ -62,9 +73,45 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
             set_reference(&mut y, s);
         }
         let response = phase::<E>(mode).response(self, &y);
-        let (sample, inv) = phase::<E>(mode).sample(self, 0.0, &y, None);
+        self.check_finite(mode, &y)?;
+        if let Some(mu) = scene.contact.friction()
+            && !(response.painleve > 0.0)
+        {
+            return Err(ModelError::invalid(
+                "contact.friction",
+                number(mu),
+                format!(
+                    "Painlevé inconsistency at t = 0: with this coefficient the sliding normal-force denominator \
+                     1 + m u·I⁻¹(r × d) = {} is not positive, so Coulomb sliding has no consistent contact force (reduce the friction)",
+                    number(response.painleve)
+                ),
+            ));
+        }
+        if !(response.normal > 0.0) && scene.landing.lift_off == LiftOff::Fly {
+            // The plane cannot hold the body (N ≤ 0: e.g. no gravity): it flies at once.
+            let kin = Kinematics::new(&scene.body, &y, mode == Mode::Rolling);
+            y[state::VEL] = kin.v_g.x;
+            y[state::VEL + 1] = kin.v_g.y;
+            y[state::HEIGHT] = kin.contact.height;
+            y[state::VEL_Z] = kin.v_g.z;
+            return Ok((Mode::Flight, y));
+        }
+        if !(response.normal > 0.0) {
+            return Err(ModelError::derived(
+                "initial",
+                "initial normal force N",
+                format!("{} N", number(response.normal)),
+                "the plane must push on the body at t = 0 (N > 0) when contact.on_lift_off = \"stop\"; with these angles and rates the body would leave the plane at once",
+            ));
+        }
+        Ok((mode, y))
+    }
+
+    /// Rejects an initial state whose derived quantities overflow.
+    fn check_finite(&self, mode: Mode, y: &State) -> Result<(), ModelError> {
+        let (sample, inv) = phase::<E>(mode).sample(self, 0.0, y, None);
         let derived = [
-            ("the normal force N", response.normal, "N"),
+            ("the normal force N", sample.normal_force, "N"),
             ("the energy E", inv.energy, "J"),
             ("the speed of G", sample.velocity.norm(), "m/s"),
             ("the angular speed", sample.omega.norm(), "rad/s"),
@@ -85,28 +132,7 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
                  double precision (state the problem in SI units of ordinary magnitude)",
             ));
         }
-        if let Some(mu) = scene.contact.friction()
-            && !(response.painleve > 0.0)
-        {
-            return Err(ModelError::invalid(
-                "contact.friction",
-                number(mu),
-                format!(
-                    "Painlevé inconsistency at t = 0: with this coefficient the sliding normal-force denominator \
-                     1 + m u·I⁻¹(r × d) = {} is not positive, so Coulomb sliding has no consistent contact force (reduce the friction)",
-                    number(response.painleve)
-                ),
-            ));
-        }
-        if !(response.normal > 0.0) {
-            return Err(ModelError::derived(
-                "initial",
-                "initial normal force N",
-                format!("{} N", number(response.normal)),
-                "the plane must push on the body at t = 0 (N > 0); with these angles and rates the body would leave the plane at once",
-            ));
-        }
-        Ok((mode, y))
+        Ok(())
     }
 }
 

@@ -207,8 +207,11 @@ class Trajectory:
     def drift(self) -> _FloatArray:
         """Relative drift of the scene's conserved quantity (E, or E + W) since t = 0 [1]."""
     @property
+    def gap(self) -> _FloatArray:
+        """Height of the body's lowest point above the plane [m] (0 in contact)."""
+    @property
     def mode(self) -> npt.NDArray[np.str_]:
-        """Contact regime per sample: "frictionless", "sliding" or "rolling"."""
+        """Contact regime per sample: "frictionless", "sliding", "rolling" or "flight"."""
     @property
     def summary(self) -> dict[str, Any]:
         """The command-line tool's summary dict (a fresh copy)."""

@@ -1,12 +1,14 @@
-//! The frictionless phase (docs/physics.md, model 1): F = N e3; it ends when N reaches 0.
+//! The frictionless phase (docs/physics.md, model 1): F = N e3; it ends when N reaches 0
+//! (a lift-off, `flight::lift_off`).
 
 use crate::effects::Effect;
 use crate::model::{Evaluation, Frictionless, System};
 use crate::state::State;
 
+use super::flight::lift_off;
 use super::{Next, Phase, Watch};
 use crate::simulate::machine::Machine;
-use crate::simulate::outcome::{EventKind, EventRecord, Mode, Status};
+use crate::simulate::outcome::{EventRecord, Mode};
 
 pub(in crate::simulate) struct FrictionlessPhase;
 
@@ -31,17 +33,13 @@ impl Phase for FrictionlessPhase {
         ev.response.normal
     }
 
-    fn on_event<E: Effect + Copy>(
-        _m: &Machine<'_, E>,
+    fn on_event<E: Effect + Copy + 'static>(
+        m: &Machine<'_, E>,
         _watch: Watch,
         t: f64,
-        _y: &mut State,
+        y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
-        events.push(EventRecord {
-            kind: EventKind::LostContact,
-            t,
-        });
-        Next::Stop(Status::LostContact)
+        lift_off(m, Mode::Frictionless, t, y, events)
     }
 }

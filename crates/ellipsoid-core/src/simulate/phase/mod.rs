@@ -1,7 +1,7 @@
 //! Contact phases: each declares its ODE system (a contact law over the scene's effects;
 //! the law's `ContactLaw::ROLLING` is its kinematics kind — whether v_G is a state or
 //! follows from the no-slip constraint; z_G and v_Gz follow from the contact constraint in
-//! every phase so far), its watch functions, and for each watch the phase that follows
+//! every phase but flight, where they are states), its watch functions, and for each watch the phase that follows
 //! and the state map at the switch. The hybrid machine (`machine`) runs any of them; adding a phase is a new
 //! module here and one line in [`phase`], the registry.
 //!
@@ -10,11 +10,16 @@
 //! | frictionless | F = N e3 | N | stop: lost contact |
 //! | sliding | Coulomb, F = N(e3 − μ ŝ) | N, v_C·s_ref, \|v_C\| − floor, Painlevé denominator | slip stop → rolling (inside the cone, after the sticking impulse) or stop; Painlevé → stop |
 //! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left → sliding, slip opposite the friction rolling needed |
+//! | flight | F = 0 | gap z_G − h(ζ) | impact; flies on, or lands (persistent contact) below the settling speed |
+//!
+//! N reaching zero in a contact phase is a lift-off into flight (`flight::lift_off`), or
+//! stops the run with `on_lift_off = "stop"`.
 //!
 //! With a contact disc (`Scene::disc`) the sliding law is Coulomb–Contensou's and the
 //! sliding phase watches N, √(\|v_C\|² + (R ω_n)²) − floor and the Painlevé denominator;
 //! slip and spin stopping together ends the run (see `sliding`).
 
+mod flight;
 mod frictionless;
 mod rolling;
 mod sliding;
@@ -32,6 +37,7 @@ use super::machine::{Machine, Segment};
 use super::outcome::{EventRecord, Mode, Sample, Status};
 use super::recorder::Recorder;
 
+pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
 pub(super) use rolling::after_slip_stop;
@@ -50,6 +56,8 @@ pub(super) enum Watch {
     Painleve,
     /// g = μN − |F_h| (rolling leaves the friction cone).
     Cone(f64),
+    /// g = z_G − h(ζ), the gap under the lowest point (touchdown).
+    Gap,
     /// g = column − value of `Scene::observe[k]`.
     Observe(usize),
 }
@@ -75,7 +83,7 @@ pub(super) trait Phase {
     -> f64;
     /// What the event of `watch` at (t, y) leads to; may change `y` (the state map at the
     /// switch) and records what happened in `events`.
-    fn on_event<E: Effect + Copy>(
+    fn on_event<E: Effect + Copy + 'static>(
         m: &Machine<'_, E>,
         watch: Watch,
         t: f64,
@@ -185,5 +193,6 @@ pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyP
         Mode::Frictionless => &Registered::<FrictionlessPhase>(PhantomData),
         Mode::Sliding => &Registered::<SlidingPhase>(PhantomData),
         Mode::Rolling => &Registered::<RollingPhase>(PhantomData),
+        Mode::Flight => &Registered::<FlightPhase>(PhantomData),
     }
 }

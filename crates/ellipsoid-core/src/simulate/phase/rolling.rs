@@ -10,10 +10,11 @@ use crate::integrate::OdeSystem;
 use crate::model::{Evaluation, Rolling, System};
 use crate::state::State;
 
+use super::flight::lift_off;
 use super::sliding::set_reference;
 use super::{Next, Phase, Watch};
 use crate::simulate::machine::Machine;
-use crate::simulate::outcome::{EventKind, EventRecord, Mode, Status};
+use crate::simulate::outcome::{EventKind, EventRecord, Mode};
 use crate::simulate::scene::ContactModel;
 
 pub(in crate::simulate) struct RollingPhase;
@@ -46,7 +47,7 @@ impl Phase for RollingPhase {
         }
     }
 
-    fn on_event<E: Effect + Copy>(
+    fn on_event<E: Effect + Copy + 'static>(
         m: &Machine<'_, E>,
         watch: Watch,
         t: f64,
@@ -64,11 +65,7 @@ impl Phase for RollingPhase {
             });
             Next::Go(Mode::Sliding)
         } else {
-            events.push(EventRecord {
-                kind: EventKind::LostContact,
-                t,
-            });
-            Next::Stop(Status::LostContact)
+            lift_off(m, Mode::Rolling, t, y, events)
         }
     }
 }

@@ -22,6 +22,7 @@ use crate::model::sliding::SLIP_FLOOR;
 use crate::model::{Evaluation, Sliding, System};
 use crate::state::{self, State};
 
+use super::flight::lift_off;
 use super::rolling::after_slip_stop;
 use super::{Next, Phase, Watch};
 use crate::simulate::machine::Machine;
@@ -87,7 +88,7 @@ impl Phase for SlidingPhase {
         }
     }
 
-    fn on_event<E: Effect + Copy>(
+    fn on_event<E: Effect + Copy + 'static>(
         m: &Machine<'_, E>,
         watch: Watch,
         t: f64,
@@ -139,13 +140,7 @@ impl Phase for SlidingPhase {
                 }
                 Next::Go(next)
             }
-            _ => {
-                events.push(EventRecord {
-                    kind: EventKind::LostContact,
-                    t,
-                });
-                Next::Stop(Status::LostContact)
-            }
+            _ => lift_off(m, Mode::Sliding, t, y, events),
         }
     }
 
@@ -190,7 +185,7 @@ pub(in crate::simulate) fn slip_floor<E>(m: &Machine<'_, E>) -> (f64, f64) {
 
 /// Whether a located slip-stop event is one: |v_C| within [`SLIP_ACCEPT`] times the
 /// floor of [`slip_floor`].
-fn slip_has_stopped<E: Effect>(m: &Machine<'_, E>, y: &State) -> bool {
+pub(in crate::simulate) fn slip_has_stopped<E: Effect>(m: &Machine<'_, E>, y: &State) -> bool {
     let kin = m.slide.evaluate(y).kin;
     let (floor, v_min) = slip_floor(m);
     m.slide.contact.stop_speed(&kin)
