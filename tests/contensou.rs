@@ -524,3 +524,22 @@ fn val_dissipation_includes_the_drilling() {
     );
     assert_eq!(sys.rhs(0.0, &y)[state::WORK], got);
 }
+
+/// With flight: the hopping tippe top (scenarios/tippe-top-jump.toml) on a contact disc
+/// leaves the plane, lands and, once landed for good, slides on (a spinning disc does not
+/// stick): no rolling phase, E + W conserved.
+#[test]
+fn inv_disc_with_flight_lands_sliding() {
+    let s = scenario::load(
+        &root().join("scenarios/tippe-top-jump.toml"),
+        &["contact.contact_radius=5e-4"],
+    )
+    .unwrap();
+    let (o, samples) = run(&s.scene);
+    assert!(o.status.completed(), "{:?}", o.status);
+    assert!(o.events.iter().any(|e| e.kind.name() == "touchdown"));
+    assert!(samples.iter().any(|s| s.mode == Mode::Flight));
+    assert!(samples.iter().all(|s| s.mode != Mode::Rolling));
+    let drift = o.drift.get(Invariant::EnergyPlusWork).unwrap();
+    assert!(drift < 1e-9, "{drift}");
+}
