@@ -13,7 +13,10 @@ use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_mai
 use ellipsoid_core::body::Body;
 use ellipsoid_core::effects::AirDrag;
 use ellipsoid_core::integrate::{Method, OdeSystem, Options, integrate};
-use ellipsoid_core::model::{ContactLaw, Flight, Frictionless, Rolling, Sliding, System};
+use ellipsoid_core::model::contensou::Law;
+use ellipsoid_core::model::{
+    ContactDisc, ContactLaw, Flight, Frictionless, Rolling, Sliding, System,
+};
 use ellipsoid_core::scenario;
 use ellipsoid_core::simulate::{Scene, simulate};
 use ellipsoid_core::state::{self, EulerAngles, State};
@@ -70,7 +73,10 @@ fn rhs(c: &mut Criterion) {
     group.bench_function("frictionless", |b| {
         b.iter(|| black_box(&free).rhs(0.0, black_box(&y)))
     });
-    let slide = system(Sliding { friction: 0.3 });
+    let slide = system(Sliding {
+        friction: 0.3,
+        disc: None,
+    });
     group.bench_function("sliding", |b| {
         b.iter(|| black_box(&slide).rhs(0.0, black_box(&y)))
     });
@@ -78,6 +84,21 @@ fn rhs(c: &mut Criterion) {
     group.bench_function("rolling", |b| {
         b.iter(|| black_box(&roll).rhs(0.0, black_box(&y)))
     });
+    // The sliding law over a contact disc (Coulomb–Contensou, issue #14) against the point
+    // contact above: R = 0.5 mm puts d = |v_C|/(R|ω_n|) at 30 (the series in 1/d²),
+    // R = 12 mm at 1.3 (Carlson's R_F and R_D, the costliest branch).
+    for (name, radius) in [("sliding_disc", 5e-4), ("sliding_disc_d1", 1.2e-2)] {
+        let disc = system(Sliding {
+            friction: 0.3,
+            disc: Some(ContactDisc {
+                radius,
+                law: Law::Exact,
+            }),
+        });
+        group.bench_function(name, |b| {
+            b.iter(|| black_box(&disc).rhs(0.0, black_box(&y)))
+        });
+    }
     // The same state off the plane (z_G and v_Gz are states in flight).
     let mut flying = y;
     flying[state::HEIGHT] = 0.05;
@@ -91,7 +112,10 @@ fn rhs(c: &mut Criterion) {
     let dragged = System {
         body: top(),
         gravity: 9.81,
-        contact: Sliding { friction: 0.3 },
+        contact: Sliding {
+            friction: 0.3,
+            disc: None,
+        },
         effects: AirDrag {
             linear: 1e-3,
             angular: 1e-8,

@@ -17,9 +17,9 @@ fuzz_seconds="${ELLIPSOID_FUZZ_SECONDS:-60}"
 rm -rf .venv
 python3 -m venv .venv
 pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
-# dask[distributed] and pyarrow: the parameter-study tests (a LocalCluster of 2 worker
-# processes; Parquet tables read back).
-"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow "dask[distributed]" pyarrow
+# mpmath: reference values of some tests; dask[distributed] and pyarrow: the parameter-study
+# tests (a LocalCluster of 2 worker processes; Parquet tables read back).
+"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow
 cmake_ok() { command -v cmake >/dev/null && printf '%s\n3.26\n' "$(cmake --version | head -1 | awk '{print $3}')" | sort -V -C -r 2>/dev/null; }
 if [ -z "${CMAKE:-}" ] && ! cmake_ok; then
   "${pip[@]}" 'cmake>=3.26'

@@ -160,6 +160,7 @@ fn every_bundled_scenario_has_a_test() {
         "rolling-resistance",
         "spin-friction",
         "air-drag",
+        "tippe-top-disc",
         "egg-jump",
         "drop",
         "tippe-top-jump",
@@ -365,6 +366,34 @@ fn scenario_tippe_top_jump_hops_while_turning_over() {
     let kinds = event_kinds(&s);
     assert!(kinds.iter().filter(|k| **k == "lift_off").count() >= 5);
     assert!(kinds.contains(&"observed"), "θ passes π/2");
+}
+
+#[test]
+fn scenario_tippe_top_disc_turns_over() {
+    let (s, h, rows) = run_scenario("tippe-top-disc", Some(2.0), "completed");
+    let inverted = s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|e| e["kind"] == "observed" && e["name"] == "inverted")
+        .expect("θ passes π/2");
+    let t = inverted["t"].as_f64().unwrap();
+    assert!((t - 0.97787).abs() < 1e-5, "{t}");
+    let theta = column(&h, &rows, "theta");
+    assert!(theta.last().unwrap() > &2.448);
+    assert!(s["drift"]["energy_plus_work"].as_f64().unwrap() < 1e-9);
+    assert!(
+        s["drift"]["jellett"].is_null(),
+        "the drilling torque changes J"
+    );
+    let modes: Vec<&str> = rows
+        .iter()
+        .map(|r| r[h.iter().position(|c| c == "mode").unwrap()].as_str())
+        .collect();
+    assert!(
+        modes.iter().all(|m| *m == "sliding"),
+        "a spinning disc does not stick"
+    );
 }
 
 #[test]

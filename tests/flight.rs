@@ -9,9 +9,8 @@ use common::{G, angles, ball, run, scene};
 use ellipsoid_core::body::{Body, uniform_inertia};
 use ellipsoid_core::invariants::Invariant;
 use ellipsoid_core::simulate::{
-    ContactModel, EventKind, Landing, LiftOff, Mode, Outcome, Sample, Scene, Status,
+    ContactModel, EventKind, ImpactReport, Landing, LiftOff, Mode, Outcome, Sample, Scene, Status,
 };
-use ellipsoid_core::state::EulerAngles;
 use nalgebra::{Matrix3, Vector2, Vector3};
 
 /// A figure the test measured, printed for docs/hard-cases.md (`--nocapture`).
@@ -24,22 +23,13 @@ fn triaxial() -> Body {
     Body::new(ax, 0.2, uniform_inertia(ax, 0.2), Vector3::zeros()).unwrap()
 }
 
-/// `scene` in flight: `height` above the plane, vertical velocity `vz`, lift-off flies.
-fn flying(
-    body: Body,
-    contact: ContactModel,
-    a: EulerAngles,
-    v: Vector3<f64>,
-    height: f64,
-    t_end: f64,
-    dt: f64,
-    tol: f64,
-) -> Scene {
-    let mut s = scene(body, contact, a, Some(v.xy()), t_end, dt, tol);
+/// Scene `s` in flight: `height` above the plane, velocity `v` (vz included), lift-off flies.
+fn flying(mut s: Scene, v: Vector3<f64>, height: f64) -> Scene {
     s.landing = Landing {
         restitution: 0.0,
         lift_off: LiftOff::Fly,
     };
+    s.initial.velocity = Some(v.xy());
     s.initial.height = height;
     s.initial.velocity_z = Some(v.z);
     s
@@ -55,10 +45,35 @@ fn l_world(body: &Body, s: &Sample) -> Vector3<f64> {
 }
 
 fn impacts(out: &Outcome) -> usize {
+    hits(out).len()
+}
+
+/// (time, report) of every impact.
+fn hits(out: &Outcome) -> Vec<(f64, ImpactReport)> {
     out.events
         .iter()
-        .filter(|e| matches!(e.kind, EventKind::Impact(_)))
-        .count()
+        .filter_map(|e| match e.kind {
+            EventKind::Impact(hit) => Some((e.t, hit)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// Times of the events of one kind.
+fn times(out: &Outcome, kind: fn(&EventKind) -> bool) -> Vec<f64> {
+    out.events
+        .iter()
+        .filter(|e| kind(&e.kind))
+        .map(|e| e.t)
+        .collect()
+}
+
+fn is_lift_off(k: &EventKind) -> bool {
+    *k == EventKind::LiftOff
+}
+
+fn is_touchdown(k: &EventKind) -> bool {
+    matches!(k, EventKind::Touchdown { .. })
 }
 
 /// In flight G follows the parabola exactly and L_G and the rotational energy are
@@ -68,14 +83,17 @@ fn flight_is_a_parabola_with_torque_free_rotation() {
     let body = triaxial();
     let (v0, h0) = (Vector3::new(0.3, -0.2, 1.0), 1.0);
     let sc = flying(
-        body.clone(),
-        ContactModel::Coulomb { friction: 0.3 },
-        angles(0.7, 0.2, -0.4, 3.0, 5.0, 20.0),
+        scene(
+            body.clone(),
+            ContactModel::Coulomb { friction: 0.3 },
+            angles(0.7, 0.2, -0.4, 3.0, 5.0, 20.0),
+            None,
+            0.5,
+            1e-3,
+            1e-14,
+        ),
         v0,
         h0,
-        0.5,
-        1e-3,
-        1e-14,
     );
     let (out, samples) = run(&sc);
     assert_eq!(out.status, Status::Completed);
@@ -111,14 +129,17 @@ fn flight_axisymmetric_axis_precesses_at_l_over_i1() {
     let body = common::oblate();
     let i1 = body.inertia()[(0, 0)];
     let mut sc = flying(
-        body.clone(),
-        ContactModel::Frictionless,
-        angles(0.5, 0.0, 0.0, 0.0, 7.0, 40.0),
+        scene(
+            body.clone(),
+            ContactModel::Frictionless,
+            angles(0.5, 0.0, 0.0, 0.0, 7.0, 40.0),
+            None,
+            1.0,
+            1e-3,
+            1e-12,
+        ),
         Vector3::zeros(),
         0.2,
-        1.0,
-        1e-3,
-        1e-12,
     );
     sc.gravity = 0.0;
     let (out, samples) = run(&sc);
@@ -185,14 +206,17 @@ fn flight_triaxial_rotation_follows_jacobi() {
     assert!(i1 < i2 && i2 < i3);
     let w0 = Vector3::new(3.0, 0.0, 8.0);
     let mut sc = flying(
-        body.clone(),
-        ContactModel::Frictionless,
-        angles(0.9, 0.3, 0.2, 0.0, 0.0, 0.0),
+        scene(
+            body.clone(),
+            ContactModel::Frictionless,
+            angles(0.9, 0.3, 0.2, 0.0, 0.0, 0.0),
+            None,
+            2.0,
+            1e-3,
+            1e-13,
+        ),
         Vector3::zeros(),
         0.1,
-        2.0,
-        1e-3,
-        1e-13,
     );
     sc.gravity = 0.0;
     sc.initial.omega_body = Some(w0);
@@ -232,14 +256,17 @@ fn flight_triaxial_rotation_follows_jacobi() {
 fn zeno_bounces_accumulate_at_the_analytic_time_then_rest() {
     let (r, m, h, e) = (0.01, 0.1, 0.05, 0.5);
     let mut sc = flying(
-        ball(r, m),
-        ContactModel::Frictionless,
-        angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+        scene(
+            ball(r, m),
+            ContactModel::Frictionless,
+            angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            None,
+            0.5,
+            1e-3,
+            1e-13,
+        ),
         Vector3::zeros(),
         h,
-        0.5,
-        1e-3,
-        1e-13,
     );
     sc.landing.restitution = e;
     let (out, samples) = run(&sc);
@@ -247,12 +274,7 @@ fn zeno_bounces_accumulate_at_the_analytic_time_then_rest() {
     let t1 = (2.0 * h / G).sqrt();
     let v1 = G * t1;
     let t_inf = t1 + 2.0 * v1 / G * e / (1.0 - e);
-    let touchdowns: Vec<f64> = out
-        .events
-        .iter()
-        .filter(|ev| matches!(ev.kind, EventKind::Touchdown { .. }))
-        .map(|ev| ev.t)
-        .collect();
+    let touchdowns = times(&out, is_touchdown);
     assert!(
         (touchdowns[0] - t1).abs() < 1e-12,
         "first touchdown {}",
@@ -310,14 +332,17 @@ fn elastic_bounces_of_a_tilted_ellipsoid_keep_the_energy() {
     let ax = Vector3::new(0.02, 0.02, 0.04);
     let body = Body::new(ax, 0.1, uniform_inertia(ax, 0.1), Vector3::zeros()).unwrap();
     let mut sc = flying(
-        body,
-        ContactModel::Frictionless,
-        angles(0.7, 0.0, 0.0, 0.0, 0.0, 0.0),
+        scene(
+            body,
+            ContactModel::Frictionless,
+            angles(0.7, 0.0, 0.0, 0.0, 0.0, 0.0),
+            None,
+            20.0,
+            1e-2,
+            1e-12,
+        ),
         Vector3::zeros(),
         0.02,
-        20.0,
-        1e-2,
-        1e-12,
     );
     sc.landing.restitution = 1.0;
     let (out, _) = run(&sc);
@@ -350,18 +375,7 @@ fn bundled(name: &str) -> Scene {
 fn the_jumping_egg_flies_lands_and_goes_on() {
     let (out, samples) = run(&bundled("egg-jump.toml"));
     assert_eq!(out.status, Status::Completed);
-    let lifts: Vec<f64> = out
-        .events
-        .iter()
-        .filter(|e| e.kind == EventKind::LiftOff)
-        .map(|e| e.t)
-        .collect();
-    let downs: Vec<f64> = out
-        .events
-        .iter()
-        .filter(|e| matches!(e.kind, EventKind::Touchdown { .. }))
-        .map(|e| e.t)
-        .collect();
+    let (lifts, downs) = (times(&out, is_lift_off), times(&out, is_touchdown));
     assert!(
         (lifts[0] - 1.963235).abs() < 1e-5,
         "lift-off at {}",
@@ -402,14 +416,7 @@ fn the_jumping_egg_flies_lands_and_goes_on() {
 fn a_dropped_ellipsoid_bounces_and_settles() {
     let (out, samples) = run(&bundled("drop.toml"));
     assert_eq!(out.status, Status::Completed);
-    let hits: Vec<_> = out
-        .events
-        .iter()
-        .filter_map(|e| match e.kind {
-            EventKind::Impact(hit) => Some((e.t, hit)),
-            _ => None,
-        })
-        .collect();
+    let hits = hits(&out);
     assert!(hits.len() > 5, "{} impacts", hits.len());
     assert!(
         hits.iter()
@@ -439,12 +446,7 @@ fn a_dropped_ellipsoid_bounces_and_settles() {
 fn a_tippe_top_with_a_large_offset_hops_while_turning_over() {
     let (out, samples) = run(&bundled("tippe-top-jump.toml"));
     assert_eq!(out.status, Status::Completed);
-    let lifts: Vec<f64> = out
-        .events
-        .iter()
-        .filter(|e| e.kind == EventKind::LiftOff)
-        .map(|e| e.t)
-        .collect();
+    let lifts = times(&out, is_lift_off);
     let over = out
         .events
         .iter()
@@ -477,14 +479,17 @@ fn hard_grazing_touchdown_is_found_or_rightly_missed() {
     let run_at = |delta: f64| {
         let z_g = b * (1.0 + delta);
         let mut sc = flying(
-            triaxial(),
-            ContactModel::Frictionless,
-            angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+            scene(
+                triaxial(),
+                ContactModel::Frictionless,
+                angles(0.0, 0.0, 0.0, 0.0, 0.0, 0.0),
+                None,
+                1.0,
+                1e-3,
+                1e-12,
+            ),
             Vector3::zeros(),
             z_g - c,
-            1.0,
-            1e-3,
-            1e-12,
         );
         sc.gravity = 0.0;
         sc.landing.restitution = 1.0;
@@ -632,16 +637,9 @@ fn a_rolling_scene_lands_without_slip() {
     sc.contact = ContactModel::Rolling;
     let (out, samples) = run(&sc);
     assert_eq!(out.status, Status::Completed);
-    let hits: Vec<_> = out
-        .events
-        .iter()
-        .filter_map(|e| match e.kind {
-            EventKind::Impact(hit) => Some(hit),
-            _ => None,
-        })
-        .collect();
-    assert!(!hits.is_empty() && hits.iter().all(|h| h.energy_loss >= 0.0));
-    assert!(hits.last().unwrap().persistent);
+    let hits = hits(&out);
+    assert!(!hits.is_empty() && hits.iter().all(|(_, h)| h.energy_loss >= 0.0));
+    assert!(hits.last().unwrap().1.persistent);
     assert_eq!(samples.last().unwrap().mode, Mode::Rolling);
     assert!(samples.last().unwrap().slip_speed < 1e-9);
     let balance = out.drift.get(Invariant::EnergyPlusWork).unwrap();

@@ -88,7 +88,7 @@ proptest! {
         let Ok((_, y)) = sc.initial_state() else { return Ok(()) };
         let f = System { body: b.clone(), gravity: G, contact: Frictionless, effects: () }.evaluate(&y);
         let r = System { body: b.clone(), gravity: G, contact: Rolling, effects: () }.evaluate(&y);
-        let s = System { body: b.clone(), gravity: G, contact: Sliding { friction: mu }, effects: () }.evaluate(&y);
+        let s = System { body: b.clone(), gravity: G, contact: Sliding { friction: mu, disc: None }, effects: () }.evaluate(&y);
         for (name, e) in [("frictionless", f), ("rolling", r), ("sliding", s)] {
             let resp = e.response;
             let acc = e.accel(&b, G);

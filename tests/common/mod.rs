@@ -87,6 +87,7 @@ pub fn scene(
         body,
         gravity: G,
         contact,
+        disc: None,
         // The round-one questions: a loss of contact ends the run (flight tests say "fly").
         landing: Landing {
             lift_off: LiftOff::Stop,

@@ -78,6 +78,15 @@ fn describe(d: &Derived) -> String {
             (model, _) => model.to_owned(),
         },
     );
+    if let Some(disc) = d.contact.disc {
+        line(
+            "contact disc",
+            format!(
+                "R = {} m, law {} (Coulomb–Contensou friction and drilling torque)",
+                disc.radius, disc.law
+            ),
+        );
+    }
     let e = &d.effects;
     let mut effects = Vec::new();
     if let Some(r) = e.rolling_resistance {

@@ -243,6 +243,10 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
         Status::LostContact => format!(
             "the normal force reached zero at t = {t} s: the body leaves the plane (the run stops there: contact.on_lift_off = \"stop\")"
         ),
+        Status::SlipStopped if scene.disc.is_some() => format!(
+            "the slip speed and the spin about the vertical reached zero together at t = {t} s, where the \
+             contact disc's friction law is set-valued; the run ends there (rolling without spin is not simulated)"
+        ),
         Status::SlipStopped => {
             format!(
                 "the slip speed reached zero at t = {t} s, where the pure sliding model ends (model = \"coulomb\" goes on rolling)"

@@ -128,7 +128,7 @@ def test_several_errors_are_reported_at_once() -> None:
 KEYS = {
     "body": ["a", "b", "c", "mass", "com_offset", "com_offset_vector", "inertia", "bogus"],
     "initial": ["theta", "theta_deg", "phi", "psi_dot", "omega_body", "rotation", "position", "velocity"],
-    "contact": ["model", "friction"],
+    "contact": ["model", "friction", "contact_radius", "contact_law"],
     "effects": ["gravity", "rolling_resistance", "spin_friction", "air_drag"],
     "solver": ["method", "rtol", "atol", "step", "max_steps"],
     "output": ["t_end", "dt", "times"],

@@ -66,6 +66,15 @@ pub struct ContactData {
     pub model: &'static str,
     /// μ (sliding and coulomb), else None.
     pub friction: Option<f64>,
+    /// The contact disc (Coulomb–Contensou friction), None for a point contact.
+    pub disc: Option<DiscData>,
+}
+
+/// A contact disc: `radius` [m] and `law` ("exact", "pade" or "ellipse").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DiscData {
+    pub radius: f64,
+    pub law: &'static str,
 }
 
 /// The effects present (None where absent).
@@ -216,7 +225,14 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
             weight: body.mass() * scene.gravity,
         },
         gravity: scene.gravity,
-        contact: ContactData { model, friction },
+        contact: ContactData {
+            model,
+            friction,
+            disc: scene.disc.map(|d| DiscData {
+                radius: d.radius,
+                law: d.law.name(),
+            }),
+        },
         effects: EffectsData {
             rolling_resistance: e.rolling_resistance.map(|r| Regularised {
                 coefficient: r.coefficient,

@@ -7,15 +7,19 @@
 //!   ẋ_G     = v_G (horizontal),  q̇ = ½ q ⊗ ω_b
 //!   Ẇ       = −F·v_C − f·v_G − (τ + N τ_N)·ω_b      dissipated power (≥ 0)
 //! ```
+//! τ_N includes a contact disc's drilling torque per unit N (`contensou`, added by the
+//! law through [`ContactLaw::respond_loaded`]), so it enters N's solve and Ẇ.
 //! z_G and v_Gz are functions of the orientation (`geometry`), so the contact
 //! constraint cannot drift. The contact law ([`ContactLaw`]) decides F from the
 //! acceleration-level constraint z̈_G = −u·ω̇ − κ (and, when rolling, v_C = 0).
 
+pub mod contensou;
 pub mod flight;
 mod frictionless;
 mod rolling;
 pub mod sliding;
 
+pub use contensou::ContactDisc;
 pub use flight::Flight;
 pub use frictionless::Frictionless;
 pub use rolling::Rolling;
@@ -48,7 +52,7 @@ pub struct Kinematics {
 
 impl Kinematics {
     /// Kinematics of state `y`; with `rolling`, v_G = −ω × r (the state's v_G is ignored).
-    #[inline]
+    #[inline(always)]
     pub fn new(body: &Body, y: &State, rolling: bool) -> Self {
         let rot = state::rotation(y);
         let omega = state::omega(y);
@@ -131,6 +135,22 @@ pub trait ContactLaw {
     ) -> Response;
     /// Restores the law's algebraic relations on an accepted state (see [`OdeSystem::project`]).
     fn project(&self, _body: &Body, _y: &mut State) {}
+    /// [`ContactLaw::respond`] for a law that also adds a load of its own to the effects'
+    /// `load` (the drilling torque of a contact disc, per unit N): returns the total load,
+    /// which the power balance then books, and the response to it. By default the law
+    /// adds nothing.
+    #[inline]
+    fn respond_loaded(
+        &self,
+        body: &Body,
+        gravity: f64,
+        kin: &Kinematics,
+        y: &State,
+        load: Wrench,
+    ) -> (Wrench, Response) {
+        let response = self.respond(body, gravity, kin, y, &load);
+        (load, response)
+    }
 }
 
 /// The body on the plane under gravity, a contact law `C` and effects `E`.
@@ -147,6 +167,7 @@ pub struct System<C, E> {
 #[derive(Debug, Clone, Copy)]
 pub struct Evaluation {
     pub kin: Kinematics,
+    /// The effects' load, plus what the contact law adds (a contact disc's drilling torque).
     pub load: Wrench,
     pub response: Response,
 }
@@ -177,9 +198,9 @@ impl<C: ContactLaw, E: Effect> System<C, E> {
             Kinematics::new(&self.body, y, C::ROLLING)
         };
         let load = self.effects.wrench(&self.body, &kin);
-        let response = self
+        let (load, response) = self
             .contact
-            .respond(&self.body, self.gravity, &kin, y, &load);
+            .respond_loaded(&self.body, self.gravity, &kin, y, load);
         Evaluation {
             kin,
             load,

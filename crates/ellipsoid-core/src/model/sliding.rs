@@ -14,6 +14,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
+use super::contensou::ContactDisc;
 use super::{ContactLaw, Kinematics, Response, unilateral};
 use crate::body::Body;
 use crate::effects::Wrench;
@@ -24,6 +25,8 @@ use crate::state::{self, State};
 pub struct Sliding {
     /// Coulomb coefficient μ (≥ 0).
     pub friction: f64,
+    /// The contact disc; `None` is a point contact.
+    pub disc: Option<ContactDisc>,
 }
 
 /// Relative size below which a slip speed is round-off of the body's velocities.
@@ -72,6 +75,20 @@ impl Sliding {
     pub fn slip_above_floor(kin: &Kinematics, floor: f64, v_min: f64) -> f64 {
         kin.slip.norm() - (floor * Sliding::speed_scale(kin)).max(v_min)
     }
+
+    /// The speed whose vanishing stops the sliding phase: |v_C| for a point contact,
+    /// √(|v_C|² + (R ω_n)²) for a contact disc (the law is smooth while either is
+    /// nonzero) [m/s].
+    #[inline]
+    pub fn stop_speed(&self, kin: &Kinematics) -> f64 {
+        match self.disc {
+            None => kin.slip.norm(),
+            Some(disc) => kin
+                .slip
+                .norm()
+                .hypot(disc.radius * kin.omega.dot(&kin.contact.zeta)),
+        }
+    }
 }
 
 impl ContactLaw for Sliding {
@@ -86,6 +103,9 @@ impl ContactLaw for Sliding {
         y: &State,
         load: &Wrench,
     ) -> Response {
+        if self.disc.is_some() {
+            return self.respond_loaded(body, gravity, kin, y, *load).1;
+        }
         let s = Sliding::direction(kin, state::slip_ref(y));
         unilateral(
             body,
@@ -94,6 +114,36 @@ impl ContactLaw for Sliding {
             load,
             Vector3::new(-self.friction * s.x, -self.friction * s.y, 1.0),
         )
+    }
+
+    /// With a contact disc: F = N(e3 − μ f v̂) and the drilling torque per unit N,
+    /// −μ R g sgn(ω_n) ζ, added to the load. At the set-valued point v_C = 0, ω_n = 0 (where
+    /// the run stops) the force is taken along −s_ref with no torque.
+    #[inline]
+    fn respond_loaded(
+        &self,
+        body: &Body,
+        gravity: f64,
+        kin: &Kinematics,
+        y: &State,
+        load: Wrench,
+    ) -> (Wrench, Response) {
+        let Some(disc) = self.disc else {
+            let response = self.respond(body, gravity, kin, y, &load);
+            return (load, response);
+        };
+        let zeta = kin.contact.zeta;
+        let (force, torque) = disc
+            .law
+            .traction(kin.slip, kin.omega.dot(&zeta), disc.radius)
+            .unwrap_or_else(|| (-state::slip_ref(y), 0.0));
+        let mu = self.friction;
+        let load = Wrench {
+            torque_per_normal: load.torque_per_normal + (mu * torque) * zeta,
+            ..load
+        };
+        let d = Vector3::new(mu * force.x, mu * force.y, 1.0);
+        (load, unilateral(body, gravity, kin, &load, d))
     }
 
     /// s_ref ← ŝ, keeping its orientation relative to the previous s_ref, so the sign of

@@ -38,6 +38,11 @@ pub(super) fn build_all(
         read_body(ctx, t, &root(t)).map(|_| ())
     });
     let contact = retry(ctx, &mut clean, &mut found, |t| read_contact(ctx, &root(t)));
+    if let Some(contact) = contact {
+        retry(ctx, &mut clean, &mut found, |t| {
+            read_disc(ctx, &root(t), contact).map(|_| ())
+        });
+    }
     // With the contact model unknown, read the state as for a model without extra rules.
     retry(ctx, &mut clean, &mut found, |t| {
         read_initial(ctx, &root(t), contact.unwrap_or(ContactModel::Frictionless)).map(|_| ())

@@ -19,6 +19,7 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
     let root = ctx.table_of("", tree, &tree.origin, &TOP_KEYS, "the scenario")?;
     let body = read_body(ctx, tree, &root)?;
     let contact = read_contact(ctx, &root)?;
+    let disc = read_disc(ctx, &root, contact)?;
     let landing = read_landing(ctx, &root)?;
     let initial = read_initial(ctx, &root, contact)?;
     let (gravity, effects) = read_effects(ctx, &root)?;
@@ -30,6 +31,7 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
         body,
         gravity,
         contact,
+        disc,
         landing,
         effects,
         initial,
@@ -196,6 +198,41 @@ pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel
             friction: friction.ok_or_else(need)?,
         },
     })
+}
+
+/// `contact_radius` and `contact_law` of `[contact]`: a contact disc (R > 0), or `None`
+/// for a point contact. The rules combining them with the body and the model are
+/// `Scene::validate`'s.
+pub(super) fn read_disc(
+    ctx: &Ctx<'_>,
+    root: &Sec<'_>,
+    contact: ContactModel,
+) -> Result<Option<ContactDisc>> {
+    let Some(sec) = ctx.section(root, "contact", &CONTACT_KEYS, "model and friction")? else {
+        return Ok(None);
+    };
+    let radius = ctx.checked(
+        &sec,
+        "contact_radius",
+        "R, the radius of the contact disc (m)",
+        |v| v >= 0.0,
+        "the contact radius must be finite and non-negative (m); 0 is a point contact",
+    )?;
+    let law = ctx
+        .choice(&sec, "contact_law", &contensou::Law::NAMES)?
+        .map(|(name, got)| (contensou::Law::from_name(name).expect("one of NAMES"), got));
+    if let (Some((_, got)), None) = (law, contact.friction()) {
+        return Err(ctx.bad(
+            ErrorKind::Invalid,
+            &sec,
+            got,
+            "the contact law is the friction law of a contact disc: it needs model = \"sliding\" or \"coulomb\" and contact_radius > 0",
+        ));
+    }
+    Ok(radius.filter(|r| *r > 0.0).map(|radius| ContactDisc {
+        radius,
+        law: law.map_or_else(contensou::Law::default, |(l, _)| l),
+    }))
 }
 
 /// `[contact] restitution` and `on_lift_off` (docs/physics.md, "Flight").

@@ -31,6 +31,7 @@ use crate::body::{Body, uniform_inertia};
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
 use crate::integrate::{Direction, Method};
+use crate::model::{ContactDisc, contensou};
 use crate::simulate::{
     ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, Observe, Scene,
     SolverSettings,
@@ -103,7 +104,14 @@ const INITIAL_KEYS: [&str; 18] = [
     "velocity",
     "height",
 ];
-const CONTACT_KEYS: [&str; 4] = ["model", "friction", "restitution", "on_lift_off"];
+const CONTACT_KEYS: [&str; 6] = [
+    "model",
+    "friction",
+    "restitution",
+    "on_lift_off",
+    "contact_radius",
+    "contact_law",
+];
 const CONTACT_MODELS: [&str; 4] = ["frictionless", "sliding", "rolling", "coulomb"];
 const EFFECT_KEYS: [&str; 4] = ["gravity", "rolling_resistance", "spin_friction", "air_drag"];
 const SOLVER_KEYS: [&str; 5] = ["method", "rtol", "atol", "step", "max_steps"];

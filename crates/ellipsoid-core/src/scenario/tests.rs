@@ -606,3 +606,94 @@ fn numbers_in_messages_are_short() {
         "x.toml:3:1: body.a = -5e-324: a semi-axis must be a positive, finite length in metres"
     );
 }
+
+/// `[contact] contact_radius` and `contact_law` (issue #14): read into `Scene::disc`, and
+/// every bad value named with its key, value and rule.
+#[test]
+fn contact_disc_keys_and_their_errors() {
+    use crate::model::contensou::Law;
+    let sliding = |extra: &str| {
+        edit(
+            "model = \"frictionless\"",
+            &format!("model = \"coulomb\"\nfriction = 0.3\n{extra}"),
+        )
+    };
+    let s = ok(&sliding("contact_radius = 5e-4"), &[]);
+    let disc = s.scene.disc.expect("a disc");
+    assert_eq!((disc.radius, disc.law), (5e-4, Law::Exact));
+    let s = ok(
+        &sliding("contact_radius = 1e-3\ncontact_law = \"pade\""),
+        &[],
+    );
+    assert_eq!(s.scene.disc.unwrap().law, Law::Pade);
+    let s = ok(
+        &sliding(""),
+        &["contact.contact_law=ellipse", "contact.contact_radius=2e-4"],
+    );
+    assert_eq!(s.scene.disc.unwrap().law, Law::Ellipse);
+    // R = 0 is the point contact, with or without a law.
+    assert_eq!(ok(&sliding("contact_radius = 0.0"), &[]).scene.disc, None);
+    assert_eq!(ok(&sliding("contact_law = \"pade\""), &[]).scene.disc, None);
+    assert_eq!(ok(PAPER, &[]).scene.disc, None);
+
+    const NONNEG: &str =
+        "the contact radius must be finite and non-negative (m); 0 is a point contact";
+    let cases = [
+        (
+            sliding("contact_radius = -1e-3"),
+            format!("x.toml:16:1: contact.contact_radius = -1e-3: {NONNEG}"),
+        ),
+        (
+            sliding("contact_radius = nan"),
+            format!("x.toml:16:1: contact.contact_radius = nan: {NONNEG}"),
+        ),
+        (
+            sliding("contact_radius = inf"),
+            format!("x.toml:16:1: contact.contact_radius = inf: {NONNEG}"),
+        ),
+        (
+            sliding("contact_radius = \"small\""),
+            "x.toml:16:1: contact.contact_radius = \"small\": expected a number: R, the radius of the contact disc (m), found a string".to_owned(),
+        ),
+        (
+            sliding("contact_radius = 1e300"),
+            "x.toml:16:1: contact.contact_radius = 1e300: the contact disc must be smaller than the body: R < min(a, b, c) = 0.0175 m".to_owned(),
+        ),
+        (
+            sliding("contact_radius = 0.02"),
+            "x.toml:16:1: contact.contact_radius = 0.02: the contact disc must be smaller than the body: R < min(a, b, c) = 0.0175 m".to_owned(),
+        ),
+        (
+            sliding("contact_radius = 1e-3\ncontact_law = \"exakt\""),
+            "x.toml:17:1: contact.contact_law = \"exakt\": expected one of \"exact\", \"pade\", \"ellipse\"; did you mean \"exact\"?".to_owned(),
+        ),
+        (
+            sliding("contact_radius = 1e-3\ncontact_law = 1"),
+            "x.toml:17:1: contact.contact_law = 1: expected a string, one of \"exact\", \"pade\", \"ellipse\"".to_owned(),
+        ),
+        (
+            edit("model = \"frictionless\"", "model = \"frictionless\"\ncontact_radius = 1e-3"),
+            "x.toml:15:1: contact.contact_radius = 0.001: a contact disc carries friction: it needs model = \"sliding\" or \"coulomb\" (or contact_radius = 0)".to_owned(),
+        ),
+        (
+            edit("model = \"frictionless\"", "model = \"rolling\"\ncontact_law = \"pade\""),
+            "x.toml:15:1: contact.contact_law = \"pade\": the contact law is the friction law of a contact disc: it needs model = \"sliding\" or \"coulomb\" and contact_radius > 0".to_owned(),
+        ),
+        (
+            sliding("contact_radius = 1e-3\n[effects]\nspin_friction = 3e-4"),
+            "x.toml:18:1: effects.spin_friction = 0.0003: the contact disc (contact.contact_radius = 0.001 m) already carries the drilling friction; use one or the other".to_owned(),
+        ),
+    ];
+    for (text, expected) in cases {
+        let got = err(&text, &[]);
+        assert!(
+            got.starts_with(&expected),
+            "got      {got}\nexpected {expected}"
+        );
+    }
+    let got = err(&sliding(""), &["contact.contact_radius=-2"]);
+    assert!(
+        got.contains("--set contact.contact_radius=-2") && got.contains(NONNEG),
+        "{got}"
+    );
+}

@@ -59,7 +59,10 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             slide: System {
                 body: body.clone(),
                 gravity: g,
-                contact: Sliding { friction },
+                contact: Sliding {
+                    friction,
+                    disc: scene.disc,
+                },
                 effects,
             },
             roll: System {
@@ -99,10 +102,13 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         let mut switches = 0usize;
 
         let status = if mode != Mode::Flight
-            && matches!(self.scene.contact, ContactModel::Sliding { .. })
+            && (matches!(self.scene.contact, ContactModel::Sliding { .. })
+                || self.scene.disc.is_some())
             && slip_is_zero(self, &y)
+            && self.slide.contact.stop_speed(&self.slide.evaluate(&y).kin) == 0.0
         {
-            // Only the pure sliding model starts here with zero slip (see `start`).
+            // Only the pure sliding model, or a contact disc with no spin either, starts
+            // here with zero slip (see `start`).
             events.push(EventRecord {
                 kind: EventKind::SlipStop,
                 t,
@@ -209,7 +215,8 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                     ContactModel::Frictionless | ContactModel::Rolling
                 ),
             revolution,
-            sphere: revolution && a.x == a.z,
+            // The drilling torque of a contact disc changes Jellett's J = L_G·(G − C).
+            sphere: revolution && a.x == a.z && scene.disc.is_none(),
             elastic_impacts: scene.landing.lift_off == LiftOff::Stop
                 || (scene.contact == ContactModel::Frictionless
                     && scene.landing.restitution == 1.0),

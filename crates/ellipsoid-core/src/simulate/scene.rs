@@ -8,6 +8,7 @@ use crate::columns::{self, NUMERIC_COLUMNS};
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
 use crate::integrate::{self, Direction, Method};
+use crate::model::ContactDisc;
 use crate::state::EulerAngles;
 
 /// The contact model a scene asks for.
@@ -144,6 +145,9 @@ pub struct Scene {
     /// g [m/s²].
     pub gravity: f64,
     pub contact: ContactModel,
+    /// A flat contact disc under the friction models (Coulomb–Contensou friction,
+    /// `model::contensou`); `None` is a point contact.
+    pub disc: Option<ContactDisc>,
     /// Leaving and landing on the plane.
     pub landing: Landing,
     pub effects: EffectSet,
@@ -182,6 +186,9 @@ impl Scene {
                 number(friction),
                 "the Coulomb coefficient must be finite and non-negative",
             ));
+        }
+        if let Some(disc) = &self.disc {
+            self.validate_disc(disc)?;
         }
         if let Some(bad) = self
             .sample_times
@@ -303,6 +310,49 @@ impl Scene {
             }
         }
         self.validate_observe()
+    }
+
+    /// A contact disc: R finite and positive, smaller than the body, under a friction
+    /// model, and not doubled by the regularised spin friction.
+    fn validate_disc(&self, disc: &ContactDisc) -> Result<(), ModelError> {
+        const KEY: &str = "contact.contact_radius";
+        let r = disc.radius;
+        if !(r.is_finite() && r > 0.0) {
+            return Err(ModelError::invalid(
+                KEY,
+                number(r),
+                "the contact radius must be finite and non-negative (m); 0 is a point contact",
+            ));
+        }
+        if self.contact.friction().is_none() {
+            return Err(ModelError::invalid(
+                KEY,
+                number(r),
+                "a contact disc carries friction: it needs model = \"sliding\" or \"coulomb\" (or contact_radius = 0)",
+            ));
+        }
+        let smallest = self.body.semi_axes().min();
+        if !(r < smallest) {
+            return Err(ModelError::invalid(
+                KEY,
+                number(r),
+                format!(
+                    "the contact disc must be smaller than the body: R < min(a, b, c) = {} m",
+                    number(smallest)
+                ),
+            ));
+        }
+        if let Some(s) = self.effects.spin_friction {
+            return Err(ModelError::invalid(
+                "effects.spin_friction",
+                number(s.coefficient),
+                format!(
+                    "the contact disc (contact.contact_radius = {} m) already carries the drilling friction; use one or the other",
+                    number(r)
+                ),
+            ));
+        }
+        Ok(())
     }
 
     fn validate_observe(&self) -> Result<(), ModelError> {

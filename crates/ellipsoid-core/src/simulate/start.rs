@@ -47,6 +47,9 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
             ContactModel::Frictionless => Mode::Frictionless,
             ContactModel::Sliding { .. } => Mode::Sliding,
             ContactModel::Rolling => Mode::Rolling,
+            // A contact disc does not stick while it spins (docs/physics.md, "Friction
+            // over a contact disc"): the Coulomb model slides.
+            ContactModel::Coulomb { .. } if scene.disc.is_some() => Mode::Sliding,
             ContactModel::Coulomb { friction } => {
                 if slip_is_zero(self, &y) {
                     after_slip_stop(self, friction, &mut y)

@@ -16,7 +16,7 @@ use crate::model::{Evaluation, Flight, Kinematics, Rolling, System};
 use crate::state::{self, State};
 
 use super::rolling::after_slip_stop;
-use super::sliding::{set_reference, slip_is_zero};
+use super::sliding::{set_reference, slip_has_stopped, slip_is_zero};
 use super::{Next, Phase, Watch, phase};
 use crate::simulate::machine::Machine;
 use crate::simulate::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
@@ -236,6 +236,19 @@ fn land<E: Effect + Copy + 'static>(m: &Machine<'_, E>, stuck: bool, y: &mut Sta
             Rolling::stick(body, y);
             m.roll.project(y);
             Next::Go(Mode::Rolling)
+        }
+        // A contact disc does not stick while it spins: it slides on, unless slip and spin
+        // have both stopped (`sliding`'s module docs).
+        ContactModel::Sliding { .. } | ContactModel::Coulomb { .. } if m.scene.disc.is_some() => {
+            if slip_has_stopped(m, y) {
+                Next::Stop(Status::SlipStopped)
+            } else {
+                let slip = m.slide.evaluate(y).kin.slip;
+                if slip != nalgebra::Vector2::zeros() {
+                    set_reference(y, slip.normalize());
+                }
+                Next::Go(Mode::Sliding)
+            }
         }
         ContactModel::Sliding { .. } if stuck || slip_is_zero(m, y) => {
             Next::Stop(Status::SlipStopped)

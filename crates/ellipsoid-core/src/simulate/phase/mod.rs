@@ -14,6 +14,10 @@
 //!
 //! N reaching zero in a contact phase is a lift-off into flight (`flight::lift_off`), or
 //! stops the run with `on_lift_off = "stop"`.
+//!
+//! With a contact disc (`Scene::disc`) the sliding law is Coulomb–Contensou's and the
+//! sliding phase watches N, √(\|v_C\|² + (R ω_n)²) − floor and the Painlevé denominator;
+//! slip and spin stopping together ends the run (see `sliding`).
 
 mod flight;
 mod frictionless;

@@ -5,6 +5,14 @@
 //! inconsistency (g = 1 + m u·I⁻¹(r × d_b), or a solver failure where that denominator
 //! has collapsed). At a slip stop the pure sliding model ends; the Coulomb model sticks
 //! (`rolling::after_slip_stop`).
+//!
+//! With a contact disc (Coulomb–Contensou friction, `model::contensou`) the law is smooth
+//! through v_C = 0 while the spin ω_n = ω·e3 is not zero: there is no slip stop then. The
+//! one stop is v_C and ω_n vanishing together, where the law is set-valued: it is watched
+//! as √(|v_C|² + (R ω_n)²) falling to the slip floor, and there the run ends with status
+//! `slip_stopped`, in the sliding and the Coulomb model alike (rolling without spin,
+//! which would need the disc's set of static friction forces and torques, is not
+//! simulated).
 
 use nalgebra::Vector2;
 
@@ -46,7 +54,10 @@ impl Phase for SlidingPhase {
         &m.slide
     }
 
-    fn watches<E: Effect + Copy>(_m: &Machine<'_, E>) -> Vec<Watch> {
+    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<Watch> {
+        if m.slide.contact.disc.is_some() {
+            return vec![Watch::Normal, Watch::SlipFloor, Watch::Painleve];
+        }
         vec![
             Watch::Normal,
             Watch::Slip,
@@ -65,7 +76,12 @@ impl Phase for SlidingPhase {
             Watch::Slip => Sliding::slip_along_reference(&ev.kin, y),
             Watch::SlipFloor => {
                 let (floor, v_min) = slip_floor(m);
-                Sliding::slip_above_floor(&ev.kin, floor, v_min)
+                if m.slide.contact.disc.is_some() {
+                    m.slide.contact.stop_speed(&ev.kin)
+                        - (floor * Sliding::speed_scale(&ev.kin)).max(v_min)
+                } else {
+                    Sliding::slip_above_floor(&ev.kin, floor, v_min)
+                }
             }
             Watch::Painleve => ev.response.painleve,
             _ => ev.response.normal,
@@ -94,8 +110,10 @@ impl Phase for SlidingPhase {
                 // v_C·s_ref changed sign because the slip turned by more than 90° within
                 // one (loose-tolerance) step, not because it stopped: go on sliding with
                 // the reference renewed.
-                let s = m.slide.evaluate(y).kin.slip.normalize();
-                set_reference(y, s);
+                let slip = m.slide.evaluate(y).kin.slip;
+                if slip != Vector2::zeros() {
+                    set_reference(y, slip.normalize());
+                }
                 Next::Go(Mode::Sliding)
             }
             Watch::Slip | Watch::SlipFloor => {
@@ -103,7 +121,9 @@ impl Phase for SlidingPhase {
                     kind: EventKind::SlipStop,
                     t,
                 });
-                let ContactModel::Coulomb { friction } = m.scene.contact else {
+                // With a contact disc, slip and spin stopped together (see the module docs).
+                let (ContactModel::Coulomb { friction }, None) = (m.scene.contact, m.scene.disc)
+                else {
                     return Next::Stop(Status::SlipStopped);
                 };
                 // Outside the cone the slip passes through zero and goes on (opposite to
@@ -165,10 +185,11 @@ pub(in crate::simulate) fn slip_floor<E>(m: &Machine<'_, E>) -> (f64, f64) {
 
 /// Whether a located slip-stop event is one: |v_C| within [`SLIP_ACCEPT`] times the
 /// floor of [`slip_floor`].
-fn slip_has_stopped<E: Effect>(m: &Machine<'_, E>, y: &State) -> bool {
+pub(in crate::simulate) fn slip_has_stopped<E: Effect>(m: &Machine<'_, E>, y: &State) -> bool {
     let kin = m.slide.evaluate(y).kin;
     let (floor, v_min) = slip_floor(m);
-    kin.slip.norm() <= SLIP_ACCEPT * (floor * Sliding::speed_scale(&kin)).max(v_min)
+    m.slide.contact.stop_speed(&kin)
+        <= SLIP_ACCEPT * (floor * Sliding::speed_scale(&kin)).max(v_min)
 }
 
 /// Whether the material contact point's slip is zero to round-off.
