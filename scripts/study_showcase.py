@@ -1,6 +1,7 @@
 """The figures of docs/studies.md, drawn from the tables of two studies:
 
     ellipsoid study studies/tippe-top-map.toml -o out/tippe-top-map.parquet
+    ellipsoid study studies/tippe-top-map-disc.toml -o out/tippe-top-map-disc.parquet
     ellipsoid study studies/egg-rise.toml -o out/egg-rise.parquet
     .venv/bin/python scripts/study_showcase.py [--out docs/studies]
 
@@ -42,7 +43,7 @@ def edges(v: np.ndarray) -> np.ndarray:
     return np.concatenate([[v[0] - d[0] / 2], v[:-1] + d / 2, [v[-1] + d[-1] / 2]])
 
 
-def tippe_top(path: Path, out: Path) -> None:
+def tippe_top(path: Path, out: Path, name: str = "tippe-top-map", friction: str = "coulomb μ = 0.3", stays: str = "criterion only: slip stops, rolls upright") -> None:
     t = pd.read_parquet(path)
     t["alpha"] = t["body.com_offset [m]"] / R
     t["ratio"] = t["body.inertia[0] [kg m^2]"] / I3
@@ -69,7 +70,7 @@ def tippe_top(path: Path, out: Path) -> None:
     m = ax.pcolormesh(ex, ey, np.ma.masked_invalid(z), cmap="viridis", shading="flat")
     ax.pcolormesh(ex, ey, np.ma.masked_where(~np.isnan(z), np.ones_like(z)), cmap=ListedColormap(["#d9d9d9"]), shading="flat")
     fig.colorbar(m, ax=ax, label="time θ passes π/2 [s]")
-    ax.set_title("turn-over map (coulomb μ = 0.3, φ̇0 = 180 rad/s, 8 s)\ngrey: θ never reached π/2")
+    ax.set_title(f"turn-over map ({friction}, φ̇0 = 180 rad/s, 8 s)\ngrey: θ never reached π/2", fontsize=10)
     ax = axs[1]
     m = ax.pcolormesh(ex, ey, zmax, cmap="magma", shading="flat", vmin=0, vmax=np.pi)
     fig.colorbar(m, ax=ax, label="largest θ in the run [rad]")
@@ -82,7 +83,7 @@ def tippe_top(path: Path, out: Path) -> None:
         "both: turns over",
         "both: stays up",
         "map only: passes π/2, settles on its side",
-        "criterion only: slip stops, rolls upright",
+        stays,
         "run failed (step budget)",
     ]
     ax.fill([], [], hatch="////", facecolor="none", label="hops off the plane on the way")
@@ -97,15 +98,17 @@ def tippe_top(path: Path, out: Path) -> None:
         ax.set_ylim(ey[0], ey[-1])
         ax.set_xlabel("α = D2/R [1]")
         ax.set_ylabel("I1/I3 [1]")
-    fig.savefig(out / "tippe-top-map.png", dpi=110)
+    fig.savefig(out / f"{name}.png", dpi=110)
     n = len(t)
-    print(f"tippe top: {n} runs; statuses {t.status.value_counts().to_dict()}")
+    print(f"{name}: {n} runs; statuses {t.status.value_counts().to_dict()}")
     print(
         f"  agree {int(((flip & crit) | (~flip & ~crit)).sum())} ({((flip & crit) | (~flip & ~crit)).mean():.0%}); "
         f"map only {int((flip & ~crit).sum())} (max θ {t['max.theta [rad]'][flip & ~crit].astype(float).median():.2f} rad median, all above 1 + α: {bool((t.ratio[flip & ~crit] > 1 + t.alpha[flip & ~crit]).all())}); "
         f"criterion only {int((crit & ~flip).sum())}: stayed up rolling {int((crit & ~flip & ~failed & (t['final.mode'] == 'rolling')).sum())}, failed {int((crit & ~flip & failed).sum())}; "
         f"failed {int(failed.sum())} (turned before failing {int((failed & flip).sum())}); hops {int(jumped.sum())} (of which turn over {int((jumped & flip).sum())}, inside the criterion {int((jumped & crit).sum())}; first hop {t['t_jump [s]'][jumped].astype(float).min():.2f} … {t['t_jump [s]'][jumped].astype(float).max():.2f} s, α ≥ {t.alpha[jumped].min():.2f})"
     )
+    missed = crit & ~flip
+    print(f"  criterion only: largest θ {t['max.theta [rad]'][missed].astype(float).min():.2f} … {t['max.theta [rad]'][missed].astype(float).max():.2f} rad, final modes {t['final.mode'][missed].value_counts().to_dict()}")
     inside = flip & crit
     print(f"  inside the criterion: max θ median {t['max.theta [rad]'][inside].astype(float).median():.2f} rad; t(π/2) {t_h[inside].min():.2f} … {t_h[inside].max():.2f} s")
 
@@ -143,11 +146,14 @@ def egg(path: Path, out: Path) -> None:
 def main() -> None:
     p = argparse.ArgumentParser()
     p.add_argument("--tippe-top", default=REPO / "out/tippe-top-map.parquet", type=Path)
+    p.add_argument("--tippe-top-disc", default=REPO / "out/tippe-top-map-disc.parquet", type=Path)
     p.add_argument("--egg", default=REPO / "out/egg-rise.parquet", type=Path)
     p.add_argument("--out", default=REPO / "docs/studies", type=Path)
     a = p.parse_args()
     a.out.mkdir(parents=True, exist_ok=True)
     tippe_top(a.tippe_top, a.out)
+    if a.tippe_top_disc.exists():
+        tippe_top(a.tippe_top_disc, a.out, "tippe-top-map-disc", "disc R = 0.5 mm, μ = 0.3", "criterion only: still below π/2 at 8 s")
     egg(a.egg, a.out)
 
 
