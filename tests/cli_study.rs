@@ -217,3 +217,146 @@ fn a_hostile_study_file_is_refused_at_once_naming_key_value_and_rule() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains(".csv, .parquet or .h5"));
 }
+
+/// `--trajectories RUNS.h5`: one group per table row, named by the row's key, each the
+/// same trajectory `ellipsoid run` writes for that point (same values, bit for bit), with
+/// the axis value and status as attributes; refused over a journal that holds rows
+/// (unless --fresh) and above the size limit, leaving no file behind.
+#[test]
+fn trajectories_are_one_hdf5_group_per_row_named_by_its_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = scenarios().join("nutation.toml");
+    let text = format!(
+        "base = {base:?}\n[set]\n\"output.t_end\" = 0.2\n\"output.dt\" = 0.01\n\
+         [[axis]]\nkey = \"initial.psi_dot\"\nvalues = [20.0, 40.0, 60.0]\n"
+    );
+    std::fs::write(dir.path().join("study.toml"), &text).unwrap();
+    let out = study(
+        dir.path(),
+        &[
+            "study.toml",
+            "-o",
+            "t.csv",
+            "--trajectories",
+            "runs/t.h5",
+            "-q",
+        ],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let h5 = dir.path().join("runs/t.h5");
+    let table = std::fs::read_to_string(dir.path().join("t.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<&str>> = table
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 3);
+    let mut keys: Vec<String> = rows.iter().map(|r| r[col("key")].to_owned()).collect();
+    keys.sort();
+    assert_eq!(ellipsoid_io::hdf5::group_names(&h5).unwrap(), keys);
+    for row in &rows {
+        let key = row[col("key")];
+        let g = ellipsoid_io::hdf5::read_group(&h5, key).unwrap();
+        let spin: f64 = row[col("initial.psi_dot [rad/s]")].parse().unwrap();
+        assert_eq!(g.numbers["initial.psi_dot"], spin);
+        assert_eq!(
+            g.numbers["point"],
+            row[col("point")].parse::<f64>().unwrap()
+        );
+        assert_eq!(g.attributes["key"], key);
+        assert_eq!(g.attributes["status"], row[col("status")]);
+        assert_eq!(g.column("t").unwrap().len(), 21);
+        // The same point through `ellipsoid run`.
+        let single = dir.path().join(format!("single-{key}.h5"));
+        let o = Command::new(BIN)
+            .args(["run", base.to_str().unwrap(), "-q"])
+            .args(["--set", "output.t_end=0.2", "--set", "output.dt=0.01"])
+            .args(["--set", &format!("initial.psi_dot={spin:?}")])
+            .arg("-o")
+            .arg(&single)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let run = ellipsoid_io::hdf5::read(&single).unwrap();
+        assert_eq!(g.columns, run.columns, "point {key}: columns and units");
+        assert_eq!(g.modes, run.modes);
+    }
+
+    // A journal holding rows has no trajectories to give: refused, the file untouched.
+    let before = std::fs::read(&h5).unwrap();
+    let out = study(
+        dir.path(),
+        &[
+            "study.toml",
+            "-o",
+            "t.csv",
+            "--trajectories",
+            "runs/t.h5",
+            "-q",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("already holds 3 finished runs") && stderr.contains("--fresh"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(&h5).unwrap(), before);
+    let out = study(
+        dir.path(),
+        &[
+            "study.toml",
+            "-o",
+            "t.csv",
+            "--trajectories",
+            "runs/t.h5",
+            "-q",
+            "--fresh",
+        ],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(ellipsoid_io::hdf5::group_names(&h5).unwrap(), keys);
+
+    // Above the limit: 2000 runs × 100001 samples, refused before anything runs.
+    std::fs::write(
+        dir.path().join("big.toml"),
+        format!(
+            "base = {base:?}\n[set]\n\"output.t_end\" = 100.0\n\"output.dt\" = 0.001\n\
+             [[axis]]\nkey = \"initial.psi_dot\"\nlinspace = [20.0, 80.0, 2000]\n"
+        ),
+    )
+    .unwrap();
+    let t = Instant::now();
+    let out = study(
+        dir.path(),
+        &["big.toml", "-o", "big.csv", "--trajectories", "big.h5"],
+    );
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains(
+            "2000 runs × 100001 samples = 200002000 trajectory rows, above the limit of 100000000"
+        ),
+        "{stderr}"
+    );
+    assert!(t.elapsed() < Duration::from_secs(2));
+    assert!(!dir.path().join("big.h5").exists() && !dir.path().join("big.csv").exists());
+    let out = study(
+        dir.path(),
+        &["study.toml", "-o", "x.csv", "--trajectories", "x.csv"],
+    );
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains(".h5"));
+}

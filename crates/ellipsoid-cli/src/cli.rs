@@ -67,6 +67,11 @@ pub struct StudyArgs {
     /// Ignore and replace the journal of an earlier run (start over).
     #[arg(long)]
     pub fresh: bool,
+    /// Also write every run's sampled trajectory to this HDF5 file: a group per run,
+    /// named by its row's key (docs/studies.md). Needs an empty journal (or --fresh):
+    /// resumed rows have no trajectory. At most 10^8 samples over all runs.
+    #[arg(long, value_name = "RUNS.h5")]
+    pub trajectories: Option<PathBuf>,
     /// Print nothing but errors on standard error.
     #[arg(short, long)]
     pub quiet: bool,

@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use ellipsoid_io::OutputError;
 use ellipsoid_study::study::{
-    self, ExecError, JournalError, Study, TableFormat, Tally, spec, table,
+    self, ExecError, JournalError, PointResult, Study, TableFormat, Tally, Trajectory, spec, table,
 };
 
 use crate::cli::StudyArgs;
@@ -39,13 +39,18 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
             "--jobs: give at least 1 worker thread".into(),
         ));
     }
+    if let Some(t) = &args.trajectories {
+        check_trajectories(t, &args.output, &study)?;
+    }
     ellipsoid_io::atomic::check_target(&args.output)?;
-    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|e| OutputError::Io {
-            path: dir.to_owned(),
-            source: e,
-        })?;
-        ellipsoid_io::atomic::remove_stale(dir);
+    for path in std::iter::once(&args.output).chain(&args.trajectories) {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| OutputError::Io {
+                path: dir.to_owned(),
+                source: e,
+            })?;
+            ellipsoid_io::atomic::remove_stale(dir);
+        }
     }
     let journal = journal_path(&args.output);
     if args.fresh {
@@ -65,11 +70,22 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
     let start = Instant::now();
     let mut bar = Bar::new(!args.quiet && std::io::stderr().is_terminal());
     let mut last = Tally::default();
-    let result = study::execute(
+    let mut traj_file = match &args.trajectories {
+        Some(p) => Some(TrajFile::create(p, &study)?),
+        None => None,
+    };
+    let mut sink = |r: &PointResult, t: &Trajectory| match traj_file.as_mut() {
+        Some(f) => f.add(&study, r, t),
+        None => Ok(()),
+    };
+    let result = study::execute_with(
         &study,
         Some(&journal),
         args.jobs.unwrap_or(0),
         &interrupt.any,
+        args.trajectories
+            .is_some()
+            .then_some(&mut sink as study::TrajectorySink<'_>),
         |t| {
             last = *t;
             bar.update(start.elapsed(), t);
@@ -93,6 +109,9 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
         }
         // A journal of another study, or not a journal: bad input, nothing was run.
         Err(ExecError::Journal(e)) => return Err(CliError::Usage(e.to_string())),
+        Err(e @ (ExecError::Resumed { .. } | ExecError::Trajectories(_))) => {
+            return Err(CliError::Usage(e.to_string()));
+        }
         Err(ExecError::Internal(msg)) => {
             return Err(CliError::Usage(format!(
                 "internal error: {msg}; please report it"
@@ -101,6 +120,9 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
     };
     let rows = study.rows(results);
     table::write(&args.output, &study.columns, &rows, &study.plan.source)?;
+    if let Some(f) = traj_file {
+        f.commit()?;
+    }
     if !args.quiet {
         let secs = start.elapsed().as_secs_f64();
         let ran = last.done - last.resumed;
@@ -113,8 +135,56 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
             last.failed,
             args.output.display()
         );
+        if let Some(t) = &args.trajectories {
+            eprintln!("study: wrote the trajectories to {}", t.display());
+        }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+#[cfg(feature = "hdf5")]
+type TrajFile = study::trajectories::TrajectoryFile;
+
+/// Refuses a trajectory file this build cannot write, that is the table itself, or that
+/// would exceed the size limit.
+fn check_trajectories(path: &Path, output: &Path, study: &Study) -> Result<(), CliError> {
+    let usage = |m: String| CliError::Usage(format!("--trajectories {}: {m}", path.display()));
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    if !matches!(ext, "h5" | "hdf5") {
+        return Err(usage(
+            "the trajectory file is HDF5: give it the extension .h5".into(),
+        ));
+    }
+    if path == output {
+        return Err(usage("the trajectory file cannot be the table".into()));
+    }
+    #[cfg(not(feature = "hdf5"))]
+    {
+        let _ = study;
+        Err(usage(ellipsoid_io::HDF5_HINT.into()))
+    }
+    #[cfg(feature = "hdf5")]
+    {
+        ellipsoid_io::atomic::check_target(path)?;
+        study::trajectories::check_size(study).map_err(CliError::Usage)
+    }
+}
+
+/// Stands in for the trajectory file in a build without HDF5 (refused before it is made).
+#[cfg(not(feature = "hdf5"))]
+struct TrajFile;
+
+#[cfg(not(feature = "hdf5"))]
+impl TrajFile {
+    fn create(_: &Path, _: &Study) -> Result<Self, CliError> {
+        unreachable!("refused by check_trajectories")
+    }
+    fn add(&mut self, _: &Study, _: &PointResult, _: &Trajectory) -> Result<(), String> {
+        unreachable!()
+    }
+    fn commit(self) -> Result<(), CliError> {
+        unreachable!()
+    }
 }
 
 /// Shortest time between two frames.

@@ -68,21 +68,7 @@ impl Hdf5File {
         };
         {
             let file = h5::File::create(&self.tmp).map_err(fail)?;
-            for ((name, unit), data) in NUMERIC_COLUMNS.iter().zip(&self.columns) {
-                let ds = file
-                    .new_dataset_builder()
-                    .with_data(data.as_slice())
-                    .create(*name)
-                    .map_err(fail)?;
-                str_attr(&ds, "units", unit).map_err(fail)?;
-            }
-            let ds = file
-                .new_dataset_builder()
-                .with_data(self.modes.as_slice())
-                .create(columns::MODE)
-                .map_err(fail)?;
-            str_attr(&ds, "units", "1").map_err(fail)?;
-            str_attr(&ds, "values", "frictionless, sliding, rolling").map_err(fail)?;
+            write_columns(&file, &self.columns, &self.modes).map_err(fail)?;
 
             let summary = meta.summary;
             str_attr(&file, "version", &summary.version).map_err(fail)?;
@@ -122,6 +108,120 @@ impl Hdf5File {
     }
 }
 
+/// The numeric datasets (attribute `units`) and `mode` of one trajectory in `loc`.
+fn write_columns(
+    loc: &h5::Group,
+    columns: &[Vec<f64>],
+    modes: &[FixedAscii<MODE_LEN>],
+) -> h5::Result<()> {
+    for ((name, unit), data) in NUMERIC_COLUMNS.iter().zip(columns) {
+        let ds = loc
+            .new_dataset_builder()
+            .with_data(data.as_slice())
+            .create(*name)?;
+        str_attr(&ds, "units", unit)?;
+    }
+    let ds = loc
+        .new_dataset_builder()
+        .with_data(modes)
+        .create(columns::MODE)?;
+    str_attr(&ds, "units", "1")?;
+    str_attr(&ds, "values", "frictionless, sliding, rolling")
+}
+
+/// Many trajectories in one HDF5 file (a parameter study's runs): a group per run at the
+/// root, each laid out like a single trajectory file's root (`t`, …, `gap` with `units`,
+/// `mode`), with the group's own string and number attributes, plus root string
+/// attributes. Each group is written when added (so only the file, not memory, grows),
+/// to a temporary beside `path` that [`Hdf5Groups::commit`] renames into place; dropped
+/// uncommitted, the temporary is removed.
+pub struct Hdf5Groups {
+    path: PathBuf,
+    file: Option<h5::File>,
+    tmp: TempPath,
+    groups: u64,
+    rows: u64,
+}
+
+impl Hdf5Groups {
+    /// Creates the temporary file with the root string attributes `attrs`.
+    pub fn create(path: &Path, attrs: &[(&str, &str)]) -> Result<Self, OutputError> {
+        let tmp = atomic::temporary(path)?.into_temp_path();
+        let fail = |e: h5::Error| OutputError::Hdf5 {
+            path: path.to_owned(),
+            message: e.to_string(),
+        };
+        let file = h5::File::create(&tmp).map_err(fail)?;
+        for (k, v) in attrs {
+            str_attr(&file, k, v).map_err(fail)?;
+        }
+        Ok(Hdf5Groups {
+            path: path.to_owned(),
+            file: Some(file),
+            tmp,
+            groups: 0,
+            rows: 0,
+        })
+    }
+
+    /// Adds the group `name` (no `/`) holding one trajectory: `columns` in
+    /// [`NUMERIC_COLUMNS`] order (all of one length), `modes` (mode names) of the same
+    /// length, and the group attributes `text` (strings) and `numbers` (float64).
+    pub fn add(
+        &mut self,
+        name: &str,
+        columns: &[Vec<f64>],
+        modes: &[&str],
+        text: &[(&str, &str)],
+        numbers: &[(&str, f64)],
+    ) -> Result<(), OutputError> {
+        let fail = |e: h5::Error| OutputError::Hdf5 {
+            path: self.path.clone(),
+            message: format!("group {name}: {e}"),
+        };
+        let file = self.file.as_ref().expect("open until committed");
+        let modes: Vec<FixedAscii<MODE_LEN>> = modes
+            .iter()
+            .map(|m| FixedAscii::from_ascii(m.as_bytes()).expect("mode names are short ASCII"))
+            .collect();
+        let g = file.create_group(name).map_err(fail)?;
+        write_columns(&g, columns, &modes).map_err(fail)?;
+        for (k, v) in text {
+            str_attr(&g, &k.replace('/', "∕"), v).map_err(fail)?;
+        }
+        for (k, v) in numbers {
+            g.new_attr::<f64>()
+                .create(k.replace('/', "∕").as_str())
+                .and_then(|a| a.write_scalar(v))
+                .map_err(fail)?;
+        }
+        self.groups += 1;
+        self.rows += modes.len() as u64;
+        Ok(())
+    }
+
+    /// Groups added so far.
+    pub fn groups(&self) -> u64 {
+        self.groups
+    }
+
+    /// Trajectory rows (samples) written so far, over all groups.
+    pub fn rows(&self) -> u64 {
+        self.rows
+    }
+
+    /// Closes the file and renames it into place.
+    pub fn commit(mut self) -> Result<(), OutputError> {
+        if let Some(f) = self.file.take() {
+            f.close().map_err(|e| OutputError::Hdf5 {
+                path: self.path.clone(),
+                message: e.to_string(),
+            })?;
+        }
+        atomic::Prepared::new(self.tmp, &self.path).commit()
+    }
+}
+
 /// A scalar UTF-8 string attribute (h5py reads it as `str`).
 fn str_attr(loc: &h5::Location, name: &str, value: &str) -> h5::Result<()> {
     // Interior NUL bytes cannot be stored in a C string; none of ours has one.
@@ -143,6 +243,8 @@ pub struct Hdf5Trajectory {
     pub modes: Vec<String>,
     /// The root's string attributes (version, scenario, status, summary, …).
     pub attributes: std::collections::BTreeMap<String, String>,
+    /// The float64 scalar attributes (in a study's trajectory file: the axis values).
+    pub numbers: std::collections::BTreeMap<String, f64>,
 }
 
 impl Hdf5Trajectory {
@@ -157,14 +259,45 @@ impl Hdf5Trajectory {
 
 /// Reads a trajectory file written by [`Hdf5File`].
 pub fn read(path: &Path) -> Result<Hdf5Trajectory, OutputError> {
+    read_in(path, None)
+}
+
+/// The names of the groups at the root of a file written by [`Hdf5Groups`], sorted.
+pub fn group_names(path: &Path) -> Result<Vec<String>, OutputError> {
     let fail = |e: h5::Error| OutputError::Hdf5 {
         path: path.to_owned(),
         message: e.to_string(),
     };
     let file = h5::File::open(path).map_err(fail)?;
+    let mut names: Vec<String> = file
+        .groups()
+        .map_err(fail)?
+        .iter()
+        .map(|g| g.name().trim_start_matches('/').to_owned())
+        .collect();
+    names.sort();
+    Ok(names)
+}
+
+/// Reads the trajectory in group `group` of a file written by [`Hdf5Groups`] (its
+/// attributes are the group's).
+pub fn read_group(path: &Path, group: &str) -> Result<Hdf5Trajectory, OutputError> {
+    read_in(path, Some(group))
+}
+
+fn read_in(path: &Path, group: Option<&str>) -> Result<Hdf5Trajectory, OutputError> {
+    let fail = |e: h5::Error| OutputError::Hdf5 {
+        path: path.to_owned(),
+        message: e.to_string(),
+    };
+    let file = h5::File::open(path).map_err(fail)?;
+    let loc: h5::Group = match group {
+        Some(g) => file.group(g).map_err(fail)?,
+        None => file.group("/").map_err(fail)?,
+    };
     let mut columns = Vec::new();
     for (name, _) in NUMERIC_COLUMNS {
-        let ds = file.dataset(name).map_err(fail)?;
+        let ds = loc.dataset(name).map_err(fail)?;
         let units: VarLenUnicode = ds
             .attr("units")
             .and_then(|a| a.read_scalar())
@@ -175,21 +308,25 @@ pub fn read(path: &Path) -> Result<Hdf5Trajectory, OutputError> {
             ds.read_raw::<f64>().map_err(fail)?,
         ));
     }
-    let modes = file
+    let modes = loc
         .dataset(columns::MODE)
         .and_then(|d| d.read_raw::<FixedAscii<MODE_LEN>>())
         .map_err(fail)?;
     let mut attributes = std::collections::BTreeMap::new();
-    for name in file.attr_names().map_err(fail)? {
-        let attr = file.attr(&name).map_err(fail)?;
+    let mut numbers = std::collections::BTreeMap::new();
+    for name in loc.attr_names().map_err(fail)? {
+        let attr = loc.attr(&name).map_err(fail)?;
         if let Ok(v) = attr.read_scalar::<VarLenUnicode>() {
             attributes.insert(name, v.as_str().to_owned());
+        } else if attr.dtype().is_ok_and(|t| t.is::<f64>()) {
+            numbers.insert(name, attr.read_scalar::<f64>().map_err(fail)?);
         }
     }
     Ok(Hdf5Trajectory {
         columns,
         modes: modes.iter().map(|m| m.as_str().to_owned()).collect(),
         attributes,
+        numbers,
     })
 }
 

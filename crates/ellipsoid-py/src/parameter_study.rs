@@ -475,6 +475,10 @@ impl PyStudy {
                 pyo3::exceptions::PyKeyboardInterrupt::new_err("the study was interrupted"),
             ),
             Err(ExecError::Internal(msg)) => Err(errors::internal_error(py, &msg)),
+            // Python asks for no trajectories.
+            Err(e @ (ExecError::Resumed { .. } | ExecError::Trajectories(_))) => {
+                Err(errors::internal_error(py, &e.to_string()))
+            }
         }
     }
 

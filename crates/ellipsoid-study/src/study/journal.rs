@@ -241,6 +241,7 @@ mod tests {
                 Cell::Null,
                 Cell::Int(-7),
             ],
+            trajectory: None,
         }
     }
 

@@ -18,6 +18,8 @@ pub mod plan;
 pub mod run;
 pub mod spec;
 pub mod table;
+#[cfg(feature = "hdf5")]
+pub mod trajectories;
 
 use std::path::Path;
 use std::sync::Arc;
@@ -27,7 +29,7 @@ use rayon::prelude::*;
 
 pub use journal::{Journal, JournalError};
 pub use plan::{Base, Cell, Column, Combine, Outcomes, Plan, Study, Type};
-pub use run::{INTERNAL_ERROR, INVALID, PointResult, VERSION};
+pub use run::{INTERNAL_ERROR, INVALID, PointResult, Trajectory, VERSION};
 pub use table::TableFormat;
 
 pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
@@ -60,7 +62,25 @@ pub enum ExecError {
     Interrupted { done: usize, total: usize },
     #[error("{0}")]
     Internal(String),
+    /// Trajectories were asked for but the journal already holds finished rows (whose
+    /// trajectories were not kept); nothing was run.
+    #[error(
+        "the journal {} already holds {resumed} finished runs, whose trajectories were not kept; add --fresh to run every point again with its trajectory",
+        journal.display()
+    )]
+    Resumed {
+        journal: std::path::PathBuf,
+        resumed: usize,
+    },
+    /// The trajectory sink failed (or refused more rows); the runs stopped, the finished
+    /// rows are in the journal.
+    #[error("{0}")]
+    Trajectories(String),
 }
+
+/// Receives each run's trajectory on the calling thread ([`execute_with`]); an error
+/// stops the study.
+pub type TrajectorySink<'a> = &'a mut dyn FnMut(&PointResult, &Trajectory) -> Result<(), String>;
 
 /// Whether a status counts as a failure in the tally.
 pub fn is_failure(status: &str) -> bool {
@@ -77,6 +97,20 @@ pub fn execute(
     journal: Option<&Path>,
     threads: usize,
     cancel: &Arc<AtomicBool>,
+    progress: impl FnMut(&Tally),
+) -> Result<Vec<PointResult>, ExecError> {
+    execute_with(study, journal, threads, cancel, None, progress)
+}
+
+/// [`execute`], handing every run's trajectory to `trajectories` (if given) as it
+/// finishes; the results returned hold none. A journal that already holds rows is then
+/// refused ([`ExecError::Resumed`]): those rows have no trajectory to give.
+pub fn execute_with(
+    study: &Study,
+    journal: Option<&Path>,
+    threads: usize,
+    cancel: &Arc<AtomicBool>,
+    mut trajectories: Option<TrajectorySink<'_>>,
     mut progress: impl FnMut(&Tally),
 ) -> Result<Vec<PointResult>, ExecError> {
     let n = study.len();
@@ -85,6 +119,7 @@ pub fn execute(
         total: n,
         ..Tally::default()
     };
+    let journal_path = journal.map(Path::to_path_buf);
     let (mut journal, done) = match journal {
         Some(p) => {
             let (j, d) = Journal::open(p, &study.outcome_fingerprint(), cells)?;
@@ -92,6 +127,12 @@ pub fn execute(
         }
         None => (None, Default::default()),
     };
+    if trajectories.is_some() && !done.is_empty() {
+        return Err(ExecError::Resumed {
+            journal: journal_path.unwrap_or_default(),
+            resumed: done.len(),
+        });
+    }
     let mut results: Vec<PointResult> = Vec::with_capacity(n);
     let pending: Vec<usize> = if done.is_empty() {
         (0..n).collect()
@@ -114,6 +155,7 @@ pub fn execute(
                         index: i,
                         key,
                         cells: c.clone(),
+                        trajectory: None,
                     });
                 }
                 None => pending.push(i),
@@ -123,8 +165,19 @@ pub fn execute(
     };
     progress(&tally);
     let mut journal_error = None;
+    let mut sink_error = None;
+    let keep = trajectories.is_some();
     study
-        .run_many(&pending, threads, cancel, |r| {
+        .run_many_with(&pending, threads, cancel, keep, |mut r| {
+            // A point that never ran (invalid) gets an empty trajectory: still a group.
+            let t = r.trajectory.take().unwrap_or_default();
+            if let Some(sink) = trajectories.as_mut()
+                && sink_error.is_none()
+                && let Err(e) = sink(&r, &t)
+            {
+                sink_error = Some(e);
+                cancel.store(true, Ordering::Relaxed);
+            }
             if let Some(j) = journal.as_mut()
                 && journal_error.is_none()
                 && let Err(e) = j.append(&r)
@@ -145,6 +198,9 @@ pub fn execute(
     }
     if let Some(e) = journal_error {
         return Err(e.into());
+    }
+    if let Some(e) = sink_error {
+        return Err(ExecError::Trajectories(e));
     }
     if results.len() < n {
         return Err(ExecError::Interrupted {

@@ -33,11 +33,44 @@ pub struct PointResult {
     pub index: usize,
     pub key: String,
     pub cells: Vec<Cell>,
+    /// The sampled trajectory, when asked for ([`Study::run_point_with`]) and the point
+    /// ran (a point rejected before it starts has none).
+    pub trajectory: Option<Trajectory>,
+}
+
+/// A run's samples, by column: the numeric columns in `ellipsoid_core::columns::NUMERIC_COLUMNS`
+/// order, and the mode names.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Trajectory {
+    pub columns: Vec<Vec<f64>>,
+    pub modes: Vec<&'static str>,
+}
+
+impl Trajectory {
+    /// Samples held.
+    pub fn len(&self) -> usize {
+        self.modes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.modes.is_empty()
+    }
 }
 
 impl Study {
     /// Runs point `index`; `None` if it was cancelled.
     pub fn run_point(&self, index: usize, cancel: Option<&Arc<AtomicBool>>) -> Option<PointResult> {
+        self.run_point_with(index, cancel, false)
+    }
+
+    /// Runs point `index`, keeping its sampled trajectory if `keep`; `None` if it was
+    /// cancelled.
+    pub fn run_point_with(
+        &self,
+        index: usize,
+        cancel: Option<&Arc<AtomicBool>>,
+        keep: bool,
+    ) -> Option<PointResult> {
         let resolved = match self.resolve(index) {
             Ok(r) => r,
             Err((key, rule)) => {
@@ -45,25 +78,37 @@ impl Study {
                     index,
                     key: String::new(),
                     cells: self.failed(INVALID, format!("{key}: {rule}")),
+                    trajectory: None,
                 });
             }
         };
         let key = resolved.key.clone();
-        let cells = catch_unwind(AssertUnwindSafe(|| self.run_resolved(&resolved, cancel)))
-            .unwrap_or_else(|p| {
-                Some(self.failed(INTERNAL_ERROR, crate::study::panic_message(&*p)))
-            })?;
-        Some(PointResult { index, key, cells })
+        let (cells, trajectory) = catch_unwind(AssertUnwindSafe(|| {
+            self.run_resolved(&resolved, cancel, keep)
+        }))
+        .unwrap_or_else(|p| {
+            Some((
+                self.failed(INTERNAL_ERROR, crate::study::panic_message(&*p)),
+                None,
+            ))
+        })?;
+        Some(PointResult {
+            index,
+            key,
+            cells,
+            trajectory,
+        })
     }
 
     fn run_resolved(
         &self,
         resolved: &super::plan::Resolved,
         cancel: Option<&Arc<AtomicBool>>,
-    ) -> Option<Vec<Cell>> {
+        keep: bool,
+    ) -> Option<(Vec<Cell>, Option<Trajectory>)> {
         let scenario = match self.scenario(resolved) {
             Ok(s) => s,
-            Err(e) => return Some(self.failed(INVALID, e.first().to_string())),
+            Err(e) => return Some((self.failed(INVALID, e.first().to_string()), None)),
         };
         let cols = self.outcome_columns();
         let extremes: Vec<(usize, bool)> = cols
@@ -85,13 +130,28 @@ impl Study {
             })
             .collect();
         let mut samples = 0u64;
+        let mut traj = keep.then(|| {
+            let n = scenario.scene.sample_times.len();
+            Trajectory {
+                columns: (0..columns::NUMERIC)
+                    .map(|_| Vec::with_capacity(n))
+                    .collect(),
+                modes: Vec::with_capacity(n),
+            }
+        });
         let finished =
             ellipsoid_io::run::run(&scenario, None, VERSION, cancel.cloned(), |s: &Sample| {
                 samples += 1;
-                if !extremes.is_empty() {
+                if !extremes.is_empty() || traj.is_some() {
                     let v = columns::values(s);
                     for ((i, max), e) in extremes.iter().zip(ext.iter_mut()) {
                         *e = if *max { e.max(v[*i]) } else { e.min(v[*i]) };
+                    }
+                    if let Some(t) = traj.as_mut() {
+                        for (c, x) in t.columns.iter_mut().zip(v) {
+                            c.push(x);
+                        }
+                        t.modes.push(s.mode.name());
                     }
                 }
                 Ok::<(), std::convert::Infallible>(())
@@ -99,7 +159,7 @@ impl Study {
         let finished = match finished {
             Ok(f) => f,
             Err(ellipsoid_io::run::Failure::Scenario(e)) => {
-                return Some(self.failed(INVALID, e.to_string()));
+                return Some((self.failed(INVALID, e.to_string()), None));
             }
             Err(ellipsoid_io::run::Failure::Sink(never)) => match never {},
         };
@@ -145,7 +205,7 @@ impl Study {
                 Role::Point | Role::Axis { .. } | Role::Key => Cell::Null,
             })
             .collect();
-        Some(cells)
+        Some((cells, traj))
     }
 
     /// The outcome cells of a point that produced no run.
@@ -169,6 +229,18 @@ impl Study {
         indices: &[usize],
         threads: usize,
         cancel: &Arc<AtomicBool>,
+        on_row: impl FnMut(PointResult),
+    ) -> Result<(), String> {
+        self.run_many_with(indices, threads, cancel, false, on_row)
+    }
+
+    /// [`Study::run_many`], keeping each run's trajectory in its result if `keep`.
+    pub fn run_many_with(
+        &self,
+        indices: &[usize],
+        threads: usize,
+        cancel: &Arc<AtomicBool>,
+        keep: bool,
         mut on_row: impl FnMut(PointResult),
     ) -> Result<(), String> {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -188,7 +260,7 @@ impl Study {
                             if cancel.load(Ordering::Relaxed) {
                                 return;
                             }
-                            if let Some(r) = self.run_point(i, Some(cancel)) {
+                            if let Some(r) = self.run_point_with(i, Some(cancel), keep) {
                                 let _ = tx.send(r);
                             }
                         });
