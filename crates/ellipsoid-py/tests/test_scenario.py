@@ -105,8 +105,10 @@ def test_scenario_error_carries_its_location(tmp_path: Path) -> None:
 
 def test_physics_rejected_at_t0_is_a_scenario_error() -> None:
     """N ≤ 0 at t = 0 (a fast spin about a steep axis) is found by the simulation, and
-    placed in the scenario like the CLI does."""
-    s = oblate(initial=dict(theta=1.2, phi_dot=3000.0))
+    placed in the scenario like the CLI does (with on_lift_off = "stop"; by default the
+    body flies from t = 0)."""
+    s = oblate(initial=dict(theta=1.2, phi_dot=3000.0), contact=dict(model="frictionless", on_lift_off="stop"))
+    assert ellipsoid.simulate(oblate(initial=dict(theta=1.2, phi_dot=3000.0)), output={"t_end": 0.01}).mode[0] == "flight"
     with pytest.raises(ellipsoid.ScenarioError, match=r"initial normal force N = -.*N > 0") as info:
         ellipsoid.simulate(s)
     assert info.value.key == "initial normal force N"
