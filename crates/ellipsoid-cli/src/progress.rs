@@ -104,14 +104,7 @@ pub fn frame(elapsed: Duration, t: f64, t_end: f64) -> String {
     } else {
         0.0
     };
-    let filled = (f * WIDTH as f64).floor() as usize;
-    let bar: String = (0..WIDTH)
-        .map(|i| match i.cmp(&filled) {
-            std::cmp::Ordering::Less => '=',
-            std::cmp::Ordering::Equal => '>',
-            std::cmp::Ordering::Greater => ' ',
-        })
-        .collect();
+    let bar = bar(f);
     let eta = if f > 0.0 {
         clock(elapsed.as_secs_f64() * (1.0 - f) / f)
     } else {
@@ -124,8 +117,20 @@ pub fn frame(elapsed: Duration, t: f64, t_end: f64) -> String {
     )
 }
 
+/// The bar `=====>     ` for the done fraction `f` ∈ [0, 1], WIDTH characters.
+pub(crate) fn bar(f: f64) -> String {
+    let filled = (f * WIDTH as f64).floor() as usize;
+    (0..WIDTH)
+        .map(|i| match i.cmp(&filled) {
+            std::cmp::Ordering::Less => '=',
+            std::cmp::Ordering::Equal => '>',
+            std::cmp::Ordering::Greater => ' ',
+        })
+        .collect()
+}
+
 /// Seconds as hh:mm:ss (rounded to the nearest second).
-fn clock(s: f64) -> String {
+pub(crate) fn clock(s: f64) -> String {
     let s = s.round().min(359_999.0) as u64;
     format!("{:02}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
 }

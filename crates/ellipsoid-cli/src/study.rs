@@ -21,6 +21,7 @@ use ellipsoid_study::study::{
 use crate::cli::StudyArgs;
 use crate::error::CliError;
 use crate::interrupt::Interrupt;
+use crate::progress::{bar, clock};
 
 /// The journal beside `table`: `RESULTS.parquet` → `RESULTS.parquet.journal`.
 pub fn journal_path(table: &Path) -> PathBuf {
@@ -191,7 +192,6 @@ impl TrajFile {
 const REFRESH: Duration = Duration::from_millis(200);
 /// Clears the terminal line and returns to its start.
 const CLEAR: &str = "\r\x1b[2K";
-const WIDTH: usize = 30;
 
 /// The progress line on a terminal: `00:00:12 [=====>     ] 4000/10000 runs, 331 runs/s, 12 failed (eta 00:00:18)`.
 struct Bar {
@@ -232,14 +232,7 @@ pub fn frame(elapsed: Duration, t: &Tally) -> String {
     } else {
         1.0
     };
-    let filled = (f * WIDTH as f64).floor() as usize;
-    let bar: String = (0..WIDTH)
-        .map(|i| match i.cmp(&filled) {
-            std::cmp::Ordering::Less => '=',
-            std::cmp::Ordering::Equal => '>',
-            std::cmp::Ordering::Greater => ' ',
-        })
-        .collect();
+    let bar = bar(f);
     let ran = t.done - t.resumed;
     let secs = elapsed.as_secs_f64();
     let rate = if secs > 0.0 { ran as f64 / secs } else { 0.0 };
@@ -255,11 +248,6 @@ pub fn frame(elapsed: Duration, t: &Tally) -> String {
         t.total,
         t.failed
     )
-}
-
-fn clock(s: f64) -> String {
-    let s = s.round().min(359_999.0) as u64;
-    format!("{:02}:{:02}:{:02}", s / 3600, s / 60 % 60, s % 60)
 }
 
 #[cfg(test)]
