@@ -6,8 +6,9 @@
 //!
 //! `cargo run --release -p ellipsoid-study --example study_overhead [STUDY.toml]`
 //!
-//! With a second argument `bare`, `study` or `none` it runs the points once that way and
-//! prints nothing: for instruction counts, which do not depend on the machine's load
+//! With a second argument `stats` it prints the points' right-hand-side evaluations and
+//! steps, and a hash of their final states (equal for bit-identical results). With `bare`, `study` or `none` it runs the points once that way and prints
+//! nothing: for instruction counts, which do not depend on the machine's load
 //! (`perf stat -e instructions target/release/examples/study_overhead STUDY.toml bare`;
 //! `none` is the common setup, to subtract).
 
@@ -68,6 +69,31 @@ fn main() {
                 }))
                 .ok();
             }
+            return;
+        }
+        Some("stats") => {
+            // What the points cost in the integrator's own units, to turn instruction
+            // counts and times into figures per right-hand side.
+            // The FNV-1a hash of every final state's bits tells two builds' results
+            // apart (equal: bit-identical).
+            let (mut rhs, mut steps, mut hash) = (0u64, 0u64, 0xcbf2_9ce4_8422_2325u64);
+            for s in &scenes {
+                let out = simulate(s, &mut |_| ControlFlow::Continue(())).expect("runs");
+                rhs += out.stats.rhs_evals;
+                steps += out.stats.accepted + out.stats.rejected;
+                for b in out
+                    .final_state
+                    .iter()
+                    .flat_map(|x| x.to_bits().to_le_bytes())
+                {
+                    hash = (hash ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+                }
+            }
+            println!(
+                "{} points: {rhs} rhs evaluations ({:.0} per run), {steps} steps, final states {hash:016x}",
+                scenes.len(),
+                rhs as f64 / scenes.len() as f64
+            );
             return;
         }
         Some("study") => {

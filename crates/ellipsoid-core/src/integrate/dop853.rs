@@ -123,7 +123,7 @@ impl<const N: usize> Stepper<N> for Dop853<N> {
         stats: &mut Stats,
     ) {
         // evaluated at the projected state, so the next step starts consistently
-        self.f_next = system.rhs(t_new, y_new);
+        self.f_next = system.rhs_accepted(t_new, y_new);
         stats.rhs_evals += 1;
         self.k[12] = self.f_next;
         self.y_new = *y_new;

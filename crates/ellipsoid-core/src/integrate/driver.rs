@@ -138,9 +138,6 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
         if t_end == t0 {
             return self.finish(t0, y, StopReason::Reached);
         }
-        for (g, ev) in self.g_prev.iter_mut().zip(self.events) {
-            *g = (ev.g)(t0, &y);
-        }
         let h_max = self.options.h_max.min(t_end - t0);
         let Some(h_first) = stepper.start(
             self.system,
@@ -156,6 +153,10 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                 StopReason::Failed(IntegrateError::NonFinite { t: t0 }),
             );
         };
+        // after f(t0, y0) (`OdeSystem::rhs_accepted`), whose work the events may share
+        for (g, ev) in self.g_prev.iter_mut().zip(self.events) {
+            *g = (ev.g)(t0, &y);
+        }
         let mut h = h_first;
         let mut controller = St::CONTROL.map(PiController::new);
         let mut stiffness = St::STIFF_LIMIT

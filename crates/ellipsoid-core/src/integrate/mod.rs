@@ -38,6 +38,14 @@ pub trait OdeSystem<const N: usize> {
     /// The right-hand side f(t, y). Must not allocate.
     fn rhs(&self, t: f64, y: &SVector<f64, N>) -> SVector<f64, N>;
 
+    /// f(t, y) where the driver evaluates the event functions next: at t0, and at an
+    /// accepted (projected) step end when the method needs f there anyway (DOP853). The
+    /// same value as [`OdeSystem::rhs`]; a system whose event functions share its work may
+    /// keep that work here for them. The default is `rhs`.
+    fn rhs_accepted(&self, t: f64, y: &SVector<f64, N>) -> SVector<f64, N> {
+        self.rhs(t, y)
+    }
+
     /// Called on every accepted step end (and on located terminal events) before the
     /// state is used again; may restore invariants of the exact flow, e.g. renormalise
     /// a quaternion. The default does nothing.

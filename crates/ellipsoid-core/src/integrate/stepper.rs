@@ -75,7 +75,9 @@ pub(crate) trait Stepper<const N: usize> {
 }
 
 /// `y + h Σ_{j<i} a_j k_j`, the input of stage `i` (zero coefficients skipped; the
-/// tables are `const`, so this unrolls).
+/// tables are `const`, so this unrolls). Plain loops over the components, so that they
+/// compile to packed arithmetic; the sums run in the same order as nalgebra's `axpy`
+/// (bit for bit the same values).
 #[inline(always)]
 pub(crate) fn stage_input<const N: usize, const S: usize>(
     y: &SVector<f64, N>,
@@ -84,13 +86,10 @@ pub(crate) fn stage_input<const N: usize, const S: usize>(
     k: &[SVector<f64, N>; S],
     i: usize,
 ) -> SVector<f64, N> {
-    let mut acc = SVector::<f64, N>::zeros();
-    for j in 0..i {
-        if a[j] != 0.0 {
-            acc.axpy(a[j], &k[j], 1.0);
-        }
+    let mut acc = weighted_sum(&a[..i], k);
+    for (x, y) in acc.as_mut_slice().iter_mut().zip(y.as_slice()) {
+        *x = y + h * *x;
     }
-    acc.axpy(1.0, y, h);
     acc
 }
 
@@ -100,10 +99,18 @@ pub(crate) fn combine<const N: usize, const S: usize>(
     w: &[f64; S],
     k: &[SVector<f64, N>; S],
 ) -> SVector<f64, N> {
+    weighted_sum(w, k)
+}
+
+/// Σ_j w_j k_j over the first `w.len()` stages, accumulated from zero in stage order.
+#[inline(always)]
+fn weighted_sum<const N: usize>(w: &[f64], k: &[SVector<f64, N>]) -> SVector<f64, N> {
     let mut acc = SVector::<f64, N>::zeros();
-    for j in 0..S {
-        if w[j] != 0.0 {
-            acc.axpy(w[j], &k[j], 1.0);
+    for (&wj, kj) in w.iter().zip(k) {
+        if wj != 0.0 {
+            for (x, kx) in acc.as_mut_slice().iter_mut().zip(kj.as_slice()) {
+                *x += wj * kx;
+            }
         }
     }
     acc
@@ -121,7 +128,7 @@ pub(crate) fn first_stage<S: OdeSystem<N>, const N: usize>(
     options: &Options<N>,
     stats: &mut Stats,
 ) -> Option<(SVector<f64, N>, f64)> {
-    let f0 = system.rhs(t0, y0);
+    let f0 = system.rhs_accepted(t0, y0);
     stats.rhs_evals += 1;
     if !all_finite(&f0) {
         return None;

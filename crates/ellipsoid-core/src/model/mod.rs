@@ -174,11 +174,13 @@ pub struct Evaluation {
 
 impl Evaluation {
     /// Acceleration of G, world frame: a = (F + f)/m − g e3 [m/s²].
+    #[inline]
     pub fn accel(&self, body: &Body, gravity: f64) -> Vector3<f64> {
         (self.response.force + self.load.force) / body.mass() - Vector3::new(0.0, 0.0, gravity)
     }
 
     /// Dissipated power Ẇ = −F·v_C − f·v_G − (τ + N τ_N)·ω \[W\].
+    #[inline]
     pub fn dissipation(&self) -> f64 {
         let r = &self.response;
         let torque = self.load.torque + r.normal * self.load.torque_per_normal;
@@ -190,7 +192,7 @@ impl Evaluation {
 
 impl<C: ContactLaw, E: Effect> System<C, E> {
     /// Evaluates kinematics, loads and the contact response at `y`.
-    #[inline]
+    #[inline(always)]
     pub fn evaluate(&self, y: &State) -> Evaluation {
         let kin = if C::FLIGHT {
             Kinematics::flying(&self.body, y)
@@ -207,12 +209,11 @@ impl<C: ContactLaw, E: Effect> System<C, E> {
             response,
         }
     }
-}
 
-impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
-    #[inline]
-    fn rhs(&self, _t: f64, y: &State) -> State {
-        let ev = self.evaluate(y);
+    /// dy/dt at `y` from its evaluation `ev` (see the module docs): ẋ_G = v_G,
+    /// q̇ = ½ q ⊗ ω_b, v̇_G = a_G, ω̇_b, Ẇ, and in flight ż_G = v_Gz, v̇_Gz = a_Gz.
+    #[inline(always)]
+    pub fn derivative(&self, y: &State, ev: &Evaluation) -> State {
         let accel = ev.accel(&self.body, self.gravity);
         let q_dot = state::quaternion_rate(&state::quaternion(y), &ev.kin.omega);
         let mut dy = State::zeros();
@@ -232,6 +233,13 @@ impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
             dy[state::VEL_Z] = accel.z;
         }
         dy
+    }
+}
+
+impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
+    #[inline]
+    fn rhs(&self, _t: f64, y: &State) -> State {
+        self.derivative(y, &self.evaluate(y))
     }
 
     fn project(&self, y: &mut State) {

@@ -3,7 +3,7 @@
 //! direct (docs/physics.md, models 1–5; `phase` for the phases themselves). Observables
 //! (`Scene::observe`) are watched in every phase.
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -13,7 +13,9 @@ use nalgebra::Vector3;
 use crate::columns;
 use crate::effects::Effect;
 use crate::error::ModelError;
-use crate::integrate::{self, Action, Direction, Event, Options, Stats, StopReason, Warning};
+use crate::integrate::{
+    self, Action, Direction, Event, OdeSystem, Options, Stats, StopReason, Warning,
+};
 use crate::invariants::{Conservation, Invariant, Invariants};
 use crate::model::{ContactLaw, Evaluation, Flight, Frictionless, Rolling, Sliding, System};
 use crate::state::{self, EulerAngles, State};
@@ -237,24 +239,21 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         rec: &mut Recorder<'_>,
     ) -> Result<Segment, ModelError> {
         let scene = self.scene;
-        let sys = P::system(self);
+        let law = P::system(self);
+        // The driver evaluates every event function at the same (t, y) in turn, at t0 and
+        // at each step end right after DOP853's f there: evaluate the model once per state.
+        let sys = &Watched {
+            sys: law,
+            last: Memo::default(),
+        };
         let mut watches = P::watches(self);
         watches.extend((0..scene.observe.len()).map(Watch::Observe));
-        // The driver evaluates every event function at the same (t, y) in turn: evaluate
-        // the model once per state for all of them.
-        let last: Cell<Option<(f64, State, Evaluation)>> = Cell::new(None);
-        let evaluate = |t: f64, y: &State| match last.get() {
-            Some((tc, yc, ev)) if tc == t && yc == *y => ev,
-            _ => {
-                let ev = sys.evaluate(y);
-                last.set(Some((t, *y, ev)));
-                ev
-            }
-        };
-        // Observables unwrap φ and ψ against the last emitted row.
+        // Observables unwrap φ and ψ against the last emitted row; they share one output
+        // row per state.
         let angles = Cell::new(rec.angles);
         let gauge = rec.gauge();
-        let (evaluate, angles_ref) = (&evaluate, &angles);
+        let observed: Memo<(Key, EulerAngles), [f64; columns::NUMERIC]> = Memo::default();
+        let (angles_ref, observed) = (&angles, &observed);
         let events: Vec<Event<'_, { state::DIM }>> = watches
             .iter()
             .map(|&w| match w {
@@ -262,11 +261,17 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                     let o = &scene.observe[k];
                     Event {
                         g: Box::new(move |t, y: &State| {
-                            let ev = evaluate(t, y);
-                            let (mut sample, inv) =
-                                self.sample_of(sys, P::MODE, t, y, &ev, Some(&angles_ref.get()));
-                            sample.drift = gauge.of(&inv);
-                            columns::values(&sample)[o.column] - o.crosses
+                            let prev = angles_ref.get();
+                            let row = || {
+                                sys.with(t, y, |ev| {
+                                    let (mut sample, inv) =
+                                        self.sample_of(law, P::MODE, t, y, ev, Some(&prev));
+                                    sample.drift = gauge.of(&inv);
+                                    columns::values(&sample)
+                                })
+                            };
+                            observed.with(((t, (*y).into()), prev), row, |row| row[o.column])
+                                - o.crosses
                         }),
                         direction: o.direction,
                         action: if o.terminal {
@@ -277,7 +282,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                     }
                 }
                 w => Event {
-                    g: Box::new(move |t, y: &State| P::watch(self, w, &evaluate(t, y), y)),
+                    g: Box::new(move |t, y: &State| sys.with(t, y, |ev| P::watch(self, w, ev, y))),
                     direction: Direction::Falling,
                     action: Action::Stop,
                 },
@@ -298,7 +303,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             &events,
             samples,
             &mut |t, y| {
-                let (sample, inv) = self.sample_with(sys, P::MODE, t, y, Some(&rec.angles));
+                let (sample, inv) = self.sample_with(law, P::MODE, t, y, Some(&rec.angles));
                 rec.next_sample += 1;
                 let flow = rec.emit(sample, inv);
                 angles.set(rec.angles);
@@ -357,6 +362,68 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             mode,
         };
         (sample, inv)
+    }
+}
+
+/// The last value of a function and its argument, so that calls in turn with the same
+/// argument compute it once.
+struct Memo<K, V>(RefCell<Option<(K, V)>>);
+
+impl<K, V> Default for Memo<K, V> {
+    fn default() -> Self {
+        Memo(RefCell::new(None))
+    }
+}
+
+impl<K: PartialEq, V> Memo<K, V> {
+    /// `read` of the value at `key`: the last one if `key` is the last argument, else
+    /// `compute()`'s (kept).
+    #[inline]
+    fn with<R>(&self, key: K, compute: impl FnOnce() -> V, read: impl FnOnce(&V) -> R) -> R {
+        if let Some((k, v)) = &*self.0.borrow()
+            && *k == key
+        {
+            return read(v);
+        }
+        let v = compute();
+        let r = read(&v);
+        *self.0.borrow_mut() = Some((key, v));
+        r
+    }
+}
+
+/// A state as a memo key (compared as an array: plain float equality, component by
+/// component).
+type Key = (f64, [f64; state::DIM]);
+
+/// A phase's system that keeps its evaluation of the state at which the driver
+/// evaluates the watches next ([`OdeSystem::rhs_accepted`]).
+struct Watched<'a, C, E> {
+    sys: &'a System<C, E>,
+    last: Memo<Key, Evaluation>,
+}
+
+impl<C: ContactLaw, E: Effect> Watched<'_, C, E> {
+    /// `read` of the model's evaluation at (t, y), computed once per state.
+    #[inline]
+    fn with<R>(&self, t: f64, y: &State, read: impl FnOnce(&Evaluation) -> R) -> R {
+        self.last
+            .with((t, (*y).into()), || self.sys.evaluate(y), read)
+    }
+}
+
+impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for Watched<'_, C, E> {
+    #[inline]
+    fn rhs(&self, t: f64, y: &State) -> State {
+        self.sys.rhs(t, y)
+    }
+
+    fn rhs_accepted(&self, t: f64, y: &State) -> State {
+        self.with(t, y, |ev| self.sys.derivative(y, ev))
+    }
+
+    fn project(&self, y: &mut State) {
+        self.sys.project(y);
     }
 }
 
