@@ -15,7 +15,7 @@ pub struct Frictionless;
 impl ContactLaw for Frictionless {
     const ROLLING: bool = false;
 
-    #[inline]
+    #[inline(always)]
     fn respond(
         &self,
         body: &Body,

@@ -139,7 +139,7 @@ pub trait ContactLaw {
     /// `load` (the drilling torque of a contact disc, per unit N): returns the total load,
     /// which the power balance then books, and the response to it. By default the law
     /// adds nothing.
-    #[inline]
+    #[inline(always)]
     fn respond_loaded(
         &self,
         body: &Body,
@@ -257,7 +257,7 @@ impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
 ///   N (1 + m u·I⁻¹ℓ) = m g − f_z − m u·I⁻¹T − m κ
 /// ```
 /// (docs/physics.md, models 1 and 2; d = e3 gives the frictionless law.)
-#[inline]
+#[inline(always)]
 pub(crate) fn unilateral(
     body: &Body,
     gravity: f64,

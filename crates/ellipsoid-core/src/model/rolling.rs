@@ -57,7 +57,7 @@ impl Rolling {
 impl ContactLaw for Rolling {
     const ROLLING: bool = true;
 
-    #[inline]
+    #[inline(always)]
     fn respond(
         &self,
         body: &Body,

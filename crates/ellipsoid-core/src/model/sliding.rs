@@ -42,13 +42,28 @@ impl Sliding {
     #[inline]
     pub fn direction(kin: &Kinematics, reference: Vector2<f64>) -> Vector2<f64> {
         let speed = kin.slip.norm();
-        if speed <= SLIP_ROUNDOFF * Sliding::speed_scale(kin) || speed == 0.0 {
+        if Sliding::is_roundoff(kin, speed) {
             reference
         } else if kin.slip.dot(&reference) >= 0.0 {
             kin.slip / speed
         } else {
             -kin.slip / speed
         }
+    }
+
+    /// Whether slip speed `speed` = |v_C| is round-off of the body's velocities:
+    /// |v_C| ≤ ε (|v_G| + |ω||r|) with ε = [`SLIP_ROUNDOFF`], or |v_C| = 0. The 1-norms
+    /// bound the 2-norms from above, so a speed above 2ε (|v_G|₁ + |ω|₁|r|₁) is not
+    /// (the factor 2 covers the rounding of both sides): the three square roots of
+    /// [`Sliding::speed_scale`] are taken only near the bound.
+    #[inline]
+    fn is_roundoff(kin: &Kinematics, speed: f64) -> bool {
+        let l1 = |v: &Vector3<f64>| v.x.abs() + v.y.abs() + v.z.abs();
+        let bound = l1(&kin.v_g) + l1(&kin.omega) * l1(&kin.contact.r);
+        if speed > 2.0 * SLIP_ROUNDOFF * bound {
+            return false;
+        }
+        speed <= SLIP_ROUNDOFF * Sliding::speed_scale(kin) || speed == 0.0
     }
 
     /// Event function for the slip stop: g = v_C·s_ref [m/s], positive while sliding.
@@ -94,7 +109,7 @@ impl Sliding {
 impl ContactLaw for Sliding {
     const ROLLING: bool = false;
 
-    #[inline]
+    #[inline(always)]
     fn respond(
         &self,
         body: &Body,
@@ -119,7 +134,7 @@ impl ContactLaw for Sliding {
     /// With a contact disc: F = N(e3 − μ f v̂) and the drilling torque per unit N,
     /// −μ R g sgn(ω_n) ζ, added to the load. At the set-valued point v_C = 0, ω_n = 0 (where
     /// the run stops) the force is taken along −s_ref with no torque.
-    #[inline]
+    #[inline(always)]
     fn respond_loaded(
         &self,
         body: &Body,
@@ -153,5 +168,48 @@ impl ContactLaw for Sliding {
         let s = Sliding::direction(&kin, state::slip_ref(y));
         y[state::SLIP_REF] = s.x;
         y[state::SLIP_REF + 1] = s.y;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::Vector3;
+
+    use super::*;
+    use crate::body::{Body, uniform_inertia};
+
+    /// The short cut of [`Sliding::is_roundoff`] decides as the exact test does, on slips
+    /// from far below to far above the round-off bound and at it, in every direction.
+    #[test]
+    fn roundoff_test_matches_the_exact_one() {
+        let ax = Vector3::new(0.03, 0.02, 0.01);
+        let body = Body::new(ax, 1.0, uniform_inertia(ax, 1.0), Vector3::zeros()).unwrap();
+        let mut y = State::zeros();
+        y[state::QUAT] = 1.0;
+        let mut kin = Kinematics::new(&body, &y, false);
+        let (mut below, mut above) = (0, 0);
+        for k in 0..20_000u32 {
+            // a fixed pseudo-random sequence (Weyl), so the test is reproducible
+            let u =
+                |j: u32| ((f64::from(k) * 0.754_877_666 + f64::from(j) * 0.569_840_29) % 1.0) - 0.5;
+            kin.v_g = Vector3::new(u(1), u(2), u(3)) * 10f64.powf(4.0 * u(4));
+            kin.omega = Vector3::new(u(5), u(6), u(7)) * 10f64.powf(4.0 * u(8));
+            kin.contact.r = Vector3::new(u(9), u(10), u(11)) * 0.05;
+            let scale = Sliding::speed_scale(&kin);
+            // speeds within a factor 3 of the bound, and exactly at it
+            let speed = if k % 7 == 0 {
+                SLIP_ROUNDOFF * scale
+            } else {
+                SLIP_ROUNDOFF * scale * 3f64.powf(2.0 * u(12))
+            };
+            let exact = speed <= SLIP_ROUNDOFF * scale || speed == 0.0;
+            assert_eq!(Sliding::is_roundoff(&kin, speed), exact, "{kin:?} {speed}");
+            if exact { below += 1 } else { above += 1 }
+        }
+        assert!(below > 5_000 && above > 5_000, "{below} {above}");
+        kin.v_g = Vector3::zeros();
+        kin.omega = Vector3::zeros();
+        assert!(Sliding::is_roundoff(&kin, 0.0));
+        assert!(!Sliding::is_roundoff(&kin, 1e-300));
     }
 }
