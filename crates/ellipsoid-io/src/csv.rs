@@ -1,5 +1,6 @@
 //! CSV trajectories: a header line of column names, then one row per sample; numbers in
-//! the shortest form that reads back to the same f64 (Rust's `{:e}`), `mode` by name.
+//! the shortest form that reads back to the same f64 (`zmij`, Schubfach's shortest
+//! round-trip digits: `0.025`, `-1.5e-7`, `60.0`), `mode` by name.
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -14,7 +15,8 @@ use crate::columns::{self, MODE_POSITION};
 pub struct CsvWriter<W: Write> {
     out: W,
     rows: u64,
-    line: String,
+    line: Vec<u8>,
+    digits: zmij::Buffer,
 }
 
 impl<W: Write> CsvWriter<W> {
@@ -24,25 +26,30 @@ impl<W: Write> CsvWriter<W> {
         Ok(CsvWriter {
             out,
             rows: 0,
-            line: String::with_capacity(512),
+            line: Vec::with_capacity(1024),
+            digits: zmij::Buffer::new(),
         })
     }
 
-    /// Writes one row.
+    /// Writes one row: each number in its shortest round-trip form (the recorder hands
+    /// on finite samples only), assembled in one buffer and written at once.
     pub fn write(&mut self, s: &Sample) -> std::io::Result<()> {
-        use std::fmt::Write as _;
         self.line.clear();
-        for (i, v) in columns::values(s).iter().enumerate() {
+        for (i, v) in columns::values(s).into_iter().enumerate() {
             if i == MODE_POSITION {
-                self.line.push_str(s.mode.name());
-                self.line.push(',');
+                self.line.extend_from_slice(s.mode.name().as_bytes());
+                self.line.push(b',');
             }
-            let _ = write!(self.line, "{v:e}");
             self.line
-                .push(if i + 1 == columns::NUMERIC { '\n' } else { ',' });
+                .extend_from_slice(self.digits.format(v).as_bytes());
+            self.line.push(if i + 1 == columns::NUMERIC {
+                b'\n'
+            } else {
+                b','
+            });
         }
         self.rows += 1;
-        self.out.write_all(self.line.as_bytes())
+        self.out.write_all(&self.line)
     }
 
     /// Rows written.
