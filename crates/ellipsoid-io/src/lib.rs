@@ -251,6 +251,47 @@ mod tests {
         assert_eq!(text.lines().count(), written.len() + 1);
     }
 
+    /// The file written through the formatting thread holds exactly the text the
+    /// writer makes on one thread, in order, for a row count that is no multiple of the
+    /// batch; dropped unfinished after as many rows, it leaves nothing behind.
+    #[test]
+    fn csv_files_formatted_on_their_own_thread_keep_every_row_in_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.csv");
+        let rows: Vec<Sample> = (0..2_777)
+            .map(|k| {
+                let mut s = sample();
+                s.t = k as f64 * 1e-3;
+                s.energy = (k as f64).sqrt();
+                s
+            })
+            .collect();
+        let mut w = TrajectoryWriter::create(&path).unwrap();
+        let mut reference = csv::CsvWriter::new(Vec::new()).unwrap();
+        for s in &rows {
+            w.write(s).unwrap();
+            reference.write(s).unwrap();
+        }
+        assert_eq!(w.rows(), 2_777);
+        let TrajectoryWriter::Csv(file) = w else {
+            unreachable!("a .csv path")
+        };
+        file.prepare().unwrap().commit().unwrap();
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            reference.into_inner().unwrap()
+        );
+
+        let other = dir.path().join("u.csv");
+        let mut w = TrajectoryWriter::create(&other).unwrap();
+        for s in &rows {
+            w.write(s).unwrap();
+        }
+        drop(w);
+        let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+        assert_eq!(left.len(), 1, "only t.csv: {left:?}");
+    }
+
     #[test]
     fn formats_by_extension() {
         assert_eq!(
