@@ -86,7 +86,10 @@ pub(crate) fn stage_input<const N: usize, const S: usize>(
     k: &[SVector<f64, N>; S],
     i: usize,
 ) -> SVector<f64, N> {
-    let mut acc = weighted_sum(&a[..i], k);
+    let mut acc = SVector::<f64, N>::zeros();
+    for j in 0..i {
+        add_scaled(&mut acc, a[j], &k[j]);
+    }
     for (x, y) in acc.as_mut_slice().iter_mut().zip(y.as_slice()) {
         *x = y + h * *x;
     }
@@ -99,21 +102,21 @@ pub(crate) fn combine<const N: usize, const S: usize>(
     w: &[f64; S],
     k: &[SVector<f64, N>; S],
 ) -> SVector<f64, N> {
-    weighted_sum(w, k)
-}
-
-/// Σ_j w_j k_j over the first `w.len()` stages, accumulated from zero in stage order.
-#[inline(always)]
-fn weighted_sum<const N: usize>(w: &[f64], k: &[SVector<f64, N>]) -> SVector<f64, N> {
     let mut acc = SVector::<f64, N>::zeros();
-    for (&wj, kj) in w.iter().zip(k) {
-        if wj != 0.0 {
-            for (x, kx) in acc.as_mut_slice().iter_mut().zip(kj.as_slice()) {
-                *x += wj * kx;
-            }
-        }
+    for j in 0..S {
+        add_scaled(&mut acc, w[j], &k[j]);
     }
     acc
+}
+
+/// acc += w·k, component by component (nothing for w = 0).
+#[inline(always)]
+fn add_scaled<const N: usize>(acc: &mut SVector<f64, N>, w: f64, k: &SVector<f64, N>) {
+    if w != 0.0 {
+        for (x, kx) in acc.as_mut_slice().iter_mut().zip(k.as_slice()) {
+            *x += w * kx;
+        }
+    }
 }
 
 /// The first stage f(t0, y0) and the first step of an adaptive method of order `order`:
