@@ -277,6 +277,62 @@ fn hard_2_loose_tolerances_take_no_false_slip_stop() {
     measured("2 slip stop", rows.join("; "));
 }
 
+/// DOPRI5 on the paper's sliding scene with stick–slip (coulomb): at the slip stop its
+/// crossing of v_C·s_ref = 0 leaves 2.5–5 slip floors of sideways integration error, more
+/// than the 2 floors a stop is taken at directly. Refused, the run slid on at zero slip
+/// and crossed again and again with collapsing steps (35,473 / 89,747 steps at rtol
+/// 1e-6 / 1e-8, chattering after 6.8e6 steps at 1e-10): the step count grew like a
+/// first-order method's. A tighter local solve confirms the stop now
+/// (`phase::sliding::confirmed_by_tight_solve`): the count must grow like a 5th-order
+/// method's, ×100^(1/5) ≈ 2.5 per two decades of tolerance, and the stop agree with
+/// DOP853 at rtol 1e-12.
+#[test]
+fn hard_2_dopri5_slip_stop_keeps_fifth_order_cost() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let stop = |method: &str, tol: f64| {
+        let set = [
+            format!("solver.method=\"{method}\""),
+            format!("solver.rtol={tol:e}"),
+            format!("solver.atol={tol:e}"),
+            "contact.model=\"coulomb\"".to_string(),
+            "output.t_end=1.5".to_string(),
+        ];
+        let sc = ellipsoid_core::scenario::load(&dir.join("paper-sliding.toml"), &set).unwrap();
+        let (out, _) = run(&sc.scene);
+        assert_eq!(out.status, Status::Completed, "{method} at {tol:e}");
+        let slip_stops: Vec<f64> = out
+            .events
+            .iter()
+            .filter(|e| e.kind == EventKind::SlipStop)
+            .map(|e| e.t)
+            .collect();
+        assert_eq!(slip_stops.len(), 1, "{method} at {tol:e}: {slip_stops:?}");
+        (slip_stops[0], out.stats.accepted + out.stats.rejected)
+    };
+    let (exact, _) = stop("dop853", 1e-12);
+    let mut rows = Vec::new();
+    let mut steps = Vec::new();
+    for tol in [1e-6, 1e-8, 1e-10] {
+        let (t, n) = stop("dopri5", tol);
+        assert!(
+            (t - exact).abs() < 1e-3,
+            "rtol {tol:e}: slip stop at {t} s, DOP853 {exact} s"
+        );
+        rows.push(format!("rtol {tol:e}: {n} steps, stop {t:.6} s"));
+        steps.push(n as f64);
+    }
+    for pair in steps.windows(2) {
+        assert!(
+            pair[1] / pair[0] < 4.0,
+            "steps {steps:?} grow faster than a 5th-order method's"
+        );
+    }
+    measured(
+        "2e DOPRI5 slip stop",
+        format!("{} (DOP853 1e-12: {exact:.6} s)", rows.join("; ")),
+    );
+}
+
 /// The paper's sliding body (a = 0.025, c = 0.0225, D2 = 0.003 m, I = 3.075e-6 kg m²)
 /// spun about the vertical under low Coulomb friction: the slip grazes zero (friction
 /// barely able to stop it) or stick and slip alternate with the nutation. Both once
