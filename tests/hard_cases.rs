@@ -995,19 +995,24 @@ fn hard_10_short_dip_of_the_normal_force_is_a_loss_of_contact() {
 
 // 11 ------------------------------------------------- magnitudes beyond double precision
 
-/// A spin-friction coefficient of 1e15 m on the tippe top (accepted by the format, but
-/// 1e17 times the body's size) collapses the steps to ~1e-22 s at t ≈ 1e-18 s. The run
-/// fails after the first pace check (1e4 steps) with `Collapsed`, naming the projected
-/// step count, instead of grinding through max_steps = 1e7 steps (69 s before the check).
+/// The tippe top's mass and inertia (radius of gyration 1.2 cm) inside semi-axes of
+/// 1e20 m, not spinning: a valid body (any mass distribution inside the surface is), but
+/// the contact force's lever of 1e20 m over that inertia gives angular accelerations of
+/// ~1e24 rad/s², and the steps collapse to ~1e-33 s at t ≈ 1e-29 s. The run fails after
+/// the first pace check (1e4 steps) with `Collapsed`, naming the projected step count,
+/// instead of grinding through max_steps = 1e7 steps. (This case used spin_friction =
+/// 1e15 m, which validation now rejects: a torque arm longer than the body.)
 #[test]
 fn hard_11_collapsing_steps_fail_at_the_first_pace_check() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../scenarios/tippe-top.toml"
     );
-    let scenario =
-        ellipsoid_core::scenario::load(std::path::Path::new(path), &["effects.spin_friction=1e15"])
-            .unwrap();
+    let scenario = ellipsoid_core::scenario::load(
+        std::path::Path::new(path),
+        &["body.a=1e20", "body.c=1e20", "initial.phi_dot=0"],
+    )
+    .unwrap();
     let (out, _) = run(&scenario.scene);
     let Status::SolverFailure {
         error: integrate::IntegrateError::Collapsed {
