@@ -11,9 +11,13 @@ f2009a6 (main before the run-loop rewrite of issue #12):
 
 The digest of a CSV is the FNV-1a 64-bit hash of its text restricted to the columns in
 `columns` (the columns f2009a6 wrote), rows joined with "\n", fields with ",", so columns
-added later do not change it. The summary is kept whole except `wall_time_s`, `version`
+added later do not change it; each number is first rewritten in one canonical form, the
+one f2009a6 wrote (Rust's `{:e}`: shortest round-trip digits, `1.5e-7`, `6e1`, `0e0`), so
+the digest depends on the values, not on how a later version formats them (the CSV
+writer moved to `zmij`'s `0.025` / `60.0` style in issue #18). The summary is kept whole except `wall_time_s`, `version`
 and `units` (machine- and build-dependent, or grown with new columns).
 """
+import decimal
 import json
 import pathlib
 import subprocess
@@ -35,11 +39,27 @@ def fnv1a64(data: bytes) -> int:
     return h
 
 
+def canonical(field: str) -> str:
+    """`field` as Rust's `{:e}` writes the same f64 (a non-number is kept)."""
+    try:
+        x = float(field)
+    except ValueError:
+        return field
+    sign, digit_tuple, exp = decimal.Decimal(repr(x)).as_tuple()  # repr: shortest digits
+    all_digits = "".join(map(str, digit_tuple))
+    digits = all_digits.rstrip("0")
+    if not digits:
+        return ("-" if sign else "") + "0e0"
+    exp10 = exp + len(all_digits) - 1
+    mantissa = digits[0] + ("." + digits[1:] if len(digits) > 1 else "")
+    return ("-" if sign else "") + f"{mantissa}e{exp10}"
+
+
 def digest(csv_text: str) -> dict:
     lines = csv_text.rstrip("\n").split("\n")
     header = lines[0].split(",")
     idx = [header.index(c) for c in COLUMNS]
-    rows = [",".join(f[i] for i in idx) for f in (line.split(",") for line in lines)]
+    rows = [",".join(canonical(f[i]) for i in idx) for f in (line.split(",") for line in lines)]
     return {"rows": len(rows) - 1, "fnv1a64": format(fnv1a64("\n".join(rows).encode()), "016x")}
 
 

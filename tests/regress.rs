@@ -6,6 +6,9 @@
 //! script for how): per scenario, the exit status, the FNV-1a hash of the CSV restricted
 //! to the columns f2009a6 wrote, and the summary without its machine-dependent fields.
 //!
+//! Numbers are compared in one canonical form (Rust's `{:e}`, which f2009a6 wrote), so
+//! the CSV writer's move to `zmij`'s shorter style (issue #18) keeps every value.
+//!
 //! Deliberate changes since, each stated with its bound:
 //! - events between step ends are no longer missed (docs/integrators.md, "Events"): the
 //!   scan of the dense output near a watch's zero prepares the dense output in a few more
@@ -66,7 +69,16 @@ fn fnv1a64(data: &[u8]) -> u64 {
     })
 }
 
-/// Rows and hash of the CSV text restricted to `columns` (as the baseline script does).
+/// `field` as f2009a6 wrote it: a number in Rust's `{:e}` form (the CSV writer's format
+/// changed since, its values did not), anything else unchanged.
+fn canonical(field: &str) -> String {
+    field
+        .parse::<f64>()
+        .map_or_else(|_| field.to_owned(), |v| format!("{v:e}"))
+}
+
+/// Rows and hash of the CSV text restricted to `columns`, numbers in canonical form (as
+/// the baseline script does).
 fn digest(csv: &str, columns: &[String]) -> (u64, String) {
     let mut lines = csv.trim_end_matches('\n').split('\n');
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -81,7 +93,10 @@ fn digest(csv: &str, columns: &[String]) -> (u64, String) {
         .collect();
     let select = |line: &str| {
         let f: Vec<&str> = line.split(',').collect();
-        idx.iter().map(|&i| f[i]).collect::<Vec<_>>().join(",")
+        idx.iter()
+            .map(|&i| canonical(f[i]))
+            .collect::<Vec<_>>()
+            .join(",")
     };
     let mut rows = vec![select(&header.join(","))];
     rows.extend(lines.map(select));

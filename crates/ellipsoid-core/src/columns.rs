@@ -117,10 +117,68 @@ pub fn index(name: &str) -> Option<usize> {
 }
 
 /// The first non-finite value of a sample, as (column, value).
+///
+/// Checked once per sample, so first by the sum: NaN and ±∞ propagate through a sum
+/// (∞ − ∞ is NaN), so a finite sum proves every value finite; only a sum that is not
+/// (a non-finite value, or an overflow of large finite ones) is searched column by column.
 pub fn non_finite(s: &Sample) -> Option<(&'static str, f64)> {
-    values(s)
-        .iter()
+    let v = values(s);
+    if v.iter().sum::<f64>().is_finite() {
+        return None;
+    }
+    v.iter()
         .zip(NUMERIC_COLUMNS.iter())
         .find(|(v, _)| !v.is_finite())
         .map(|(v, c)| (c.0, *v))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::simulate::Mode;
+    use crate::state::EulerAngles;
+    use nalgebra::{Vector2, Vector3};
+
+    fn sample(v: f64) -> Sample {
+        let w = Vector3::new(v, v, v);
+        Sample {
+            t: v,
+            position: w,
+            angles: EulerAngles {
+                theta: v,
+                phi: v,
+                psi: v,
+                theta_dot: v,
+                phi_dot: v,
+                psi_dot: v,
+            },
+            omega: w,
+            omega_world: w,
+            velocity: w,
+            contact: Vector2::new(v, v),
+            energy: v,
+            work: v,
+            normal_force: v,
+            slip_speed: v,
+            drift: v,
+            gap: v,
+            mode: Mode::Sliding,
+        }
+    }
+
+    /// Large finite values whose sum overflows are finite; +∞ and −∞ that cancel to NaN
+    /// in the sum, or a lone NaN, are found by column.
+    #[test]
+    fn non_finite_sees_through_overflowing_and_cancelling_sums() {
+        assert_eq!(non_finite(&sample(1e308)), None);
+        assert_eq!(non_finite(&sample(-0.5)), None);
+        let mut s = sample(1.0);
+        s.omega_world.y = f64::INFINITY;
+        s.gap = f64::NEG_INFINITY;
+        assert_eq!(non_finite(&s), Some(("omega_world_y", f64::INFINITY)));
+        let mut s = sample(1.0);
+        s.drift = f64::NAN;
+        let (column, value) = non_finite(&s).unwrap();
+        assert!(column == "drift" && value.is_nan());
+    }
 }

@@ -1,20 +1,28 @@
 //! CSV trajectories: a header line of column names, then one row per sample; numbers in
-//! the shortest form that reads back to the same f64 (Rust's `{:e}`), `mode` by name.
+//! the shortest form that reads back to the same f64 (`zmij`, Schubfach's shortest
+//! round-trip digits: `0.025`, `-1.5e-7`, `60.0`), `mode` by name.
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
+use std::thread::JoinHandle;
 
-use ellipsoid_core::simulate::Sample;
+use ellipsoid_core::simulate::{Mode, Sample};
 
 use crate::OutputError;
 use crate::atomic::{AtomicFile, Prepared};
 use crate::columns::{self, MODE_POSITION};
 
+/// A row as the writer takes it: the numeric values in [`columns::NUMERIC_COLUMNS`]
+/// order and the contact mode.
+type Row = ([f64; columns::NUMERIC], Mode);
+
 /// Formats samples as CSV rows onto any writer.
 pub struct CsvWriter<W: Write> {
     out: W,
     rows: u64,
-    line: String,
+    line: Vec<u8>,
+    digits: zmij::Buffer,
 }
 
 impl<W: Write> CsvWriter<W> {
@@ -24,25 +32,35 @@ impl<W: Write> CsvWriter<W> {
         Ok(CsvWriter {
             out,
             rows: 0,
-            line: String::with_capacity(512),
+            line: Vec::with_capacity(1024),
+            digits: zmij::Buffer::new(),
         })
     }
 
     /// Writes one row.
     pub fn write(&mut self, s: &Sample) -> std::io::Result<()> {
-        use std::fmt::Write as _;
+        self.write_row(&(columns::values(s), s.mode))
+    }
+
+    /// Writes one row: each number in its shortest round-trip form (the recorder hands
+    /// on finite samples only), assembled in one buffer and written at once.
+    fn write_row(&mut self, (values, mode): &Row) -> std::io::Result<()> {
         self.line.clear();
-        for (i, v) in columns::values(s).iter().enumerate() {
+        for (i, v) in values.iter().enumerate() {
             if i == MODE_POSITION {
-                self.line.push_str(s.mode.name());
-                self.line.push(',');
+                self.line.extend_from_slice(mode.name().as_bytes());
+                self.line.push(b',');
             }
-            let _ = write!(self.line, "{v:e}");
             self.line
-                .push(if i + 1 == columns::NUMERIC { '\n' } else { ',' });
+                .extend_from_slice(self.digits.format(*v).as_bytes());
+            self.line.push(if i + 1 == columns::NUMERIC {
+                b'\n'
+            } else {
+                b','
+            });
         }
         self.rows += 1;
-        self.out.write_all(self.line.as_bytes())
+        self.out.write_all(&self.line)
     }
 
     /// Rows written.
@@ -57,43 +75,121 @@ impl<W: Write> CsvWriter<W> {
     }
 }
 
-/// A CSV file written atomically.
+/// Rows handed to the formatting thread at a time.
+const BATCH: usize = 512;
+
+/// The file's writer, on its own thread: it formats batches of rows as they come and
+/// hands each emptied batch back for reuse.
+type Formatter = JoinHandle<std::io::Result<CsvWriter<BufWriter<AtomicFile>>>>;
+
+/// A CSV file written atomically. Rows are formatted on a second thread while the run
+/// goes on (formatting costs more than the physics of a sample: issue #18,
+/// docs/performance.md), at most two batches behind; a write error there stops the run
+/// at the next batch and is reported by [`CsvFile::write`] or [`CsvFile::prepare`].
 pub struct CsvFile {
-    writer: CsvWriter<BufWriter<AtomicFile>>,
     path: PathBuf,
+    rows: u64,
+    batch: Vec<Row>,
+    /// Full batches to the formatter (`None` once the file is being completed).
+    full: Option<SyncSender<Vec<Row>>>,
+    /// Emptied batches back from it.
+    empty: Receiver<Vec<Row>>,
+    formatter: Option<Formatter>,
 }
 
 impl CsvFile {
     pub fn create(path: &Path) -> Result<Self, OutputError> {
         let file = AtomicFile::create(path)?;
-        let writer = CsvWriter::new(BufWriter::with_capacity(1 << 16, file))
+        let mut writer = CsvWriter::new(BufWriter::with_capacity(1 << 16, file))
+            .map_err(|e| OutputError::io(path, e))?;
+        let (full, batches) = sync_channel::<Vec<Row>>(2);
+        let (give_back, empty) = sync_channel::<Vec<Row>>(3);
+        let formatter = std::thread::Builder::new()
+            .name("csv".into())
+            .spawn(move || {
+                for mut batch in batches {
+                    for row in &batch {
+                        writer.write_row(row)?;
+                    }
+                    batch.clear();
+                    let _ = give_back.try_send(batch);
+                }
+                Ok(writer)
+            })
             .map_err(|e| OutputError::io(path, e))?;
         Ok(CsvFile {
-            writer,
             path: path.to_owned(),
+            rows: 0,
+            batch: Vec::with_capacity(BATCH),
+            full: Some(full),
+            empty,
+            formatter: Some(formatter),
         })
     }
 
     pub fn write(&mut self, s: &Sample) -> Result<(), OutputError> {
-        self.writer
-            .write(s)
-            .map_err(|e| OutputError::io(&self.path, e))
+        self.batch.push((columns::values(s), s.mode));
+        self.rows += 1;
+        if self.batch.len() == BATCH {
+            let next = self
+                .empty
+                .try_recv()
+                .unwrap_or_else(|_| Vec::with_capacity(BATCH));
+            let full = std::mem::replace(&mut self.batch, next);
+            let sent = self.full.as_ref().map(|tx| tx.send(full));
+            if !matches!(sent, Some(Ok(()))) {
+                // The formatter stopped: it failed; its error says why.
+                return Err(self.finish().err().unwrap_or_else(|| {
+                    OutputError::io(&self.path, std::io::ErrorKind::BrokenPipe.into())
+                }));
+            }
+        }
+        Ok(())
     }
 
     pub fn rows(&self) -> u64 {
-        self.writer.rows()
+        self.rows
+    }
+
+    /// Hands on the last batch, waits for the formatter and takes its writer back.
+    fn finish(&mut self) -> Result<CsvWriter<BufWriter<AtomicFile>>, OutputError> {
+        if let Some(tx) = self.full.take() {
+            let last = std::mem::take(&mut self.batch);
+            if !last.is_empty() {
+                let _ = tx.send(last);
+            }
+        }
+        let Some(formatter) = self.formatter.take() else {
+            let gone = std::io::Error::other("the file was already completed, or failed");
+            return Err(OutputError::io(&self.path, gone));
+        };
+        match formatter.join() {
+            Ok(done) => done.map_err(|e| OutputError::io(&self.path, e)),
+            Err(panic) => std::panic::resume_unwind(panic),
+        }
     }
 
     /// Completes the file without putting it in place.
-    pub fn prepare(self) -> Result<Prepared, OutputError> {
-        let path = self.path;
+    pub fn prepare(mut self) -> Result<Prepared, OutputError> {
         let buffered = self
-            .writer
+            .finish()?
             .into_inner()
-            .map_err(|e| OutputError::io(&path, e))?;
+            .map_err(|e| OutputError::io(&self.path, e))?;
         let file = buffered
             .into_inner()
-            .map_err(|e| OutputError::io(&path, e.into_error()))?;
+            .map_err(|e| OutputError::io(&self.path, e.into_error()))?;
         file.prepare()
+    }
+}
+
+impl Drop for CsvFile {
+    /// An unfinished file: the formatter stops, and its temporary file is removed before
+    /// this returns (so an interrupted run leaves nothing behind when it exits).
+    fn drop(&mut self) {
+        self.batch.clear();
+        self.full = None;
+        if let Some(formatter) = self.formatter.take() {
+            let _ = formatter.join();
+        }
     }
 }

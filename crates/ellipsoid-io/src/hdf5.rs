@@ -10,12 +10,13 @@
 //!                       stats_accepted, stats_rejected, stats_rhs_evals, stats_events,
 //!                       drift_<invariant> (only for the invariants that are conserved)
 //! ```
-//! Samples are buffered in memory (20 f64 per row) and written when the run ends, to a
-//! temporary file renamed into place.
+//! Samples are buffered in memory, a row of 27 f64 each (one copy per sample), and written
+//! column by column when the run ends, to a temporary file renamed into place.
 
+use std::borrow::Cow;
 use std::path::{Path, PathBuf};
 
-use ellipsoid_core::simulate::Sample;
+use ellipsoid_core::simulate::{Mode, Sample};
 use h5::types::{FixedAscii, VarLenUnicode};
 use hdf5_metno as h5;
 use tempfile::TempPath;
@@ -31,7 +32,7 @@ const MODE_LEN: usize = 12;
 pub struct Hdf5File {
     path: PathBuf,
     tmp: TempPath,
-    columns: Vec<Vec<f64>>,
+    rows: Vec<[f64; NUMERIC]>,
     modes: Vec<FixedAscii<MODE_LEN>>,
 }
 
@@ -42,15 +43,13 @@ impl Hdf5File {
         Ok(Hdf5File {
             path: path.to_owned(),
             tmp,
-            columns: vec![Vec::new(); NUMERIC],
+            rows: Vec::new(),
             modes: Vec::new(),
         })
     }
 
     pub fn write(&mut self, s: &Sample) {
-        for (col, v) in self.columns.iter_mut().zip(columns::values(s)) {
-            col.push(v);
-        }
+        self.rows.push(columns::values(s));
         let mode =
             FixedAscii::from_ascii(s.mode.name().as_bytes()).expect("mode names are short ASCII");
         self.modes.push(mode);
@@ -68,7 +67,8 @@ impl Hdf5File {
         };
         {
             let file = h5::File::create(&self.tmp).map_err(fail)?;
-            write_columns(&file, &self.columns, &self.modes).map_err(fail)?;
+            let column = |k: usize| Cow::Owned(self.rows.iter().map(|r| r[k]).collect());
+            write_columns(&file, column, &self.modes).map_err(fail)?;
 
             let summary = meta.summary;
             str_attr(&file, "version", &summary.version).map_err(fail)?;
@@ -108,16 +108,18 @@ impl Hdf5File {
     }
 }
 
-/// The numeric datasets (attribute `units`) and `mode` of one trajectory in `loc`.
-fn write_columns(
+/// The numeric datasets (attribute `units`) and `mode` of one trajectory in `loc`;
+/// `column(k)` is the data of [`NUMERIC_COLUMNS`]`[k]` (made one at a time, so a
+/// row-major buffer needs one column's worth of memory more, not a copy of itself).
+fn write_columns<'c>(
     loc: &h5::Group,
-    columns: &[Vec<f64>],
+    column: impl Fn(usize) -> Cow<'c, [f64]>,
     modes: &[FixedAscii<MODE_LEN>],
 ) -> h5::Result<()> {
-    for ((name, unit), data) in NUMERIC_COLUMNS.iter().zip(columns) {
+    for (k, (name, unit)) in NUMERIC_COLUMNS.iter().enumerate() {
         let ds = loc
             .new_dataset_builder()
-            .with_data(data.as_slice())
+            .with_data(&*column(k))
             .create(*name)?;
         str_attr(&ds, "units", unit)?;
     }
@@ -126,7 +128,8 @@ fn write_columns(
         .with_data(modes)
         .create(columns::MODE)?;
     str_attr(&ds, "units", "1")?;
-    str_attr(&ds, "values", "frictionless, sliding, rolling")
+    let names: Vec<&str> = Mode::ALL.iter().map(|m| m.name()).collect();
+    str_attr(&ds, "values", &names.join(", "))
 }
 
 /// Many trajectories in one HDF5 file (a parameter study's runs): a group per run at the
@@ -185,7 +188,7 @@ impl Hdf5Groups {
             .map(|m| FixedAscii::from_ascii(m.as_bytes()).expect("mode names are short ASCII"))
             .collect();
         let g = file.create_group(name).map_err(fail)?;
-        write_columns(&g, columns, &modes).map_err(fail)?;
+        write_columns(&g, |k| Cow::Borrowed(&columns[k]), &modes).map_err(fail)?;
         for (k, v) in text {
             str_attr(&g, &k.replace('/', "∕"), v).map_err(fail)?;
         }
