@@ -1107,3 +1107,22 @@ fn usage_errors_exit_2_without_panic() {
         assert_eq!(code(&out), 2, "{args:?}");
     }
 }
+
+/// Issue #17: a DOPRI5 stick–slip scene raised 34 "looks stiff" warnings; the summary
+/// (JSON `warnings` and standard error) says them once, with their count and span.
+#[test]
+fn repeated_stiffness_warnings_are_said_once_with_their_count() {
+    use ellipsoid_core::simulate::{Mode, RunWarning};
+    let warnings: Vec<RunWarning> = (0..34)
+        .map(|k| RunWarning::Stiff {
+            t: k as f64 / 100.0,
+            mode: Mode::Sliding,
+        })
+        .collect();
+    let said = ellipsoid_io::summary::warning_messages(&warnings);
+    assert_eq!(said.len(), 1, "{said:?}");
+    assert!(
+        said[0].contains("34 times") && said[0].contains("from t = 0 s to t = 0.33 s"),
+        "{said:?}"
+    );
+}

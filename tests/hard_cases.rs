@@ -277,6 +277,62 @@ fn hard_2_loose_tolerances_take_no_false_slip_stop() {
     measured("2 slip stop", rows.join("; "));
 }
 
+/// DOPRI5 on the paper's sliding scene with stick–slip (coulomb): at the slip stop its
+/// crossing of v_C·s_ref = 0 leaves 2.5–5 slip floors of sideways integration error, more
+/// than the 2 floors a stop is taken at directly. Refused, the run slid on at zero slip
+/// and crossed again and again with collapsing steps (35,473 / 89,747 steps at rtol
+/// 1e-6 / 1e-8, chattering after 6.8e6 steps at 1e-10): the step count grew like a
+/// first-order method's. A tighter local solve confirms the stop now
+/// (`phase::sliding::confirmed_by_tight_solve`): the count must grow like a 5th-order
+/// method's, ×100^(1/5) ≈ 2.5 per two decades of tolerance, and the stop agree with
+/// DOP853 at rtol 1e-12.
+#[test]
+fn hard_2_dopri5_slip_stop_keeps_fifth_order_cost() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let stop = |method: &str, tol: f64| {
+        let set = [
+            format!("solver.method=\"{method}\""),
+            format!("solver.rtol={tol:e}"),
+            format!("solver.atol={tol:e}"),
+            "contact.model=\"coulomb\"".to_string(),
+            "output.t_end=1.5".to_string(),
+        ];
+        let sc = ellipsoid_core::scenario::load(&dir.join("paper-sliding.toml"), &set).unwrap();
+        let (out, _) = run(&sc.scene);
+        assert_eq!(out.status, Status::Completed, "{method} at {tol:e}");
+        let slip_stops: Vec<f64> = out
+            .events
+            .iter()
+            .filter(|e| e.kind == EventKind::SlipStop)
+            .map(|e| e.t)
+            .collect();
+        assert_eq!(slip_stops.len(), 1, "{method} at {tol:e}: {slip_stops:?}");
+        (slip_stops[0], out.stats.accepted + out.stats.rejected)
+    };
+    let (exact, _) = stop("dop853", 1e-12);
+    let mut rows = Vec::new();
+    let mut steps = Vec::new();
+    for tol in [1e-6, 1e-8, 1e-10] {
+        let (t, n) = stop("dopri5", tol);
+        assert!(
+            (t - exact).abs() < 1e-3,
+            "rtol {tol:e}: slip stop at {t} s, DOP853 {exact} s"
+        );
+        rows.push(format!("rtol {tol:e}: {n} steps, stop {t:.6} s"));
+        steps.push(n as f64);
+    }
+    for pair in steps.windows(2) {
+        assert!(
+            pair[1] / pair[0] < 4.0,
+            "steps {steps:?} grow faster than a 5th-order method's"
+        );
+    }
+    measured(
+        "2e DOPRI5 slip stop",
+        format!("{} (DOP853 1e-12: {exact:.6} s)", rows.join("; ")),
+    );
+}
+
 /// The paper's sliding body (a = 0.025, c = 0.0225, D2 = 0.003 m, I = 3.075e-6 kg m²)
 /// spun about the vertical under low Coulomb friction: the slip grazes zero (friction
 /// barely able to stop it) or stick and slip alternate with the nutation. Both once
@@ -939,19 +995,24 @@ fn hard_10_short_dip_of_the_normal_force_is_a_loss_of_contact() {
 
 // 11 ------------------------------------------------- magnitudes beyond double precision
 
-/// A spin-friction coefficient of 1e15 m on the tippe top (accepted by the format, but
-/// 1e17 times the body's size) collapses the steps to ~1e-22 s at t ≈ 1e-18 s. The run
-/// fails after the first pace check (1e4 steps) with `Collapsed`, naming the projected
-/// step count, instead of grinding through max_steps = 1e7 steps (69 s before the check).
+/// The tippe top's mass and inertia (radius of gyration 1.2 cm) inside semi-axes of
+/// 1e20 m, not spinning: a valid body (any mass distribution inside the surface is), but
+/// the contact force's lever of 1e20 m over that inertia gives angular accelerations of
+/// ~1e24 rad/s², and the steps collapse to ~1e-33 s at t ≈ 1e-29 s. The run fails after
+/// the first pace check (1e4 steps) with `Collapsed`, naming the projected step count,
+/// instead of grinding through max_steps = 1e7 steps. (This case used spin_friction =
+/// 1e15 m, which validation now rejects: a torque arm longer than the body.)
 #[test]
 fn hard_11_collapsing_steps_fail_at_the_first_pace_check() {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../scenarios/tippe-top.toml"
     );
-    let scenario =
-        ellipsoid_core::scenario::load(std::path::Path::new(path), &["effects.spin_friction=1e15"])
-            .unwrap();
+    let scenario = ellipsoid_core::scenario::load(
+        std::path::Path::new(path),
+        &["body.a=1e20", "body.c=1e20", "initial.phi_dot=0"],
+    )
+    .unwrap();
     let (out, _) = run(&scenario.scene);
     let Status::SolverFailure {
         error: integrate::IntegrateError::Collapsed {

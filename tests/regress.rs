@@ -17,7 +17,14 @@
 //!   1e-10 (|v_G| + |ω||r|) counts as stopped) is now seen where a clean slip stop dips
 //!   below the floor inside a step: the billiard ball stops slipping 4.2e-11 s earlier,
 //!   as the floor says it may (within 1e-10 s), and its trajectory after the stop
-//!   differs at that level (final state within 1e-9).
+//!   differs at that level (final state within 1e-9);
+//! - a crossing of v_C·s_ref = 0 within 20 slip floors is a stop when a local solve 1000×
+//!   tighter confirms it (docs/physics.md, "The slip stop, numerically"; issue #17): the
+//!   egg stops slipping 3.6e-11 s earlier, at that crossing instead of at the floor after
+//!   a refused crossing and a new segment (so its step counts and message differ, and its
+//!   final state by that time's rates, within 1e-7); the final normal force and slip
+//!   speed of a slip stop depend on the direction of a slip below the floor (the pure
+//!   sliding law's N has d = e3 − μ ŝ) and are not compared.
 
 use std::path::Path;
 use std::process::Command;
@@ -26,8 +33,31 @@ use serde_json::Value;
 
 const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
 
-/// Scenarios whose slip stop moved to the slip floor (see the module docs).
-const FLOOR_STOPS: [&str; 1] = ["scenarios/billiard.toml"];
+/// How a scenario whose slip stop moved (see the module docs) is compared: relative
+/// tolerance of its numbers and the summary fields left out.
+struct Moved {
+    name: &'static str,
+    rel: f64,
+    skip: &'static [&'static str],
+}
+
+const MOVED_STOPS: [Moved; 2] = [
+    Moved {
+        name: "scenarios/billiard.toml",
+        rel: 1e-9,
+        skip: &[],
+    },
+    Moved {
+        name: "scenarios/egg.toml",
+        rel: 1e-7,
+        skip: &[
+            ".stats",
+            ".message",
+            ".final.normal_force",
+            ".final.slip_speed",
+        ],
+    },
+];
 
 fn root() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
@@ -85,13 +115,21 @@ fn close(a: &Value, b: &Value, rel: f64) -> bool {
 }
 
 /// Compares `new` with `old` on the keys `old` has (new fields are allowed).
-fn compare(path: &str, old: &Value, new: &Value, tolerant: bool, errors: &mut Vec<String>) {
+fn compare(
+    path: &str,
+    old: &Value,
+    new: &Value,
+    tolerant: Option<&Moved>,
+    errors: &mut Vec<String>,
+) {
     match (old, new) {
         (Value::Object(o), Value::Object(n)) => {
             for (k, v) in o {
                 let sub = format!("{path}.{k}");
                 match n.get(k) {
                     None => errors.push(format!("{sub} is missing")),
+                    Some(_) if tolerant.is_some_and(|m| m.skip.iter().any(|s| sub.contains(s))) => {
+                    }
                     Some(w) if k == "rhs_evals" => {
                         let (a, b) = (v.as_u64().unwrap(), w.as_u64().unwrap());
                         if b < a || b as f64 > 1.01 * a as f64 {
@@ -108,12 +146,12 @@ fn compare(path: &str, old: &Value, new: &Value, tolerant: bool, errors: &mut Ve
             }
         }
         // The drift of a run that stops 4e-11 s earlier is another round-off sample.
-        _ if tolerant && (path.contains(".drift") || path.contains(".checks")) => {}
-        (Value::Number(_), Value::Number(_)) if tolerant => {
+        _ if tolerant.is_some() && (path.contains(".drift") || path.contains(".checks")) => {}
+        (Value::Number(_), Value::Number(_)) if let Some(moved) = tolerant => {
             let ok = if path.contains(".events") {
                 (old.as_f64().unwrap() - new.as_f64().unwrap()).abs() <= 1e-10
             } else {
-                close(old, new, 1e-9)
+                close(old, new, moved.rel)
             };
             if !ok {
                 errors.push(format!("{path}: {old} -> {new}"));
@@ -159,7 +197,7 @@ fn regress_bundled_scenarios_match_the_baseline() {
             ));
             continue;
         }
-        let floor_stop = FLOOR_STOPS.contains(&name.as_str());
+        let moved = MOVED_STOPS.iter().find(|m| m.name == name.as_str());
         let (rows, hash) = digest(&std::fs::read_to_string(&csv).unwrap(), &columns);
         if rows != expected["csv"]["rows"].as_u64().unwrap() {
             errors.push(format!(
@@ -167,18 +205,12 @@ fn regress_bundled_scenarios_match_the_baseline() {
                 expected["csv"]["rows"]
             ));
         }
-        if !floor_stop && hash != expected["csv"]["fnv1a64"].as_str().unwrap() {
+        if moved.is_none() && hash != expected["csv"]["fnv1a64"].as_str().unwrap() {
             errors.push(format!("{name}: the trajectory differs from the baseline"));
         }
         let summary: Value =
             serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-        compare(
-            name,
-            &expected["summary"],
-            &summary,
-            floor_stop,
-            &mut errors,
-        );
+        compare(name, &expected["summary"], &summary, moved, &mut errors);
     }
     assert!(
         errors.is_empty(),

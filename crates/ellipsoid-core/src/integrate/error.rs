@@ -11,9 +11,14 @@ pub enum IntegrateError {
     /// The step size fell below what t can resolve (10·EPS·|t|, as in Hairer's codes).
     #[error("step size {h:.3e} s fell below the round-off limit at t = {t} s")]
     StepSizeTooSmall { t: f64, h: f64 },
-    /// More than `max_steps` steps (accepted plus rejected) were needed.
+    /// More than `max_steps` steps (accepted plus rejected) were needed. So many steps
+    /// mostly mean steps that became short, not a long run (docs/physics.md, "The slip
+    /// stop, numerically"): the message names the remedies in that order.
     #[error(
-        "gave up at t = {t} s after {steps} steps (accepted + rejected); raise max_steps or loosen the tolerances"
+        "gave up at t = {t} s after {steps} steps (accepted + rejected): the steps became too short to reach t_end. \
+         On a stick–slip (coulomb) scene with method = \"dopri5\" this is DOPRI5 near zero slip: use method = \"dop853\". \
+         Otherwise look for stiffness (a \"looks stiff\" warning) or magnitudes beyond double precision (check the units); \
+         raise max_steps only if t was close to t_end"
     )]
     MaxSteps { t: f64, steps: u64 },
     /// The steps have collapsed: at the pace of the first `steps` steps, reaching t_end

@@ -697,3 +697,72 @@ fn contact_disc_keys_and_their_errors() {
         "{got}"
     );
 }
+
+/// An effect's torque arm c (torque c N) is at most the body's largest semi-axis: the
+/// normal force acts within the contact, inside the body (docs/scenarios.md).
+#[test]
+fn an_effect_arm_longer_than_the_body_is_rejected() {
+    const RULE: &str = "the torque arm c (torque c N) must not exceed the body's largest semi-axis max(a, b, c) = 0.025 m";
+    let effects = |line: &str| format!("{PAPER}[effects]\n{line}\n");
+    for (line, expected) in [
+        (
+            "rolling_resistance = 0.03",
+            format!("x.toml:25:1: effects.rolling_resistance = 0.03: {RULE}"),
+        ),
+        (
+            "spin_friction = { coefficient = 1e15, regularisation = 1e-2 }",
+            format!("x.toml:25:1: effects.spin_friction = 1e15: {RULE}"),
+        ),
+    ] {
+        let got = err(&effects(line), &[]);
+        assert!(
+            got.starts_with(&expected),
+            "got      {got}\nexpected {expected}"
+        );
+    }
+    // at the limit, and as an override
+    ok(
+        &effects("rolling_resistance = 0.025\nspin_friction = 0.025"),
+        &[],
+    );
+    let got = err(PAPER, &["effects.spin_friction=1"]);
+    assert!(
+        got.contains("--set effects.spin_friction=1") && got.contains(RULE),
+        "{got}"
+    );
+}
+
+/// The initial spin in units of √(g/L), L = max(a, b, c), is at most ≈ 1/√ε: beyond it
+/// gravity is below the round-off of the spin's own terms (docs/scenarios.md). Checked
+/// with the initial state, after its overflow checks.
+#[test]
+fn a_spin_beyond_double_precision_is_rejected() {
+    let rule = "in units of √(g/L) (L = max(a, b, c) = 0.025 m, g = 9.81 m/s^2), more than 6.7e7";
+    let start = |text: &str| {
+        let s = ok(text, &[]);
+        s.scene
+            .initial_state()
+            .map_err(|e| s.locate(&e).to_string())
+            .err()
+    };
+    let got = start(&edit("psi_dot = 60.0", "psi_dot = 1e18")).expect("rejected");
+    assert!(
+        got.starts_with(
+            "x.toml:11:1: initial.psi_dot = 1e18: the spin |ω| = 1.000e18 rad/s is 5.048e16 "
+        ) && got.contains(rule),
+        "{got}"
+    );
+    let got = start(&edit("psi_dot = 60.0", "omega_body = [0.0, 0.0, 1e18]")).expect("rejected");
+    assert!(
+        got.starts_with("x.toml:11:1: initial.omega_body = [0.0, 0.0, 1e18]: the spin"),
+        "{got}"
+    );
+    // √(g/L) = 19.81 rad/s: 7e7 of them is rejected, 6e7 is not (whatever else its
+    // initial state may violate), nor is any spin without gravity
+    let units = (9.81f64 / 0.025).sqrt();
+    let spin = |k: f64| edit("psi_dot = 60.0", &format!("psi_dot = {}", k * units));
+    assert!(start(&spin(7e7)).is_some_and(|e| e.contains(rule)));
+    assert!(start(&spin(6e7)).is_none_or(|e| !e.contains(rule)));
+    let weightless = format!("{}[effects]\ngravity = 0\n", spin(1e12));
+    assert!(start(&weightless).is_none_or(|e| !e.contains("√(g/L)")));
+}

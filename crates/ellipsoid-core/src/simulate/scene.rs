@@ -138,6 +138,13 @@ pub const MAX_HEIGHT_SIZES: f64 = 1e6;
 /// Most observables a scene may name.
 pub const MAX_OBSERVE: usize = 64;
 
+/// Largest dimensionless initial spin |ω|·√(L/g), L = max(a, b, c), that a run accepts:
+/// ≈ 1/√ε (ε = 2.2e-16). Beyond it ω²L/g > 1/ε: g is below the round-off of the spin's
+/// terms (ω × Iω and κ, ~ m L ω²) that the normal force balances it against
+/// (docs/physics.md, model 1), so N and the motion it drives are noise, and the steps
+/// collapse to round-off of t.
+pub const MAX_DIMENSIONLESS_SPIN: f64 = 6.7e7;
+
 /// Everything a run needs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scene {
@@ -309,7 +316,76 @@ impl Scene {
                 ));
             }
         }
+        self.validate_arms()?;
         self.validate_observe()
+    }
+
+    /// An effect's torque arm must not be longer than the body.
+    fn validate_arms(&self) -> Result<(), ModelError> {
+        let size = self.body.semi_axes().max();
+        let e = &self.effects;
+        for (key, arm) in [
+            (
+                "effects.rolling_resistance",
+                e.rolling_resistance.map(|r| r.coefficient),
+            ),
+            (
+                "effects.spin_friction",
+                e.spin_friction.map(|s| s.coefficient),
+            ),
+        ] {
+            if let Some(c) = arm.filter(|&c| c > size) {
+                return Err(ModelError::invalid(
+                    key,
+                    number(c),
+                    format!(
+                        "the torque arm c (torque c N) must not exceed the body's largest semi-axis max(a, b, c) = {} m: \
+                         the normal force acts within the contact, inside the body",
+                        number(size)
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// The initial spin must stay within [`MAX_DIMENSIONLESS_SPIN`] (with g > 0). Checked
+    /// with the initial state (`start`), after its overflow checks, which name the
+    /// quantity that overflows.
+    pub(super) fn validate_spin(&self) -> Result<(), ModelError> {
+        let size = self.body.semi_axes().max();
+        let init = &self.initial;
+        let spin = init
+            .omega_body
+            .unwrap_or_else(|| init.angles.omega_body())
+            .norm();
+        let dimensionless = spin * (size / self.gravity).sqrt();
+        if self.gravity > 0.0 && dimensionless > MAX_DIMENSIONLESS_SPIN {
+            let a = &init.angles;
+            let (key, value) = match init.omega_body {
+                Some(w) => ("initial.omega_body", format!("{:?}", w.as_slice())),
+                None => [
+                    ("initial.theta_dot", a.theta_dot),
+                    ("initial.phi_dot", a.phi_dot),
+                    ("initial.psi_dot", a.psi_dot),
+                ]
+                .into_iter()
+                .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()))
+                .map(|(k, v)| (k, number(v)))
+                .expect("three rates"),
+            };
+            return Err(ModelError::invalid(
+                key,
+                value,
+                format!(
+                    "the spin |ω| = {spin:.3e} rad/s is {dimensionless:.3e} in units of √(g/L) (L = max(a, b, c) = {} m, g = {} m/s^2), \
+                     more than {MAX_DIMENSIONLESS_SPIN:e} ≈ 1/√ε: ω²L/g > 1/ε puts gravity below the round-off of the spin's own terms",
+                    number(size),
+                    number(self.gravity)
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// A contact disc: R finite and positive, smaller than the body, under a friction

@@ -107,7 +107,8 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
         Ok((mode, y))
     }
 
-    /// Rejects an initial state whose derived quantities overflow.
+    /// Rejects an initial state whose derived quantities overflow, then one whose spin
+    /// double precision cannot integrate (`Scene::validate_spin`).
     fn check_finite(&self, mode: Mode, y: &State) -> Result<(), ModelError> {
         let (sample, inv) = phase::<E>(mode).sample(self, 0.0, y, None);
         let derived = [
@@ -132,7 +133,7 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
                  double precision (state the problem in SI units of ordinary magnitude)",
             ));
         }
-        Ok(())
+        self.scene.validate_spin()
     }
 }
 

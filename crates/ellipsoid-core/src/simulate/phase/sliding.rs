@@ -14,12 +14,16 @@
 //! which would need the disc's set of static friction forces and torques, is not
 //! simulated).
 
+use std::ops::ControlFlow;
+
 use nalgebra::Vector2;
 
 use crate::effects::Effect;
-use crate::integrate::{IntegrateError, Method};
+use crate::integrate::{
+    self, Action, Direction, Event, EventFn, IntegrateError, Method, Options, StopReason,
+};
 use crate::model::sliding::SLIP_FLOOR;
-use crate::model::{Evaluation, Sliding, System};
+use crate::model::{Evaluation, Kinematics, Sliding, System};
 use crate::state::{self, State};
 
 use super::flight::lift_off;
@@ -39,10 +43,23 @@ const PAINLEVE_COLLAPSE: f64 = 1e-3;
 /// scene where DOP853 does instead of chattering on (see docs/hard-cases.md).
 const RK4_SLIP_STEPS: f64 = 10.0;
 
-/// A located slip stop is taken only if |v_C| is within this many slip floors (see
-/// [`slip_floor`]); otherwise v_C·s_ref changed sign because the slip direction turned by
-/// more than 90° within one step, and sliding goes on.
+/// A located slip stop is taken at once if |v_C| is within this many slip floors (see
+/// [`slip_floor`]); above that it is checked by [`confirmed_by_tight_solve`].
 const SLIP_ACCEPT: f64 = 2.0;
+
+/// The tight solve of [`confirmed_by_tight_solve`]: its tolerances relative to the
+/// scene's (never below [`CONFIRM_RTOL_MIN`]); its horizon in units of the time s/(μ g)
+/// Coulomb friction of μ m g needs to remove the slip s (a slip being removed at less than
+/// a tenth of that rate is not stopping); the largest s it is tried for, in slip floors
+/// (the stop leaves s to the sticking impulse, so s must stay a small multiple of the
+/// integration error: a crossing at a larger slip is a turn, docs/hard-cases.md row 2d);
+/// the growth of the slip that refutes the stop; and its step budget.
+const CONFIRM_TIGHTEN: f64 = 1e-3;
+const CONFIRM_RTOL_MIN: f64 = 1e-13;
+const CONFIRM_HORIZON: f64 = 10.0;
+const CONFIRM_BAND: f64 = 20.0;
+const CONFIRM_GROWTH: f64 = 2.0;
+const CONFIRM_MAX_STEPS: u64 = 10_000;
 
 pub(in crate::simulate) struct SlidingPhase;
 
@@ -75,11 +92,10 @@ impl Phase for SlidingPhase {
         match watch {
             Watch::Slip => Sliding::slip_along_reference(&ev.kin, y),
             Watch::SlipFloor => {
-                let (floor, v_min) = slip_floor(m);
                 if m.slide.contact.disc.is_some() {
-                    m.slide.contact.stop_speed(&ev.kin)
-                        - (floor * Sliding::speed_scale(&ev.kin)).max(v_min)
+                    m.slide.contact.stop_speed(&ev.kin) - stop_threshold(m, &ev.kin)
                 } else {
+                    let (floor, v_min) = slip_floor(m);
                     Sliding::slip_above_floor(&ev.kin, floor, v_min)
                 }
             }
@@ -106,14 +122,13 @@ impl Phase for SlidingPhase {
                     error: None,
                 })
             }
-            Watch::Slip | Watch::SlipFloor if !slip_has_stopped(m, y) => {
+            Watch::Slip | Watch::SlipFloor
+                if !slip_has_stopped(m, y) && !confirmed_by_tight_solve(m, t, y) =>
+            {
                 // v_C·s_ref changed sign because the slip turned by more than 90° within
                 // one (loose-tolerance) step, not because it stopped: go on sliding with
                 // the reference renewed.
-                let slip = m.slide.evaluate(y).kin.slip;
-                if slip != Vector2::zeros() {
-                    set_reference(y, slip.normalize());
-                }
+                *y = renewed(m, *y);
                 Next::Go(Mode::Sliding)
             }
             Watch::Slip | Watch::SlipFloor => {
@@ -183,13 +198,93 @@ pub(in crate::simulate) fn slip_floor<E>(m: &Machine<'_, E>) -> (f64, f64) {
     (SLIP_FLOOR.max(scene.solver.rtol), v_min)
 }
 
-/// Whether a located slip-stop event is one: |v_C| within [`SLIP_ACCEPT`] times the
-/// floor of [`slip_floor`].
+/// The stop speed below which the slip counts as stopped, from [`slip_floor`]:
+/// max(ε (|v_G| + |ω||r|), v_min) [m/s].
+fn stop_threshold<E>(m: &Machine<'_, E>, kin: &Kinematics) -> f64 {
+    let (floor, v_min) = slip_floor(m);
+    (floor * Sliding::speed_scale(kin)).max(v_min)
+}
+
+/// Whether the slip at `y` has stopped: its stop speed within [`SLIP_ACCEPT`] times
+/// [`stop_threshold`].
 pub(in crate::simulate) fn slip_has_stopped<E: Effect>(m: &Machine<'_, E>, y: &State) -> bool {
     let kin = m.slide.evaluate(y).kin;
-    let (floor, v_min) = slip_floor(m);
-    m.slide.contact.stop_speed(&kin)
-        <= SLIP_ACCEPT * (floor * Sliding::speed_scale(&kin)).max(v_min)
+    m.slide.contact.stop_speed(&kin) <= SLIP_ACCEPT * stop_threshold(m, &kin)
+}
+
+/// Whether a located slip stop whose |v_C| = s exceeds [`SLIP_ACCEPT`] floors is one all
+/// the same: the sliding law, integrated on from the located state by DOP853 at
+/// [`CONFIRM_TIGHTEN`] times the scene's tolerances, brings the stop speed down to the
+/// scene's slip floor within [`CONFIRM_HORIZON`]·s/(μ g), before it grows to
+/// [`CONFIRM_GROWTH`]·s (docs/physics.md, "The slip stop, numerically").
+///
+/// Why: at a true stop the residual |v_C| at the crossing is integration error, not slip.
+/// Where v_C·s_ref = 0 the slip left is its sideways part, a stiff component near v_C = 0
+/// (friction relaxes the slip's direction at the rate ~μ g/|v_C|) that carries error in
+/// from earlier steps: measured at DOPRI5's crossings, 2.5–5 floors, 30× the step's own
+/// error estimate and 5× the dense output's error against a fine re-integration of the
+/// step. A fixed acceptance of 2 floors refused those stops, and the run slid on at zero
+/// slip, crossing again and again with collapsing steps (docs/hard-cases.md row 2e).
+/// That residue scales with the tolerance, so a solve 1000× tighter takes it far below
+/// the scene's floor, while a slip that a loose step turned through 90° (row 2d) is real
+/// and does not fall to the floor. A confirmed stop is taken at the located time and
+/// state, as one within the floor is.
+fn confirmed_by_tight_solve<E: Effect + Copy>(m: &Machine<'_, E>, t: f64, y: &State) -> bool {
+    let scene = m.scene;
+    let decel = m.slide.contact.friction * scene.gravity;
+    if matches!(scene.solver.method, Method::Rk4 { .. }) || !(decel > 0.0) {
+        return false;
+    }
+    let speed = |y: &State| m.slide.contact.stop_speed(&m.slide.evaluate(y).kin);
+    let s0 = speed(y);
+    if s0 > CONFIRM_BAND * stop_threshold(m, &m.slide.evaluate(y).kin) {
+        return false;
+    }
+    let y0 = renewed(m, *y);
+    let rtol = (scene.solver.rtol * CONFIRM_TIGHTEN).max(CONFIRM_RTOL_MIN);
+    let mut options = Options::new(rtol, scene.solver.atol * CONFIRM_TIGHTEN);
+    options.max_steps = CONFIRM_MAX_STEPS;
+    options.stiffness_check = false;
+    options.cancel = m.cancel.clone();
+    let events = [
+        stop_when_falling(Box::new(|_, y: &State| {
+            SlidingPhase::watch(m, Watch::SlipFloor, &m.slide.evaluate(y), y)
+        })),
+        stop_when_falling(Box::new(|_, y: &State| CONFIRM_GROWTH * s0 - speed(y))),
+    ];
+    let t_end = t + CONFIRM_HORIZON * s0 / decel;
+    integrate::integrate(
+        Method::Dop853,
+        &m.slide,
+        t,
+        y0,
+        t_end,
+        &options,
+        &events,
+        &[],
+        &mut |_, _| ControlFlow::Continue(()),
+    )
+    .is_ok_and(|sol| sol.stop == StopReason::Event { index: 0 })
+}
+
+/// `y` with the slip reference s_ref set to the slip's direction (kept where the slip is
+/// zero): the sliding law's friction then opposes the slip again, as it must after a
+/// located crossing, where v_C·s_ref = 0.
+fn renewed<E: Effect>(m: &Machine<'_, E>, mut y: State) -> State {
+    let slip = m.slide.evaluate(&y).kin.slip;
+    if slip != Vector2::zeros() {
+        set_reference(&mut y, slip.normalize());
+    }
+    y
+}
+
+/// A terminal event at g falling through zero.
+fn stop_when_falling(g: EventFn<'_, { state::DIM }>) -> Event<'_, { state::DIM }> {
+    Event {
+        g,
+        direction: Direction::Falling,
+        action: Action::Stop,
+    }
 }
 
 /// Whether the material contact point's slip is zero to round-off.
