@@ -231,17 +231,15 @@ fn trajectories_are_one_hdf5_group_per_row_named_by_its_key() {
          [[axis]]\nkey = \"initial.psi_dot\"\nvalues = [20.0, 40.0, 60.0]\n"
     );
     std::fs::write(dir.path().join("study.toml"), &text).unwrap();
-    let out = study(
-        dir.path(),
-        &[
-            "study.toml",
-            "-o",
-            "t.csv",
-            "--trajectories",
-            "runs/t.h5",
-            "-q",
-        ],
-    );
+    let args = [
+        "study.toml",
+        "-o",
+        "t.csv",
+        "--trajectories",
+        "runs/t.h5",
+        "-q",
+    ];
+    let out = study(dir.path(), &args);
     assert_eq!(
         out.status.code(),
         Some(0),
@@ -291,17 +289,7 @@ fn trajectories_are_one_hdf5_group_per_row_named_by_its_key() {
 
     // A journal holding rows has no trajectories to give: refused, the file untouched.
     let before = std::fs::read(&h5).unwrap();
-    let out = study(
-        dir.path(),
-        &[
-            "study.toml",
-            "-o",
-            "t.csv",
-            "--trajectories",
-            "runs/t.h5",
-            "-q",
-        ],
-    );
+    let out = study(dir.path(), &args);
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
     assert!(
@@ -309,18 +297,7 @@ fn trajectories_are_one_hdf5_group_per_row_named_by_its_key() {
         "{stderr}"
     );
     assert_eq!(std::fs::read(&h5).unwrap(), before);
-    let out = study(
-        dir.path(),
-        &[
-            "study.toml",
-            "-o",
-            "t.csv",
-            "--trajectories",
-            "runs/t.h5",
-            "-q",
-            "--fresh",
-        ],
-    );
+    let out = study(dir.path(), &[&args[..], &["--fresh"]].concat());
     assert_eq!(
         out.status.code(),
         Some(0),
