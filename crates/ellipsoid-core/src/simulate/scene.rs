@@ -363,7 +363,10 @@ impl Scene {
         if self.gravity > 0.0 && dimensionless > MAX_DIMENSIONLESS_SPIN {
             let a = &init.angles;
             let (key, value) = match init.omega_body {
-                Some(w) => ("initial.omega_body", format!("{:?}", w.as_slice())),
+                Some(w) => {
+                    let parts: Vec<String> = w.iter().map(|&x| number(x)).collect();
+                    ("initial.omega_body", format!("[{}]", parts.join(", ")))
+                }
                 None => [
                     ("initial.theta_dot", a.theta_dot),
                     ("initial.phi_dot", a.phi_dot),
