@@ -15,7 +15,7 @@ use ellipsoid_core::effects::AirDrag;
 use ellipsoid_core::integrate::{Method, OdeSystem, Options, integrate};
 use ellipsoid_core::model::contensou::Law;
 use ellipsoid_core::model::{
-    ContactDisc, ContactLaw, Flight, Frictionless, Rolling, Sliding, System,
+    ContactDisc, ContactLaw, Flight, Frictionless, Rolling, Sliding, SlipBand, System,
 };
 use ellipsoid_core::scenario;
 use ellipsoid_core::simulate::{Scene, simulate};
@@ -76,6 +76,7 @@ fn rhs(c: &mut Criterion) {
     let slide = system(Sliding {
         friction: 0.3,
         disc: None,
+        band: SlipBand::NONE,
     });
     group.bench_function("sliding", |b| {
         b.iter(|| black_box(&slide).rhs(0.0, black_box(&y)))
@@ -94,6 +95,7 @@ fn rhs(c: &mut Criterion) {
                 radius,
                 law: Law::Exact,
             }),
+            band: SlipBand::NONE,
         });
         group.bench_function(name, |b| {
             b.iter(|| black_box(&disc).rhs(0.0, black_box(&y)))
@@ -115,6 +117,7 @@ fn rhs(c: &mut Criterion) {
         contact: Sliding {
             friction: 0.3,
             disc: None,
+            band: SlipBand::NONE,
         },
         effects: AirDrag {
             linear: 1e-3,

@@ -17,7 +17,7 @@ use ellipsoid_core::body::Body;
 use ellipsoid_core::integrate::{self, Method, OdeSystem, Options};
 use ellipsoid_core::invariants::Invariant;
 use ellipsoid_core::model::contensou::Law;
-use ellipsoid_core::model::{ContactDisc, Sliding, System};
+use ellipsoid_core::model::{ContactDisc, Sliding, SlipBand, System};
 use ellipsoid_core::scenario;
 use ellipsoid_core::simulate::{ContactModel, EventKind, Mode, Outcome, Scene, Status};
 use ellipsoid_core::state::{self, State};
@@ -156,6 +156,7 @@ fn val_disc_constraint_rate_on_a_triaxial_body() {
         contact: Sliding {
             friction: 0.4,
             disc: disc(1e-2, Law::Exact),
+            band: SlipBand::NONE,
         },
         effects: (),
     };
@@ -478,6 +479,7 @@ fn val_zero_spin_is_coulomb() {
         contact: Sliding {
             friction: 0.3,
             disc: None,
+            band: SlipBand::NONE,
         },
         effects: (),
     };
@@ -485,6 +487,7 @@ fn val_zero_spin_is_coulomb() {
         contact: Sliding {
             friction: 0.3,
             disc: disc(5e-4, Law::Exact),
+            band: SlipBand::NONE,
         },
         ..point.clone()
     };
@@ -503,6 +506,7 @@ fn val_dissipation_includes_the_drilling() {
         contact: Sliding {
             friction: 0.4,
             disc: disc(radius, Law::Exact),
+            band: SlipBand::NONE,
         },
         effects: (),
     };

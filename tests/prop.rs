@@ -9,7 +9,7 @@ mod common;
 use common::*;
 use ellipsoid_core::body::Body;
 use ellipsoid_core::invariants::Invariant;
-use ellipsoid_core::model::{Frictionless, Rolling, Sliding, System};
+use ellipsoid_core::model::{Frictionless, Rolling, Sliding, SlipBand, System};
 use ellipsoid_core::simulate::{ContactModel, Scene, Status};
 use ellipsoid_core::state::{self, EulerAngles};
 use nalgebra::{Matrix3, Vector2, Vector3};
@@ -88,7 +88,7 @@ proptest! {
         let Ok((_, y)) = sc.initial_state() else { return Ok(()) };
         let f = System { body: b.clone(), gravity: G, contact: Frictionless, effects: () }.evaluate(&y);
         let r = System { body: b.clone(), gravity: G, contact: Rolling, effects: () }.evaluate(&y);
-        let s = System { body: b.clone(), gravity: G, contact: Sliding { friction: mu, disc: None }, effects: () }.evaluate(&y);
+        let s = System { body: b.clone(), gravity: G, contact: Sliding { friction: mu, disc: None, band: SlipBand::NONE }, effects: () }.evaluate(&y);
         for (name, e) in [("frictionless", f), ("rolling", r), ("sliding", s)] {
             let resp = e.response;
             let acc = e.accel(&b, G);

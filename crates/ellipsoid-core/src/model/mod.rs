@@ -23,7 +23,7 @@ pub use contensou::ContactDisc;
 pub use flight::Flight;
 pub use frictionless::Frictionless;
 pub use rolling::Rolling;
-pub use sliding::Sliding;
+pub use sliding::{Sliding, SlipBand};
 
 use nalgebra::{Matrix3, Vector2, Vector3};
 

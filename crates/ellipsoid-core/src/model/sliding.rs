@@ -11,6 +11,12 @@
 //! Beyond that point the continued motion is unphysical and never reported: the stop is
 //! a terminal event. With |v_C| at round-off level (the instant sliding starts from
 //! rolling), ŝ = s_ref.
+//!
+//! Below a band of a few integration errors ([`SlipBand`], set by the sliding phase from
+//! the tolerance) the slip's direction is set by integration error, and its exact
+//! dynamics are stiff (friction turns it at a rate ∝ 1/|v_C|): there the law takes its
+//! friction along a smooth blend of ŝ and s_ref ([`Sliding::friction_direction`];
+//! docs/physics.md, "The slip stop, numerically").
 
 use nalgebra::{Vector2, Vector3};
 
@@ -27,6 +33,27 @@ pub struct Sliding {
     pub friction: f64,
     /// The contact disc; `None` is a point contact.
     pub disc: Option<ContactDisc>,
+    /// The band of slips whose direction is blended towards s_ref (see
+    /// [`Sliding::friction_direction`]); [`SlipBand::NONE`] for none.
+    pub band: SlipBand,
+}
+
+/// The slips whose direction the law blends towards s_ref: |v_C| below
+/// max(`relative`·(|v_G| + |ω||r|), `absolute`) [m/s].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SlipBand {
+    /// Width relative to the speed scale |v_G| + |ω||r| (see [`Sliding::speed_scale`]).
+    pub relative: f64,
+    /// Absolute width [m/s].
+    pub absolute: f64,
+}
+
+impl SlipBand {
+    /// No band: the friction direction is ŝ for every slip.
+    pub const NONE: SlipBand = SlipBand {
+        relative: 0.0,
+        absolute: 0.0,
+    };
 }
 
 /// Relative size below which a slip speed is round-off of the body's velocities.
@@ -49,6 +76,41 @@ impl Sliding {
         } else {
             -kin.slip / speed
         }
+    }
+
+    /// The direction the law's friction opposes: ŝ of [`Sliding::direction`] above the
+    /// band of width b = max(relative·(|v_G| + |ω||r|), absolute), and below it
+    /// ```text
+    ///   ŝ_f = (w ŝ + (1 − w) s_ref) / |w ŝ + (1 − w) s_ref|,  w = ρ²(3 − 2ρ),  ρ = |v_C|/b
+    /// ```
+    /// (docs/physics.md, "The slip stop, numerically"). w and its slope are continuous at
+    /// ρ = 1, so the law stays smooth (C¹) across the band's edge, and ŝ·s_ref ≥ 0 keeps
+    /// the blend away from zero. Inside the band ŝ_f no longer turns at the rate ∝ 1/|v_C|
+    /// of the exact law, but follows ŝ through s_ref, which [`ContactLaw::project`]
+    /// renews to ŝ_f after every step. As for [`Sliding::is_roundoff`], the 1-norm bound
+    /// decides most slips without the three square roots of the speed scale.
+    #[inline]
+    pub fn friction_direction(&self, kin: &Kinematics, reference: Vector2<f64>) -> Vector2<f64> {
+        let s = Sliding::direction(kin, reference);
+        let band = &self.band;
+        if band.relative == 0.0 && band.absolute == 0.0 {
+            return s;
+        }
+        let speed = kin.slip.norm();
+        let l1 = |v: &Vector3<f64>| v.x.abs() + v.y.abs() + v.z.abs();
+        let bound = l1(&kin.v_g) + l1(&kin.omega) * l1(&kin.contact.r);
+        if speed > 2.0 * band.relative * bound && speed > band.absolute {
+            return s;
+        }
+        let width = (band.relative * Sliding::speed_scale(kin)).max(band.absolute);
+        if speed >= width {
+            return s;
+        }
+        let rho = speed / width;
+        let w = rho * rho * (3.0 - 2.0 * rho);
+        let blend = w * s + (1.0 - w) * reference;
+        let n = blend.norm();
+        if n > 0.0 { blend / n } else { s }
     }
 
     /// Whether slip speed `speed` = |v_C| is round-off of the body's velocities:
@@ -121,7 +183,7 @@ impl ContactLaw for Sliding {
         if self.disc.is_some() {
             return self.respond_loaded(body, gravity, kin, y, *load).1;
         }
-        let s = Sliding::direction(kin, state::slip_ref(y));
+        let s = self.friction_direction(kin, state::slip_ref(y));
         unilateral(
             body,
             gravity,
@@ -165,7 +227,7 @@ impl ContactLaw for Sliding {
     /// g = v_C·s_ref is unchanged by the refresh.
     fn project(&self, body: &Body, y: &mut State) {
         let kin = Kinematics::new(body, y, false);
-        let s = Sliding::direction(&kin, state::slip_ref(y));
+        let s = self.friction_direction(&kin, state::slip_ref(y));
         y[state::SLIP_REF] = s.x;
         y[state::SLIP_REF + 1] = s.y;
     }

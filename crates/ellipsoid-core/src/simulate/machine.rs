@@ -64,6 +64,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                 contact: Sliding {
                     friction,
                     disc: scene.disc,
+                    band: super::phase::slip_band(scene),
                 },
                 effects,
             },

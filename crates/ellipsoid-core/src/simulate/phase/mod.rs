@@ -41,7 +41,7 @@ pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
 pub(super) use rolling::after_slip_stop;
-pub(super) use sliding::{SlidingPhase, set_reference, slip_is_zero};
+pub(super) use sliding::{SlidingPhase, set_reference, slip_band, slip_is_zero};
 
 /// A watch function of a phase, or an observable of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
