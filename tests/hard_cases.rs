@@ -391,6 +391,91 @@ fn hard_2_grazing_slip_and_repeated_stick_slip_complete() {
     }
 }
 
+/// The slip's onset at the friction cone's edge (docs/physics.md, "The slip stop,
+/// numerically"; issue #17 item 6). Row 2b's repeated stick–slip scene, 2 s: after each
+/// onset the slip grows from zero like τ², its direction set by integration error while
+/// it is within a few slip floors. Before the slip band, DOPRI5 held it there (27 100 /
+/// 338 389 steps at rtol = atol = 1e-6 / 1e-8, and at 1e-8 12 mode switches instead of
+/// 105, θ(2 s) off by 0.25 rad; at 1e-10 over 5 minutes) and DOP853 at 1e-12 took 1.2e6
+/// steps. Now: the same switches as DOP853 at 1e-12 at every tolerance, θ(2 s) within
+/// 100 × the tolerance, steps growing by less than 8× per two decades (a first-order
+/// method's would be 100×).
+#[test]
+fn hard_2_onset_at_the_cone_edge_keeps_dopri5_on_track() {
+    let body = Body::of_revolution(0.025, 0.0225, 0.02, 3.075e-6, 5e-6, 0.003).unwrap();
+    let run_with = |method: Method, tol: f64| {
+        let mut s = scene(
+            body.clone(),
+            ContactModel::Coulomb { friction: 0.05 },
+            angles(10f64.to_radians(), 0.0, 0.0, 0.0, 150.0, 0.0),
+            Some(Vector2::zeros()),
+            2.0,
+            1e-2,
+            tol,
+        );
+        s.solver.method = method;
+        let (out, samples) = run(&s);
+        assert_eq!(out.status, Status::Completed, "{method:?} at {tol:e}");
+        let switches = out
+            .events
+            .iter()
+            .filter(|e| matches!(e.kind, EventKind::ModeSwitch { .. }))
+            .count();
+        let theta = samples.last().unwrap().angles.theta;
+        (switches, theta, out.stats.accepted + out.stats.rejected)
+    };
+    let (switches, exact, ref_steps) = run_with(Method::Dop853, 1e-12);
+    assert!(ref_steps < 300_000, "DOP853 at 1e-12: {ref_steps} steps");
+    let mut rows = vec![format!(
+        "DOP853 1e-12: {switches} switches, {ref_steps} steps"
+    )];
+    let mut steps = Vec::new();
+    for tol in [1e-6, 1e-8, 1e-10] {
+        let (k, theta, n) = run_with(Method::Dopri5, tol);
+        assert_eq!(k, switches, "DOPRI5 at {tol:e}: {k} mode switches");
+        let error = (theta - exact).abs();
+        assert!(
+            error < 100.0 * tol,
+            "DOPRI5 at {tol:e}: θ(2 s) off by {error:e}"
+        );
+        rows.push(format!("DOPRI5 {tol:e}: {n} steps, θ error {error:.1e}"));
+        steps.push(n as f64);
+    }
+    for pair in steps.windows(2) {
+        assert!(pair[1] / pair[0] < 8.0, "steps {steps:?}");
+    }
+    measured("2f onset at the cone's edge", rows.join("; "));
+}
+
+/// The onset trap did not spare DOP853: on a prolate top thrown sliding
+/// (tests/data/onset/tall-top.toml) rtol 1e-10 and 1e-12 ended 0.17 rad apart, the
+/// sequence of slip stops changed by slips held near the floor. With the slip band the
+/// run converges in the tolerance.
+#[test]
+fn hard_2_onset_trap_no_longer_breaks_convergence() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/onset/tall-top.toml");
+    let theta = |tol: f64| {
+        let set = [
+            format!("solver.rtol={tol:e}"),
+            format!("solver.atol={tol:e}"),
+        ];
+        let sc = ellipsoid_core::scenario::load(&path, &set).unwrap();
+        let (out, samples) = run(&sc.scene);
+        assert_eq!(out.status, Status::Completed, "rtol {tol:e}");
+        (
+            samples.last().unwrap().angles.theta,
+            out.stats.accepted + out.stats.rejected,
+        )
+    };
+    let ((a, na), (b, nb)) = (theta(1e-10), theta(1e-12));
+    assert!((a - b).abs() < 1e-6, "θ(2 s) {a} at 1e-10, {b} at 1e-12");
+    measured(
+        "2f tall top, DOP853",
+        format!("θ(2 s) {a:.10} (1e-10, {na} steps), {b:.10} (1e-12, {nb} steps)"),
+    );
+}
+
 // 3 ------------------------------------------------------------ near loss of contact
 
 /// A uniform prolate ellipsoid (a = 0.02, c = 0.04 m) tumbling end over end on a

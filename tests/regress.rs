@@ -24,7 +24,15 @@
 //!   a refused crossing and a new segment (so its step counts and message differ, and its
 //!   final state by that time's rates, within 1e-7); the final normal force and slip
 //!   speed of a slip stop depend on the direction of a slip below the floor (the pure
-//!   sliding law's N has d = e3 − μ ŝ) and are not compared.
+//!   sliding law's N has d = e3 − μ ŝ) and are not compared;
+//! - below the slip band (docs/physics.md, "The slip stop, numerically"; issue #17 item 6)
+//!   the sliding law's friction follows a blend of the slip's direction and s_ref: every
+//!   scene whose slip comes near zero under an adaptive method moves, its slip stops by
+//!   up to 1.2e-10 s (the egg; 8e-14–1.3e-12 s for the others), its final state within
+//!   1e-9 relative, and its step counts fall (the smallest step grows 30–100×: no steps
+//!   collapse near the stop any more), so stats and the message (which names the stop
+//!   time) are not compared; event times are
+//!   compared to 1e-9 s for every moved scene.
 
 use std::path::Path;
 use std::process::Command;
@@ -41,7 +49,15 @@ struct Moved {
     skip: &'static [&'static str],
 }
 
-const MOVED_STOPS: [Moved; 2] = [
+/// Scenes moved by the slip band only (see the module docs).
+const BAND: &[&str] = &[
+    ".stats",
+    ".message",
+    ".final.normal_force",
+    ".final.slip_speed",
+];
+
+const MOVED_STOPS: [Moved; 7] = [
     Moved {
         name: "scenarios/billiard.toml",
         rel: 1e-9,
@@ -56,6 +72,31 @@ const MOVED_STOPS: [Moved; 2] = [
             ".final.normal_force",
             ".final.slip_speed",
         ],
+    },
+    Moved {
+        name: "scenarios/paper-sliding.toml",
+        rel: 1e-9,
+        skip: BAND,
+    },
+    Moved {
+        name: "scenarios/spin-friction.toml",
+        rel: 1e-9,
+        skip: BAND,
+    },
+    Moved {
+        name: "scenarios/tippe-top.toml",
+        rel: 1e-9,
+        skip: BAND,
+    },
+    Moved {
+        name: "scenarios/paper/fig10-sliding-theta.toml",
+        rel: 1e-9,
+        skip: BAND,
+    },
+    Moved {
+        name: "scenarios/paper/fig11-sliding-theta-dot.toml",
+        rel: 1e-9,
+        skip: BAND,
     },
 ];
 
@@ -149,7 +190,7 @@ fn compare(
         _ if tolerant.is_some() && (path.contains(".drift") || path.contains(".checks")) => {}
         (Value::Number(_), Value::Number(_)) if let Some(moved) = tolerant => {
             let ok = if path.contains(".events") {
-                (old.as_f64().unwrap() - new.as_f64().unwrap()).abs() <= 1e-10
+                (old.as_f64().unwrap() - new.as_f64().unwrap()).abs() <= 1e-9
             } else {
                 close(old, new, moved.rel)
             };
