@@ -29,11 +29,11 @@ const NONFINITE_MEMORY: u64 = 50;
 
 /// A run whose pace after [`PACE_CHECK_STEPS`] steps projects more than this many times
 /// `max_steps` to reach t_end fails at once ([`IntegrateError::Collapsed`]) instead of
-/// grinding through `max_steps` to the same failure. The margin is wide: a stiff start
-/// that later relaxes (a slip grazing zero, docs/hard-cases.md row 2b, projects ~1.5×
-/// max_steps in its first milliseconds) is never stopped by it, while a scene beyond
-/// double precision (a spin of 1e18 rad/s, a friction coefficient of 1e15) projects
-/// 1e15× and is stopped after 1e4 steps.
+/// grinding through `max_steps` to the same failure. The margin is wide: a slow start
+/// that later relaxes is never stopped by it (a sliding onset of row 2b's repeated
+/// stick–slip, docs/hard-cases.md, projects 1e9 steps at its check after 1e4 steps, 7e4×
+/// the 14,005 it takes and 100× the default max_steps), while a scene beyond double
+/// precision (semi-axes of 1e20 m, row 11) projects 1e33 and is stopped after 1e4 steps.
 pub const HOPELESS_FACTOR: f64 = 1e6;
 /// How many steps (accepted + rejected) a run takes before its pace is judged, and how
 /// often after that.
