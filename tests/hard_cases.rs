@@ -1049,8 +1049,8 @@ fn hard_11_collapsing_steps_fail_at_the_first_pace_check() {
 /// (more than `OVER_BUDGET_FACTOR` × max_steps projected) instead of grinding through
 /// max_steps = 1e7 steps (13–40 s) to `MaxSteps` at t = 0.15 s. A transient at a pace
 /// far below the motion's is not judged so: DOPRI5 at rtol = atol = 1e-9 on row 2b's
-/// repeated stick–slip holds one sliding onset for 1.9e5 steps at 1e-7 √(L/g) (projecting
-/// 36 × max_steps) and goes on to end the run normally.
+/// repeated stick–slip holds two sliding onsets for 3.7e5 and 1.9e5 steps at 1e-7 √(L/g)
+/// (projecting 32 and 36 × max_steps) and goes on to end the run normally.
 #[test]
 fn hard_11b_run_out_of_budget_fails_after_1e5_steps() {
     let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios/nutation.toml");
