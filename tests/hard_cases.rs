@@ -334,15 +334,32 @@ fn hard_2_dopri5_slip_stop_keeps_fifth_order_cost() {
 }
 
 /// The paper's sliding body (a = 0.025, c = 0.0225, D2 = 0.003 m, I = 3.075e-6 kg m²)
-/// spun about the vertical under low Coulomb friction: the slip grazes zero (friction
-/// barely able to stop it) or stick and slip alternate with the nutation. Both once
-/// stalled the integrator near |v_C| = 0 (steps of 1e-11 s for ever).
+/// with mass `m` and axial moment `i3`.
+fn paper_sliding_body(m: f64, i3: f64) -> Body {
+    Body::of_revolution(0.025, 0.0225, m, 3.075e-6, i3, 0.003).unwrap()
+}
+
+/// Row 2b's repeated stick–slip: the paper's body (m = 0.02 kg, I3 = 5e-6 kg m²) at
+/// θ0 = 10°, spun about the vertical at 150 rad/s, μ = 0.05, for 2 s.
+fn repeated_stick_slip() -> Scene {
+    scene(
+        paper_sliding_body(0.02, 5e-6),
+        ContactModel::Coulomb { friction: 0.05 },
+        angles(10f64.to_radians(), 0.0, 0.0, 0.0, 150.0, 0.0),
+        Some(Vector2::zeros()),
+        2.0,
+        1e-3,
+        1e-10,
+    )
+}
+
+/// The paper's sliding body spun about the vertical under low Coulomb friction: the slip
+/// grazes zero (friction barely able to stop it) or stick and slip alternate with the
+/// nutation. Both once stalled the integrator near |v_C| = 0 (steps of 1e-11 s for ever).
 #[test]
 fn hard_2_grazing_slip_and_repeated_stick_slip_complete() {
-    let body =
-        |m: f64, i3: f64| Body::of_revolution(0.025, 0.0225, m, 3.075e-6, i3, 0.003).unwrap();
     let mut grazing = scene(
-        body(0.0136, 3.4e-6),
+        paper_sliding_body(0.0136, 3.4e-6),
         ContactModel::Coulomb { friction: 0.15 },
         angles(2f64.to_radians(), 0.0, 0.0, 0.0, 120.0, 0.0),
         Some(Vector2::zeros()),
@@ -351,15 +368,7 @@ fn hard_2_grazing_slip_and_repeated_stick_slip_complete() {
         1e-11,
     );
     grazing.solver.atol = 1e-13;
-    let mut repeated = scene(
-        body(0.02, 5e-6),
-        ContactModel::Coulomb { friction: 0.05 },
-        angles(10f64.to_radians(), 0.0, 0.0, 0.0, 150.0, 0.0),
-        Some(Vector2::zeros()),
-        2.0,
-        1e-3,
-        1e-10,
-    );
+    let mut repeated = repeated_stick_slip();
     repeated.solver.atol = 1e-12;
     for (name, s, max_steps) in [
         ("grazing", grazing, 20_000),
@@ -402,18 +411,11 @@ fn hard_2_grazing_slip_and_repeated_stick_slip_complete() {
 /// method's would be 100×).
 #[test]
 fn hard_2_onset_at_the_cone_edge_keeps_dopri5_on_track() {
-    let body = Body::of_revolution(0.025, 0.0225, 0.02, 3.075e-6, 5e-6, 0.003).unwrap();
     let run_with = |method: Method, tol: f64| {
-        let mut s = scene(
-            body.clone(),
-            ContactModel::Coulomb { friction: 0.05 },
-            angles(10f64.to_radians(), 0.0, 0.0, 0.0, 150.0, 0.0),
-            Some(Vector2::zeros()),
-            2.0,
-            1e-2,
-            tol,
-        );
+        let mut s = repeated_stick_slip();
         s.solver.method = method;
+        s.solver.rtol = tol;
+        s.solver.atol = tol;
         let (out, samples) = run(&s);
         assert_eq!(out.status, Status::Completed, "{method:?} at {tol:e}");
         let switches = out
@@ -1115,6 +1117,64 @@ fn hard_11_collapsing_steps_fail_at_the_first_pace_check() {
         format!(
             "stopped after {steps} steps at t = {:.1e} s; projected {projected:.0e} steps",
             out.final_sample.t
+        ),
+    );
+}
+
+/// A run at the pace of its own motion whose t_end is out of reach: scenarios/nutation.toml
+/// under g = 1e12 m/s² (time scale √(L/g) = 1.6e-7 s, 10 s = 6e7 of it) takes steps of
+/// 0.09 √(L/g) and would need ~6.7e8 steps; after 1e5 steps it fails with `OverBudget`
+/// (more than `OVER_BUDGET_FACTOR` × max_steps projected) instead of grinding through
+/// max_steps = 1e7 steps (13–40 s) to `MaxSteps` at t = 0.15 s. A transient at a pace
+/// far below the motion's is not judged so: DOPRI5 at rtol = atol = 1e-9 on row 2b's
+/// repeated stick–slip held two sliding onsets for 3.7e5 and 1.9e5 steps at 1e-7 √(L/g)
+/// (projecting 32 and 36 × max_steps; measured before the slip band of row 2f, which
+/// frees such onsets) and went on to end the run normally.
+#[test]
+fn hard_11b_run_out_of_budget_fails_after_1e5_steps() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios/nutation.toml");
+    let scenario =
+        ellipsoid_core::scenario::load(std::path::Path::new(path), &["effects.gravity=1e12"])
+            .unwrap();
+    let max_steps = scenario.scene.solver.max_steps;
+    assert_eq!(max_steps, 10_000_000);
+    let (out, _) = run(&scenario.scene);
+    let Status::SolverFailure {
+        error:
+            integrate::IntegrateError::OverBudget {
+                t,
+                steps,
+                projected,
+                ..
+            },
+        ..
+    } = out.status
+    else {
+        panic!("{:?}", out.status)
+    };
+    assert_eq!(steps, 100_000);
+    assert_eq!(out.stats.accepted + out.stats.rejected, 100_000);
+    assert!(projected > integrate::OVER_BUDGET_FACTOR * max_steps as f64);
+    assert!(t < 1e-2 && t == out.final_sample.t);
+
+    let mut trap = repeated_stick_slip();
+    trap.solver.method = Method::Dopri5;
+    trap.solver.rtol = 1e-9;
+    trap.solver.atol = 1e-9;
+    trap.solver.max_steps = max_steps;
+    let (trapped, _) = run(&trap);
+    assert!(
+        !matches!(trapped.status, Status::SolverFailure { .. }),
+        "{:?}",
+        trapped.status
+    );
+    measured(
+        "11b out of budget",
+        format!(
+            "g = 1e12: stopped after {steps} steps at t = {t:.2e} s; projected {projected:.2e} steps; \
+             DOPRI5 stick–slip: {} after {} steps",
+            trapped.status.name(),
+            trapped.stats.accepted + trapped.stats.rejected
         ),
     );
 }

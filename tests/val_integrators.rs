@@ -755,6 +755,76 @@ fn val_stiff_van_der_pol_warns_and_stops_at_max_steps() {
     }
 }
 
+/// A run that keeps the motion's own pace but whose t_end lies more than
+/// `OVER_BUDGET_FACTOR` × max_steps such steps away fails after 1e5 steps with
+/// `OverBudget`, naming the projection, max_steps and the remedy: the harmonic oscillator
+/// (period 2π s) over 1e7 s, ~5e7 steps, against max_steps = 2e5. Without a time scale,
+/// or with one so long that the steps are a transient's (mean step below `MOTION_PACE`
+/// of it), the run goes on to `MaxSteps` as before.
+#[test]
+fn inv_run_out_of_budget_at_the_motions_pace_fails_early() {
+    use ellipsoid_core::integrate::{MOTION_PACE, OVER_BUDGET_FACTOR};
+    let osc = HarmonicOscillator { omega: 1.0 };
+    let y0 = Vector2::new(1.0, 0.0);
+    for method in ADAPTIVE {
+        let run = |time_scale| {
+            let mut options = Options::new(1e-10, 1e-10);
+            options.max_steps = 200_000;
+            options.time_scale = time_scale;
+            solve(method, &osc, y0, 1e7, &options)
+        };
+        let sol = run(Some(1.0));
+        let StopReason::Failed(
+            e @ IntegrateError::OverBudget {
+                t,
+                steps,
+                projected,
+                max_steps,
+            },
+        ) = &sol.stop
+        else {
+            panic!("{}: expected OverBudget, got {:?}", method.name(), sol.stop);
+        };
+        assert_eq!(
+            (*steps, *max_steps),
+            (100_000, 200_000),
+            "{}",
+            method.name()
+        );
+        assert_eq!(sol.stats.accepted + sol.stats.rejected, 100_000);
+        assert_eq!(*t, sol.t);
+        assert!(sol.y.iter().all(|v| v.is_finite()));
+        assert!(
+            *projected > OVER_BUDGET_FACTOR * 200_000.0 && sol.t / 100_000.0 >= MOTION_PACE * 1.0,
+            "{}: projected {projected:e}, mean step {:e}",
+            method.name(),
+            sol.t / 100_000.0
+        );
+        let msg = e.to_string();
+        assert!(
+            msg.contains("100000 steps")
+                && msg.contains(&format!("t = {t} s"))
+                && msg.contains(&format!("~{projected:.1e} steps"))
+                && msg.contains("max_steps (200000)")
+                && msg.contains("raise max_steps")
+                && msg.contains("units"),
+            "{msg}"
+        );
+        for time_scale in [None, Some(1e5)] {
+            let sol = run(time_scale);
+            assert!(
+                matches!(
+                    sol.stop,
+                    StopReason::Failed(IntegrateError::MaxSteps { steps: 200_000, .. })
+                ),
+                "{} with time_scale {time_scale:?}: {:?}",
+                method.name(),
+                sol.stop
+            );
+        }
+    }
+}
+
 #[test]
 fn inv_invalid_input_is_rejected_before_any_step() {
     let osc = HarmonicOscillator { omega: 1.0 };
@@ -811,6 +881,12 @@ fn inv_invalid_input_is_rejected_before_any_step() {
         err(Method::Dopri5, &Options::new(1e-6, 1e-6), f64::NAN, &[]),
         IntegrateError::InvalidOptions { .. }
     ));
+    for scale in [0.0, -1.0, f64::NAN] {
+        let mut o = Options::new(1e-6, 1e-6);
+        o.time_scale = Some(scale);
+        let e = err(Method::Dop853, &o, 1.0, &[]);
+        assert!(e.to_string().contains("time_scale"), "{e}");
+    }
     let e = err(Method::Dopri5, &Options::new(1e-6, 1e-6), 1.0, &[0.5, 0.2]);
     assert!(e.to_string().contains("sorted"), "{e}");
     assert!(matches!(

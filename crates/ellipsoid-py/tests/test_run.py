@@ -191,13 +191,15 @@ def test_sweep_failures_raise_in_order_or_are_returned() -> None:
 
 # ----------------------------------------------------------------- GIL and Ctrl-C
 
-# A run that cannot end soon but for its step budget: 1e6 s of the nutation scene would
-# take ~5e8 steps; after 1e6 (seconds of computing, however fast the machine) it stops
-# with SimulationError (solver_failure). The tests below interrupt it from another thread
+# A run that cannot end soon but for its step budget: 2e4 s of the nutation scene would
+# take ~6.5e6 steps; after 1e6 (seconds of computing, however fast the machine) it stops
+# with SimulationError (solver_failure). (Within 10 times the budget: a run projecting
+# more, e.g. 1e6 s, is judged out of reach after 1e5 steps, a fraction of a second.)
+# The tests below interrupt it from another thread
 # at a deterministic point (once that thread sees the run in progress), so they pass by
 # behaviour, never by timing: if the run held the GIL or ignored signals, it would end
 # on its budget instead and `interrupt_inside` would fail, saying which.
-LONG = {"output": {"t_end": 1e6, "dt": 1.0}, "solver": {"max_steps": 1_000_000}}
+LONG = {"output": {"t_end": 2e4, "dt": 1.0}, "solver": {"max_steps": 1_000_000}}
 
 
 def test_gil_is_released_while_simulating() -> None:
@@ -219,8 +221,8 @@ def test_ctrl_c_interrupts_a_long_run(how: str) -> None:
 
 
 def test_ctrl_c_interrupts_a_run_with_sparse_output() -> None:
-    # Only two output times, 1e6 s apart: the interrupt must not wait for a sample.
-    scenario = ellipsoid.load(NUTATION, output={"t_end": 1e6, "dt": 1e6}, solver={"max_steps": 1_000_000})
+    # Only two output times, 2e4 s apart: the interrupt must not wait for a sample.
+    scenario = ellipsoid.load(NUTATION, output={"t_end": 2e4, "dt": 2e4}, solver={"max_steps": 1_000_000})
     interrupt_inside(INTERRUPT_MAIN, ellipsoid.simulate, scenario)
 
 
@@ -235,7 +237,7 @@ def test_the_long_run_ends_on_its_step_budget_when_left_alone() -> None:
     step budget spent), so a run that ignored the interrupt would fail those tests, not
     hang them. (Shortened: the same scene with a 10^4-step budget.)"""
     with pytest.raises(ellipsoid.SimulationError, match="after 10000 steps") as info:
-        ellipsoid.simulate(NUTATION, output={"t_end": 1e6, "dt": 1.0}, solver={"max_steps": 10_000})
+        ellipsoid.simulate(NUTATION, output={"t_end": 2e4, "dt": 1.0}, solver={"max_steps": 10_000})
     assert info.value.status == "solver_failure"
 
 

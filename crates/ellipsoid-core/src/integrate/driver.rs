@@ -29,15 +29,32 @@ const NONFINITE_MEMORY: u64 = 50;
 
 /// A run whose pace after [`PACE_CHECK_STEPS`] steps projects more than this many times
 /// `max_steps` to reach t_end fails at once ([`IntegrateError::Collapsed`]) instead of
-/// grinding through `max_steps` to the same failure. The margin is wide: a stiff start
-/// that later relaxes (a slip grazing zero, docs/hard-cases.md row 2b, projects ~1.5×
-/// max_steps in its first milliseconds) is never stopped by it, while a scene beyond
-/// double precision (a spin of 1e18 rad/s, a friction coefficient of 1e15) projects
-/// 1e15× and is stopped after 1e4 steps.
+/// grinding through `max_steps` to the same failure. The margin is wide: a slow start
+/// that later relaxes is never stopped by it (a sliding onset of row 2b's repeated
+/// stick–slip, docs/hard-cases.md, projects 1e9 steps at its check after 1e4 steps, 7e4×
+/// the 14,005 it takes and 100× the default max_steps), while a scene beyond double
+/// precision (semi-axes of 1e20 m, row 11) projects 1e33 and is stopped after 1e4 steps.
 pub const HOPELESS_FACTOR: f64 = 1e6;
 /// How many steps (accepted + rejected) a run takes before its pace is judged, and how
 /// often after that.
 const PACE_CHECK_STEPS: u64 = 10_000;
+/// A run whose mean step is the motion's own pace (at least [`MOTION_PACE`] of
+/// `Options::time_scale`) and projects more than this many times `max_steps` to reach
+/// t_end, judged from [`BUDGET_CHECK_STEPS`] steps on, fails at once
+/// ([`IntegrateError::OverBudget`]) instead of grinding through `max_steps` to a
+/// `MaxSteps` failure. Measured (docs/hard-cases.md row 11b): from 1e5 steps on, runs at
+/// such a pace that reach t_end project at most 1.16× the steps they take, while the
+/// bundled scenes under a gravity of 1e12 m/s² project 10–550× the default max_steps.
+pub const OVER_BUDGET_FACTOR: f64 = 10.0;
+/// The smallest mean step, as a fraction of `Options::time_scale`, that counts as the
+/// motion's own pace. Runs integrating the motion itself take mean steps of 1.4e-3 to 0.8
+/// of √(L/g); the transients that project far beyond their end stay far below 1e-4
+/// (docs/hard-cases.md row 11b): a DOP853 stick–slip onset 2e-8 to 9e-6 (over at 1.4e4
+/// steps), DOPRI5's onset trap 7e-8 to 1.1e-6 (at rtol 1e-9 and 1e-8, up to 3.7e5 steps).
+pub const MOTION_PACE: f64 = 1e-4;
+/// How many steps a run takes before [`OVER_BUDGET_FACTOR`] is applied (then at every
+/// pace check): enough for the mean step to average over many periods of the motion.
+const BUDGET_CHECK_STEPS: u64 = 100_000;
 
 /// Integrates dy/dt = f(t, y) from (t0, y0) to t_end.
 ///
@@ -185,7 +202,8 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
             }
             if steps >= PACE_CHECK_STEPS && steps.is_multiple_of(PACE_CHECK_STEPS) {
                 let projected = steps as f64 * (t_end - t0) / (t - t0);
-                if !(projected <= HOPELESS_FACTOR * self.options.max_steps as f64) {
+                let max_steps = self.options.max_steps;
+                if !(projected <= HOPELESS_FACTOR * max_steps as f64) {
                     return self.finish(
                         t,
                         y,
@@ -194,6 +212,25 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                             h,
                             steps,
                             projected,
+                        }),
+                    );
+                }
+                let mean_step = (t - t0) / steps as f64;
+                if steps >= BUDGET_CHECK_STEPS
+                    && projected > OVER_BUDGET_FACTOR * max_steps as f64
+                    && self
+                        .options
+                        .time_scale
+                        .is_some_and(|scale| mean_step >= MOTION_PACE * scale)
+                {
+                    return self.finish(
+                        t,
+                        y,
+                        StopReason::Failed(IntegrateError::OverBudget {
+                            t,
+                            steps,
+                            projected,
+                            max_steps,
                         }),
                     );
                 }

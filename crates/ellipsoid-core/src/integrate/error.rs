@@ -34,6 +34,23 @@ pub enum IntegrateError {
         steps: u64,
         projected: f64,
     },
+    /// t_end is out of reach at the motion's own pace: after `steps` steps whose mean is
+    /// at least [`MOTION_PACE`](super::MOTION_PACE) of `Options::time_scale`, reaching
+    /// t_end would take `projected` steps, more than
+    /// [`OVER_BUDGET_FACTOR`](super::OVER_BUDGET_FACTOR) times `max_steps`.
+    #[error(
+        "t_end is out of reach: after {steps} steps at the pace of the motion itself the integration reached t = {t} s, so t_end would take ~{projected:.1e} steps, \
+         over {factor} times max_steps ({max_steps}). If the run is wanted, raise max_steps above that (the run would take ~{ratio:.0}× as long as it has so far) or shorten t_end; \
+         otherwise check the units and magnitudes (g, sizes, t_end): t_end spans too many of the motion's periods, whose time scale is √(L/g)",
+        factor = super::OVER_BUDGET_FACTOR,
+        ratio = .projected / *.steps as f64
+    )]
+    OverBudget {
+        t: f64,
+        steps: u64,
+        projected: f64,
+        max_steps: u64,
+    },
     /// The right-hand side kept returning NaN or infinity although the step was reduced.
     #[error(
         "the right-hand side returned a non-finite value (NaN or infinity) just after t = {t} s, and reducing the step did not help"

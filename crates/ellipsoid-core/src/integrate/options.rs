@@ -46,6 +46,13 @@ pub struct Options<const N: usize> {
     pub max_steps: u64,
     /// Hairer's stiffness test (DOPRI5, DOP853), reported as `Warning::Stiff`.
     pub stiffness_check: bool,
+    /// A time scale of the motion \[s\] (the simulation gives √(L/g)), if the system
+    /// has one: a mean step of at least [`MOTION_PACE`](super::MOTION_PACE) of it is
+    /// the motion's own pace, which is trusted to hold, so a run projecting more than
+    /// [`OVER_BUDGET_FACTOR`](super::OVER_BUDGET_FACTOR) × `max_steps` at it fails
+    /// early (`IntegrateError::OverBudget`). `None` (the default) turns that check off,
+    /// and so does an infinite scale.
+    pub time_scale: Option<f64>,
     /// Checked before every step attempt: once set (e.g. from another thread on
     /// Ctrl-C), the integration ends with `StopReason::Cancelled` at the last accepted
     /// state.
@@ -62,6 +69,7 @@ impl<const N: usize> Options<N> {
             h_max: f64::INFINITY,
             max_steps: 10_000_000,
             stiffness_check: true,
+            time_scale: None,
             cancel: None,
         }
     }
@@ -97,6 +105,13 @@ impl<const N: usize> Options<N> {
             return Err(IntegrateError::invalid(format!(
                 "h_max = {:e} s must be positive",
                 self.h_max
+            )));
+        }
+        if let Some(scale) = self.time_scale
+            && !(scale > 0.0)
+        {
+            return Err(IntegrateError::invalid(format!(
+                "time_scale = {scale:e} s must be positive"
             )));
         }
         if self.max_steps == 0 {

@@ -292,6 +292,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         let mut options = Options::new(scene.solver.rtol, scene.solver.atol);
         options.h0 = scene.solver.initial_step;
         options.max_steps = scene.solver.max_steps;
+        options.time_scale = scene.gravity_time();
         options.cancel = self.cancel.clone();
         let samples = &scene.sample_times[rec.next_sample..];
         let solution = integrate::integrate(
