@@ -478,6 +478,51 @@ fn hard_2_onset_trap_no_longer_breaks_convergence() {
     );
 }
 
+/// A slip stop where rolling only just holds (tests/data/onset/edgewise-disc.toml):
+/// DOPRI5's crossing of v_C·s_ref = 0 leaves 6–14 slip floors, and from there the tight
+/// solve's slip grows instead of stopping (friction along a direction integration error
+/// set can let it, the contact's mobility being anisotropic). Refused each time, the run
+/// crossed again within 1e-7 s, 10 000 times, and ended `chattering` at 1.79 s. A growing
+/// slip that starts inside the slip band, where rolling holds, is now a stop: the run
+/// completes with DOP853's mode switches and slip stops.
+#[test]
+fn hard_2_slip_stop_at_the_cone_edge_does_not_chatter() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/onset/edgewise-disc.toml");
+    let run_with = |method: &str| {
+        let sc = ellipsoid_core::scenario::load(&path, &[format!("solver.method=\"{method}\"")])
+            .unwrap();
+        let (out, samples) = run(&sc.scene);
+        assert_eq!(out.status, Status::Completed, "{method}: {:?}", out.status);
+        let stops: Vec<f64> = out
+            .events
+            .iter()
+            .filter(|e| e.kind == EventKind::SlipStop)
+            .map(|e| e.t)
+            .collect();
+        let steps = out.stats.accepted + out.stats.rejected;
+        (stops, samples.last().unwrap().angles.theta, steps)
+    };
+    let (exact, theta_exact, _) = run_with("dop853");
+    let (stops, theta, steps) = run_with("dopri5");
+    assert_eq!(stops.len(), exact.len(), "{stops:?} vs {exact:?}");
+    for (t, u) in stops.iter().zip(&exact) {
+        assert!((t - u).abs() < 1e-5, "slip stop at {t} s, DOP853 {u} s");
+    }
+    assert!(
+        (theta - theta_exact).abs() < 1e-5,
+        "θ(2 s) {theta} vs {theta_exact}"
+    );
+    measured(
+        "2g slip stop at the cone's edge",
+        format!(
+            "DOPRI5 1e-8: {steps} steps, {} slip stops, θ(2 s) off DOP853's by {:.1e}",
+            stops.len(),
+            (theta - theta_exact).abs()
+        ),
+    );
+}
+
 // 3 ------------------------------------------------------------ near loss of contact
 
 /// A uniform prolate ellipsoid (a = 0.02, c = 0.04 m) tumbling end over end on a

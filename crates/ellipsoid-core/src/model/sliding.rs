@@ -102,7 +102,7 @@ impl Sliding {
         if speed > 2.0 * band.relative * bound && speed > band.absolute {
             return s;
         }
-        let width = (band.relative * Sliding::speed_scale(kin)).max(band.absolute);
+        let width = self.band_width(kin);
         if speed >= width {
             return s;
         }
@@ -111,6 +111,12 @@ impl Sliding {
         let blend = w * s + (1.0 - w) * reference;
         let n = blend.norm();
         if n > 0.0 { blend / n } else { s }
+    }
+
+    /// The slip band's width at `kin`, max(relative·(|v_G| + |ω||r|), absolute) [m/s].
+    #[inline]
+    pub fn band_width(&self, kin: &Kinematics) -> f64 {
+        (self.band.relative * Sliding::speed_scale(kin)).max(self.band.absolute)
     }
 
     /// Whether slip speed `speed` = |v_C| is round-off of the body's velocities:
