@@ -39,13 +39,15 @@ pub struct Sliding {
 }
 
 /// The slips whose direction the law blends towards s_ref: |v_C| below
-/// max(`relative`·(|v_G| + |ω||r|), `absolute`) [m/s].
+/// min(max(`relative`·(|v_G| + |ω||r|), `absolute`), `cap`·(|v_G| + |ω||r|)) [m/s].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SlipBand {
     /// Width relative to the speed scale |v_G| + |ω||r| (see [`Sliding::speed_scale`]).
     pub relative: f64,
     /// Absolute width [m/s].
     pub absolute: f64,
+    /// The widest band, relative to the speed scale.
+    pub cap: f64,
 }
 
 impl SlipBand {
@@ -53,6 +55,7 @@ impl SlipBand {
     pub const NONE: SlipBand = SlipBand {
         relative: 0.0,
         absolute: 0.0,
+        cap: 0.0,
     };
 }
 
@@ -79,7 +82,7 @@ impl Sliding {
     }
 
     /// The direction the law's friction opposes: ŝ of [`Sliding::direction`] above the
-    /// band of width b = max(relative·(|v_G| + |ω||r|), absolute), and below it
+    /// band of width b ([`Sliding::band_width`]), and below it
     /// ```text
     ///   ŝ_f = (w ŝ + (1 − w) s_ref) / |w ŝ + (1 − w) s_ref|,  w = ρ²(3 − 2ρ),  ρ = |v_C|/b
     /// ```
@@ -113,10 +116,14 @@ impl Sliding {
         if n > 0.0 { blend / n } else { s }
     }
 
-    /// The slip band's width at `kin`, max(relative·(|v_G| + |ω||r|), absolute) [m/s].
+    /// The slip band's width at `kin`, min(max(relative·S, absolute), cap·S) with
+    /// S = |v_G| + |ω||r| the speed scale [m/s].
     #[inline]
     pub fn band_width(&self, kin: &Kinematics) -> f64 {
-        (self.band.relative * Sliding::speed_scale(kin)).max(self.band.absolute)
+        let scale = Sliding::speed_scale(kin);
+        (self.band.relative * scale)
+            .max(self.band.absolute)
+            .min(self.band.cap * scale)
     }
 
     /// Whether slip speed `speed` = |v_C| is round-off of the body's velocities:

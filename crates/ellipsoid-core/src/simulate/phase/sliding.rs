@@ -63,12 +63,13 @@ const CONFIRM_BAND: f64 = 20.0;
 const CONFIRM_GROWTH: f64 = 2.0;
 const CONFIRM_MAX_STEPS: u64 = 10_000;
 
-/// Slips below this many slip floors, and below [`SLIP_BAND_CAP`] of the speed scale, have
-/// their friction direction blended towards s_ref ([`slip_band`]; docs/physics.md, "The
-/// slip stop, numerically"). Measured on random stick–slip scenes: 10 floors leaves DOPRI5
-/// trapped at 20 floors on some (slip held at 7e-7 m/s for 0.03 s where DOP853's grows
-/// to 3e-3), 100 floors frees it; a band of 1e-4 of the speed scale (100 floors at rtol
-/// 1e-6) changes the stick–slip sequence, 1e-5 does not.
+/// Slips below this many slip floors (or absolute tolerances), and below [`SLIP_BAND_CAP`]
+/// of the speed scale, have their friction direction blended towards s_ref
+/// ([`slip_band`]; docs/physics.md, "The slip stop, numerically"). Measured on random
+/// stick–slip scenes: 10 floors leaves DOPRI5 trapped at 20 floors on some (slip held at
+/// 7e-7 m/s for 0.03 s where DOP853's grows to 3e-3), 100 floors frees it; a band of 1e-4
+/// of the speed scale (100 floors at rtol 1e-6) changes the stick–slip sequence, 1e-5
+/// does not.
 const SLIP_BAND_FLOORS: f64 = 100.0;
 const SLIP_BAND_CAP: f64 = 1e-5;
 
@@ -210,16 +211,19 @@ pub(in crate::simulate) fn slip_floor<E>(m: &Machine<'_, E>) -> (f64, f64) {
 }
 
 /// The band of slips whose friction direction is blended towards s_ref
-/// (`Sliding::friction_direction`): [`SLIP_BAND_FLOORS`] slip floors (see [`slip_floor`]),
-/// at most [`SLIP_BAND_CAP`] of the speed scale |v_G| + |ω||r|; none for fixed-step RK4,
-/// whose absolute floor v_min already covers the slips it cannot resolve.
+/// (`Sliding::friction_direction`): [`SLIP_BAND_FLOORS`] slip floors (see [`slip_floor`])
+/// or as many absolute tolerances (the error allowed in v_G alone, which dominates a slow
+/// motion's), whichever is wider, and at most [`SLIP_BAND_CAP`] of the speed scale
+/// |v_G| + |ω||r|; none for fixed-step RK4, whose absolute floor v_min already covers the
+/// slips it cannot resolve.
 pub(in crate::simulate) fn slip_band(scene: &Scene) -> SlipBand {
     if matches!(scene.solver.method, Method::Rk4 { .. }) {
         return SlipBand::NONE;
     }
     SlipBand {
-        relative: (SLIP_BAND_FLOORS * SLIP_FLOOR.max(scene.solver.rtol)).min(SLIP_BAND_CAP),
-        absolute: 0.0,
+        relative: SLIP_BAND_FLOORS * SLIP_FLOOR.max(scene.solver.rtol),
+        absolute: SLIP_BAND_FLOORS * scene.solver.atol,
+        cap: SLIP_BAND_CAP,
     }
 }
 
