@@ -433,12 +433,7 @@ fn val_slip_and_spin_stop_together() {
     ] {
         let (o, samples) = stop(contact, tol);
         assert_eq!(o.status, Status::SlipStopped, "{contact:?}");
-        let stops: Vec<f64> = o
-            .events
-            .iter()
-            .filter(|e| e.kind == EventKind::SlipStop)
-            .map(|e| e.t)
-            .collect();
+        let stops = slip_stop_times(&o);
         assert_eq!(stops.len(), 1, "{:?}", o.events);
         assert_eq!(o.events.len(), 1, "{:?}", o.events);
         let last = samples.last().unwrap();

@@ -14,7 +14,7 @@ use ellipsoid_core::integrate::{
 };
 use ellipsoid_core::invariants::Invariant;
 use ellipsoid_core::model::{Frictionless, System};
-use ellipsoid_core::simulate::{ContactModel, EventKind, Mode, Sample, Scene, Status};
+use ellipsoid_core::simulate::{ContactModel, EventKind, Mode, Outcome, Sample, Scene, Status};
 use ellipsoid_core::state::{self, EulerAngles, State};
 use nalgebra::{SVector, Vector2, Vector3};
 
@@ -300,12 +300,7 @@ fn hard_2_dopri5_slip_stop_keeps_fifth_order_cost() {
         let sc = ellipsoid_core::scenario::load(&dir.join("paper-sliding.toml"), &set).unwrap();
         let (out, _) = run(&sc.scene);
         assert_eq!(out.status, Status::Completed, "{method} at {tol:e}");
-        let slip_stops: Vec<f64> = out
-            .events
-            .iter()
-            .filter(|e| e.kind == EventKind::SlipStop)
-            .map(|e| e.t)
-            .collect();
+        let slip_stops = slip_stop_times(&out);
         assert_eq!(slip_stops.len(), 1, "{method} at {tol:e}: {slip_stops:?}");
         (slip_stops[0], out.stats.accepted + out.stats.rejected)
     };
@@ -455,16 +450,12 @@ fn hard_2_onset_at_the_cone_edge_keeps_dopri5_on_track() {
 /// run converges in the tolerance.
 #[test]
 fn hard_2_onset_trap_no_longer_breaks_convergence() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/data/onset/tall-top.toml");
     let theta = |tol: f64| {
         let set = [
             format!("solver.rtol={tol:e}"),
             format!("solver.atol={tol:e}"),
         ];
-        let sc = ellipsoid_core::scenario::load(&path, &set).unwrap();
-        let (out, samples) = run(&sc.scene);
-        assert_eq!(out.status, Status::Completed, "rtol {tol:e}");
+        let (out, samples) = run_onset("tall-top.toml", &set);
         (
             samples.last().unwrap().angles.theta,
             out.stats.accepted + out.stats.rejected,
@@ -478,19 +469,34 @@ fn hard_2_onset_trap_no_longer_breaks_convergence() {
     );
 }
 
+/// Runs the scene tests/data/onset/`file` with the `--set` changes `set`, asserting that it
+/// completes.
+fn run_onset(file: &str, set: &[String]) -> (Outcome, Vec<Sample>) {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/onset")
+        .join(file);
+    let sc = ellipsoid_core::scenario::load(&path, set).unwrap();
+    let (out, samples) = run(&sc.scene);
+    assert_eq!(
+        out.status,
+        Status::Completed,
+        "{file} {set:?}: {:?}",
+        out.status
+    );
+    (out, samples)
+}
+
 /// A slow motion whose slip error is the absolute tolerance's
 /// (tests/data/onset/rocking-lens.toml): before the slip band counted atol, DOPRI5 at
 /// rtol = atol = 1e-8 held each late onset's slip near 2e-8 m/s (547 731 steps against
 /// DOP853's 16 567). Now DOPRI5 costs about what DOP853 does and agrees with it.
 #[test]
 fn hard_2_onset_of_a_slow_motion_is_freed_by_the_absolute_band() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/data/onset/rocking-lens.toml");
     let run_with = |method: &str| {
-        let sc = ellipsoid_core::scenario::load(&path, &[format!("solver.method=\"{method}\"")])
-            .unwrap();
-        let (out, samples) = run(&sc.scene);
-        assert_eq!(out.status, Status::Completed, "{method}: {:?}", out.status);
+        let (out, samples) = run_onset(
+            "rocking-lens.toml",
+            &[format!("solver.method=\"{method}\"")],
+        );
         let theta = samples.last().unwrap().angles.theta;
         (theta, out.stats.accepted + out.stats.rejected)
     };
@@ -519,19 +525,12 @@ fn hard_2_onset_of_a_slow_motion_is_freed_by_the_absolute_band() {
 /// completes with DOP853's mode switches and slip stops.
 #[test]
 fn hard_2_slip_stop_at_the_cone_edge_does_not_chatter() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../tests/data/onset/edgewise-disc.toml");
     let run_with = |method: &str| {
-        let sc = ellipsoid_core::scenario::load(&path, &[format!("solver.method=\"{method}\"")])
-            .unwrap();
-        let (out, samples) = run(&sc.scene);
-        assert_eq!(out.status, Status::Completed, "{method}: {:?}", out.status);
-        let stops: Vec<f64> = out
-            .events
-            .iter()
-            .filter(|e| e.kind == EventKind::SlipStop)
-            .map(|e| e.t)
-            .collect();
+        let (out, samples) = run_onset(
+            "edgewise-disc.toml",
+            &[format!("solver.method=\"{method}\"")],
+        );
+        let stops = slip_stop_times(&out);
         let steps = out.stats.accepted + out.stats.rejected;
         (stops, samples.last().unwrap().angles.theta, steps)
     };

@@ -6,8 +6,8 @@ use std::ops::ControlFlow;
 use ellipsoid_core::body::{Body, uniform_inertia};
 use ellipsoid_core::integrate::Method;
 use ellipsoid_core::simulate::{
-    self, ContactModel, EffectSet, InitialState, Landing, LiftOff, Outcome, Sample, Scene,
-    SolverSettings,
+    self, ContactModel, EffectSet, EventKind, InitialState, Landing, LiftOff, Outcome, Sample,
+    Scene, SolverSettings,
 };
 use ellipsoid_core::state::EulerAngles;
 use nalgebra::{Matrix3, Vector2, Vector3};
@@ -124,4 +124,13 @@ pub fn run(scene: &Scene) -> (Outcome, Vec<Sample>) {
     })
     .expect("valid scene");
     (outcome, samples)
+}
+
+/// The times of a run's slip stops [s].
+pub fn slip_stop_times(out: &Outcome) -> Vec<f64> {
+    out.events
+        .iter()
+        .filter(|e| e.kind == EventKind::SlipStop)
+        .map(|e| e.t)
+        .collect()
 }
