@@ -198,19 +198,29 @@ def test_a_dask_worker_killed_mid_study_still_gives_the_complete_identical_table
 
     thread = threading.Thread(target=run)
     thread.start()
-    # Kill a worker once the cluster has finished some chunks (and is busy with others).
+    # Kill a worker once the cluster has finished some chunks, choosing one that is running
+    # a chunk at that moment (the lowest pid may be between chunks on a loaded machine).
+    def busy_workers(dask_scheduler) -> list:
+        return [ws.address for ws in dask_scheduler.workers.values() if any(str(t.key).startswith("_run_chunk") for t in ws.processing)]
+
     deadline = time.monotonic() + 60
+    busy: list = []
     while time.monotonic() < deadline:
         done = dask_client.run_on_scheduler(lambda dask_scheduler: sum(t.state == "memory" for t in dask_scheduler.tasks.values() if str(t.key).startswith("_run_chunk")))
-        if done >= 2:
+        busy = dask_client.run_on_scheduler(busy_workers) if done >= 2 else []
+        if busy:
             break
         time.sleep(0.01)
-    victim = sorted(pids.values())[0]
+    assert busy, "no worker was running a chunk"
+    victim = pids[busy[0]]
     assert thread.is_alive(), "the study ended before a worker could be killed"
     os.kill(victim, signal.SIGKILL)
     # Chunks that were on the dead worker are marked suspicious by the scheduler and rerun.
-    time.sleep(0.5)
-    lost = dask_client.run_on_scheduler(lambda dask_scheduler: sum(t.suspicious > 0 for t in dask_scheduler.tasks.values()))
+    lost = 0
+    deadline = time.monotonic() + 10
+    while lost == 0 and time.monotonic() < deadline:
+        time.sleep(0.05)
+        lost = dask_client.run_on_scheduler(lambda dask_scheduler: sum(t.suspicious > 0 for t in dask_scheduler.tasks.values()))
     thread.join(120)
     assert not thread.is_alive()
     assert "error" not in result, result.get("error")
