@@ -516,6 +516,45 @@ fn hard_2_onset_of_a_slow_motion_is_freed_by_the_absolute_band() {
     );
 }
 
+/// Friction never pushes the slip (tests/data/onset/prolate-onset.toml): the dissipated
+/// work W never falls, and DOPRI5 at 1e-8 and DOP853 at 1e-12 follow the same trajectory.
+/// Before the onset's seed slip (`phase::rolling`), a slip that round-off started against
+/// s_ref ran on with friction along it (W fell by 4e-3 of E(0); θ(2 s) 1.456 against
+/// DOPRI5's 1.346 rad).
+#[test]
+fn hard_2_onset_never_runs_on_with_friction_along_the_slip() {
+    let run_with = |method: &str, tol: f64| {
+        let set = [
+            format!("solver.method=\"{method}\""),
+            format!("solver.rtol={tol:e}"),
+            format!("solver.atol={tol:e}"),
+        ];
+        let (out, samples) = run_onset("prolate-onset.toml", &set);
+        let e0 = samples[0].energy;
+        let fall = samples
+            .windows(2)
+            .map(|w| w[0].work - w[1].work)
+            .fold(0.0, f64::max);
+        assert!(
+            fall <= 1e-12 * e0,
+            "{method} at {tol:e}: W falls by {fall:e} J"
+        );
+        (
+            samples.last().unwrap().angles.theta,
+            out.stats.accepted + out.stats.rejected,
+        )
+    };
+    let (exact, _) = run_with("dop853", 1e-12);
+    let (theta, steps) = run_with("dopri5", 1e-8);
+    assert!((theta - exact).abs() < 1e-5, "θ(2 s) {theta} vs {exact}");
+    measured(
+        "2h friction along the slip",
+        format!(
+            "W never falls; DOPRI5 1e-8 ({steps} steps) θ(2 s) {theta:.6} vs DOP853 1e-12 {exact:.6}"
+        ),
+    );
+}
+
 /// A slip stop where rolling only just holds (tests/data/onset/edgewise-disc.toml):
 /// DOPRI5's crossing of v_C·s_ref = 0 leaves 6–14 slip floors, and from there the tight
 /// solve's slip grows instead of stopping (friction along a direction integration error

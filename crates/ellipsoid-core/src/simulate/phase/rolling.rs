@@ -7,7 +7,8 @@ use nalgebra::Vector2;
 
 use crate::effects::Effect;
 use crate::integrate::OdeSystem;
-use crate::model::{Evaluation, Rolling, System};
+use crate::model::{Evaluation, Kinematics, Rolling, Sliding, System};
+use crate::state;
 use crate::state::State;
 
 use super::flight::lift_off;
@@ -90,15 +91,24 @@ pub(in crate::simulate) fn after_slip_stop<E: Effect>(
 }
 
 /// Sets the slip reference to −F_h/|F_h| of the rolling contact force: the slip that
-/// develops when rolling fails opposes the friction it needed.
+/// develops when rolling fails opposes the friction it needed. The slip starts as
+/// [`SLIP_SEED`] of the speed scale along that direction, not as zero: the sliding law's
+/// watch g = v_C·s_ref then starts positive, so a slip that round-off turns against s_ref
+/// is a located crossing (a stop), never a run on with friction along the slip.
 fn start_sliding_from_rest<E: Effect>(m: &Machine<'_, E>, y: &mut State) {
     let f_h = m.roll.evaluate(y).response.force.xy();
-    set_reference(
-        y,
-        if f_h.norm() > 0.0 {
-            -f_h.normalize()
-        } else {
-            Vector2::x()
-        },
-    );
+    let s = if f_h.norm() > 0.0 {
+        -f_h.normalize()
+    } else {
+        Vector2::x()
+    };
+    set_reference(y, s);
+    let seed = SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&m.scene.body, y, false));
+    y[state::VEL] += seed * s.x;
+    y[state::VEL + 1] += seed * s.y;
 }
+
+/// The slip a sliding onset starts with, relative to the speed scale |v_G| + |ω||r|: ten
+/// times the round-off bound of `model::sliding` (below it the law takes s_ref for the
+/// slip's direction), far below every slip floor (≥ 1e-10).
+const SLIP_SEED: f64 = 1e-12;
