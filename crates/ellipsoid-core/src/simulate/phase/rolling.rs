@@ -94,7 +94,8 @@ pub(in crate::simulate) fn after_slip_stop<E: Effect>(
 /// develops when rolling fails opposes the friction it needed. The slip starts as
 /// [`SLIP_SEED`] of the speed scale along that direction, not as zero: the sliding law's
 /// watch g = v_C·s_ref then starts positive, so a slip that round-off turns against s_ref
-/// is a located crossing (a stop), never a run on with friction along the slip.
+/// is a located crossing (a stop), never a run on with friction along the slip
+/// (docs/physics.md, "Friction along the slip, and the onset's seed").
 fn start_sliding_from_rest<E: Effect>(m: &Machine<'_, E>, y: &mut State) {
     let f_h = m.roll.evaluate(y).response.force.xy();
     let s = if f_h.norm() > 0.0 {
@@ -103,9 +104,12 @@ fn start_sliding_from_rest<E: Effect>(m: &Machine<'_, E>, y: &mut State) {
         Vector2::x()
     };
     set_reference(y, s);
-    let seed = SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&m.scene.body, y, false));
-    y[state::VEL] += seed * s.x;
-    y[state::VEL + 1] += seed * s.y;
+    let seed = s * (SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&m.scene.body, y, false)));
+    // E + W stays exact: the seed's kinetic energy m (v_G·δv + |δv|²/2) is booked in W.
+    let v = state::velocity(y);
+    y[state::WORK] -= m.scene.body.mass() * (v.dot(&seed) + 0.5 * seed.norm_squared());
+    y[state::VEL] += seed.x;
+    y[state::VEL + 1] += seed.y;
 }
 
 /// The slip a sliding onset starts with, relative to the speed scale |v_G| + |ω||r|: ten
