@@ -100,9 +100,7 @@ impl Sliding {
             return s;
         }
         let speed = kin.slip.norm();
-        let l1 = |v: &Vector3<f64>| v.x.abs() + v.y.abs() + v.z.abs();
-        let bound = l1(&kin.v_g) + l1(&kin.omega) * l1(&kin.contact.r);
-        if speed > 2.0 * band.relative * bound && speed > band.absolute {
+        if speed > 2.0 * band.relative * Sliding::speed_bound(kin) && speed > band.absolute {
             return s;
         }
         let width = self.band_width(kin);
@@ -133,12 +131,18 @@ impl Sliding {
     /// [`Sliding::speed_scale`] are taken only near the bound.
     #[inline]
     fn is_roundoff(kin: &Kinematics, speed: f64) -> bool {
-        let l1 = |v: &Vector3<f64>| v.x.abs() + v.y.abs() + v.z.abs();
-        let bound = l1(&kin.v_g) + l1(&kin.omega) * l1(&kin.contact.r);
-        if speed > 2.0 * SLIP_ROUNDOFF * bound {
+        if speed > 2.0 * SLIP_ROUNDOFF * Sliding::speed_bound(kin) {
             return false;
         }
         speed <= SLIP_ROUNDOFF * Sliding::speed_scale(kin) || speed == 0.0
+    }
+
+    /// An upper bound of the speed scale without square roots, |v_G|₁ + |ω|₁|r|₁ [m/s]:
+    /// the 1-norms bound the 2-norms of [`Sliding::speed_scale`] from above.
+    #[inline]
+    fn speed_bound(kin: &Kinematics) -> f64 {
+        let l1 = |v: &Vector3<f64>| v.x.abs() + v.y.abs() + v.z.abs();
+        l1(&kin.v_g) + l1(&kin.omega) * l1(&kin.contact.r)
     }
 
     /// Event function for the slip stop: g = v_C·s_ref [m/s], positive while sliding.

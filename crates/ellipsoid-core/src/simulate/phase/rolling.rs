@@ -79,15 +79,24 @@ pub(in crate::simulate) fn after_slip_stop<E: Effect>(
     mu: f64,
     y: &mut State,
 ) -> Mode {
-    Rolling::stick(&m.scene.body, y);
-    m.roll.project(y);
-    let response = m.roll.evaluate(y).response;
-    if Rolling::cone_margin(&response, mu) >= 0.0 {
+    if rolls_once_stuck(m, mu, y) {
         Mode::Rolling
     } else {
         start_sliding_from_rest(m, y);
         Mode::Sliding
     }
+}
+
+/// Removes the slip of `y` (`Rolling::stick`, onto the rolling constraint) and tells
+/// whether rolling holds there: the friction it needs within the cone, μN − |F_h| ≥ 0.
+pub(in crate::simulate) fn rolls_once_stuck<E: Effect>(
+    m: &Machine<'_, E>,
+    mu: f64,
+    y: &mut State,
+) -> bool {
+    Rolling::stick(&m.scene.body, y);
+    m.roll.project(y);
+    Rolling::cone_margin(&m.roll.evaluate(y).response, mu) >= 0.0
 }
 
 /// Sets the slip reference to −F_h/|F_h| of the rolling contact force: the slip that

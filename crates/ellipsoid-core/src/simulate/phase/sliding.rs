@@ -19,17 +19,16 @@ use std::ops::ControlFlow;
 use nalgebra::Vector2;
 
 use crate::effects::Effect;
-use crate::integrate::OdeSystem;
 use crate::integrate::{
     self, Action, Direction, Event, EventFn, IntegrateError, Method, Options, StopReason,
 };
 use crate::model::SlipBand;
 use crate::model::sliding::SLIP_FLOOR;
-use crate::model::{Evaluation, Kinematics, Rolling, Sliding, System};
+use crate::model::{Evaluation, Kinematics, Sliding, System};
 use crate::state::{self, State};
 
 use super::flight::lift_off;
-use super::rolling::after_slip_stop;
+use super::rolling::{after_slip_stop, rolls_once_stuck};
 use super::{Next, Phase, Watch};
 use crate::simulate::machine::Machine;
 use crate::simulate::outcome::{EventKind, EventRecord, Mode, Status};
@@ -246,7 +245,7 @@ pub(in crate::simulate) fn slip_has_stopped<E: Effect>(m: &Machine<'_, E>, y: &S
 /// [`CONFIRM_TIGHTEN`] times the scene's tolerances, brings the stop speed down to the
 /// scene's slip floor within [`CONFIRM_HORIZON`]·s/(μ g), before it grows to
 /// [`CONFIRM_GROWTH`]·s; or, for s inside the slip band (`Sliding::band_width`), grows to
-/// that first while rolling would hold at the located state ([`cone_holds`])
+/// that first while rolling would hold at the located state (`rolls_once_stuck`)
 /// (docs/physics.md, "The slip stop, numerically").
 ///
 /// Why: at a true stop the residual |v_C| at the crossing is integration error, not slip.
@@ -271,8 +270,8 @@ fn confirmed_by_tight_solve<E: Effect + Copy>(m: &Machine<'_, E>, t: f64, y: &St
         return false;
     }
     let speed = |y: &State| m.slide.contact.stop_speed(&m.slide.evaluate(y).kin);
-    let s0 = speed(y);
     let kin = m.slide.evaluate(y).kin;
+    let s0 = m.slide.contact.stop_speed(&kin);
     if s0 > CONFIRM_BAND * stop_threshold(m, &kin) {
         return false;
     }
@@ -304,19 +303,12 @@ fn confirmed_by_tight_solve<E: Effect + Copy>(m: &Machine<'_, E>, t: f64, y: &St
     .is_ok_and(|sol| match sol.stop {
         StopReason::Event { index: 0 } => true,
         StopReason::Event { index: 1 } => {
-            within_band && m.slide.contact.disc.is_none() && cone_holds(m, y)
+            within_band
+                && m.slide.contact.disc.is_none()
+                && rolls_once_stuck(m, m.slide.contact.friction, &mut { *y })
         }
         _ => false,
     })
-}
-
-/// Whether rolling would hold at `y` once its slip is removed (`Rolling::stick`): the
-/// friction it needs within the cone, μN − |F_h| ≥ 0.
-fn cone_holds<E: Effect>(m: &Machine<'_, E>, y: &State) -> bool {
-    let mut stuck = *y;
-    Rolling::stick(&m.scene.body, &mut stuck);
-    m.roll.project(&mut stuck);
-    Rolling::cone_margin(&m.roll.evaluate(&stuck).response, m.slide.contact.friction) >= 0.0
 }
 
 /// `y` with the slip reference s_ref set to the slip's direction (kept where the slip is
