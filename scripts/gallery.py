@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 from collections import Counter
 from pathlib import Path
@@ -67,7 +68,8 @@ def first_sentence(path: Path) -> str:
                 break
             continue
         lines.append(text)
-    text, depth = " ".join(lines), 0
+    # Issue numbers in the comments are the project's bookkeeping, not the user's.
+    text, depth = re.sub(r";?\s*\(?issue #\d+\)?", "", " ".join(lines)), 0
     for i, ch in enumerate(text):
         depth += ch == "("
         depth -= ch == ")"
@@ -80,13 +82,13 @@ def parameters(info: dict) -> str:
     body, contact, init = info["body"], info["contact"], info["initial"]
     a, b, c = body["semi_axes"]
     parts = [f"a, b, c = {sig(a)}, {sig(b)}, {sig(c)} m", f"m = {sig(body['mass'])} kg"]
-    offset = body.get("com_offset")
+    offset = math.sqrt(sum(x * x for x in body["com_offset"]))
     if offset:
         parts.append(f"centre of mass {sig(offset)} m off centre")
     model = contact["model"]
     parts.append(f"`{model}`" + (f", μ = {sig(contact['friction'])}" if contact.get("friction") else ""))
-    if contact.get("contact_radius"):
-        parts.append(f"contact disc R = {sig(contact['contact_radius'])} m")
+    if contact.get("disc"):
+        parts.append(f"contact disc of radius {sig(contact['disc']['radius'])} m")
     parts.append(f"θ0 = {deg(init['theta'])}")
     w = init["omega_body"]
     parts.append(f"|ω0| = {sig(math.sqrt(sum(x * x for x in w)))} rad/s")
@@ -96,10 +98,11 @@ def parameters(info: dict) -> str:
 
 def outcome(traj: ellipsoid.Trajectory) -> str:
     kinds = Counter(e["kind"] for e in traj.events)
-    names = {"mode_switch": "mode switches", "slip_stop": "slip stops", "lift_off": "lift-offs",
-             "touchdown": "touchdowns", "impact": "impacts", "observed": "observed crossings",
-             "lost_contact": "loss of contact", "painleve": "Painlevé"}
-    events = ", ".join(f"{n} {names.get(k, k)}" for k, n in sorted(kinds.items()))
+    names = {"mode_switch": ("mode switch", "mode switches"), "slip_stop": ("slip stop", "slip stops"),
+             "lift_off": ("lift-off", "lift-offs"), "touchdown": ("touchdown", "touchdowns"),
+             "impact": ("impact", "impacts"), "observed": ("observed crossing", "observed crossings"),
+             "lost_contact": ("loss of contact", "losses of contact"), "painleve": ("Painlevé stop", "Painlevé stops")}
+    events = ", ".join(f"{n} {names.get(k, (k, k))[n != 1]}" for k, n in sorted(kinds.items()))
     theta = traj.theta
     text = (f"{traj.status} at t = {sig(float(traj.t[-1]))} s; θ {deg(theta[0])} → {deg(theta[-1])}"
             f" (range {deg(theta.min())}–{deg(theta.max())})")
