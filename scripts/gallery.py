@@ -69,7 +69,7 @@ def first_sentence(path: Path) -> str:
             continue
         lines.append(text)
     # Issue numbers in the comments are the project's bookkeeping, not the user's.
-    text, depth = re.sub(r";?\s*\(?issue #\d+\)?", "", " ".join(lines)), 0
+    text, depth = re.sub(r"\s*\(issue #\d+\)|;\s*issue #\d+", "", " ".join(lines)), 0
     for i, ch in enumerate(text):
         depth += ch == "("
         depth -= ch == ")"
