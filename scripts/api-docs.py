@@ -10,6 +10,7 @@ method or property without a docstring.
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import warnings
 from pathlib import Path
@@ -20,15 +21,40 @@ import pdoc.doc
 ROOT = Path(__file__).resolve().parent.parent
 
 
+def stub_comments() -> dict[str, str]:
+    """`Class.attribute` -> the `#:` comment above it in the type stubs: pdoc takes the stubs'
+    signatures and docstrings but not these comments on class attributes."""
+    import ellipsoid
+
+    stub = Path(ellipsoid.__file__).with_name("_ellipsoid.pyi").read_text(encoding="utf-8").splitlines()
+    found, cls, comment = {}, None, []
+    for line in stub:
+        m = re.match(r"^class (\w+)", line)
+        if m:
+            cls, comment = m.group(1), []
+            continue
+        m = re.match(r"^    #: ?(.*)$", line)
+        if m:
+            comment.append(m.group(1))
+            continue
+        m = re.match(r"^    (\w+)\s*:", line)
+        if m and cls and comment:
+            found[f"{cls}.{m.group(1)}"] = " ".join(comment)
+        comment = []
+    return found
+
+
 def undocumented(module: pdoc.doc.Module) -> list[str]:
-    """Public members (those pdoc shows) with an empty docstring."""
+    """Public members (in `__all__`, and their classes' own members not starting with `_`)
+    with an empty docstring."""
     missing = []
 
     def walk(ns: pdoc.doc.Namespace) -> None:
-        members = ns.own_members if isinstance(ns, pdoc.doc.Class) else list(ns.members.values())
+        if isinstance(ns, pdoc.doc.Class):
+            members = [m for m in ns.own_members if not m.name.startswith("_")]
+        else:
+            members = [m for m in ns.members.values() if m.name in ns.obj.__all__]
         for member in members:
-            if not member.is_public or member.name.startswith("__"):
-                continue
             if isinstance(member, pdoc.doc.Variable) and isinstance(ns, pdoc.doc.Module):
                 continue  # module constants (COLUMNS, HDF5, __version__) are described in the module's text
             if not member.docstring.strip():
@@ -47,9 +73,19 @@ def main() -> int:
     pdoc.render.configure(docformat="markdown", show_source=False)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        pdoc.pdoc("ellipsoid", output_directory=args.out)
         module = pdoc.doc.Module.from_name("ellipsoid")
+        comments = stub_comments()
+        for cls in module.classes:
+            for var in cls.own_members:
+                qualname = var.taken_from[1]
+                if isinstance(var, pdoc.doc.Variable) and not var.docstring and qualname in comments:
+                    var.docstring = comments[qualname]
         missing = undocumented(module)
+        modules = {"ellipsoid": module}
+        args.out.mkdir(parents=True, exist_ok=True)
+        (args.out / "ellipsoid.html").write_text(pdoc.render.html_module(module, modules), encoding="utf-8")
+        (args.out / "index.html").write_text(pdoc.render.html_index(modules), encoding="utf-8")
+        (args.out / "search.js").write_text(pdoc.render.search_index(modules), encoding="utf-8")
     problems = [f"pdoc warning: {w.message}" for w in caught]
     problems += [f"no docstring: {name}" for name in missing]
     for p in problems:

@@ -3,7 +3,9 @@
 # rustup, Python 3.10+, a C compiler): runs the Rust tests (release: the physics tests
 # integrate for real), a fixed 60 s fuzzing budget on the scenario parser, builds the
 # Python wheel with `pip wheel` into a fresh venv and runs pytest, then the viewer's
-# browser tests. Exits non-zero on the first failure.
+# browser tests, then the documentation's checks: no engineering record in the user docs,
+# the tutorial notebooks executed, the gallery current, the API reference built. Exits
+# non-zero on the first failure.
 #
 # HDF5 is built from source (HDF5 2.x, linked statically) by the default build: that needs
 # CMake >= 3.26. If the system's is older or missing, one comes from PyPI into the venv.
@@ -19,7 +21,9 @@ python3 -m venv .venv
 pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
 # mpmath: reference values of some tests; dask[distributed] and pyarrow: the parameter-study
 # tests (a LocalCluster of 2 worker processes; Parquet tables read back).
-"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow
+# nbclient, ipykernel, nbconvert: the tutorial notebooks executed and rendered; pdoc: the API reference.
+"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow \
+  nbclient ipykernel nbconvert pdoc
 cmake_ok() { command -v cmake >/dev/null && printf '%s\n3.26\n' "$(cmake --version | head -1 | awk '{print $3}')" | sort -V -C -r 2>/dev/null; }
 if [ -z "${CMAKE:-}" ] && ! cmake_ok; then
   "${pip[@]}" 'cmake>=3.26'
@@ -41,6 +45,8 @@ fi
 
 # 2. Rust: formatting and lints first (cheap, and a red CI should say why at once), then
 #    every crate but the Python extension (tested below through its wheel).
+echo "== docs: no commit hashes, history of the work or load averages; links resolve"
+.venv/bin/python scripts/check-docs.py
 echo "== cargo fmt --check, cargo clippy"
 cargo fmt --all --check
 cargo clippy --release --all-targets --features ellipsoid-cli/hdf5 -- -D warnings
@@ -67,8 +73,17 @@ rm -rf "$target/wheels"
 "${pip[@]}" "$target"/wheels/ellipsoid-*.whl
 .venv/bin/python -m pytest -q crates/ellipsoid-py/tests
 
-# 4. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
+# 5. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
 echo "== browser"
 .venv/bin/python -m pytest -q tests/browser
+
+# 6. The documentation against the installed wheel: every tutorial notebook executed by
+#    nbclient (an error or a printed traceback fails; rendered to HTML with its figures in
+#    target/site/examples), the gallery current (a bundled scenario without an entry fails),
+#    the API reference built by pdoc without a warning or an undocumented member.
+echo "== notebooks, gallery, API reference"
+.venv/bin/python scripts/run-notebooks.py --html "$target/site/examples"
+.venv/bin/python scripts/gallery.py --check
+.venv/bin/python scripts/api-docs.py -o "$target/site/api"
 
 echo "all tests passed"
