@@ -2,9 +2,10 @@
 # Runs every test of the project on a machine that has only the toolchains (Rust via
 # rustup, Python 3.10+, a C compiler): runs the Rust tests (release: the physics tests
 # integrate for real), a fixed 60 s fuzzing budget on the scenario parser, builds the
-# Python wheel with `pip wheel` into a fresh venv and runs pytest, then the viewer's
-# browser tests, then the documentation's checks: no engineering record in the user docs,
-# the tutorial notebooks executed, the gallery current, the API reference built. Exits
+# manylinux Python wheel (scripts/build-wheel.sh), installs it into a fresh venv and runs
+# pytest, and the README's quick start in a venv of its own; then the viewer's browser
+# tests, then the documentation's checks: no engineering record in the user docs, the
+# tutorial notebooks executed, the gallery current, the API reference built. Exits
 # non-zero on the first failure.
 #
 # HDF5 is built from source (HDF5 2.x, linked statically) by the default build: that needs
@@ -58,7 +59,7 @@ cargo test --release
 echo "== fuzz (${fuzz_seconds} s)"
 cargo run --release --quiet -p ellipsoid-core --example fuzz_scenario -- --seconds "$fuzz_seconds"
 
-# 4. Python: a wheel built by `pip wheel` (PEP 517 through maturin, HDF5 included),
+# 4. Python: the manylinux wheel built by scripts/build-wheel.sh (maturin, HDF5 included),
 #    installed in the venv, then pytest. The command-line tool that `cargo test --release`
 #    just built is the reference of the parity tests.
 echo "== python"
@@ -68,10 +69,29 @@ export ELLIPSOID_CLI="$target/release/ellipsoid"
 [ -x "$ELLIPSOID_CLI" ] || cargo build --release -p ellipsoid-cli
 export ELLIPSOID_EXPECT_HDF5=1
 export ELLIPSOID_EXPECT_BROWSER=1  # installed above: a browser test that cannot find it fails
+# The wheel for any Linux: manylinux_2_17 (zig cc links against glibc 2.17's symbols and
+# compiles HDF5), checked by auditwheel; pytest, the notebooks and the quick start run on it.
 rm -rf "$target/wheels"
-.venv/bin/python -m pip wheel --quiet --disable-pip-version-check --no-deps -w "$target/wheels" ./crates/ellipsoid-py
+WHEEL_VENV=.venv scripts/build-wheel.sh "$target/wheels"
+.venv/bin/auditwheel show "$target"/wheels/ellipsoid-*.whl | grep -q '"manylinux_2_17_x86_64"' \
+  || { echo "the wheel is not manylinux_2_17_x86_64"; exit 1; }
 "${pip[@]}" "$target"/wheels/ellipsoid-*.whl
 .venv/bin/python -m pytest -q crates/ellipsoid-py/tests
+
+# 4b. A fresh venv installs the wheel (numpy, matplotlib, pandas from PyPI) and runs the
+#     README's Python quick start, in a directory of its own.
+echo "== the README's quick start in a fresh venv"
+qs="$target/quickstart"
+rm -rf "$qs" && mkdir -p "$qs"
+python3 -m venv "$qs/venv"
+"$qs/venv/bin/python" -m pip install --quiet --disable-pip-version-check "$target"/wheels/ellipsoid-*.whl matplotlib pandas
+.venv/bin/python - "$qs/quickstart.py" <<'EOF_QS'
+import re, sys
+section = open("README.md", encoding="utf-8").read().split("## Python quick start", 1)[1]
+open(sys.argv[1], "w", encoding="utf-8").write(re.findall(r"```python\n(.*?)```", section, re.S)[0])
+EOF_QS
+ln -s "$PWD/scenarios" "$qs/scenarios"
+(cd "$qs" && venv/bin/python quickstart.py)
 
 # 5. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
 echo "== browser"
