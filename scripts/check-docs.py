@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Checks the user documentation (README.md, docs/*.md, the Python package's README and the
-markdown cells of the notebooks in examples/) for what belongs in commit messages or the
-development log instead: commit hashes, the history of the work ("this round", "before this
-change", issue numbers), load averages and who was building what. Also checks that every
-relative link resolves and that README.md links every page of docs/.
+"""Checks the user documentation (README.md, docs/*.md, the Python package's README, and
+examples/: its README and the markdown cells of its notebooks) for what belongs in commit
+messages or the development log instead: commit hashes, the history of the work ("this
+round", "before this change", issue numbers), load averages and who was building what.
+Also checks that every relative link and heading anchor resolves and that README.md links
+every page of docs/ and the Python package's README.
 
 The development pages (docs/development.md and docs/development/) are exempt: they are the
 record of how the work went. Exit status 1 with one line per finding (file:line: rule: text).
@@ -49,7 +50,7 @@ LINK = re.compile(r"\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
 def user_docs() -> list[Path]:
     docs = [ROOT / "README.md", ROOT / "crates/ellipsoid-py/README.md"]
     docs += sorted((ROOT / "docs").glob("*.md"))
-    docs += sorted((ROOT / "examples").glob("*.ipynb"))
+    docs += sorted((ROOT / "examples").glob("*.md")) + sorted((ROOT / "examples").glob("*.ipynb"))
     return [d for d in docs if d.name != "development.md"]
 
 
