@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Builds the API reference of the installed `ellipsoid` package with pdoc (docstrings of
 the Rust extension and of the Python modules; signatures and types from the stubs,
-`_ellipsoid.pyi`) and fails on any warning pdoc gives, or on a public function, class,
-method or property without a docstring.
+`_ellipsoid.pyi`) and fails on any warning pdoc gives, on a public function, class,
+method or property without a docstring, or on a trajectory column whose docstring does
+not state its unit.
 
     python scripts/api-docs.py                 # -> target/api/ellipsoid.html
     python scripts/api-docs.py -o DIR
@@ -66,6 +67,16 @@ def undocumented(module: pdoc.doc.Module) -> list[str]:
     return missing
 
 
+def missing_units() -> list[str]:
+    """Trajectory columns whose docstring does not state the unit `Trajectory.units` gives
+    them, as `[unit]`."""
+    import ellipsoid
+
+    traj = ellipsoid.Trajectory
+    return [f"ellipsoid.Trajectory.{c} (unit {traj.units[c]})" for c in traj.columns
+            if traj.units[c] != "1" and f"[{traj.units[c]}]" not in (getattr(traj, c).__doc__ or "")]
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("-o", "--out", type=Path, default=ROOT / "target" / "api")
@@ -88,6 +99,7 @@ def main() -> int:
         (args.out / "search.js").write_text(pdoc.render.search_index(modules), encoding="utf-8")
     problems = [f"pdoc warning: {w.message}" for w in caught]
     problems += [f"no docstring: {name}" for name in missing]
+    problems += [f"no unit in the docstring: {name}" for name in missing_units()]
     for p in problems:
         print(p, file=sys.stderr)
     print(f"api-docs: {args.out / 'ellipsoid.html'}, {len(problems)} problems")
