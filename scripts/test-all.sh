@@ -44,8 +44,9 @@ if ! command -v chromium >/dev/null 2>&1 || [ ! -f /usr/share/fonts/truetype/dej
     || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends chromium fonts-dejavu-core; }
 fi
 
-# 2. Rust: formatting and lints first (cheap, and a red CI should say why at once), then
-#    every crate but the Python extension (tested below through its wheel).
+# 2. The cheap checks first (the user docs, formatting, lints: a red CI should say why at
+#    once), then the Rust tests of every crate but the Python extension (tested below
+#    through its wheel).
 echo "== docs: no commit hashes, history of the work or load averages; links resolve"
 .venv/bin/python scripts/check-docs.py
 echo "== cargo fmt --check, cargo clippy"
