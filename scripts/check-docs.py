@@ -39,7 +39,7 @@ RULES: list[tuple[str, re.Pattern[str]]] = [
         r"|\bwas added\b|\bwere added\b"
         r"|\bthe old (ending|behaviou?r|code|build|version)\b"
         r"|\bissues? #\d+|\(#\d+\)"
-        r"|\bother (developers|engineers|helpers)\b|\bhelpers?\b|\bthe lead\b"
+        r"|\bother (developers|engineers|helpers)\b|\bthe (helpers|lead)\b"
         r"|\bwhile (two|three|four|other) \w+ (were )?building\b",
         re.I)),
 ]
