@@ -17,7 +17,6 @@
 //! here until it is given its class.
 
 use ellipsoid_core::scenario::{ErrorKind, ScenarioError, ScenarioErrors};
-use ellipsoid_core::simulate::Status;
 use ellipsoid_io::OutputError;
 use pyo3::exceptions::{PyException, PyOSError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -352,16 +351,6 @@ fn errno_of(py: Python<'_>, kind: std::io::ErrorKind) -> Option<i32> {
         .and_then(|m| m.getattr(name))
         .and_then(|v| v.extract())
         .ok()
-}
-
-/// Whether a run that ended with `status` is an error (`Some(message)`, the summary's
-/// `message`) or an outcome.
-pub fn status_error(status: &Status, message: &str) -> Option<String> {
-    match status {
-        Status::Cancelled => Some("the run was cancelled".to_owned()),
-        s if s.is_error() => Some(message.to_owned()),
-        _ => None,
-    }
 }
 
 /// Runs `f`, turning a panic into `ellipsoid.InternalError` (pyo3 would raise its
