@@ -41,36 +41,29 @@ def _in_kernel() -> bool:
     return shell is not None and hasattr(shell, "kernel")
 
 
-try:
-    from matplotlib.figure import Figure as _Figure
-except ImportError as e:  # pragma: no cover - exercised with matplotlib hidden
-    _Figure, _MISSING = object, e  # type: ignore[assignment,misc]
-else:
-    _MISSING = None
-
-
-class TrajectoryFigure(_Figure):  # type: ignore[misc,valid-type]
-    """A matplotlib Figure that Jupyter displays as PNG without `%matplotlib inline`."""
-
-    def _repr_png_(self) -> bytes:
-        buf = io.BytesIO()
-        self.savefig(buf, format="png", dpi=80)
-        return buf.getvalue()
+def _png(fig: Any) -> bytes:
+    """A figure as PNG (Jupyter's `_repr_png_`)."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=80)
+    return buf.getvalue()
 
 
 def _figure(**kw: Any) -> Any:
-    """A TrajectoryFigure; outside a Jupyter kernel it is pyplot's (so `plt.show()`
-    shows it)."""
-    if _MISSING is not None:
-        raise ImportError(f"Trajectory.plot needs matplotlib (`pip install matplotlib`): {_MISSING}") from _MISSING
+    """A matplotlib Figure that Jupyter displays as PNG without `%matplotlib inline`
+    (`_repr_png_`); outside a Jupyter kernel it is pyplot's (so `plt.show()` shows it)."""
+    try:
+        from matplotlib.figure import Figure
+    except ImportError as e:  # pragma: no cover - exercised with matplotlib hidden
+        raise ImportError(f"Trajectory.plot needs matplotlib (`pip install matplotlib`): {e}") from e
+    cls = type("TrajectoryFigure", (Figure,), {"_repr_png_": _png})
     if not _in_kernel():
         try:
             import matplotlib.pyplot as plt
 
-            return plt.figure(FigureClass=TrajectoryFigure, **kw)
+            return plt.figure(FigureClass=cls, **kw)
         except ImportError:  # pragma: no cover - pyplot without a usable backend
             pass
-    return TrajectoryFigure(**kw)
+    return cls(**kw)
 
 
 def _panels(panels: str | Sequence[str] | None) -> list[str]:
