@@ -166,3 +166,23 @@ def test_to_pandas_and_to_xarray_carry_units() -> None:
     assert isinstance(ds, xr.Dataset) and ds["theta"].attrs["units"] == "rad" and ds["t"].attrs["units"] == "s"
     np.testing.assert_array_equal(ds["omega_world_z"].values, traj.omega_world_z)
     assert list(ds["mode"].values[:1]) == [traj.mode[0]]
+
+
+def test_study_table_as_plain_floats_and_as_an_n_d_dataset() -> None:
+    pytest.importorskip("pandas")
+    pytest.importorskip("xarray")
+    base = oblate(output=dict(t_end=0.05, dt=1e-2))
+    axes = {"initial.psi_dot": [40.0, 60.0], "initial.theta": [0.1, 0.2, 0.3]}
+    df = ellipsoid.study(base, axes, outcomes={"final": ["theta"]}, nullable=False)
+    assert str(df["final.theta [rad]"].dtype) == "float64" and str(df["drift.jellett [1]"].dtype) == "float64"
+    assert df["drift.jellett [1]"].isna().all()  # not conserved here: NaN, not pd.NA
+    assert df.attrs["axes"] == ["initial.psi_dot [rad/s]", "initial.theta [rad]"] and df.attrs["combine"] == "grid"
+    ds = ellipsoid.to_xarray(df)
+    assert dict(ds.sizes) == {"initial.psi_dot [rad/s]": 2, "initial.theta [rad]": 3}
+    final = ds["final.theta [rad]"]
+    assert final.attrs["units"] == "rad" and final.shape == (2, 3)
+    # each cell is its own run: θ(0.05 s) of the run at that (ψ̇, θ0)
+    run = ellipsoid.simulate(base.replace(initial={"psi_dot": 60.0, "theta": 0.3}))
+    assert float(final.sel({"initial.psi_dot [rad/s]": 60.0, "initial.theta [rad]": 0.3})) == run.theta[-1]
+    zipped = ellipsoid.study(base, axes | {"initial.theta": [0.1, 0.2]}, combine="zip")
+    assert list(ellipsoid.to_xarray(zipped).sizes) == ["point"]
