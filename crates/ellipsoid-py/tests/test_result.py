@@ -186,3 +186,13 @@ def test_study_table_as_plain_floats_and_as_an_n_d_dataset() -> None:
     assert float(final.sel({"initial.psi_dot [rad/s]": 60.0, "initial.theta [rad]": 0.3})) == run.theta[-1]
     zipped = ellipsoid.study(base, axes | {"initial.theta": [0.1, 0.2]}, combine="zip")
     assert list(ellipsoid.to_xarray(zipped).sizes) == ["point"]
+
+
+def test_check_reports_the_velocity_of_g_and_the_slip_the_run_starts_with() -> None:
+    for changes in ({}, {"initial.velocity": [0.1, -0.02]}):
+        s = ellipsoid.load(SCENARIOS / "tippe-top.toml", output={"t_end": 0.01}, **changes)
+        init = ellipsoid.check(s)["initial"]
+        first = ellipsoid.simulate(s)
+        assert init["velocity"] == [first.vx[0], first.vy[0], first.vz[0]]
+        assert init["slip_speed"] == first.slip_speed[0] and init["velocity_given"]
+    assert ellipsoid.check(s)["initial"]["velocity"][:2] == [0.1, -0.02]
