@@ -48,7 +48,10 @@ pub fn simulate(
         .unwrap_or_else(|_| "<changes>".into());
     let mut overrides = convert::Conv { source: &source }.overrides(changes)?;
     if let Some(m) = method.filter(|m| !m.is_none()) {
-        overrides.push(format!("solver.method=\"{}\"", method_name(py, &source, m)?));
+        overrides.push(format!(
+            "solver.method=\"{}\"",
+            method_name(py, &source, m)?
+        ));
     }
     let mut resolved = resolve(py, scenario, overrides)?;
     if let Some(t) = t_eval.filter(|t| !t.is_none()) {
@@ -86,7 +89,13 @@ pub fn simulate(
 fn method_name(py: Python<'_>, source: &str, method: &Bound<'_, PyAny>) -> PyResult<&'static str> {
     const RULE: &str = "give \"RK45\" (dopri5), \"DOP853\" (dop853), \"RK4\" (rk4, with solver.step), or the scenario names dopri5, dop853, rk4 (case-insensitive); scipy's RK23, Radau, BDF and LSODA have no counterpart here";
     let name = method.cast::<PyString>().map_err(|_| {
-        errors::type_error(py, source, Some("method"), None, format!("expected a string; {RULE}"))
+        errors::type_error(
+            py,
+            source,
+            Some("method"),
+            None,
+            format!("expected a string; {RULE}"),
+        )
     })?;
     let name = name.to_string_lossy().to_ascii_lowercase();
     match name.as_str() {

@@ -254,9 +254,7 @@ impl PyScenario {
         let scene = &self.inner.scene;
         let ax = scene.body.semi_axes();
         let init = &scene.initial;
-        let omega = init
-            .omega_body
-            .unwrap_or_else(|| init.angles.omega_body());
+        let omega = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
         let mut s = format!(
             "<ellipsoid.Scenario {source}: {}, a = {} m, b = {} m, c = {} m, mass = {} kg; theta = {} rad, omega_body = [{}, {}, {}] rad/s; {}, t_end = {} s, {} samples",
             self.contact_model(),

@@ -149,8 +149,7 @@ use pyo3::types::IntoPyDict;
 /// Rows of `Trajectory.states`: the configuration and velocities in output coordinates,
 /// and the dissipated work.
 const STATE_NAMES: [&str; 13] = [
-    "x", "y", "z", "theta", "phi", "psi", "omega_x", "omega_y", "omega_z", "vx", "vy", "vz",
-    "work",
+    "x", "y", "z", "theta", "phi", "psi", "omega_x", "omega_y", "omega_z", "vx", "vy", "vz", "work",
 ];
 
 /// `ellipsoid._result.NAME(traj)`: the result conventions written in Python.
@@ -489,10 +488,7 @@ impl Trajectory {
             .iter()
             .map(|x| rerun.samples[sorted.partition_point(|s| s < x)])
             .collect();
-        Ok(Trajectory::new(Run {
-            samples,
-            ..rerun
-        }))
+        Ok(Trajectory::new(Run { samples, ..rerun }))
     }
 
     /// Names of the scenario's observables (`[[observe]]`), in order.
@@ -538,10 +534,16 @@ impl Trajectory {
         summary: &str,
         success: bool,
     ) -> PyResult<Trajectory> {
-        let bad = |what: String| Class::Internal.error(py, &format!("cannot unpickle a Trajectory: {what}"), &[]);
+        let bad = |what: String| {
+            Class::Internal.error(py, &format!("cannot unpickle a Trajectory: {what}"), &[])
+        };
         let row = NUMERIC * 8;
         if values.len() != modes.len() * row {
-            return Err(bad(format!("{} bytes for {} samples", values.len(), modes.len())));
+            return Err(bad(format!(
+                "{} bytes for {} samples",
+                values.len(),
+                modes.len()
+            )));
         }
         let samples = values
             .chunks_exact(row)
