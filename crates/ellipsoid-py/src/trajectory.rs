@@ -3,13 +3,13 @@
 
 use std::path::{Path, PathBuf};
 
-use ellipsoid_core::simulate::{Sample, Status};
+use ellipsoid_core::simulate::{Mode, Sample, Status};
 use ellipsoid_io::columns::{self, NUMERIC, NUMERIC_COLUMNS};
 use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, csv::CsvFile};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
 use crate::errors::{self, Class};
 use crate::run::{self, Run};
@@ -39,7 +39,7 @@ pub struct Trajectory {
     scenario: PyScenario,
     /// Whether the run ended as a run may ([`succeeded`]).
     success: bool,
-    numeric: [PyOnceLock<Py<PyArray1<f64>>>; NUMERIC],
+    numeric: PyOnceLock<Vec<Py<PyArray1<f64>>>>,
     mode: PyOnceLock<Py<PyAny>>,
 }
 
@@ -67,7 +67,7 @@ impl Trajectory {
             summary,
             scenario,
             success,
-            numeric: [const { PyOnceLock::new() }; NUMERIC],
+            numeric: PyOnceLock::new(),
             mode: PyOnceLock::new(),
         }
     }
@@ -83,27 +83,41 @@ impl Trajectory {
             .unwrap_or(0.0)
     }
 
+    /// Numeric column `index` (`NUMERIC_COLUMNS` order). Every column is made on the first
+    /// access of any, in one pass over the samples (a column at a time would read each
+    /// sample 27 times).
     fn column<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let arr = self.numeric[index].get_or_try_init(py, || -> PyResult<_> {
-            let data: Vec<f64> = self
-                .samples
-                .iter()
-                .map(|s| columns::values(s)[index])
+        let all = self.numeric.get_or_try_init(py, || -> PyResult<_> {
+            let mut data: Vec<Vec<f64>> = (0..NUMERIC)
+                .map(|_| Vec::with_capacity(self.samples.len()))
                 .collect();
-            let arr = PyArray1::from_vec(py, data);
-            readonly(arr.as_any())?;
-            Ok(arr.unbind())
+            for s in &self.samples {
+                for (col, v) in data.iter_mut().zip(columns::values(s)) {
+                    col.push(v);
+                }
+            }
+            data.into_iter()
+                .map(|col| {
+                    let arr = PyArray1::from_vec(py, col);
+                    readonly(arr.as_any())?;
+                    Ok(arr.unbind())
+                })
+                .collect::<PyResult<Vec<_>>>()
         })?;
-        Ok(arr.bind(py).clone())
+        Ok(all[index].bind(py).clone())
     }
 
+    /// The `mode` column: a numpy str array, made from one byte per sample (the mode's
+    /// index in `Mode::NAMES`).
     fn modes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let arr = self.mode.get_or_try_init(py, || -> PyResult<_> {
-            let names = PyList::new(py, self.samples.iter().map(|s| s.mode.name()))?;
-            let arr = py
-                .import("numpy")?
-                .getattr("array")?
-                .call((names,), Some(&[("dtype", "U12")].into_py_dict(py)?))?;
+            let codes: Vec<u8> = self.samples.iter().map(|s| s.mode as u8).collect();
+            let numpy = py.import("numpy")?;
+            let names = numpy.getattr("array")?.call(
+                (Mode::NAMES.to_vec(),),
+                Some(&[("dtype", "U12")].into_py_dict(py)?),
+            )?;
+            let arr = names.get_item(PyArray1::from_vec(py, codes))?;
             readonly(&arr)?;
             Ok(arr.unbind())
         })?;
