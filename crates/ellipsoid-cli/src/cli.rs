@@ -150,6 +150,10 @@ pub struct PlotArgs {
         default_value = "theta,rates,energy,forces,path"
     )]
     pub panels: String,
+    /// Output columns instead of the panels, comma-separated, each drawn against time with
+    /// its unit (e.g. `omega_world_z,theta`).
+    #[arg(long, value_name = "LIST", conflicts_with = "panels")]
+    pub columns: Option<String>,
     /// The run's JSON summary (`ellipsoid run --summary`): marks its events and, through the
     /// scenario it names, gives the body's shape for the contact path. An `.h5` file
     /// carries its own.

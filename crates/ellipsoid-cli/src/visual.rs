@@ -62,7 +62,11 @@ fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
 
 pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     let ext = check_output(&args.output, &["svg", "png"], "figure")?;
-    let panels = figure::parse_panels(&args.panels).map_err(CliError::Usage)?;
+    let panels = match &args.columns {
+        Some(columns) => figure::parse_columns(columns),
+        None => figure::parse_panels(&args.panels),
+    }
+    .map_err(CliError::Usage)?;
     let table = load(&args.input, args.summary.as_deref())?;
     figure::check_columns(&table, &panels).map_err(CliError::Usage)?;
     if table.shape.is_none()
