@@ -42,6 +42,9 @@ pub enum Command {
     /// the body moving on the plane with its contact trace, play/pause, speed, a time
     /// slider, θ(t) and energy plots with a linked cursor.
     View(ViewArgs),
+    /// Render a trajectory file (CSV or HDF5) as an animated GIF, without a browser: the
+    /// body on the plane, its contact trace, the time and θ in a corner.
+    Animate(crate::animate::AnimateArgs),
     /// Run a parameter study: every point of a study file's axes over a base scenario, in
     /// parallel on all cores, one table row per run (CSV, Parquet or HDF5). Resumable:
     /// finished rows are kept in RESULTS.journal beside the table, and a rerun skips them.

@@ -14,7 +14,7 @@ use crate::error::CliError;
 use crate::figure;
 
 /// Reads the trajectory and, if given, the summary.
-fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliError> {
+pub(crate) fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliError> {
     let mut t = table::read(input).map_err(|e| CliError::Usage(e.to_string()))?;
     if let Some(p) = summary {
         let s = table::read_summary(p).map_err(|e| CliError::Usage(e.to_string()))?;
@@ -25,7 +25,11 @@ fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliError> {
 
 /// Refuses an output whose extension is not one of `allowed` (so it cannot be the
 /// input), or that is not a regular file.
-fn check_output(output: &Path, allowed: &[&str], what: &str) -> Result<String, CliError> {
+pub(crate) fn check_output(
+    output: &Path,
+    allowed: &[&str],
+    what: &str,
+) -> Result<String, CliError> {
     let ext = output
         .extension()
         .map(|e| e.to_string_lossy().to_lowercase())
@@ -46,7 +50,7 @@ fn check_output(output: &Path, allowed: &[&str], what: &str) -> Result<String, C
 }
 
 /// Writes `bytes` atomically, making the directory if needed.
-fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
+pub(crate) fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
     if let Some(dir) = output
         .parent()
         .filter(|d| !d.as_os_str().is_empty() && !d.exists())

@@ -746,6 +746,49 @@ impl Trajectory {
         }
     }
 
+    /// Writes the run as an animated GIF at `path`, rendered without a browser (the same
+    /// renderer as `ellipsoid animate`): the body on the plane, its contact trace, the time
+    /// and θ in a corner; `width`×`height` px (16 to 2000), `fps` frames per second (at
+    /// most 100), `speed` simulated seconds per second (0.25: four times slower). Returns
+    /// the number of frames (at most 2000). Raises OutputError if the file cannot be
+    /// written, ScenarioError for a bad option.
+    #[pyo3(signature = (path, *, width=480, height=360, fps=25.0, speed=1.0))]
+    fn animate(
+        &self,
+        py: Python<'_>,
+        path: PathBuf,
+        width: u32,
+        height: u32,
+        fps: f64,
+        speed: f64,
+    ) -> PyResult<usize> {
+        let opt = ellipsoid_io::animate::Options {
+            width,
+            height,
+            fps,
+            speed,
+        };
+        let source = &self.scenario.inner.source;
+        opt.check()
+            .map_err(|rule| errors::value_error(py, source, Some("animate"), None, rule))?;
+        if Format::from_path(&path).is_ok() || path.extension().is_none_or(|e| e != "gif") {
+            return Err(errors::value_error(
+                py,
+                source,
+                Some("path"),
+                Some(&path.display().to_string()),
+                "an animation is written as .gif",
+            ));
+        }
+        let table = self.table();
+        let mut bytes = Vec::new();
+        let frames = py
+            .detach(|| ellipsoid_io::animate::gif(&table, &opt, &mut bytes))
+            .map_err(|e| errors::internal_error(py, &e))?;
+        ellipsoid_io::atomic::write(&path, &bytes).map_err(|e| errors::output_error(py, &e))?;
+        Ok(frames)
+    }
+
     /// Jupyter: the viewer inline, in an iframe.
     fn _repr_html_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.view(py, None, None)?.call_method0("_repr_html_")
