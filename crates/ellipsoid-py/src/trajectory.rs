@@ -771,7 +771,10 @@ impl Trajectory {
         let source = &self.scenario.inner.source;
         opt.check()
             .map_err(|rule| errors::value_error(py, source, Some("animate"), None, rule))?;
-        if Format::from_path(&path).is_ok() || path.extension().is_none_or(|e| e != "gif") {
+        if !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
+        {
             return Err(errors::value_error(
                 py,
                 source,
