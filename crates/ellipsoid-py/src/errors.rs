@@ -176,7 +176,7 @@ pub fn scenario_errors(py: Python<'_>, errs: &ScenarioErrors) -> PyErr {
     let top = scenario_error_as(py, Class::Scenario, first);
     let build = || -> PyResult<PyErr> {
         let value = top.value(py);
-        value.setattr("args", (errs.to_string(),))?;
+        value.setattr("args", (python_words(&errs.to_string()),))?;
         let list = pyo3::types::PyList::new(py, each.iter().map(|e| e.value(py)))?;
         value.setattr("errors", list)?;
         Ok(PyErr::from_value(value.clone().into_any()))
@@ -305,7 +305,16 @@ fn scenario_error_bare(py: Python<'_>, class: Class, e: &ScenarioError) -> PyErr
         ("column", num(loc.column)),
         ("override", any(loc.set.as_deref())),
     ];
-    class.error(py, &e.to_string(), &attrs)
+    class.error(py, &python_words(&e.to_string()), &attrs)
+}
+
+/// A scenario error's text in Python's terms: a change given as a keyword
+/// (`replace(body={"mass": -1})`, `simulate(..., output={"t_end": 2})`) is named "the
+/// change body.mass=-1", not by the command line's `--set`.
+fn python_words(message: &str) -> String {
+    message
+        .replace(": --set ", ": the change ")
+        .replace("as changed by --set ", "as changed by ")
 }
 
 /// A write failure, as `ellipsoid.OutputError`.

@@ -196,3 +196,10 @@ def test_check_reports_the_velocity_of_g_and_the_slip_the_run_starts_with() -> N
         assert init["velocity"] == [first.vx[0], first.vy[0], first.vz[0]]
         assert init["slip_speed"] == first.slip_speed[0] and init["velocity_given"]
     assert ellipsoid.check(s)["initial"]["velocity"][:2] == [0.1, -0.02]
+
+
+def test_errors_name_python_changes_not_command_line_flags() -> None:
+    with pytest.raises(ellipsoid.ScenarioError) as info:
+        ellipsoid.load(SCENARIOS / "nutation.toml").replace(initial={"thetta": 0.1})
+    msg = str(info.value)
+    assert "--set" not in msg and "the change initial.thetta=0.1" in msg and "did you mean `theta`" in msg
