@@ -162,7 +162,7 @@ pub struct PlotArgs {
     /// carries its own.
     #[arg(long, value_name = "FILE.json")]
     pub summary: Option<PathBuf>,
-    /// Title line (default: the input file name).
+    /// Title line (default: the scenario named by the summary, else the input file name).
     #[arg(long)]
     pub title: Option<String>,
     /// Print nothing but errors.
@@ -182,7 +182,7 @@ pub struct ViewArgs {
     /// through the scenario it names. An `.h5` file carries its own.
     #[arg(long, value_name = "FILE.json")]
     pub summary: Option<PathBuf>,
-    /// Page title (default: the input file name).
+    /// Page title (default: the scenario named by the summary, else the input file name).
     #[arg(long)]
     pub title: Option<String>,
     /// Print nothing but errors.

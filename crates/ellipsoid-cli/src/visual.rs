@@ -23,6 +23,15 @@ pub(crate) fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliErr
     Ok(t)
 }
 
+/// The default title: the scenario the summary names (the run's name), else the input
+/// file's name.
+fn default_title(table: &Table, summary: Option<&Path>) -> String {
+    summary
+        .and_then(|p| table::read_summary(p).ok())
+        .and_then(|s| s.get("scenario")?.as_str().map(str::to_owned))
+        .unwrap_or_else(|| table.source.clone())
+}
+
 /// Refuses an output whose extension is not one of `allowed` (so it cannot be the
 /// input), or that is not a regular file.
 pub(crate) fn check_output(
@@ -80,7 +89,10 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     {
         eprintln!("note: {}", table.shape_note);
     }
-    let title = args.title.clone().unwrap_or_else(|| table.source.clone());
+    let title = args
+        .title
+        .clone()
+        .unwrap_or_else(|| default_title(&table, args.summary.as_deref()));
     let svg = figure::svg(&table, &panels, &title).map_err(CliError::Plot)?;
     let bytes = if ext == "png" {
         figure::png(&svg).map_err(CliError::Plot)?
@@ -104,7 +116,10 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
 pub fn view(args: &ViewArgs) -> Result<ExitCode, CliError> {
     check_output(&args.output, &["html", "htm"], "page")?;
     let table = load(&args.input, args.summary.as_deref())?;
-    let title = args.title.clone().unwrap_or_else(|| table.source.clone());
+    let title = args
+        .title
+        .clone()
+        .unwrap_or_else(|| default_title(&table, args.summary.as_deref()));
     let page =
         ellipsoid_io::viewer::html(&table, &title).map_err(|e| CliError::Usage(e.to_string()))?;
     if table.shape.is_none() && !args.quiet {
