@@ -4,6 +4,7 @@
 //! (nothing new written); 2 bad input (nothing written); 3 the simulation stopped early (trajectory and
 //! summary up to the stop are written). See `docs/scenarios.md`.
 
+mod animate;
 mod check;
 mod cli;
 mod error;
@@ -41,6 +42,7 @@ fn main() -> ExitCode {
         cli::Command::Precision(args) => precision::precision(args),
         cli::Command::Plot(args) => visual::plot(args),
         cli::Command::View(args) => visual::view(args),
+        cli::Command::Animate(args) => animate::animate(args),
         cli::Command::Study(args) => study::study(args),
     };
     match result {

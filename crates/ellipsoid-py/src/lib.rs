@@ -16,6 +16,7 @@ mod api;
 mod convert;
 mod errors;
 mod parameter_study;
+mod pickle;
 mod run;
 mod scenario;
 mod study;

@@ -11,6 +11,7 @@ that ran twice (a Dask worker lost mid-task and the task resubmitted) gives the 
 
 from __future__ import annotations
 
+import json
 import math
 import os
 import time
@@ -57,14 +58,17 @@ def _slots(executor: Any) -> int:
     return int(n) if n else (os.cpu_count() or 1)
 
 
-def _frame(st: Study, rows: list):
+def _frame(st: Study, rows: list, nullable_dtypes: bool = True):
     import pandas as pd  # type: ignore[import-untyped,unused-ignore]  # optional: pandas-stubs may be absent
 
     cols = st.columns
     by_column = list(zip(*rows)) if rows else [()] * len(cols)
     data = {}
     for name, ty, nullable, values in zip(cols, st.types, st.nullable, by_column):
-        if ty == "float":
+        if nullable and not nullable_dtypes and ty in ("float", "int"):
+            # plain float64, NaN where there is no value (matplotlib, numpy take it as is)
+            data[name] = pd.array([float("nan") if v is None else v for v in values], dtype="float64")
+        elif ty == "float":
             data[name] = pd.array(values, dtype="Float64") if nullable else pd.array(values, dtype="float64")
         elif ty == "int":
             data[name] = pd.array(values, dtype="Int64") if nullable else pd.array(values, dtype="int64")
@@ -73,6 +77,11 @@ def _frame(st: Study, rows: list):
     df = pd.DataFrame(data, columns=cols)
     df.attrs["units"] = dict(st.units)
     df.attrs["study"] = st.source
+    # the axes' columns (the first key of each), for `ellipsoid.to_xarray(df)`
+    spec = json.loads(st.to_json())
+    keys = [axis["dims"][0]["key"] for axis in spec["axes"]]
+    df.attrs["axes"] = [c for k in keys for c in cols if c.split(" [")[0] == k][: len(keys)]
+    df.attrs["combine"] = spec["combine"]
     return df
 
 
@@ -87,6 +96,7 @@ def study(
     journal: "str | os.PathLike[str] | None" = None,
     chunk_seconds: float = 2.0,
     out: "str | os.PathLike[str] | None" = None,
+    nullable: bool = True,
 ):
     """Runs a parameter study and returns its table as a ``pandas.DataFrame``.
 
@@ -112,7 +122,11 @@ def study(
     ``final.``/``min.``/``max.`` columns, ``drift.NAME [1]``, ``wall_time [s]``,
     ``rhs_evals``, ``key``; floats and counts that may have no value use pandas' nullable
     dtypes (``Float64``, ``Int64``: ``pd.NA``, never NaN). A run that fails is a row with
-    its status and message. ``df.attrs["units"]`` maps each column to its SI unit.
+    its status and message. ``nullable=False``: plain ``float64`` with NaN instead
+    (counts that may be missing become floats too), for matplotlib and numpy.
+    ``df.attrs["units"]`` maps each column to its SI unit, ``df.attrs["axes"]`` names the
+    axes' columns and ``df.attrs["combine"]`` says "grid" or "zip"
+    (``ellipsoid.to_xarray(df)`` makes a grid an n-D Dataset).
     """
     if isinstance(axes, Study):
         st = axes.replace(base=base, outcomes=outcomes) if (base is not None or outcomes is not None) else axes
@@ -127,7 +141,7 @@ def study(
         if journal is not None:
             raise ValueError("journal= is for local runs; with an executor the chunks are resubmitted instead")
         rows = _distributed(st, executor, chunk_seconds)
-    df = _frame(st, rows)
+    df = _frame(st, rows, nullable)
     if out is not None:
         ext = os.fspath(out).rsplit(".", 1)[-1].lower()
         if ext in ("parquet", "pq"):
