@@ -196,13 +196,9 @@ pub fn sweep<'py>(
     PyList::new(py, out)
 }
 
-/// Most worker threads a sweep may start: 4 per CPU, at least 8. More threads than CPUs
-/// only add overhead (each run is CPU-bound and takes an 8 MiB stack); 10⁶ of them used
-/// to take the machine down.
-pub fn max_workers() -> usize {
-    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    (4 * cpus).max(8)
-}
+/// Most worker threads a sweep or a study may start (4 per CPU, at least 8), as in
+/// `ellipsoid study -j`.
+pub use ellipsoid_study::study::max_threads as max_workers;
 
 /// The `workers` argument: None (one per CPU) or an integer in 1..=[`max_workers`].
 fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {

@@ -517,4 +517,12 @@ impl PyStudy {
         py.detach(|| ellipsoid_study::study::table::write(&path, &cols, &table, &source))
             .map_err(|e| errors::output_error(py, &e))
     }
+
+    /// Writes `data`, a table another library made (pandas' Parquet), at `path` as the
+    /// study's own tables are written: atomically (a temporary beside it, renamed into
+    /// place), refusing a symbolic link, directory or device there.
+    fn write_bytes(&self, py: Python<'_>, path: PathBuf, data: &[u8]) -> PyResult<()> {
+        py.detach(|| ellipsoid_io::atomic::write(&path, data))
+            .map_err(|e| errors::output_error(py, &e))
+    }
 }

@@ -227,3 +227,21 @@ def test_a_dask_worker_killed_mid_study_still_gives_the_complete_identical_table
     assert thread is not None and not any(p == victim for p in dask_client.run(os.getpid).values()), "the worker was not replaced"
     assert lost >= 1, "no chunk was running on the killed worker"
     pd.testing.assert_frame_equal(deterministic(result["df"]), deterministic(expected))
+
+
+def test_a_parquet_table_is_written_atomically_and_never_through_a_link(tmp_path: Path) -> None:
+    """`out=x.parquet` is written like .csv and .h5: a temporary renamed into place, and a
+    symbolic link there refused (pandas' `to_parquet` on the path overwrote its target)."""
+    pytest.importorskip("pyarrow")
+    axes = {"initial.psi_dot": [20.0, 40.0]}
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me")
+    link = tmp_path / "t.parquet"
+    link.symlink_to(victim)
+    with pytest.raises(ellipsoid.OutputError, match="is a symbolic link"):
+        ellipsoid.study(base(), axes, out=link)
+    assert victim.read_text() == "keep me" and link.is_symlink()
+    out = tmp_path / "sub.parquet"
+    df = ellipsoid.study(base(), axes, out=out)
+    assert list(pd.read_parquet(out)["key"]) == list(df["key"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sub.parquet", "t.parquet", "victim.txt"]

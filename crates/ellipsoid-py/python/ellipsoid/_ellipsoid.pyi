@@ -39,6 +39,9 @@ HDF5: Final[bool]
 #: Column names of a trajectory, in the CSV file's order.
 COLUMNS: Final[list[str]]
 
+def _hdf5_plugins() -> tuple[bool, int]:
+    """Whether HDF5 may load plugins, and how many plugin directories it searches: (False, 0)."""
+
 _Path = str | os.PathLike[str]
 # A scenario value: bool, int, float, str, list/tuple, dict (a table), numpy array or scalar.
 _Value = Any
@@ -284,6 +287,8 @@ class Study:
         """Runs points `start` to `stop` (exclusive) without the GIL; their rows in point order."""
     def write(self, path: _Path, rows: list[tuple[Any, ...]]) -> None:
         """Writes rows from `run` as the table at `path` (.csv, .h5; .parquet if built in), atomically."""
+    def write_bytes(self, path: _Path, data: bytes) -> None:
+        """Writes `data` (pandas' Parquet table) at `path` atomically, refusing a link, directory or device there."""
 
 def make_study(base: Scenario | _Path, axes: Mapping[str | tuple[str, ...], Any], outcomes: _Table | None = None, combine: Literal["grid", "zip"] | None = None) -> Study:
     """A study from Python arguments (what `ellipsoid.study` calls)."""

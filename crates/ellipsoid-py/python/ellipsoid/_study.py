@@ -11,6 +11,7 @@ that ran twice (a Dask worker lost mid-task and the task resubmitted) gives the 
 
 from __future__ import annotations
 
+import io
 import math
 import os
 import time
@@ -105,7 +106,8 @@ def study(
     a ``dask.distributed.Client``; ``chunk_seconds`` sizes its tasks. ``workers``: threads
     for the local run (default one per CPU). ``journal``: a file keeping finished rows
     (local runs only): rerunning skips them, so a killed study resumes. ``out``: also write
-    the table there (.csv, .h5; .parquet with pandas' ``to_parquet``).
+    the table there (.csv, .h5; .parquet with pandas' ``to_parquet``), atomically, refusing a
+    symbolic link, directory or device at that path.
 
     The columns are the file's (``ellipsoid study``): ``point``, the axis values, then
     ``status``, ``message``, ``t_final [s]``, ``t_NAME [s]`` per observable, the chosen
@@ -131,7 +133,11 @@ def study(
     if out is not None:
         ext = os.fspath(out).rsplit(".", 1)[-1].lower()
         if ext in ("parquet", "pq"):
-            df.to_parquet(out, index=False)
+            # Made in memory, then written like every other table: atomically, never
+            # through a symbolic link.
+            buf = io.BytesIO()
+            df.to_parquet(buf, index=False)
+            st.write_bytes(out, buf.getvalue())
         else:
             st.write(out, rows)
     return df

@@ -351,16 +351,8 @@ pub fn load(path: &Path) -> Result<Plan, ScenarioErrors> {
     let source = path.display().to_string();
     let fail =
         |rule: String| ScenarioErrors::from(super::plan::study_error(&source, None, None, rule));
-    let meta =
-        std::fs::metadata(path).map_err(|e| fail(format!("cannot read the study file: {e}")))?;
-    if meta.len() > MAX_STUDY_BYTES as u64 {
-        return Err(fail(format!(
-            "the study file has {} bytes; at most {MAX_STUDY_BYTES} are read",
-            meta.len()
-        )));
-    }
-    let bytes =
-        std::fs::read(path).map_err(|e| fail(format!("cannot read the study file: {e}")))?;
+    let bytes = ellipsoid_core::scenario::read_bounded(path, MAX_STUDY_BYTES as u64)
+        .map_err(|e| fail(format!("cannot read the study file: {e}")))?;
     let text = String::from_utf8(bytes).map_err(|e| {
         fail(format!(
             "the study file is not UTF-8 text, as TOML must be (bad byte at offset {})",
@@ -428,11 +420,9 @@ fn parse_doc(doc: &Doc<'_>, dir: Option<&Path>, given: Option<Base>) -> Res<Plan
             DeValue::String(p) => {
                 let path = dir.map_or_else(|| Path::new(p.as_ref()).to_owned(), |d| d.join(p.as_ref()));
                 let shown = path.display().to_string();
-                let meta = std::fs::metadata(&path).map_err(|e| doc.invalid(v, "base", format!("cannot read the base scenario {shown}: {e}")))?;
-                if meta.len() > MAX_BASE_BYTES as u64 {
-                    return Err(doc.invalid(v, "base", format!("the base scenario has {} bytes; at most {MAX_BASE_BYTES} are read", meta.len())));
-                }
-                let text = std::fs::read_to_string(&path).map_err(|e| doc.invalid(v, "base", format!("cannot read the base scenario {shown}: {e}")))?;
+                let cannot = |e: String| doc.invalid(v, "base", format!("cannot read the base scenario {shown}: {e}"));
+                let bytes = ellipsoid_core::scenario::read_bounded(&path, MAX_BASE_BYTES as u64).map_err(cannot)?;
+                let text = String::from_utf8(bytes).map_err(|_| cannot("the file is not UTF-8 text, as TOML must be".into()))?;
                 Base { text, source: shown, overrides: Vec::new() }
             }
             DeValue::Table(_) => {

@@ -255,3 +255,14 @@ fn a_plan_travels_as_json_without_changing_a_bit() {
         assert_eq!(back.resolve(i).unwrap().key, s.resolve(i).unwrap().key);
     }
 }
+
+#[test]
+fn worker_threads_are_bounded_by_the_cap_and_the_runs() {
+    let max = max_threads();
+    assert!(max >= 8);
+    assert_eq!(worker_threads(5, 2), 2);
+    assert_eq!(worker_threads(3, 0), 1);
+    assert_eq!(worker_threads(1_000_000_000, 1_000_000_000), max);
+    assert!(worker_threads(0, 3) <= 3);
+    assert_eq!(worker_threads(1, 100), 1);
+}
