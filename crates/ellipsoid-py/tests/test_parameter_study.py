@@ -245,3 +245,34 @@ def test_a_parquet_table_is_written_atomically_and_never_through_a_link(tmp_path
     df = ellipsoid.study(base(), axes, out=out)
     assert list(pd.read_parquet(out)["key"]) == list(df["key"])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sub.parquet", "t.parquet", "victim.txt"]
+
+
+def test_ctrl_c_cancels_the_queued_chunks_of_a_concurrent_futures_executor() -> None:
+    """Ctrl-C while `study` waits on a concurrent.futures executor drops the chunks not yet
+    started (they used to run to the end before the interrupt reached the caller)."""
+
+    class Recording(concurrent.futures.ThreadPoolExecutor):
+        def __init__(self) -> None:
+            super().__init__(1)
+            self.futures: list[concurrent.futures.Future] = []
+
+        def submit(self, *args, **kwargs):  # type: ignore[no-untyped-def]
+            f = super().submit(*args, **kwargs)
+            self.futures.append(f)
+            return f
+
+    with Recording() as ex:
+
+        def interrupt_after_the_first_chunk() -> None:
+            while not any(f.done() for f in ex.futures):
+                time.sleep(0.001)
+            os.kill(os.getpid(), signal.SIGINT)
+
+        watcher = threading.Thread(target=interrupt_after_the_first_chunk, daemon=True)
+        watcher.start()
+        with pytest.raises(KeyboardInterrupt):
+            ellipsoid.study(base(), AXES, OUTCOMES, executor=ex, chunk_seconds=0.001)
+        watcher.join()
+        waiting = [f for f in ex.futures if not (f.done() or f.running())]
+        assert waiting == [], f"{len(waiting)} of {len(ex.futures)} chunks still queued"
+        assert sum(f.cancelled() for f in ex.futures) > len(ex.futures) // 2

@@ -607,6 +607,25 @@ fn numbers_in_messages_are_short() {
     );
 }
 
+/// A subnormal semi-axis (5e-324 m) used to be accepted and "complete"; semi-axes whose
+/// squares leave the normal floats are refused, naming the range.
+#[test]
+fn semi_axes_whose_squares_are_not_normal_floats_are_refused() {
+    for (bad, shown) in [
+        ("5e-324", "5e-324"),
+        ("1e-160", "1e-160"),
+        ("1e155", "1e155"),
+    ] {
+        let e = err(&edit("a = 0.025", &format!("a = {bad}")), &[]);
+        assert_eq!(
+            e,
+            format!(
+                "x.toml:3:1: body.a = {shown}: a semi-axis must be from 1.5e-154 to 1.3e154 m, so that its square is a normal float"
+            )
+        );
+    }
+}
+
 /// `[contact] contact_radius` and `contact_law` (issue #14): read into `Scene::disc`, and
 /// every bad value named with its key, value and rule.
 #[test]

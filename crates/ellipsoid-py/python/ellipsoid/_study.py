@@ -168,6 +168,14 @@ def _distributed(st: Study, executor: Any, chunk_seconds: float) -> list:
             futures.append(executor.submit(_run_chunk, payload, start, stop, 1, pure=False, retries=3))
         else:
             futures.append(executor.submit(_run_chunk, text, start, stop, 1))
-    for f in futures:  # in point order; each result as it is needed
-        rows.extend(f.result())
+    try:
+        for f in futures:  # in point order; each result as it is needed
+            rows.extend(f.result())
+    except BaseException:
+        # Ctrl-C (or a failed chunk): the chunks not started yet are dropped at once, so
+        # the executor is free when the exception reaches the caller (a concurrent.futures
+        # executor would otherwise run every queued chunk first).
+        for f in futures:
+            f.cancel()
+        raise
     return rows

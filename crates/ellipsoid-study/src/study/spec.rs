@@ -451,6 +451,24 @@ fn parse_doc(doc: &Doc<'_>, dir: Option<&Path>, given: Option<Base>) -> Res<Plan
     let mut axes_out = Vec::new();
     if let Some(v) = get("axis") {
         let list = doc.array(v, "axis", MAX_AXES)?;
+        // The grid's size, from the counts the axes declare, before any value is made.
+        if combine == Combine::Grid {
+            // (An axis of more than MAX_POINTS values is left to read_axis, which names it.)
+            let declared: Vec<usize> = list
+                .iter()
+                .filter_map(declared_count)
+                .filter(|n| *n <= MAX_POINTS)
+                .collect();
+            super::plan::grid_points(&declared).map_err(|rule| {
+                doc.err(
+                    ErrorKind::Invalid,
+                    &v.span(),
+                    "combine",
+                    Some("grid".into()),
+                    rule,
+                )
+            })?;
+        }
         for (i, a) in list.iter().enumerate() {
             axes_out.push(read_axis(doc, a, i)?);
         }
@@ -468,6 +486,45 @@ fn parse_doc(doc: &Doc<'_>, dir: Option<&Path>, given: Option<Base>) -> Res<Plan
         axes: axes_out,
         combine,
         outcomes,
+    })
+}
+
+/// Refuses a generator range from `a` to `b` whose width `b − a` overflows: the values
+/// made from it would be infinite or NaN.
+fn finite_span(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, key: &str, a: f64, b: f64) -> Res<()> {
+    if (b - a).is_finite() {
+        Ok(())
+    } else {
+        Err(doc.invalid(
+            v,
+            key,
+            format!("the ends {a:e} and {b:e} are too far apart: their difference must be a finite number (below 1.8e308), or the values would be infinite or NaN"),
+        ))
+    }
+}
+
+/// The number of values axis `v` declares (its generator's `n`, or its list's length),
+/// read without making any; None for an axis [`read_axis`] will refuse.
+fn declared_count(v: &Spanned<DeValue<'_>>) -> Option<usize> {
+    fn field<'a, 'i>(t: &'a DeTable<'i>, name: &str) -> Option<&'a DeValue<'i>> {
+        t.iter()
+            .find(|(k, _)| k.get_ref() == name)
+            .map(|(_, v)| v.get_ref())
+    }
+    let int = |v: &DeValue<'_>| match v {
+        DeValue::Integer(i) => i64::from_str_radix(&i.as_str().replace('_', ""), i.radix())
+            .ok()
+            .and_then(|n| usize::try_from(n).ok()),
+        _ => None,
+    };
+    let DeValue::Table(t) = v.get_ref() else {
+        return None;
+    };
+    GENERATORS.iter().find_map(|g| match (*g, field(t, g)?) {
+        ("values", DeValue::Array(a)) => Some(a.len()),
+        ("linspace" | "logspace", DeValue::Array(a)) => a.get(2).and_then(|n| int(n.get_ref())),
+        ("random" | "latin_hypercube", DeValue::Table(r)) => field(r, "n").and_then(int),
+        _ => None,
     })
 }
 
@@ -587,6 +644,9 @@ fn read_axis(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, i: usize) -> Res<Axis> {
                 ),
             ));
         }
+        for (lo, hi) in low.iter().zip(&high) {
+            finite_span(doc, need("high")?, &format!("{lname}.high"), *lo, *hi)?;
+        }
         let n = doc.count(need("n")?, &format!("{lname}.n"))?;
         let seed = doc.seed(lget("seed"), &format!("{lname}.seed"))?;
         let cols = axes::latin_hypercube(&low, &high, n, seed);
@@ -630,6 +690,7 @@ fn read_axis(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, i: usize) -> Res<Axis> {
             }
             let (a, b) = (doc.number(&list[0], &gname)?, doc.number(&list[1], &gname)?);
             let n = doc.count(&list[2], &gname)?;
+            finite_span(doc, gv, &gname, a, b)?;
             if generator == "logspace" {
                 if !(a > 0.0 && b > 0.0) {
                     return Err(doc.invalid(gv, &gname, "logspace = [start, stop, n] spaces the values geometrically: start and stop must be > 0 (they are the values, not their exponents)"));
@@ -659,6 +720,7 @@ fn read_axis(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, i: usize) -> Res<Axis> {
                     format!("low must be below high ({low} is not below {high})"),
                 ));
             }
+            finite_span(doc, need("high")?, &format!("{gname}.high"), low, high)?;
             let n = doc.count(need("n")?, &format!("{gname}.n"))?;
             let seed = doc.seed(rget("seed"), &format!("{gname}.seed"))?;
             Values::Floats(axes::random(low, high, n, seed))
