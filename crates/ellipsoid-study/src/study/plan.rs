@@ -538,23 +538,20 @@ impl Study {
                     ));
                 }
                 let mut keys = Vec::new();
-                for k in std::iter::once(&d.key).chain(&d.also) {
-                    let p = parse_path(k).map_err(|r| {
+                let named =
+                    std::iter::once((&d.key, "key")).chain(d.also.iter().map(|k| (k, "also")));
+                for (k, field) in named {
+                    let fail = |r| {
                         err(
-                            Some(format!("axis[{}].key", d.key)),
+                            Some(format!("axis[{}].{field}", d.key)),
                             Some(format!("{k:?}")),
                             r,
                         )
-                    })?;
+                    };
+                    let p = parse_path(k).map_err(fail)?;
                     // The path must reach into the base (indices exist, no scalar in the way).
                     let mut probe = base_table.clone();
-                    set_path(&mut probe, &p.segs, d.values.get(0)).map_err(|r| {
-                        err(
-                            Some(format!("axis[{}].key", d.key)),
-                            Some(format!("{k:?}")),
-                            r,
-                        )
-                    })?;
+                    set_path(&mut probe, &p.segs, d.values.get(0)).map_err(fail)?;
                     keys.push(p);
                 }
                 dims.push(keys);

@@ -354,10 +354,21 @@ pub fn load(path: &Path) -> Result<Plan, ScenarioErrors> {
     let bytes = ellipsoid_core::scenario::read_bounded(path, MAX_STUDY_BYTES as u64)
         .map_err(|e| fail(format!("cannot read the study file: {e}")))?;
     let text = String::from_utf8(bytes).map_err(|e| {
-        fail(format!(
-            "the study file is not UTF-8 text, as TOML must be (bad byte at offset {})",
-            e.utf8_error().valid_up_to()
-        ))
+        // Where the first bad byte is: line and column (in characters) of the text before it.
+        let bytes = e.as_bytes();
+        let good = std::str::from_utf8(&bytes[..e.utf8_error().valid_up_to()]).unwrap_or_default();
+        let mut error = super::plan::study_error(
+            &source,
+            None,
+            None,
+            format!(
+                "the study file is not UTF-8 text, as TOML must be: byte 0x{:02x} does not begin a UTF-8 character (save the file as UTF-8)",
+                bytes[good.len()]
+            ),
+        );
+        error.location.line = Some(good.matches('\n').count() + 1);
+        error.location.column = Some(good.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1);
+        ScenarioErrors::from(error)
     })?;
     let dir = path.parent().unwrap_or(Path::new(""));
     parse(&text, &source, Some(dir), None, Naming::File)
@@ -746,18 +757,24 @@ fn read_outcomes(doc: &Doc<'_>, t: &DeTable<'_>) -> Res<Outcomes> {
             "wall_time" => o.wall_time = doc.boolean(v, &key)?,
             "rhs_evals" => o.rhs_evals = doc.boolean(v, &key)?,
             name => {
-                let list = match v.get_ref() {
-                    DeValue::String(s) if s == "all" => {
-                        let mut all: Vec<String> = ellipsoid_core::columns::NUMERIC_COLUMNS
-                            .iter()
-                            .map(|c| c.0.to_owned())
-                            .collect();
-                        if name == "final" {
-                            all.insert(ellipsoid_core::columns::MODE_POSITION, "mode".into());
-                        }
-                        all
+                let all = match v.get_ref() {
+                    DeValue::String(s) => s == "all",
+                    DeValue::Array(a) => {
+                        a.len() == 1 && matches!(a[0].get_ref(), DeValue::String(s) if s == "all")
                     }
-                    _ => doc.strings(v, &key, MAX_KEYS)?,
+                    _ => false,
+                };
+                let list = if all {
+                    let mut all: Vec<String> = ellipsoid_core::columns::NUMERIC_COLUMNS
+                        .iter()
+                        .map(|c| c.0.to_owned())
+                        .collect();
+                    if name == "final" {
+                        all.insert(ellipsoid_core::columns::MODE_POSITION, "mode".into());
+                    }
+                    all
+                } else {
+                    doc.strings(v, &key, MAX_KEYS)?
                 };
                 match name {
                     "final" => o.final_columns = list,

@@ -318,3 +318,29 @@ fn generators_make_only_finite_values() {
         "{e}"
     );
 }
+
+/// Study-file messages name the right field and place: `final = ["all"]` is the documented
+/// "all"; a misspelt `also` key is reported on `also`; a non-UTF-8 file gets line:column.
+#[test]
+fn study_file_messages_name_the_field_and_place() {
+    let all = study(
+        "[[axis]]\nkey = \"contact.friction\"\nvalues = [0.3]\n[outcomes]\nfinal = [\"all\"]\n",
+    )
+    .unwrap();
+    let word = study(
+        "[[axis]]\nkey = \"contact.friction\"\nvalues = [0.3]\n[outcomes]\nfinal = \"all\"\n",
+    )
+    .unwrap();
+    assert_eq!(header(&all), header(&word));
+    assert!(header(&all).iter().any(|h| h.starts_with("final.mode")));
+    let e = study("[[axis]]\nkey = \"contact.friction\"\nalso = [\"initial.omega_body[7]\"]\nvalues = [0.3]\n").unwrap_err();
+    assert!(
+        e.contains("axis[contact.friction].also = \"initial.omega_body[7]\""),
+        "{e}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.toml");
+    std::fs::write(&path, b"combine = \"grid\"\nx = \"ab\xff\"\n").unwrap();
+    let e = spec::load(&path).unwrap_err().to_string();
+    assert!(e.contains("s.toml:2:8: ") && e.contains("byte 0xff"), "{e}");
+}
