@@ -139,7 +139,7 @@ pub fn sweep<'py>(
             )
         })?,
     };
-    let workers = worker_count(py, workers.as_ref())?;
+    let workers = worker_count(py, "sweep", workers.as_ref())?;
     let mut slots: Vec<Option<PyResult<Bound<'py, PyAny>>>> = Vec::new();
     let mut jobs: Vec<(usize, Scenario)> = Vec::new();
     let items = scenarios.try_iter().map_err(|_| {
@@ -200,8 +200,13 @@ pub fn sweep<'py>(
 /// `ellipsoid study -j`.
 pub use ellipsoid_study::study::max_threads as max_workers;
 
-/// The `workers` argument: None (one per CPU) or an integer in 1..=[`max_workers`].
-fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+/// The `workers` argument of `source` (`sweep`, `study`): None (one per CPU) or an integer
+/// in 1..=[`max_workers`].
+pub(crate) fn worker_count(
+    py: Python<'_>,
+    source: &str,
+    workers: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<usize>> {
     let Some(w) = workers.filter(|w| !w.is_none()) else {
         return Ok(None);
     };
@@ -216,7 +221,7 @@ fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<
             .unwrap_or_default();
         return Err(errors::type_error(
             py,
-            "sweep",
+            source,
             Some("workers"),
             None,
             format!("expected an integer, found {ty}; {rule}"),
@@ -239,7 +244,7 @@ fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<
         Ok(n) if n >= 1 && n as u64 <= max as u64 => Ok(Some(n as usize)),
         _ => Err(errors::value_error(
             py,
-            "sweep",
+            source,
             Some("workers"),
             Some(&shown),
             rule,

@@ -47,6 +47,8 @@ fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(study::precision, m)?)?;
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
     m.add_function(wrap_pyfunction!(hdf5_plugins, m)?)?;
+    m.add_function(wrap_pyfunction!(parameter_study::study_workers, m)?)?;
+    m.add_function(wrap_pyfunction!(parameter_study::argument_error, m)?)?;
     Ok(())
 }
 

@@ -276,3 +276,34 @@ def test_ctrl_c_cancels_the_queued_chunks_of_a_concurrent_futures_executor() -> 
         waiting = [f for f in ex.futures if not (f.done() or f.running())]
         assert waiting == [], f"{len(waiting)} of {len(ex.futures)} chunks still queued"
         assert sum(f.cancelled() for f in ex.futures) > len(ex.futures) // 2
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "cls", "match"),
+    [
+        ({"workers": True}, ellipsoid.ScenarioTypeError, r"study: workers: expected an integer, found bool"),
+        ({"workers": "4"}, ellipsoid.ScenarioTypeError, r"workers: expected an integer, found str"),
+        ({"workers": -1}, ellipsoid.ScenarioError, r"workers = -1: give 1 to \d+ worker threads"),
+        ({"workers": 2**64}, ellipsoid.ScenarioError, r"workers = 18446744073709551616: give 1 to"),
+        ({"chunk_seconds": "2"}, ellipsoid.ScenarioTypeError, r"chunk_seconds: expected a number of seconds, found str"),
+        ({"chunk_seconds": float("nan")}, ellipsoid.ScenarioError, r"chunk_seconds = nan: give a positive, finite number"),
+        ({"out": 5}, ellipsoid.ScenarioTypeError, r"out: expected a path"),
+        ({"journal": 5.0}, ellipsoid.ScenarioTypeError, r"journal: expected a path"),
+        ({"combine": "zip", "axes": "study"}, ellipsoid.ScenarioError, r"combine = 'zip': combine belongs to the study file"),
+        ({"journal": "j", "executor": "threads"}, ellipsoid.ScenarioError, r"journal: journal= is for local runs"),
+    ],
+)
+def test_every_argument_error_of_study_is_an_ellipsoid_error(kwargs, cls, match, tmp_path: Path) -> None:
+    """Argument errors used to be plain OverflowError/TypeError/ValueError, and workers=True
+    was accepted (sweep refuses it)."""
+    axes: object = {"initial.psi_dot": [20.0]}
+    if kwargs.pop("axes", None) == "study":
+        spec = tmp_path / "s.toml"
+        spec.write_text(f'base = "{SCENARIOS / "nutation.toml"}"\n[[axis]]\nkey = "initial.psi_dot"\nvalues = [20.0]\n')
+        axes = ellipsoid.load_study(spec)
+    with concurrent.futures.ThreadPoolExecutor(1) as ex:
+        if kwargs.get("executor") == "threads":
+            kwargs["executor"] = ex
+        with pytest.raises(cls, match=match) as info:
+            ellipsoid.study(None if not isinstance(axes, dict) else base(), axes, **kwargs)
+    assert isinstance(info.value, ellipsoid.EllipsoidError)
