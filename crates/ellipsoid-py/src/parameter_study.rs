@@ -552,5 +552,7 @@ pub fn argument_error(
     } else {
         errors::value_error
     };
-    make(py, "study", Some(key), value, rule).into_value(py).into_any()
+    make(py, "study", Some(key), value, rule)
+        .into_value(py)
+        .into_any()
 }
