@@ -280,10 +280,27 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         omega: rot * kin.omega,
     };
     let law = tangential(m.scene.contact);
+    let pre = *y;
+    // The state after an impact: its velocities, the loss in W, and no gap (it is zero to
+    // round-off at the located contact).
+    let after = |hit: &impact::Impact| {
+        let mut y = pre;
+        y[state::VEL] = hit.v_g.x;
+        y[state::VEL + 1] = hit.v_g.y;
+        y[state::VEL_Z] = hit.v_g.z;
+        y.fixed_rows_mut::<3>(state::OMEGA)
+            .copy_from(&rot.tr_mul(&hit.omega));
+        y[state::WORK] += hit.energy_loss;
+        y[state::HEIGHT] = kin.contact.height;
+        y
+    };
     let mut hit = impact::resolve(&approach, law, m.scene.landing.restitution);
+    *y = after(&hit);
+    // The settling speed after the impact: its rates decide what presses the body down.
     let settles = hit.normal_velocity.1 <= settling_speed(m, y, &kin);
     if settles && hit.normal_velocity.1 > 0.0 {
         hit = impact::resolve(&approach, law, 0.0);
+        *y = after(&hit);
     }
     events.push(EventRecord {
         kind: EventKind::Touchdown {
@@ -291,14 +308,6 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         },
         t: *t,
     });
-    y[state::VEL] = hit.v_g.x;
-    y[state::VEL + 1] = hit.v_g.y;
-    y[state::VEL_Z] = hit.v_g.z;
-    y.fixed_rows_mut::<3>(state::OMEGA)
-        .copy_from(&rot.tr_mul(&hit.omega));
-    y[state::WORK] += hit.energy_loss;
-    // The gap is zero to round-off at the located contact: none is left.
-    y[state::HEIGHT] = kin.contact.height;
     let report = |persistent| {
         EventKind::Impact(ImpactReport {
             impulse: hit.impulse,
@@ -338,9 +347,13 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         }
         // The body's own motion lifts it: it flies on from rest relative to the plane,
         // unless flight is inconsistent there too.
+        // The state it flies from is the one on the plane (for rolling, stuck): the
+        // consistency of flight was decided there.
         Placed::In(mode) => match flight_is_consistent(m, mode, &landed) {
             Ok(()) => {
                 impact(events, false);
+                *y = landed;
+                to_flight(m, mode, y);
                 Next::Go(Mode::Flight)
             }
             Err(status) => {
