@@ -64,7 +64,8 @@ pub struct StudyArgs {
     /// RESULTS.journal in the same directory. Directories are created as needed.
     #[arg(short, long, value_name = "RESULTS.parquet|.csv|.h5")]
     pub output: PathBuf,
-    /// Worker threads (default: one per CPU).
+    /// Worker threads (default: one per CPU; at most 4 per CPU, at least 8, and never
+    /// more than the runs).
     #[arg(short, long, value_name = "N")]
     pub jobs: Option<usize>,
     /// Ignore and replace the journal of an earlier run (start over).

@@ -15,7 +15,9 @@
 //!                                                                        or the body's shape)
 //! COLUMN   any numeric output column against time (`--columns`)          COLUMN
 //! ```
-//! Every time axis marks the events (dashed purple lines). Long runs are drawn from the
+//! Every time axis marks the events (dashed purple lines; at most [`EVENT_LINES`] of them:
+//! events closer together than that fraction of the axis share one line, so a chattering
+//! run's 20,000 events draw as a band of lines, not 20,000). Long runs are drawn from the
 //! min/max envelope of each series (`ellipsoid_io::viewer::envelope`), so peaks survive.
 
 use ellipsoid_io::table::Table;
@@ -28,6 +30,8 @@ pub const PANELS: [&str; 5] = ["theta", "rates", "energy", "forces", "path"];
 
 /// Points per series after decimation (two per bucket).
 const BUCKETS: usize = 2_000;
+/// Most event lines on one time axis (about one per 4 px of its width).
+const EVENT_LINES: usize = 250;
 /// Figure width and height of one panel row (px).
 const WIDTH: u32 = 1100;
 const ROW: u32 = 300;
@@ -236,10 +240,10 @@ fn time_chart(
         .bold_line_style(BLACK.mix(0.08))
         .draw()
         .map_err(err)?;
-    for e in &table.events {
+    for t in event_lines(table, t0, t1) {
         chart
             .draw_series(DashedLineSeries::new(
-                [(e.t, y0), (e.t, y1)],
+                [(t, y0), (t, y1)],
                 5,
                 4,
                 EVENT.stroke_width(1),
@@ -267,6 +271,22 @@ fn time_chart(
         labels.draw().map_err(err)?;
     }
     Ok(())
+}
+
+/// The times of the event lines on an axis from `t0` to `t1`: the axis cut into
+/// [`EVENT_LINES`] equal bins, the first event (in the summary's order) of each bin that
+/// has one.
+fn event_lines(table: &Table, t0: f64, t1: f64) -> Vec<f64> {
+    let mut taken = [false; EVENT_LINES + 1];
+    let mut lines = Vec::new();
+    for e in &table.events {
+        let bin = ((e.t - t0) / (t1 - t0) * EVENT_LINES as f64).clamp(0.0, EVENT_LINES as f64);
+        // `as` maps NaN to 0: such an event shares the first bin.
+        if !std::mem::replace(&mut taken[bin as usize], true) {
+            lines.push(e.t);
+        }
+    }
+    lines
 }
 
 fn theta_panel(area: &Area<'_>, table: &Table) -> Res {
@@ -710,6 +730,28 @@ mod tests {
             );
         }
         assert!(svg.contains("1e-"), "decade labels on the drift axis");
+    }
+
+    /// A chattering run's events: each panel draws at most [`EVENT_LINES`] lines, where
+    /// 20,000 events made a 282 MB SVG whose PNG failed.
+    #[test]
+    fn dense_events_share_lines() {
+        let mut t = table();
+        let lone = t.events[0].t;
+        for k in 0..20_000 {
+            t.events.push(ellipsoid_io::table::Event {
+                t: 0.5 + 1e-6 * k as f64,
+                kind: "mode_switch".into(),
+                label: "sliding → rolling".into(),
+            });
+        }
+        let (t0, t1) = (t.t()[0], *t.t().last().unwrap());
+        let lines = event_lines(&t, t0, t1);
+        assert_eq!(lines[0], lone, "a lone event keeps its line");
+        assert!(lines.len() <= 4, "{} lines", lines.len());
+        let svg = svg(&t, &PANELS, "test").unwrap();
+        assert!(svg.len() < 2_000_000, "{} bytes", svg.len());
+        png(&svg).unwrap();
     }
 
     #[test]

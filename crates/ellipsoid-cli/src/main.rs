@@ -35,6 +35,9 @@ fn main() -> ExitCode {
             .unwrap_or_default();
         eprintln!("error: internal error: {msg}{place}; please report it");
     }));
+    // Before any HDF5 file is opened: HDF5 must never load code from its plugin directories.
+    #[cfg(feature = "hdf5")]
+    ellipsoid_io::hdf5::forbid_plugins();
     let cli = cli::Cli::parse();
     let result = match &cli.command {
         cli::Command::Run(args) => run::run(args),

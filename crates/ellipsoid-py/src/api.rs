@@ -191,7 +191,7 @@ pub fn sweep<'py>(
             )
         })?,
     };
-    let workers = worker_count(py, workers.as_ref())?;
+    let workers = worker_count(py, "sweep", workers.as_ref())?;
     let mut slots: Vec<Option<PyResult<Bound<'py, PyAny>>>> = Vec::new();
     let mut jobs: Vec<(usize, Scenario)> = Vec::new();
     let items = scenarios.try_iter().map_err(|_| {
@@ -248,16 +248,17 @@ pub fn sweep<'py>(
     PyList::new(py, out)
 }
 
-/// Most worker threads a sweep may start: 4 per CPU, at least 8. More threads than CPUs
-/// only add overhead (each run is CPU-bound and takes an 8 MiB stack); 10⁶ of them used
-/// to take the machine down.
-pub fn max_workers() -> usize {
-    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    (4 * cpus).max(8)
-}
+/// Most worker threads a sweep or a study may start (4 per CPU, at least 8), as in
+/// `ellipsoid study -j`.
+pub use ellipsoid_study::study::max_threads as max_workers;
 
-/// The `workers` argument: None (one per CPU) or an integer in 1..=[`max_workers`].
-fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+/// The `workers` argument of `source` (`sweep`, `study`): None (one per CPU) or an integer
+/// in 1..=[`max_workers`].
+pub(crate) fn worker_count(
+    py: Python<'_>,
+    source: &str,
+    workers: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<usize>> {
     let Some(w) = workers.filter(|w| !w.is_none()) else {
         return Ok(None);
     };
@@ -272,7 +273,7 @@ fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<
             .unwrap_or_default();
         return Err(errors::type_error(
             py,
-            "sweep",
+            source,
             Some("workers"),
             None,
             format!("expected an integer, found {ty}; {rule}"),
@@ -295,7 +296,7 @@ fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<
         Ok(n) if n >= 1 && n as u64 <= max as u64 => Ok(Some(n as usize)),
         _ => Err(errors::value_error(
             py,
-            "sweep",
+            source,
             Some("workers"),
             Some(&shown),
             rule,

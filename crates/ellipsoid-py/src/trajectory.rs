@@ -194,10 +194,7 @@ impl Trajectory {
         if let Ok(v) = serde_json::from_str::<serde_json::Value>(&self.summary.to_json()) {
             t.apply_events(&v);
         }
-        t.set_body(
-            &self.scenario.inner.scene.body,
-            &format!("body from {}", self.scenario.inner.source),
-        );
+        t.set_body(&self.scenario.inner.scene.body, &self.scenario.inner.source);
         t
     }
 

@@ -25,6 +25,9 @@ __all__ = [
     "SimulationError",
     "Trajectory",
     "__version__",
+    "_argument_error",
+    "_hdf5_plugins",
+    "_study_workers",
     "check",
     "load",
     "make_study",
@@ -38,6 +41,13 @@ __version__: Final[str]
 HDF5: Final[bool]
 #: Column names of a trajectory, in the CSV file's order.
 COLUMNS: Final[list[str]]
+
+def _study_workers(workers: Any = None) -> int:
+    """`study`'s workers checked as `sweep`'s: 0 (one per CPU) or 1 to 4 per CPU (at least 8)."""
+def _argument_error(key: str, value: str | None, rule: str, wrong_type: bool = False) -> ScenarioError:
+    """The ScenarioError (ScenarioTypeError if `wrong_type`) for a bad `study` argument."""
+def _hdf5_plugins() -> tuple[bool, int]:
+    """Whether HDF5 may load plugins, and how many plugin directories it searches: (False, 0)."""
 
 _Path = str | os.PathLike[str]
 # A scenario value: bool, int, float, str, list/tuple, dict (a table), numpy array or scalar.
@@ -319,6 +329,8 @@ class Study:
         """Runs points `start` to `stop` (exclusive) without the GIL; their rows in point order."""
     def write(self, path: _Path, rows: list[tuple[Any, ...]]) -> None:
         """Writes rows from `run` as the table at `path` (.csv, .h5; .parquet if built in), atomically."""
+    def write_bytes(self, path: _Path, data: bytes) -> None:
+        """Writes `data` (pandas' Parquet table) at `path` atomically, refusing a link, directory or device there."""
 
 def make_study(base: Scenario | _Path, axes: Mapping[str | tuple[str, ...], Any], outcomes: _Table | None = None, combine: Literal["grid", "zip"] | None = None) -> Study:
     """A study from Python arguments (what `ellipsoid.study` calls)."""
