@@ -23,12 +23,15 @@ pub(crate) fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliErr
     Ok(t)
 }
 
-/// The default title: the scenario the summary names (the run's name), else the input
-/// file's name.
+/// The default title: the file name of the scenario the summary names (the run's name;
+/// never its directories, which a page must not carry), else the input file's name.
 fn default_title(table: &Table, summary: Option<&Path>) -> String {
     summary
         .and_then(|p| table::read_summary(p).ok())
-        .and_then(|s| s.get("scenario")?.as_str().map(str::to_owned))
+        .and_then(|s| {
+            let named = Path::new(s.get("scenario")?.as_str()?).file_name()?;
+            Some(named.to_string_lossy().into_owned())
+        })
         .unwrap_or_else(|| table.source.clone())
 }
 
