@@ -32,12 +32,15 @@ import re
 import subprocess
 import sys
 import tempfile
+from typing import Any
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 BASELINE = ROOT / "tests" / "data" / "regress" / "baseline.json"
 REL = 1e-9
 EVENT_TIME_FLOOR = 1e-9  # s
 SUBSAMPLE = 20
+# (path, field, old value, new value, relative move or None for a non-number)
+Move = tuple[str, str, Any, Any, float | None]
 ABOUT = ("Results of every bundled scenario, written by scripts/regression-baseline.py --bless "
          "and compared by tests/regress.rs (see either for the rule); `changes` states why each "
          "re-blessing moved them.")
@@ -63,6 +66,8 @@ def run(exe: str, scenario: str) -> tuple[int, dict, list[str], list[str]]:
         csv, js = pathlib.Path(tmp) / "out.csv", pathlib.Path(tmp) / "out.json"
         r = subprocess.run([exe, "run", scenario, "-o", str(csv), "--summary", str(js), "-q"],
                            cwd=ROOT, capture_output=True)
+        if not js.exists():
+            sys.exit(f"{scenario}: {exe} exited {r.returncode} without a summary:\n{r.stderr.decode()}")
         summary = json.loads(js.read_text())
         lines = csv.read_text().rstrip("\n").split("\n")
     return r.returncode, summary, lines[0].split(","), lines[1:]
@@ -102,9 +107,8 @@ def scales(record, label="", out=None) -> dict:
     return out
 
 
-def compare(old, new, scale: dict, path="", label="", in_events=False, moves=None) -> list:
-    """Every difference of `new` from the baseline `old` on the fields `old` has, as
-    (path, field, old, new, relative move or None for a non-number)."""
+def compare(old, new, scale: dict, path="", label="", in_events=False, moves: list[Move] | None = None) -> list[Move]:
+    """Every difference of `new` from the baseline `old` on the fields `old` has."""
     moves = [] if moves is None else moves
     if isinstance(old, dict) and isinstance(new, dict):
         for k, v in old.items():
@@ -118,10 +122,9 @@ def compare(old, new, scale: dict, path="", label="", in_events=False, moves=Non
         for k, (v, w) in enumerate(zip(old, new)):
             compare(v, w, scale, f"{path}[{k}]", label, in_events, moves)
     elif is_number(old) and is_number(new):
-        floor = EVENT_TIME_FLOOR if in_events and label == "t" else REL * scale.get(label, 0.0)
+        unit = EVENT_TIME_FLOOR / REL if in_events and label == "t" else scale.get(label, 0.0)
         diff = abs(old - new)
-        if diff > REL * max(abs(old), abs(new)) + floor:
-            unit = 1.0 if in_events and label == "t" else scale.get(label, 0.0)
+        if diff > REL * (max(abs(old), abs(new)) + unit):
             moves.append((path, field_name(path), old, new, diff / max(abs(old), abs(new), unit)))
     elif old != new:
         moves.append((path, field_name(path), old, new, None))
@@ -150,10 +153,11 @@ def main() -> int:
     exe = str(pathlib.Path(args.bin).resolve())
     baseline = json.loads(BASELINE.read_text())
     old_records = baseline["scenarios"]
-    records, moved = {}, {}
+    records: dict[str, dict] = {}
+    moved: dict[str, list[Move]] = {}
     for name in scenarios():
         old = old_records.get(name)
-        index = old["rows"]["index"] if old and "rows" in old else None
+        index = old["rows"]["index"] if old else None
         result = run(exe, name)
         records[name] = record(result, None if args.bless else index)
         if old is None:
@@ -170,7 +174,7 @@ def main() -> int:
             else:
                 print(f"{name}: {path.lstrip('.')}: {a} -> {b}" + (f" (relative move {rel:.2e})" if rel is not None else ""))
     if not args.bless:
-        print(f"{sum(map(len, moved.values()))} numbers moved in {len(moved)} of {len(records)} scenarios")
+        print(f"{sum(map(len, moved.values()))} values moved in {len(moved)} of {len(records)} scenarios")
         return 1 if moved else 0
     entry = {"reason": args.bless, "scenarios": {}}
     for name, moves in moved.items():

@@ -75,7 +75,14 @@ fn record(name: &str, index: &[usize], dir: &Path) -> Value {
         .args(["--summary", json.to_str().unwrap(), "-q"])
         .output()
         .unwrap();
-    let summary: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let summary = std::fs::read_to_string(&json).unwrap_or_else(|_| {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        panic!(
+            "{name}: exited {:?} without a summary:\n{stderr}",
+            out.status.code()
+        )
+    });
+    let summary: Value = serde_json::from_str(&summary).unwrap();
     let text = std::fs::read_to_string(&csv).unwrap();
     let mut lines = text.trim_end_matches('\n').split('\n');
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -176,8 +183,11 @@ fn regress_bundled_scenarios_match_the_baseline() {
     let dir = tempfile::tempdir().unwrap();
     let mut moved = Vec::new();
     let (bundled, recorded) = (bundled(), records.keys().cloned().collect());
-    for name in bundled.symmetric_difference(&recorded) {
-        moved.push(format!("{name}: bundled or recorded, not both"));
+    for name in bundled.difference(&recorded) {
+        moved.push(format!("{name}: a bundled scenario the baseline lacks"));
+    }
+    for name in recorded.difference(&bundled) {
+        moved.push(format!("{name}: in the baseline but no longer bundled"));
     }
     for (name, old) in records.iter().filter(|(n, _)| bundled.contains(*n)) {
         let index: Vec<usize> = serde_json::from_value(old["rows"]["index"].clone()).unwrap();
@@ -198,7 +208,7 @@ fn regress_bundled_scenarios_match_the_baseline() {
     }
     assert!(
         moved.is_empty(),
-        "{} numbers moved from tests/data/regress/baseline.json (more than 1e-9 relative):\n{}\n\
+        "{} values moved from tests/data/regress/baseline.json (more than 1e-9 relative):\n{}\n\
          If the change is deliberate, re-bless the baseline with its reason:\n  \
          cargo build --release -p ellipsoid-cli\n  \
          python3 scripts/regression-baseline.py target/release/ellipsoid --bless \"REASON\"",
