@@ -3,34 +3,12 @@
 //! restitution over random impacts, `lim_*` the frictionless and no-slip limits.
 
 use ellipsoid_core::impact::{Approach, Impact, Tangential, resolve};
-use nalgebra::{Matrix3, Rotation3, Unit, Vector3};
+use nalgebra::{Matrix3, Vector3};
 
-/// SplitMix64: a self-contained, reproducible generator.
-struct Rng(u64);
+#[path = "common/rng.rs"]
+mod rng;
 
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn vector(&mut self, scale: f64) -> Vector3<f64> {
-        Vector3::new(
-            self.uniform(-1.0, 1.0),
-            self.uniform(-1.0, 1.0),
-            self.uniform(-1.0, 1.0),
-        ) * scale
-    }
-    fn rotation(&mut self) -> Rotation3<f64> {
-        let axis = Unit::new_normalize(self.vector(1.0) + Vector3::new(1e-3, 0.0, 0.0));
-        Rotation3::from_axis_angle(&axis, self.uniform(0.0, std::f64::consts::PI))
-    }
-}
+use rng::Rng;
 
 /// A body with random mass, triaxial inertia (triangle inequality), orientation, lever
 /// arm (pointing down, as at a touchdown) and velocities with the contact approaching.

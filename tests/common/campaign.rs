@@ -20,34 +20,10 @@ use ellipsoid_core::simulate::{
 use ellipsoid_core::state::EulerAngles;
 use nalgebra::{Matrix3, Rotation3, Unit, Vector2, Vector3};
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny, well-mixed, seedable generator.
-pub struct Rng(u64);
+#[path = "rng.rs"]
+pub mod rng;
 
-impl Rng {
-    pub fn new(seed: u64) -> Self {
-        Rng(seed)
-    }
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-    fn chance(&mut self, p: f64) -> bool {
-        self.unit() < p
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.unit() * n as f64) as usize % n
-    }
-}
+pub use rng::Rng;
 
 /// The simulated time of a campaign run [s].
 pub const T_END: f64 = 0.5;
@@ -86,11 +62,7 @@ fn body(rng: &mut Rng) -> Option<Body> {
         Vector3::new(0.0, 0.0, c * rng.uniform(-0.4, 0.4))
     } else {
         if rng.chance(0.5) {
-            let axis = Unit::new_normalize(Vector3::new(
-                rng.uniform(-1.0, 1.0),
-                rng.uniform(-1.0, 1.0),
-                rng.uniform(-1.0, 1.0),
-            ));
+            let axis = Unit::new_normalize(rng.vector(1.0));
             let r = Rotation3::from_axis_angle(&axis, rng.uniform(-0.3, 0.3));
             inertia = r.matrix() * inertia * r.matrix().transpose();
             inertia = (inertia + inertia.transpose()) / 2.0;
@@ -147,11 +119,7 @@ pub fn scene(rng: &mut Rng, method: Method) -> Option<Scene> {
         rng.uniform(0.0, std::f64::consts::PI)
     };
     let spin = rng.uniform(0.0, 80.0);
-    let dir = Vector3::new(
-        rng.uniform(-1.0, 1.0),
-        rng.uniform(-1.0, 1.0),
-        rng.uniform(-1.0, 1.0),
-    );
+    let dir = rng.vector(1.0);
     let flying = rng.chance(0.3);
     let velocity = (contact != ContactModel::Rolling && rng.chance(0.5))
         .then(|| Vector2::new(rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3)));
