@@ -1,217 +1,177 @@
-//! `regress_*`: every bundled scenario gives the trajectory and summary it gave before
-//! the run loop was rewritten (issue #12), except for the new columns and fields.
+//! `regress_*`: every bundled scenario gives the results recorded in
+//! `tests/data/regress/baseline.json`, to 1e-9 relative.
 //!
-//! The baseline, `tests/data/regress/baseline.json`, was written by
-//! `scripts/regression-baseline.py` with the `ellipsoid` binary of commit f2009a6 (see the
-//! script for how): per scenario, the exit status, the FNV-1a hash of the CSV restricted
-//! to the columns f2009a6 wrote, and the summary without its machine-dependent fields.
+//! Each scenario of `scenarios/*.toml` and `scenarios/paper/*.toml` is run with the
+//! `ellipsoid` binary (`ellipsoid run SCENARIO -o CSV --summary JSON -q`, from the
+//! repository's root). Its record in the baseline holds values: the exit status, the
+//! summary's `status`, `events` and `final` state, and a subsample of the CSV (`rows`: the
+//! row count, the indices of 21 evenly spaced rows, every column at those rows). The
+//! summary's machine- and build-dependent fields (wall time, version, step statistics)
+//! are not recorded.
 //!
-//! Numbers are compared in one canonical form (Rust's `{:e}`, which f2009a6 wrote), so
-//! the CSV writer's move to `zmij`'s shorter style (issue #18) keeps every value.
+//! A number moved when |a − b| > 1e-9 max(|a|, |b|) + floor, the floor being 1e-9 s for an
+//! event's time and otherwise 1e-9 times the largest magnitude the same field (the CSV
+//! column, or the event or final field of that name) takes in the scenario's baseline
+//! record, so a value that crosses zero is judged on its scale. Strings, booleans, row and
+//! event counts must be equal. There are no per-scenario exceptions: the test fails
+//! listing every moved number.
 //!
-//! Deliberate changes since, each stated with its bound:
-//! - events between step ends are no longer missed (docs/integrators.md, "Events"): the
-//!   scan of the dense output near a watch's zero prepares the dense output in a few more
-//!   steps, so `rhs_evals` may grow, by at most 1 % (measured: 0 to 0.2 %);
-//! - with that scan the slip-floor watch (docs/physics.md, model 2: a slip below
-//!   1e-10 (|v_G| + |ω||r|) counts as stopped) is now seen where a clean slip stop dips
-//!   below the floor inside a step: the billiard ball stops slipping 4.2e-11 s earlier,
-//!   as the floor says it may (within 1e-10 s), and its trajectory after the stop
-//!   differs at that level (final state within 1e-9);
-//! - a crossing of v_C·s_ref = 0 within 20 slip floors is a stop when a local solve 1000×
-//!   tighter confirms it (docs/physics.md, "The slip stop, numerically"; issue #17): the
-//!   egg stops slipping 3.6e-11 s earlier, at that crossing instead of at the floor after
-//!   a refused crossing and a new segment (so its step counts and message differ, and its
-//!   final state by that time's rates, within 1e-7); the final normal force and slip
-//!   speed of a slip stop depend on the direction of a slip below the floor (the pure
-//!   sliding law's N has d = e3 − μ ŝ) and are not compared;
-//! - below the slip band (docs/physics.md, "The slip stop, numerically"; issue #17 item 6)
-//!   the sliding law's friction follows a blend of the slip's direction and s_ref: every
-//!   scene whose slip comes near zero under an adaptive method moves, its slip stops by
-//!   up to 1.2e-10 s (the egg; 8e-14–1.3e-12 s for the others), its final state within
-//!   1e-9 relative, and its step counts fall (the smallest step grows 30–100×: no steps
-//!   collapse near the stop any more), so stats and the message (which names the stop
-//!   time) are not compared; event times are compared to 2e-10 s for the egg and 1e-11 s
-//!   for the others the band moves (the billiard, unmoved by it, keeps 1e-10 s).
+//! A deliberate change is recorded by re-blessing the baseline with its reason:
+//!
+//! ```text
+//! cargo build --release -p ellipsoid-cli
+//! python3 scripts/regression-baseline.py target/release/ellipsoid              # what moved
+//! python3 scripts/regression-baseline.py target/release/ellipsoid --bless "REASON"
+//! ```
+//!
+//! The script applies the same rule, rewrites every record and appends the reason, with
+//! each moved scenario's largest relative move and moved fields, to the baseline's
+//! `changes` list, the history of every deliberate change.
 
+use std::collections::{BTreeSet, HashMap};
 use std::path::Path;
 use std::process::Command;
 
-use serde_json::Value;
+use serde_json::{Map, Value, json};
 
 const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
-
-/// How a scenario whose slip stop moved (see the module docs) is compared: relative
-/// tolerance of its numbers and the summary fields left out.
-struct Moved {
-    name: &'static str,
-    rel: f64,
-    /// How far its event times may move [s].
-    event: f64,
-    skip: &'static [&'static str],
-}
-
-/// Scenes moved by the slip band only (see the module docs).
-const BAND: &[&str] = &[
-    ".stats",
-    ".message",
-    ".final.normal_force",
-    ".final.slip_speed",
-];
-
-const MOVED_STOPS: [Moved; 7] = [
-    Moved {
-        name: "scenarios/billiard.toml",
-        rel: 1e-9,
-        event: 1e-10,
-        skip: &[],
-    },
-    Moved {
-        name: "scenarios/egg.toml",
-        rel: 1e-7,
-        event: 2e-10,
-        skip: &[
-            ".stats",
-            ".message",
-            ".final.normal_force",
-            ".final.slip_speed",
-        ],
-    },
-    Moved {
-        name: "scenarios/paper-sliding.toml",
-        rel: 1e-9,
-        event: 1e-11,
-        skip: BAND,
-    },
-    Moved {
-        name: "scenarios/spin-friction.toml",
-        rel: 1e-9,
-        event: 1e-11,
-        skip: BAND,
-    },
-    Moved {
-        name: "scenarios/tippe-top.toml",
-        rel: 1e-9,
-        event: 1e-11,
-        skip: BAND,
-    },
-    Moved {
-        name: "scenarios/paper/fig10-sliding-theta.toml",
-        rel: 1e-9,
-        event: 1e-11,
-        skip: BAND,
-    },
-    Moved {
-        name: "scenarios/paper/fig11-sliding-theta-dot.toml",
-        rel: 1e-9,
-        event: 1e-11,
-        skip: BAND,
-    },
-];
+/// Relative tolerance of every number, and of its floor's scale.
+const REL: f64 = 1e-9;
+/// Absolute floor on an event's time [s].
+const EVENT_TIME_FLOOR: f64 = 1e-9;
 
 fn root() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }
 
-fn fnv1a64(data: &[u8]) -> u64 {
-    data.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
-        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+/// The bundled scenarios, as paths from the repository's root.
+fn bundled() -> BTreeSet<String> {
+    ["scenarios", "scenarios/paper"]
+        .iter()
+        .flat_map(|dir| {
+            std::fs::read_dir(root().join(dir))
+                .unwrap()
+                .map(|e| e.unwrap().file_name().into_string().unwrap())
+                .filter(|f| f.ends_with(".toml"))
+                .map(move |f| format!("{dir}/{f}"))
+        })
+        .collect()
+}
+
+/// A CSV field as a JSON number where it is a finite one (`mode` stays a string).
+fn field(text: &str) -> Value {
+    text.parse::<f64>()
+        .ok()
+        .and_then(serde_json::Number::from_f64)
+        .map_or_else(|| Value::String(text.to_owned()), Value::Number)
+}
+
+/// The record of one run of `name`, its CSV sampled at the rows `index`.
+fn record(name: &str, index: &[usize], dir: &Path) -> Value {
+    let (csv, json) = (dir.join("out.csv"), dir.join("out.json"));
+    let out = Command::new(BIN)
+        .current_dir(root())
+        .args(["run", name, "-o", csv.to_str().unwrap()])
+        .args(["--summary", json.to_str().unwrap(), "-q"])
+        .output()
+        .unwrap();
+    let summary = std::fs::read_to_string(&json).unwrap_or_else(|_| {
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        panic!(
+            "{name}: exited {:?} without a summary:\n{stderr}",
+            out.status.code()
+        )
+    });
+    let summary: Value = serde_json::from_str(&summary).unwrap();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.trim_end_matches('\n').split('\n');
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let body: Vec<&str> = lines.collect();
+    let picked: Vec<Vec<&str>> = index
+        .iter()
+        .filter_map(|&i| body.get(i).map(|row| row.split(',').collect()))
+        .collect();
+    let columns: Map<String, Value> = header
+        .iter()
+        .enumerate()
+        .map(|(j, c)| {
+            let values = picked.iter().map(|row| field(row[j])).collect();
+            ((*c).to_owned(), Value::Array(values))
+        })
+        .collect();
+    json!({
+        "exit": out.status.code().unwrap_or(-1),
+        "status": summary["status"],
+        "events": summary["events"],
+        "final": summary["final"],
+        "rows": {"count": body.len(), "index": index, "columns": columns},
     })
 }
 
-/// `field` as f2009a6 wrote it: a number in Rust's `{:e}` form (the CSV writer's format
-/// changed since, its values did not), anything else unchanged.
-fn canonical(field: &str) -> String {
-    field
-        .parse::<f64>()
-        .map_or_else(|_| field.to_owned(), |v| format!("{v:e}"))
-}
-
-/// Rows and hash of the CSV text restricted to `columns`, numbers in canonical form (as
-/// the baseline script does).
-fn digest(csv: &str, columns: &[String]) -> (u64, String) {
-    let mut lines = csv.trim_end_matches('\n').split('\n');
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let idx: Vec<usize> = columns
-        .iter()
-        .map(|c| {
-            header
-                .iter()
-                .position(|h| h == c)
-                .unwrap_or_else(|| panic!("column {c} is gone"))
-        })
-        .collect();
-    let select = |line: &str| {
-        let f: Vec<&str> = line.split(',').collect();
-        idx.iter()
-            .map(|&i| canonical(f[i]))
-            .collect::<Vec<_>>()
-            .join(",")
-    };
-    let mut rows = vec![select(&header.join(","))];
-    rows.extend(lines.map(select));
-    (
-        (rows.len() - 1) as u64,
-        format!("{:016x}", fnv1a64(rows.join("\n").as_bytes())),
-    )
-}
-
-/// Whether two JSON numbers agree to `rel` relative (with an absolute floor `rel`·1e-6).
-fn close(a: &Value, b: &Value, rel: f64) -> bool {
-    match (a.as_f64(), b.as_f64()) {
-        (Some(x), Some(y)) => (x - y).abs() <= rel * x.abs().max(y.abs()).max(1e-6),
-        _ => a == b,
+/// The largest magnitude of every field name in `value` (an array takes its key's name).
+fn scales(value: &Value, label: &str, out: &mut HashMap<String, f64>) {
+    match value {
+        Value::Object(map) => map.iter().for_each(|(k, v)| scales(v, k, out)),
+        Value::Array(items) => items.iter().for_each(|v| scales(v, label, out)),
+        Value::Number(n) => {
+            let s = out.entry(label.to_owned()).or_insert(0.0);
+            *s = s.max(n.as_f64().unwrap().abs());
+        }
+        _ => {}
     }
 }
 
-/// Compares `new` with `old` on the keys `old` has (new fields are allowed).
-fn compare(
-    path: &str,
-    old: &Value,
-    new: &Value,
-    tolerant: Option<&Moved>,
-    errors: &mut Vec<String>,
-) {
+/// Where a number sits in a record and what judges it.
+struct At<'a> {
+    path: String,
+    label: &'a str,
+    in_events: bool,
+}
+
+/// Appends every difference of `new` from the baseline `old` on the fields `old` has.
+fn compare(old: &Value, new: &Value, at: &At, scale: &HashMap<String, f64>, out: &mut Vec<String>) {
+    let path = &at.path;
     match (old, new) {
         (Value::Object(o), Value::Object(n)) => {
             for (k, v) in o {
-                let sub = format!("{path}.{k}");
+                let sub = At {
+                    path: format!("{path}.{k}"),
+                    label: k,
+                    in_events: at.in_events || k == "events",
+                };
                 match n.get(k) {
-                    None => errors.push(format!("{sub} is missing")),
-                    Some(_) if tolerant.is_some_and(|m| m.skip.iter().any(|s| sub.contains(s))) => {
-                    }
-                    Some(w) if k == "rhs_evals" => {
-                        let (a, b) = (v.as_u64().unwrap(), w.as_u64().unwrap());
-                        if b < a || b as f64 > 1.01 * a as f64 {
-                            errors.push(format!("{sub}: {a} -> {b} (more than 1 % more)"));
-                        }
-                    }
-                    Some(w) => compare(&sub, v, w, tolerant, errors),
+                    Some(w) => compare(v, w, &sub, scale, out),
+                    None => out.push(format!("{}: {v} -> missing", sub.path)),
                 }
             }
         }
-        (Value::Array(o), Value::Array(n)) if o.len() == n.len() => {
+        (Value::Array(o), Value::Array(n)) => {
+            if o.len() != n.len() {
+                out.push(format!("{path} (length): {} -> {}", o.len(), n.len()));
+            }
             for (k, (v, w)) in o.iter().zip(n).enumerate() {
-                compare(&format!("{path}[{k}]"), v, w, tolerant, errors);
+                let sub = At {
+                    path: format!("{path}[{k}]"),
+                    ..*at
+                };
+                compare(v, w, &sub, scale, out);
             }
         }
-        // The drift of a run that stops 4e-11 s earlier is another round-off sample.
-        _ if tolerant.is_some() && (path.contains(".drift") || path.contains(".checks")) => {}
-        (Value::Number(_), Value::Number(_)) if let Some(moved) = tolerant => {
-            let ok = if path.contains(".events") {
-                (old.as_f64().unwrap() - new.as_f64().unwrap()).abs() <= moved.event
+        (Value::Number(a), Value::Number(b)) => {
+            let (a, b) = (a.as_f64().unwrap(), b.as_f64().unwrap());
+            let unit = if at.in_events && at.label == "t" {
+                EVENT_TIME_FLOOR / REL
             } else {
-                close(old, new, moved.rel)
+                scale.get(at.label).copied().unwrap_or(0.0)
             };
-            if !ok {
-                errors.push(format!("{path}: {old} -> {new}"));
+            let diff = (a - b).abs();
+            if diff > REL * (a.abs().max(b.abs()) + unit) {
+                let rel = diff / a.abs().max(b.abs()).max(unit);
+                out.push(format!("{path}: {a:e} -> {b:e} (relative move {rel:.2e})"));
             }
         }
-        _ => {
-            if old != new {
-                errors.push(format!("{path}: {old} -> {new}"));
-            }
-        }
+        _ if old != new => out.push(format!("{path}: {old} -> {new}")),
+        _ => {}
     }
 }
 
@@ -219,53 +179,40 @@ fn compare(
 fn regress_bundled_scenarios_match_the_baseline() {
     let text = std::fs::read_to_string(root().join("tests/data/regress/baseline.json")).unwrap();
     let baseline: Value = serde_json::from_str(&text).unwrap();
-    let columns: Vec<String> = serde_json::from_value(baseline["columns"].clone()).unwrap();
+    let records = baseline["scenarios"].as_object().unwrap();
     let dir = tempfile::tempdir().unwrap();
-    let mut errors = Vec::new();
-    let scenarios = baseline["scenarios"].as_object().unwrap();
-    assert_eq!(scenarios.len(), 31, "every bundled scenario has a baseline");
-    for (name, expected) in scenarios {
-        let (csv, json) = (dir.path().join("out.csv"), dir.path().join("out.json"));
-        let out = Command::new(BIN)
-            .current_dir(root())
-            .args([
-                "run",
-                name,
-                "-o",
-                csv.to_str().unwrap(),
-                "--summary",
-                json.to_str().unwrap(),
-                "-q",
-            ])
-            .output()
-            .unwrap();
-        if Some(out.status.code().unwrap_or(-1) as i64) != expected["exit"].as_i64() {
-            errors.push(format!(
-                "{name}: exit {:?}, expected {}",
-                out.status.code(),
-                expected["exit"]
-            ));
-            continue;
-        }
-        let moved = MOVED_STOPS.iter().find(|m| m.name == name.as_str());
-        let (rows, hash) = digest(&std::fs::read_to_string(&csv).unwrap(), &columns);
-        if rows != expected["csv"]["rows"].as_u64().unwrap() {
-            errors.push(format!(
-                "{name}: {rows} rows, expected {}",
-                expected["csv"]["rows"]
-            ));
-        }
-        if moved.is_none() && hash != expected["csv"]["fnv1a64"].as_str().unwrap() {
-            errors.push(format!("{name}: the trajectory differs from the baseline"));
-        }
-        let summary: Value =
-            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
-        compare(name, &expected["summary"], &summary, moved, &mut errors);
+    let mut moved = Vec::new();
+    let (bundled, recorded) = (bundled(), records.keys().cloned().collect());
+    for name in bundled.difference(&recorded) {
+        moved.push(format!("{name}: a bundled scenario the baseline lacks"));
+    }
+    for name in recorded.difference(&bundled) {
+        moved.push(format!("{name}: in the baseline but no longer bundled"));
+    }
+    for (name, old) in records.iter().filter(|(n, _)| bundled.contains(*n)) {
+        let index: Vec<usize> = serde_json::from_value(old["rows"]["index"].clone()).unwrap();
+        let new = record(name, &index, dir.path());
+        let mut scale = HashMap::new();
+        scales(old, "", &mut scale);
+        let mut out = Vec::new();
+        let at = At {
+            path: String::new(),
+            label: "",
+            in_events: false,
+        };
+        compare(old, &new, &at, &scale, &mut out);
+        moved.extend(
+            out.iter()
+                .map(|m| format!("{name}: {}", m.trim_start_matches('.'))),
+        );
     }
     assert!(
-        errors.is_empty(),
-        "{} differences:\n{}",
-        errors.len(),
-        errors.join("\n")
+        moved.is_empty(),
+        "{} values moved from tests/data/regress/baseline.json (more than 1e-9 relative):\n{}\n\
+         If the change is deliberate, re-bless the baseline with its reason:\n  \
+         cargo build --release -p ellipsoid-cli\n  \
+         python3 scripts/regression-baseline.py target/release/ellipsoid --bless \"REASON\"",
+        moved.len(),
+        moved.join("\n")
     );
 }
