@@ -1,0 +1,93 @@
+//! Steady motions of the body on the plane and their linear stability
+//! (docs/physics.md, "Steady motions and their stability").
+//!
+//! Layout: [`reduce`] (the closed dynamics of ζ = Rᵀe3 and ω that the plane's symmetries
+//! and the contact constraint leave), [`families`] (the steady states), [`linearize`]
+//! (the Jacobian in tangent coordinates), [`spectrum`] (eigenvalues with the family's
+//! zero removed, eigenvectors named by what moves).
+
+pub mod families;
+pub mod linearize;
+pub mod reduce;
+pub mod spectrum;
+
+pub use families::{Family, SteadyMotion, started_at};
+pub use linearize::{COORDINATES, Linearization, Reduced, linearize};
+pub use reduce::{Phase, ReducedField};
+pub use spectrum::{Mode, STABLE_TOLERANCE, Shape, Spectrum};
+
+use nalgebra::Vector3;
+
+use crate::error::ModelError;
+use crate::simulate::Scene;
+
+/// A steady motion, its linearisation and its spectrum.
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    pub motion: SteadyMotion,
+    pub linearization: Linearization,
+    pub spectrum: Spectrum,
+}
+
+/// The steady motion of `family` that `scene` defines (its body, contact model and
+/// initial spin) and its stability.
+pub fn analyse(scene: &Scene, family: Family) -> Result<Analysis, ModelError> {
+    let field = ReducedField::from_scene(scene)?;
+    let motion = families::steady_motion(&field, scene, family)?;
+    Ok(analyse_motion(&field, motion))
+}
+
+/// The linearisation and spectrum of a steady `motion` of `field`.
+pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Analysis {
+    let linearization = linearize(field, &motion.at, None);
+    let (zeta, _) = reduce::split(&linearization.at);
+    let spectrum = spectrum::spectrum(
+        &linearization,
+        &motion.family_direction,
+        &shape(field, zeta),
+    );
+    Analysis {
+        motion,
+        linearization,
+        spectrum,
+    }
+}
+
+impl Analysis {
+    /// The phase-space displacement ε Re(v) along mode `k` (its tilt ε rad).
+    pub fn perturbation(&self, k: usize, epsilon: f64) -> Phase {
+        let v = self.spectrum.modes[k].vector.map(|c| c.re * epsilon);
+        self.linearization.direction(&v)
+    }
+}
+
+/// How the body looks from above at attitude ζ0, for naming modes.
+fn shape(field: &ReducedField, zeta: Vector3<f64>) -> Shape {
+    let body = field.body();
+    let axes = body.semi_axes();
+    let i = body.inertia();
+    // The body axis most nearly vertical, and the other two by length.
+    let vertical = zeta.iamax();
+    let (p, q) = match vertical {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    let (long, short) = if axes[p] >= axes[q] { (p, q) } else { (q, p) };
+    let unit = |k: usize| Vector3::from_fn(|j, _| if j == k { 1.0 } else { 0.0 });
+    let tol = 1e-12;
+    let g = body.com_offset();
+    let revolution = (axes[p] - axes[q]).abs() <= tol * axes.max()
+        && (i[(p, p)] - i[(q, q)]).abs() <= tol * i.norm()
+        && i[(p, q)].abs() <= tol * i.norm()
+        && i[(p, vertical)].abs() <= tol * i.norm()
+        && i[(q, vertical)].abs() <= tol * i.norm()
+        && g[p].abs().max(g[q].abs()) <= tol * axes.max()
+        && (zeta.abs()[vertical] - 1.0).abs() <= tol;
+    Shape {
+        zeta,
+        long: unit(long),
+        short: unit(short),
+        revolution,
+    }
+}

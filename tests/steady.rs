@@ -1,0 +1,382 @@
+//! Steady motions and their stability (docs/physics.md, "Steady motions and their
+//! stability"): the spectra against the analytic frictionless sleeping criterion, and
+//! against runs of the simulator started on the steady motion (an independent path: the
+//! integrator and the full state, not the reduced field's Jacobian).
+
+use std::ops::ControlFlow;
+
+use nalgebra::{Complex, Vector3};
+
+use ellipsoid_core::scenario;
+use ellipsoid_core::simulate::{self, Sample, Scene, Status};
+use ellipsoid_core::steady::{self, Analysis, Family, ReducedField, reduce};
+
+const G: f64 = 9.81;
+
+/// The frictionless sleeping body's eigenvalues in body axes (docs/physics.md): with
+/// k = m g (l − ρ), the world-frame tilt circles at σ solving A σ² − C n σ + k = 0, and
+/// the body frame sees σ − n; each root gives a pair ±i(σ − n) (complex σ: a quartet).
+fn sleeping_eigenvalues(big_a: f64, big_c: f64, k: f64, n: f64) -> Vec<Complex<f64>> {
+    let disc = Complex::new(big_c * big_c * n * n - 4.0 * big_a * k, 0.0).sqrt();
+    let mut out = Vec::new();
+    for s in [1.0, -1.0] {
+        let sigma = (Complex::new(big_c * n, 0.0) + disc * s) / (2.0 * big_a);
+        let lambda = Complex::<f64>::i() * (sigma - n);
+        out.push(lambda);
+        out.push(-lambda);
+    }
+    out
+}
+
+/// Each expected eigenvalue has its own computed one within `tol` of the scale.
+fn assert_spectrum(computed: &[Complex<f64>], expected: &[Complex<f64>], tol: f64, what: &str) {
+    let scale = expected.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let mut left: Vec<Complex<f64>> = computed.to_vec();
+    for e in expected {
+        let (k, d) = left
+            .iter()
+            .enumerate()
+            .map(|(k, z)| (k, (z - e).norm()))
+            .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+        assert!(
+            d <= tol * scale,
+            "{what}: expected {e} not found (nearest off by {:.3e} of {scale:.3e}); computed {computed:?}",
+            d / scale
+        );
+        left.remove(k);
+    }
+}
+
+#[derive(Clone, Copy)]
+struct Case {
+    name: &'static str,
+    a: f64,
+    c: f64,
+    m: f64,
+    big_a: f64,
+    big_c: f64,
+    d: f64,
+    family: Family,
+}
+
+impl Case {
+    /// l − ρ: G's height above the contact minus the pole's radius of curvature a²/c.
+    fn l_minus_rho(&self) -> f64 {
+        let l = match self.family {
+            Family::Upright => self.c - self.d,
+            _ => self.c + self.d,
+        };
+        l - self.a * self.a / self.c
+    }
+    /// The sleeping criterion's critical spin, 2 √(A m g (l − ρ)) / C (NaN if none).
+    fn critical_spin(&self) -> f64 {
+        2.0 * (self.big_a * self.m * G * self.l_minus_rho()).sqrt() / self.big_c
+    }
+    /// The body (a = b, c, mass m, inertia diag(A, A, C) about G, G a distance d below
+    /// the centre on the axis) under `model`, spinning at `spin` about its axis (θ = 0).
+    fn scene(&self, model: &str, spin: f64) -> Scene {
+        let Case {
+            a,
+            c,
+            m,
+            big_a,
+            big_c,
+            d,
+            ..
+        } = *self;
+        let text = format!(
+            r#"
+[body]
+a = {a:e}
+c = {c:e}
+mass = {m:e}
+com_offset = {d:e}
+inertia = [[{big_a:e}, 0.0, 0.0], [0.0, {big_a:e}, 0.0], [0.0, 0.0, {big_c:e}]]
+[initial]
+theta_deg = 0.0
+psi_dot = {spin:e}
+[contact]
+model = "{model}"
+[effects]
+gravity = {G:e}
+[solver]
+method = "dop853"
+rtol = 1e-12
+atol = 1e-15
+[output]
+t_end = 1.0
+dt = 1e-3
+"#
+        );
+        scenario::parse(&text, "test", &[] as &[&str])
+            .unwrap()
+            .scene
+    }
+}
+
+fn oblate() -> Case {
+    let (a, c, m) = (0.03, 0.01, 0.05);
+    Case {
+        name: "oblate",
+        a,
+        c,
+        m,
+        big_a: m * (a * a + c * c) / 5.0,
+        big_c: 2.0 * m * a * a / 5.0,
+        d: 0.002,
+        family: Family::Upright,
+    }
+}
+
+fn egg() -> Case {
+    let (a, c, m) = (0.02, 0.03, 0.06);
+    Case {
+        name: "egg on its end",
+        a,
+        c,
+        m,
+        big_a: m * (a * a + c * c) / 5.0,
+        big_c: 2.0 * m * a * a / 5.0,
+        d: 0.0,
+        family: Family::Upright,
+    }
+}
+
+/// A tippe-top-like sphere, G 5 mm off the centre, standing on the pole G is far from.
+fn offset_sphere() -> Case {
+    Case {
+        name: "offset-mass sphere, inverted",
+        a: 0.02,
+        c: 0.02,
+        m: 0.015,
+        big_a: 1.6e-6,
+        big_c: 2.0e-6,
+        d: 0.005,
+        family: Family::Inverted,
+    }
+}
+
+/// The frictionless sleeping criterion C²n² > 4 A m g (l − ρ): the spectrum equals the
+/// analytic one to 1e-10 of its scale at spins on both sides of the critical spin, and
+/// the verdict is stable exactly above it; an oblate body (l < ρ) is stable at every spin.
+#[test]
+fn val_frictionless_sleeping_criterion() {
+    for case in [oblate(), egg(), offset_sphere()] {
+        let k = case.m * G * case.l_minus_rho();
+        let n_c = case.critical_spin();
+        let spins: Vec<f64> = if n_c.is_nan() {
+            assert!(case.l_minus_rho() < 0.0);
+            vec![0.0, 1.0, 30.0, 300.0, -100.0]
+        } else {
+            [0.0, 0.5, 0.9, 0.999, 1.001, 1.1, 3.0, -2.0]
+                .iter()
+                .map(|f| f * n_c)
+                .collect()
+        };
+        for n in spins {
+            let scene = case.scene("frictionless", n);
+            let an = steady::analyse(&scene, case.family).unwrap();
+            // n is the spin about the upward vertical: the body's ψ̇ upright, −ψ̇ inverted.
+            let spin = if case.family == Family::Upright {
+                n
+            } else {
+                -n
+            };
+            assert_eq!(an.motion.spin, spin);
+            let expected = sleeping_eigenvalues(case.big_a, case.big_c, k, spin);
+            let what = format!("{} at n = {n}", case.name);
+            assert_spectrum(&an.spectrum.eigenvalues(), &expected, 1e-10, &what);
+            let stable = n_c.is_nan() || n.abs() > n_c;
+            assert_eq!(an.spectrum.stable(), stable, "{what}: {:?}", an.spectrum);
+            for mode in &an.spectrum.modes {
+                assert_eq!(mode.name, "tilt", "{what}");
+            }
+        }
+    }
+}
+
+/// ζ1 = sin θ sin ψ (world up in body axes) of a sample.
+fn zeta1(s: &Sample) -> f64 {
+    s.angles.theta.sin() * s.angles.psi.sin()
+}
+
+/// Runs `scene` and returns its samples; the run must complete.
+fn run(scene: &Scene) -> Vec<Sample> {
+    let mut samples = Vec::new();
+    let out = simulate::simulate(scene, &mut |s| {
+        samples.push(*s);
+        ControlFlow::Continue(())
+    })
+    .unwrap();
+    assert_eq!(out.status, Status::Completed, "{:?}", out.status);
+    samples
+}
+
+/// The time at which ln θ first reaches ln `level`, interpolated linearly in ln θ.
+fn first_reaching(samples: &[Sample], level: f64) -> f64 {
+    let w = samples
+        .windows(2)
+        .find(|w| w[0].angles.theta < level && w[1].angles.theta >= level)
+        .expect("the tilt reaches the level");
+    let (l0, l1) = (w[0].angles.theta.ln(), w[1].angles.theta.ln());
+    w[0].t + (level.ln() - l0) / (l1 - l0) * (w[1].t - w[0].t)
+}
+
+/// Starts a run on the steady motion displaced by 1e-6 along the unstable mode and fits
+/// the growth of the tilt over a decade (1e-5 to 1e-4 rad): it must be the mode's Re λ
+/// within 1e-6 (the issue asks 1 %; the nonlinear terms are ~θ² = 1e-8 there).
+fn assert_growth(scene: &Scene, an: &Analysis, what: &str) {
+    let mode = &an.spectrum.modes[0];
+    let rate = mode.eigenvalue.re;
+    assert!(rate > 0.0, "{what}: unstable");
+    let delta = an.perturbation(0, 1e-6);
+    let mut start = steady::started_at(scene, &an.motion.at, &delta);
+    start.t_end = 16.0 / rate;
+    start.sample_times = (0..=4000)
+        .map(|i| i as f64 * start.t_end / 4000.0)
+        .collect();
+    let samples = run(&start);
+    let t1 = first_reaching(&samples, 1e-5);
+    let t2 = first_reaching(&samples, 1e-4);
+    let fitted = 10f64.ln() / (t2 - t1);
+    eprintln!("{what}: growth {fitted} against Re λ = {rate}");
+    assert!(
+        (fitted / rate - 1.0).abs() < 1e-6,
+        "{what}: growth {fitted} against Re λ = {rate}"
+    );
+}
+
+/// Starts a run displaced by 1e-6 along stable mode `k` and measures the angular
+/// frequency of ζ1 from its zero crossings over 40 periods: it must be |Im λ| within 1e-6.
+fn assert_frequency(scene: &Scene, an: &Analysis, k: usize, what: &str) {
+    let lambda = an.spectrum.modes[k].eigenvalue;
+    let omega = lambda.im.abs();
+    let delta = an.perturbation(k, 1e-6);
+    let mut start = steady::started_at(scene, &an.motion.at, &delta);
+    let period = std::f64::consts::TAU / omega;
+    start.t_end = 41.0 * period;
+    let per_period = 400.0;
+    let count = (41.0 * per_period) as usize;
+    start.sample_times = (0..=count)
+        .map(|i| i as f64 * start.t_end / count as f64)
+        .collect();
+    let samples = run(&start);
+    let crossings: Vec<f64> = samples
+        .windows(2)
+        .filter(|w| zeta1(&w[0]) < 0.0 && zeta1(&w[1]) >= 0.0)
+        .map(|w| {
+            let (a, b) = (zeta1(&w[0]), zeta1(&w[1]));
+            w[0].t - a / (b - a) * (w[1].t - w[0].t)
+        })
+        .collect();
+    assert!(
+        crossings.len() >= 40,
+        "{what}: {} crossings",
+        crossings.len()
+    );
+    let (first, last) = (crossings[0], crossings[crossings.len() - 1]);
+    let measured = std::f64::consts::TAU * (crossings.len() - 1) as f64 / (last - first);
+    eprintln!(
+        "{what}: {measured} against {omega}: {:.2e}",
+        measured / omega - 1.0
+    );
+    assert!(
+        (measured / omega - 1.0).abs() < 1e-6,
+        "{what}: ζ1 oscillates at {measured} rad/s against |Im λ| = {omega} ({:.2e})",
+        measured / omega - 1.0
+    );
+}
+
+/// Independent path, frictionless egg on its end: below the critical spin a run grows
+/// at the predicted rate, above it each mode oscillates at the predicted frequency.
+#[test]
+fn val_frictionless_egg_runs_follow_the_spectrum() {
+    let case = egg();
+    let n_c = case.critical_spin();
+    for f in [0.3, 0.8] {
+        let scene = case.scene("frictionless", f * n_c);
+        let an = steady::analyse(&scene, Family::Upright).unwrap();
+        assert_growth(&scene, &an, &format!("frictionless egg at {f} n_c"));
+    }
+    let scene = case.scene("frictionless", 2.0 * n_c);
+    let an = steady::analyse(&scene, Family::Upright).unwrap();
+    // Modes 0..4 come in conjugate pairs; one of each pair is enough.
+    for k in [0, 2] {
+        assert_frequency(
+            &scene,
+            &an,
+            k,
+            &format!("frictionless egg at 2 n_c, mode {k}"),
+        );
+    }
+}
+
+/// Independent path, rolling (no analytic value is asserted: rolling changes the
+/// criterion): the egg on its end below the frictionless critical spin grows at the
+/// predicted rate, the inverted offset-mass sphere at 3 n_c is stable and oscillates at
+/// the predicted frequencies.
+#[test]
+fn val_rolling_runs_follow_the_spectrum() {
+    let case = egg();
+    let n_c = case.critical_spin();
+    let slow = case.scene("rolling", 0.5 * n_c);
+    let an = steady::analyse(&slow, Family::Upright).unwrap();
+    assert_growth(&slow, &an, "rolling egg at 0.5 n_c");
+    let sphere = offset_sphere();
+    let scene = sphere.scene("rolling", 3.0 * sphere.critical_spin());
+    let an = steady::analyse(&scene, Family::Inverted).unwrap();
+    assert!(an.spectrum.stable(), "{:?}", an.spectrum);
+    for k in [0, 2] {
+        assert_frequency(&scene, &an, k, &format!("rolling sphere, mode {k}"));
+    }
+}
+
+/// The reduction's premise: the model's angular acceleration depends on the state only
+/// through ζ and ω — rotating the scene about the vertical (any yaw) and translating it
+/// change it by round-off only — so the spectrum is the same for every yaw and position.
+#[test]
+fn inv_reduced_field_is_invariant_under_the_planes_symmetries() {
+    let case = egg();
+    let scene = case.scene("rolling", 5.0);
+    let field = ReducedField::from_scene(&scene).unwrap();
+    let ReducedField::Rolling(system, _) = &field else {
+        panic!("rolling")
+    };
+    for k in 0..20 {
+        let x = k as f64;
+        let zeta = Vector3::new((1.3 * x).sin(), (0.7 * x).cos(), 2.0 + x.sin()).normalize();
+        let omega = Vector3::new(
+            3.0 * (0.4 * x).cos(),
+            -2.0 * x.sin(),
+            20.0 * (0.9 * x).sin(),
+        );
+        let reduced = field.rate(&reduce::join(&zeta, &omega));
+        let mut angles = reduce::attitude(&zeta);
+        angles.phi = 0.37 * x - 3.0;
+        let mut y = reduce::full_state(&zeta, &omega);
+        ellipsoid_core::state::set_quaternion(&mut y, &angles.rotation());
+        y[ellipsoid_core::state::POS] = 12.0 * x.cos();
+        y[ellipsoid_core::state::POS + 1] = -7.0 * x;
+        let full = system.evaluate(&y).response.omega_dot;
+        let dw = reduced.fixed_rows::<3>(3) - full;
+        assert!(
+            dw.norm() <= 1e-12 * full.norm().max(1.0),
+            "yaw {}: {dw}",
+            angles.phi
+        );
+    }
+    let turned = |phi: f64| {
+        let mut s = case.scene("rolling", 5.0);
+        s.initial.angles.phi = phi;
+        s.initial.position = nalgebra::Vector2::new(phi, -2.0 * phi);
+        steady::analyse(&s, Family::Upright)
+            .unwrap()
+            .spectrum
+            .eigenvalues()
+    };
+    let reference = turned(0.0);
+    for phi in [0.5, 2.0, -2.5] {
+        let other = turned(phi);
+        assert_spectrum(&other, &reference, 1e-13, &format!("turned by {phi}"));
+    }
+}
