@@ -75,6 +75,10 @@ impl Case {
     /// The body (a = b, c, mass m, inertia diag(A, A, C) about G, G a distance d below
     /// the centre on the axis) under `model`, spinning at `spin` about its axis (θ = 0).
     fn scene(&self, model: &str, spin: f64) -> Scene {
+        self.scenario(model, spin).scene
+    }
+    /// [`Case::scene`]'s scenario.
+    fn scenario(&self, model: &str, spin: f64) -> scenario::Scenario {
         let Case {
             a,
             c,
@@ -108,9 +112,7 @@ t_end = 1.0
 dt = 1e-3
 "#
         );
-        scenario::parse(&text, "test", &[] as &[&str])
-            .unwrap()
-            .scene
+        scenario::parse(&text, "test", &[] as &[&str]).unwrap()
     }
 }
 
@@ -494,5 +496,39 @@ fn val_rattleback_wobble_grows_in_each_direction_of_spin() {
             (fitted / rate - 1.0).abs() < 1e-2,
             "n = {n}: {fitted} against {rate}"
         );
+    }
+}
+
+/// A sweep of the spin locates the frictionless critical spin n_c = 2√(A m g (l − ρ))/C
+/// as a collision to 1e-10 relative (upright egg: stable above; inverted sphere, whose
+/// spin about the vertical is −ψ̇: stable below −n_c in ψ̇, and above +n_c).
+#[test]
+fn val_sweep_locates_the_critical_spin() {
+    for case in [egg(), offset_sphere()] {
+        let n_c = case.critical_spin();
+        let base = case.scenario("frictionless", 0.0);
+        let values: Vec<f64> = (0..=12)
+            .map(|i| -2.0 * n_c + i as f64 * n_c / 3.0)
+            .collect();
+        let sw = steady::sweep(&base, case.family, "initial.psi_dot", &values).unwrap();
+        assert!(sw.rows.iter().all(|r| r.is_ok()));
+        assert_eq!(sw.critical.len(), 2, "{}: {:?}", case.name, sw.critical);
+        for (crit, expected, above) in
+            [(&sw.critical[0], -n_c, false), (&sw.critical[1], n_c, true)]
+        {
+            assert_eq!(crit.kind, steady::CriticalKind::Collision, "{}", case.name);
+            assert_eq!(crit.stable_above, above, "{}", case.name);
+            let err = (crit.value / expected - 1.0).abs();
+            eprintln!(
+                "{}: critical {} against {expected}: {err:.2e}",
+                case.name, crit.value
+            );
+            assert!(
+                err <= 1e-10,
+                "{}: {} against {expected}",
+                case.name,
+                crit.value
+            );
+        }
     }
 }

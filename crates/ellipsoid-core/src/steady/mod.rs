@@ -4,17 +4,20 @@
 //! Layout: [`reduce`] (the closed dynamics of ζ = Rᵀe3 and ω that the plane's symmetries
 //! and the contact constraint leave), [`families`] (the steady states), [`linearize`]
 //! (the Jacobian in tangent coordinates), [`spectrum`] (eigenvalues with the family's
-//! zero removed, eigenvectors named by what moves).
+//! zero removed, eigenvectors named by what moves), [`sweep`] (a family against a
+//! parameter and its critical values).
 
 pub mod families;
 pub mod linearize;
 pub mod reduce;
 pub mod spectrum;
+pub mod sweep;
 
 pub use families::{Family, SteadyMotion, started_at};
 pub use linearize::{COORDINATES, Linearization, Reduced, linearize};
 pub use reduce::{Phase, ReducedField};
 pub use spectrum::{Mode, STABLE_TOLERANCE, Shape, Spectrum};
+pub use sweep::{Critical, CriticalKind, Sweep, sweep};
 
 use nalgebra::Vector3;
 
