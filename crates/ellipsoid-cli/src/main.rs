@@ -12,6 +12,7 @@ mod interrupt;
 mod precision;
 mod progress;
 mod run;
+mod steady;
 mod study;
 mod visual;
 
@@ -42,6 +43,7 @@ fn main() -> ExitCode {
         cli::Command::Plot(args) => visual::plot(args),
         cli::Command::View(args) => visual::view(args),
         cli::Command::Study(args) => study::study(args),
+        cli::Command::Steady(args) => steady::steady(args),
     };
     match result {
         Ok(code) => code,

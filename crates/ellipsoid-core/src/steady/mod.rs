@@ -40,6 +40,31 @@ pub fn analyse(scene: &Scene, family: Family) -> Result<Analysis, ModelError> {
     Ok(analyse_motion(&field, motion))
 }
 
+/// The linearisation of `scene`'s reduced dynamics at `at` = (ζ, ω) (ζ normalised), or
+/// at the scene's initial state (ζ = Rᵀe3 of the initial attitude, ω the initial body
+/// angular velocity): the Jacobian in [`COORDINATES`], steady or not.
+pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization, ModelError> {
+    let field = ReducedField::from_scene(scene)?;
+    let at = at.unwrap_or_else(|| {
+        let init = &scene.initial;
+        let rot = init.angles.rotation().to_rotation_matrix().into_inner();
+        let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
+        reduce::join(
+            &zeta,
+            &init.omega_body.unwrap_or_else(|| init.angles.omega_body()),
+        )
+    });
+    let (zeta, omega) = reduce::split(&at);
+    if !(at.iter().all(|x| x.is_finite()) && zeta.norm() > 0.0) {
+        return Err(ModelError::invalid(
+            "state",
+            format!("({}, {})", zeta.transpose(), omega.transpose()),
+            "the state (ζ1, ζ2, ζ3, ω1, ω2, ω3) must be finite with ζ ≠ 0",
+        ));
+    }
+    Ok(linearize(&field, &at, None))
+}
+
 /// The linearisation and spectrum of a steady `motion` of `field`.
 pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Analysis {
     let linearization = linearize(field, &motion.at, None);

@@ -23,6 +23,12 @@ locally on every core or on a `concurrent.futures` executor or a Dask client —
 its table as a pandas DataFrame, one row per run (docs/studies.md); `load_study(path)`
 reads a study file.
 
+`steady(scenario, family="upright", vary={"initial.psi_dot": values})` finds the steady
+motions of a family and their eigenvalues and critical values (`Steady`: `.values`,
+`.eigenvalues`, `.critical`, `.states`, `.to_pandas()`); `linearize(scenario, state=None)`
+returns the Jacobian of the reduced dynamics and its coordinates' names
+(docs/physics.md, "Steady motions and their stability").
+
 Errors: every exception derives from `EllipsoidError`: `ScenarioError` (a ValueError) for
 bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Python type),
 `SimulationError` (a RuntimeError, with the partial `.trajectory`) for a run
@@ -44,11 +50,13 @@ from ellipsoid._ellipsoid import (
     Trajectory,
     __version__,
     check,
+    linearize,
     load,
     precision,
     simulate,
     sweep,
 )
+from ellipsoid._steady import Steady, steady
 from ellipsoid._study import Study, load_study, study
 
 __all__ = [
@@ -59,6 +67,7 @@ __all__ = [
     "OutputError",
     "PrecisionTable",
     "Scenario",
+    "Steady",
     "Study",
     "ScenarioError",
     "ScenarioTypeError",
@@ -66,10 +75,12 @@ __all__ = [
     "Trajectory",
     "__version__",
     "check",
+    "linearize",
     "load",
     "load_study",
     "precision",
     "simulate",
+    "steady",
     "study",
     "sweep",
 ]
