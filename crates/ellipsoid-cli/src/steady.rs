@@ -81,7 +81,8 @@ fn parse_vary(spec: &str) -> Result<(String, Vec<f64>), String> {
 fn describe(an: &Analysis) -> String {
     let m = &an.motion;
     let mut o = String::new();
-    let (zeta, omega) = steady::reduce::split(&m.at);
+    // + 0.0 prints −0 (a zero times a negative spin) as 0.
+    let (zeta, omega) = steady::reduce::split(&m.at.map(|x| x + 0.0));
     let _ = writeln!(o, "family               {}", m.family.name());
     let _ = writeln!(
         o,
@@ -219,7 +220,7 @@ fn table_of(key: &str, values: &[f64], rows: &[steady::sweep::Row]) -> String {
             Ok(an) => {
                 let m = &an.motion;
                 cells.extend([
-                    number(m.spin),
+                    number(m.spin + 0.0),
                     number(m.theta),
                     number(m.normal_force),
                     an.spectrum.stable().to_string(),
