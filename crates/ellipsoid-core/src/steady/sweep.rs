@@ -157,17 +157,13 @@ fn locate(
             at_unstable = an;
         }
     }
-    let modes = &at_unstable.spectrum.modes;
-    let top = modes[0].eigenvalue;
+    let top = at_unstable.spectrum.modes[0].eigenvalue;
     let scale = at_unstable.spectrum.scale();
-    // A partner −λ̄ (same frequency, opposite growth, to 1 % of the growth) means the
-    // spectrum is symmetric about the imaginary axis there: a collision.
-    let partner = modes
-        .iter()
-        .any(|m| (m.eigenvalue + top.conj()).norm() <= 1e-2 * top.re);
+    // Classified on the unstable value of the sweep, where the eigenvalues are well
+    // separated (at the bracket a collision's pair is split by only ~√ of the bracket).
     let kind = if top.im.abs() <= 1e-9 * scale {
         CriticalKind::Real
-    } else if partner {
+    } else if symmetric(if stable_above { a } else { b }) {
         CriticalKind::Collision
     } else {
         CriticalKind::Hopf
@@ -178,4 +174,14 @@ fn locate(
         stable_above,
         eigenvalue: top,
     }
+}
+
+/// Whether the spectrum is symmetric about the imaginary axis (every λ has a partner −λ̄
+/// within 1e-6 of the scale), as for a Hamiltonian or reversible system: its stability
+/// can change only where eigenvalues collide (or at zero).
+fn symmetric(an: &Analysis) -> bool {
+    let scale = an.spectrum.scale();
+    let eig = an.spectrum.eigenvalues();
+    eig.iter()
+        .all(|z| eig.iter().any(|w| (w + z.conj()).norm() <= 1e-6 * scale))
 }
