@@ -738,16 +738,26 @@ fn val_stiff_van_der_pol_warns_and_stops_at_max_steps() {
             method.name()
         );
         match &sol.stop {
-            StopReason::Failed(IntegrateError::MaxSteps { t, steps }) => {
+            StopReason::Failed(
+                err @ IntegrateError::MaxSteps {
+                    t,
+                    steps,
+                    method: used,
+                },
+            ) => {
                 assert_eq!(*steps, 100_000);
                 assert_eq!(*t, sol.t);
+                assert_eq!(*used, method);
                 assert!(sol.t < 3000.0 && sol.y.iter().all(|v| v.is_finite()));
-                let msg = IntegrateError::MaxSteps {
-                    t: *t,
-                    steps: *steps,
-                }
-                .to_string();
+                let msg = err.to_string();
                 assert!(msg.contains("100000") && msg.contains("max_steps"), "{msg}");
+                // The DOPRI5 remedy is offered to DOPRI5 runs only.
+                assert_eq!(
+                    msg.contains("use method = \"dop853\""),
+                    method == Method::Dopri5,
+                    "{msg}"
+                );
+                assert!(msg.contains(method.name()), "{msg}");
             }
             other => panic!("{}: expected MaxSteps, got {other:?}", method.name()),
         }

@@ -1,6 +1,8 @@
 //! Bodies and scenes from docs/physics.md shared by the physics tests.
 #![allow(dead_code)] // each test binary uses a different subset
 
+pub mod campaign;
+
 use std::ops::ControlFlow;
 
 use ellipsoid_core::body::{Body, uniform_inertia};

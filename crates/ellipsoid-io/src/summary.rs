@@ -3,11 +3,12 @@
 
 use std::collections::BTreeMap;
 
+use ellipsoid_core::error::number;
 use ellipsoid_core::integrate::Stats;
 use ellipsoid_core::invariants::Invariants;
 use ellipsoid_core::scenario::Scenario;
 use ellipsoid_core::simulate::{
-    Drift, EventKind, EventRecord, Outcome, RunWarning, Sample, Scene, Status,
+    Chatter, Drift, EventKind, EventRecord, Outcome, RunWarning, Sample, Scene, Status,
 };
 use serde::Serialize;
 use serde_json::{Map, Value};
@@ -264,8 +265,30 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
              so N grows without bound (a tangential impact) and Coulomb sliding has no consistent contact force ({e})"
         ),
         Status::SolverFailure { mode, error } => format!("{error} (mode {})", mode.name()),
-        Status::Chattering { switches } => format!(
+        Status::Chattering {
+            switches,
+            kind: Chatter::Phases,
+        } => format!(
             "more than {switches} switches between sliding and rolling by t = {t} s; the motion is chattering at the friction-cone boundary"
+        ),
+        Status::Chattering {
+            switches,
+            kind: Chatter::Impacts,
+        } => format!(
+            "more than {switches} impacts and mode switches by t = {t} s: the bounces did not settle into persistent contact"
+        ),
+        Status::InconsistentContact {
+            mode,
+            normal,
+            gap_acceleration,
+        } => format!(
+            "no consistent motion at t = {t} s: {} contact would need the plane to pull (N = {} N) while with no contact \
+             force the body falls into the plane (gap acceleration {} m/s²); this is the {} model's analogue of Painlevé's \
+             paradox (model = \"coulomb\" with a finite friction coefficient resolves it by sliding)",
+            mode.name(),
+            number(*normal),
+            number(*gap_acceleration),
+            mode.name()
         ),
         Status::NonFinite { column, value } => {
             format!(

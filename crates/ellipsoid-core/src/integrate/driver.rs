@@ -83,6 +83,7 @@ pub fn integrate<S: OdeSystem<N>, const N: usize>(
 ) -> Result<Solution<N>, IntegrateError> {
     validate_inputs(method, t0, &y0, t_end, options, sample_times)?;
     let run = Run {
+        method,
         system,
         t0,
         t_end,
@@ -115,6 +116,7 @@ pub fn integrate<S: OdeSystem<N>, const N: usize>(
 
 /// One integration: inputs, output cursor and buffers allocated once.
 struct Run<'r, 'e, S, const N: usize> {
+    method: Method,
     system: &'r S,
     t0: f64,
     t_end: f64,
@@ -194,10 +196,11 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
             let stats = &mut self.sol.stats;
             let steps = stats.accepted + stats.rejected;
             if steps >= self.options.max_steps {
+                let method = self.method;
                 return self.finish(
                     t,
                     y,
-                    StopReason::Failed(IntegrateError::MaxSteps { t, steps }),
+                    StopReason::Failed(IntegrateError::MaxSteps { t, steps, method }),
                 );
             }
             if steps >= PACE_CHECK_STEPS && steps.is_multiple_of(PACE_CHECK_STEPS) {

@@ -15,12 +15,21 @@ pub enum IntegrateError {
     /// mostly mean steps that became short, not a long run (docs/physics.md, "The slip
     /// stop, numerically"): the message names the remedies in that order.
     #[error(
-        "gave up at t = {t} s after {steps} steps (accepted + rejected): the steps became too short to reach t_end. \
-         On a stick–slip (coulomb) scene with method = \"dopri5\" this is DOPRI5 near zero slip: use method = \"dop853\". \
-         Otherwise look for stiffness (a \"looks stiff\" warning) or magnitudes beyond double precision (check the units); \
-         raise max_steps only if t was close to t_end"
+        "gave up at t = {t} s after {steps} steps (accepted + rejected) of method {method}: the steps became too short to reach t_end. \
+         {advice}Look for stiffness (a \"looks stiff\" warning) or magnitudes beyond double precision (check the units); \
+         raise max_steps only if t was close to t_end",
+        method = .method.name(),
+        advice = if matches!(.method, super::Method::Dopri5) {
+            "On a stick–slip (coulomb) scene this is likely DOPRI5 near zero slip: use method = \"dop853\". "
+        } else {
+            ""
+        }
     )]
-    MaxSteps { t: f64, steps: u64 },
+    MaxSteps {
+        t: f64,
+        steps: u64,
+        method: super::Method,
+    },
     /// The steps have collapsed: at the pace of the first `steps` steps, reaching t_end
     /// would take `projected` steps, more than [`HOPELESS_FACTOR`](super::HOPELESS_FACTOR)
     /// times max_steps.

@@ -30,7 +30,7 @@ pub mod tableau;
 pub use driver::{HOPELESS_FACTOR, MOTION_PACE, OVER_BUDGET_FACTOR, integrate};
 pub use error::IntegrateError;
 pub use options::{Method, Options};
-pub(crate) use rk4::RK4_LAST_STRETCH;
+pub(crate) use rk4::{RK4_LAST_STRETCH, step as rk4_step};
 pub use solution::{EventRecord, Solution, Stats, StopReason, Warning};
 
 /// A first-order system dy/dt = f(t, y) on a fixed-size state.

@@ -30,6 +30,23 @@ impl<const N: usize> Rk4<N> {
     }
 }
 
+/// One classical RK4 step of size `h` (negative steps go back in time) from (t, y),
+/// leaving its stages in `k`.
+pub(crate) fn step<S: OdeSystem<N>, const N: usize>(
+    system: &S,
+    t: f64,
+    y: &SVector<f64, N>,
+    h: f64,
+    k: &mut [SVector<f64, N>; 4],
+) -> SVector<f64, N> {
+    k[0] = system.rhs(t, y);
+    for i in 1..4 {
+        let yi = stage_input(y, h, &RK4.a[i], k, i);
+        k[i] = system.rhs(t + RK4.c[i] * h, &yi);
+    }
+    y + combine(&RK4.b, k) * h
+}
+
 /// RK4's last-step stretch: it only absorbs the round-off of t0 + n·h; the last step is
 /// otherwise never longer. A run of length T takes ⌈T/h − (RK4_LAST_STRETCH − 1)⌉ steps.
 pub(crate) const RK4_LAST_STRETCH: f64 = 1.0 + 1.0e-9;
@@ -63,13 +80,8 @@ impl<const N: usize> Stepper<N> for Rk4<N> {
         self.t0 = t;
         self.h = h;
         self.y0 = *y;
-        self.k[0] = system.rhs(t, y);
-        for i in 1..4 {
-            let yi = stage_input(y, h, &RK4.a[i], &self.k, i);
-            self.k[i] = system.rhs(t + RK4.c[i] * h, &yi);
-        }
+        self.y1 = step(system, t, y, h, &mut self.k);
         stats.rhs_evals += 4;
-        self.y1 = y + combine(&RK4.b, &self.k) * h;
         if all_finite(&self.y1) {
             Trial::Done { err: 0.0 }
         } else {

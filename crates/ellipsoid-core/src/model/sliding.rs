@@ -170,17 +170,24 @@ impl Sliding {
         kin.slip.norm() - (floor * Sliding::speed_scale(kin)).max(v_min)
     }
 
+    /// The generalised slip w = (v_C, R ω_n) of a contact disc [m/s] (ω_n = ω·e3; R = 0
+    /// for a point contact): the law is smooth while w ≠ 0.
+    #[inline]
+    pub fn generalised_slip(&self, kin: &Kinematics) -> Vector3<f64> {
+        let spin = self
+            .disc
+            .map_or(0.0, |disc| disc.radius * kin.omega.dot(&kin.contact.zeta));
+        Vector3::new(kin.slip.x, kin.slip.y, spin)
+    }
+
     /// The speed whose vanishing stops the sliding phase: |v_C| for a point contact,
-    /// √(|v_C|² + (R ω_n)²) for a contact disc (the law is smooth while either is
-    /// nonzero) [m/s].
+    /// |w| = √(|v_C|² + (R ω_n)²) for a contact disc (see [`Sliding::generalised_slip`])
+    /// [m/s].
     #[inline]
     pub fn stop_speed(&self, kin: &Kinematics) -> f64 {
         match self.disc {
             None => kin.slip.norm(),
-            Some(disc) => kin
-                .slip
-                .norm()
-                .hypot(disc.radius * kin.omega.dot(&kin.contact.zeta)),
+            Some(_) => self.generalised_slip(kin).norm(),
         }
     }
 }

@@ -68,7 +68,7 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 /// The invariants a `[check]` table may bound (declared in `invariants::Invariant`).
 pub const DRIFT_NAMES: [&str; 6] = crate::invariants::Invariant::NAMES;
 /// The run statuses a `[check]` table may expect (declared in `simulate::Status`).
-pub const STATUS_NAMES: [&str; 9] = crate::simulate::Status::NAMES;
+pub const STATUS_NAMES: [&str; 10] = crate::simulate::Status::NAMES;
 const OBSERVE_KEYS: [&str; 5] = ["name", "column", "crosses", "direction", "terminal"];
 const DIRECTIONS: [&str; 3] = ["up", "down", "either"];
 

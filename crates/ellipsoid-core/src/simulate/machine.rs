@@ -20,18 +20,18 @@ use crate::invariants::{Conservation, Invariant, Invariants};
 use crate::model::{ContactLaw, Evaluation, Flight, Frictionless, Rolling, Sliding, System};
 use crate::state::{self, EulerAngles, State};
 
-use super::outcome::{EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
-use super::phase::{Next, Phase, Watch, phase, slip_is_zero};
+use super::numerics::{MAX_SWITCHES, Numerics};
+use super::outcome::{Chatter, EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
+use super::phase::{Next, Phase, Slot, phase};
 use super::recorder::Recorder;
 use super::scene::{ContactModel, LiftOff, Scene};
-
-/// Most mode switches a run may make before it is declared chattering.
-const MAX_SWITCHES: usize = 10_000;
+use super::start::Start;
 
 /// The three contact laws over one set of effects, and the scene they run.
 pub(super) struct Machine<'s, E> {
     pub(super) scene: &'s Scene,
     pub(super) cancel: Option<Arc<AtomicBool>>,
+    pub(super) numerics: Numerics,
     pub(super) free: System<Frictionless, E>,
     pub(super) slide: System<Sliding, E>,
     pub(super) roll: System<Rolling, E>,
@@ -41,7 +41,7 @@ pub(super) struct Machine<'s, E> {
 /// Where a segment ended, with the watch list it used.
 pub(super) struct Segment {
     pub(super) solution: integrate::Solution<{ state::DIM }>,
-    pub(super) watches: Vec<Watch>,
+    pub(super) watches: Vec<Slot>,
 }
 
 impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
@@ -49,9 +49,11 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         let body = scene.body.clone();
         let g = scene.gravity;
         let friction = scene.contact.friction().unwrap_or(0.0);
+        let numerics = Numerics::new(scene);
         Machine {
             scene,
             cancel,
+            numerics,
             free: System {
                 body: body.clone(),
                 gravity: g,
@@ -64,7 +66,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                 contact: Sliding {
                     friction,
                     disc: scene.disc,
-                    band: super::phase::slip_band(scene),
+                    band: numerics.band,
                 },
                 effects,
             },
@@ -88,7 +90,12 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         &self,
         observer: &mut dyn FnMut(&Sample) -> ControlFlow<()>,
     ) -> Result<Outcome, ModelError> {
-        let (mut mode, mut y) = self.start()?;
+        let Start {
+            mut mode,
+            mut y,
+            mut events,
+            stopped,
+        } = self.start()?;
         let mut t = 0.0;
         let (initial_sample, initial_invariants) = phase::<E>(mode).sample(self, t, &y, None);
         let conservation = self.conservation();
@@ -99,26 +106,13 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             self.scales(&y, &initial_invariants),
             initial_sample.angles,
         );
-        let mut events = Vec::new();
         let mut stats = Stats::default();
         let mut warnings = Vec::new();
         let mut switches = 0usize;
 
-        let status = if mode != Mode::Flight
-            && (matches!(self.scene.contact, ContactModel::Sliding { .. })
-                || self.scene.disc.is_some())
-            && slip_is_zero(self, &y)
-            && self.slide.contact.stop_speed(&self.slide.evaluate(&y).kin) == 0.0
-        {
-            // Only the pure sliding model, or a contact disc with no spin either, starts
-            // here with zero slip (see `start`).
-            events.push(EventRecord {
-                kind: EventKind::SlipStop,
-                t,
-            });
-            Status::SlipStopped
-        } else {
-            loop {
+        let status = match stopped {
+            Some(status) => status,
+            None => loop {
                 let current = phase::<E>(mode);
                 let seg = current.segment(self, t, y, &mut rec)?;
                 let sol = seg.solution;
@@ -129,7 +123,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                 t = sol.t;
                 y = sol.y;
                 for record in &sol.events {
-                    if let Watch::Observe(index) = seg.watches[record.index] {
+                    if let Slot::Observe(index) = seg.watches[record.index] {
                         let (mut sample, inv) =
                             current.sample(self, record.t, &record.y, Some(&rec.angles));
                         sample.drift = rec.relative_drift(&inv);
@@ -142,37 +136,46 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                         });
                     }
                 }
-                let touchdown = matches!(sol.stop, StopReason::Event { index } if seg.watches[index] == Watch::Gap);
+                let before = events.len();
                 let next = match sol.stop {
-                    StopReason::Reached => Next::Stop(Status::Completed),
+                    StopReason::Reached => Next::Stop(Status::Completed, mode),
                     StopReason::Cancelled => {
-                        Next::Stop(rec.stopped.take().unwrap_or(Status::Cancelled))
+                        Next::Stop(rec.stopped.take().unwrap_or(Status::Cancelled), mode)
                     }
                     StopReason::Failed(e) => {
-                        Next::Stop(current.on_failure(self, t, &y, e, &mut events))
+                        Next::Stop(current.on_failure(self, t, &y, e, &mut events), mode)
                     }
                     StopReason::Event { index } => match seg.watches[index] {
-                        Watch::Observe(index) => Next::Stop(Status::Observed { index }),
-                        watch => current.on_event(self, watch, t, &mut y, &mut events),
+                        Slot::Observe(index) => Next::Stop(Status::Observed { index }, mode),
+                        Slot::Phase(watch) => {
+                            current.on_event(self, watch, &mut t, &mut y, &mut events)
+                        }
                     },
                 };
                 if mode == Mode::Flight {
                     rec.lose(Invariant::Jellett);
-                    if touchdown && !conservation.elastic_impacts {
+                    let impact = events[before..]
+                        .iter()
+                        .any(|e| matches!(e.kind, EventKind::Impact(_)));
+                    if impact && !conservation.elastic_impacts {
                         rec.lose(Invariant::Energy);
                     }
                 }
                 match next {
-                    Next::Stop(status) => break status,
+                    Next::Stop(status, at) => {
+                        mode = at;
+                        break status;
+                    }
                     Next::Go(to) => mode = to,
                 }
                 switches += 1;
                 if switches > MAX_SWITCHES {
                     break Status::Chattering {
                         switches: MAX_SWITCHES,
+                        kind: chatter_kind(&events),
                     };
                 }
-            }
+            },
         };
 
         let (final_sample, final_invariants) =
@@ -247,8 +250,11 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             sys: law,
             last: Memo::default(),
         };
-        let mut watches = P::watches(self);
-        watches.extend((0..scene.observe.len()).map(Watch::Observe));
+        let phase_watches = P::watches(self, &y0);
+        let watches: Vec<Slot> = (0..phase_watches.len())
+            .map(Slot::Phase)
+            .chain((0..scene.observe.len()).map(Slot::Observe))
+            .collect();
         // Observables unwrap φ and ψ against the last emitted row; they share one output
         // row per state.
         let angles = Cell::new(rec.angles);
@@ -258,7 +264,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         let events: Vec<Event<'_, { state::DIM }>> = watches
             .iter()
             .map(|&w| match w {
-                Watch::Observe(k) => {
+                Slot::Observe(k) => {
                     let o = &scene.observe[k];
                     Event {
                         g: Box::new(move |t, y: &State| {
@@ -282,11 +288,16 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                         },
                     }
                 }
-                w => Event {
-                    g: Box::new(move |t, y: &State| sys.with(t, y, |ev| P::watch(self, w, ev, y))),
-                    direction: Direction::Falling,
-                    action: Action::Stop,
-                },
+                Slot::Phase(i) => {
+                    let w = phase_watches[i];
+                    Event {
+                        g: Box::new(move |t, y: &State| {
+                            sys.with(t, y, |ev| P::watch(self, w, ev, y))
+                        }),
+                        direction: Direction::Falling,
+                        action: Action::Stop,
+                    }
+                }
             })
             .collect();
         let mut options = Options::new(scene.solver.rtol, scene.solver.atol);
@@ -357,7 +368,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             contact: position.xy() + (kin.rot * kin.contact.r).xy(),
             energy: inv.energy,
             work: y[state::WORK],
-            normal_force: ev.response.normal,
+            normal_force: self.numerics.reported_normal(&sys.body, sys.gravity, ev),
             slip_speed: kin.slip.norm(),
             drift: 0.0,
             gap: kin.gap,
@@ -426,6 +437,20 @@ impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for Watched<'_, C, E> {
 
     fn project(&self, y: &mut State) {
         self.sys.project(y);
+    }
+}
+
+/// What a run that switched too often was switching between: impacts (a bounce sequence
+/// that does not settle) or the contact phases.
+fn chatter_kind(events: &[EventRecord]) -> Chatter {
+    let recent = &events[events.len().saturating_sub(100)..];
+    if recent
+        .iter()
+        .any(|e| matches!(e.kind, EventKind::Impact(_)))
+    {
+        Chatter::Impacts
+    } else {
+        Chatter::Phases
     }
 }
 

@@ -18,15 +18,17 @@ use crate::effects::Effect;
 use crate::error::ModelError;
 
 mod machine;
+mod numerics;
 pub mod outcome;
 mod phase;
 mod recorder;
 pub mod scene;
 mod start;
+mod transition;
 
 pub use crate::invariants::Drift;
 pub use outcome::{
-    EventKind, EventRecord, ImpactReport, Mode, Outcome, RunWarning, Sample, Status,
+    Chatter, EventKind, EventRecord, ImpactReport, Mode, Outcome, RunWarning, Sample, Status,
 };
 pub use scene::{
     ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, Observe, Scene,

@@ -147,8 +147,18 @@ pub enum Status {
     },
     /// The integrator failed in `mode` (an error).
     SolverFailure { mode: Mode, error: IntegrateError },
-    /// More than `switches` mode switches (an error).
-    Chattering { switches: usize },
+    /// More than `switches` mode switches (an error), between the phases or at impacts.
+    Chattering { switches: usize, kind: Chatter },
+    /// At N = 0 in `mode` neither the contact nor flight is consistent (an error): the
+    /// contact would need the plane to pull (`normal` < 0 \[N\]) while with no contact
+    /// force the gap accelerates into the plane (`gap_acceleration` < 0 \[m/s²\]):
+    /// the rolling model's analogue of Painlevé's paradox (docs/physics.md, "The hybrid
+    /// machine").
+    InconsistentContact {
+        mode: Mode,
+        normal: f64,
+        gap_acceleration: f64,
+    },
     /// A sample held NaN or infinity: `column` = `value` (an error; never reported as a result).
     NonFinite { column: &'static str, value: f64 },
     /// The caller asked to stop.
@@ -157,7 +167,7 @@ pub enum Status {
 
 impl Status {
     /// The names of every status, as summaries and `[check]` tables spell them.
-    pub const NAMES: [&'static str; 9] = [
+    pub const NAMES: [&'static str; 10] = [
         "completed",
         "observed",
         "lost_contact",
@@ -167,6 +177,7 @@ impl Status {
         "chattering",
         "non_finite",
         "cancelled",
+        "inconsistent_contact",
     ];
 
     /// Its name in summaries (`status` field).
@@ -181,6 +192,7 @@ impl Status {
             Status::Chattering { .. } => 6,
             Status::NonFinite { .. } => 7,
             Status::Cancelled => 8,
+            Status::InconsistentContact { .. } => 9,
         }]
     }
 
@@ -203,8 +215,18 @@ impl Status {
                 | Status::SolverFailure { .. }
                 | Status::Chattering { .. }
                 | Status::NonFinite { .. }
+                | Status::InconsistentContact { .. }
         )
     }
+}
+
+/// What a chattering run kept switching between.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Chatter {
+    /// Contact phases (sliding and rolling at the friction cone's boundary).
+    Phases,
+    /// Impacts: a bounce sequence that did not settle.
+    Impacts,
 }
 
 /// Something the caller should know about a run that still went on.

@@ -6,17 +6,32 @@
 use crate::effects::Effect;
 use crate::error::{ModelError, number};
 use crate::integrate::OdeSystem;
+use crate::model::Kinematics;
 use crate::state::{self, State};
 
 use super::machine::Machine;
-use super::outcome::Mode;
-use super::phase::{after_slip_stop, phase, set_reference, slip_is_zero};
+use super::outcome::{EventKind, EventRecord, Mode, Status};
+use super::phase::phase;
 use super::scene::{ContactModel, LiftOff, Scene};
-use crate::model::Kinematics;
+use super::transition::{Arrival, Placed, flight_is_consistent, on_plane, pushes, to_flight};
+
+/// Where a run starts.
+pub(super) struct Start {
+    /// The initial phase.
+    pub(super) mode: Mode,
+    /// The initial state, checked.
+    pub(super) y: State,
+    /// The events at t = 0.
+    pub(super) events: Vec<EventRecord>,
+    /// Why the run ends at once, if it does (slip and spin already stopped).
+    pub(super) stopped: Option<Status>,
+}
 
 impl<E: Effect + Copy + 'static> Machine<'_, E> {
-    /// The initial phase and state, checked.
-    pub(super) fn start(&self) -> Result<(Mode, State), ModelError> {
+    /// The initial phase and state, checked: a start above the plane flies; one on it
+    /// enters the phase `transition::on_plane` gives, and flies where the plane cannot
+    /// hold it (N ≤ 0) with `on_lift_off = "fly"`.
+    pub(super) fn start(&self) -> Result<Start, ModelError> {
         let scene = self.scene;
         let init = &scene.initial;
         let mut y = State::zeros();
@@ -36,42 +51,30 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
             }
             None => {}
         }
+        let go = |mode, y| Start {
+            mode,
+            y,
+            events: Vec::new(),
+            stopped: None,
+        };
         if flying {
             let kin = Kinematics::new(&scene.body, &y, false);
             y[state::HEIGHT] = kin.contact.height + init.height;
             y[state::VEL_Z] = init.velocity_z.unwrap_or(0.0);
             self.check_finite(Mode::Flight, &y)?;
-            return Ok((Mode::Flight, y));
+            return Ok(go(Mode::Flight, y));
         }
-        let mode = match scene.contact {
-            ContactModel::Frictionless => Mode::Frictionless,
-            ContactModel::Sliding { .. } => Mode::Sliding,
-            ContactModel::Rolling => Mode::Rolling,
-            // A contact disc does not stick while it spins (docs/physics.md, "Friction
-            // over a contact disc"): the Coulomb model slides.
-            ContactModel::Coulomb { .. } if scene.disc.is_some() => Mode::Sliding,
-            ContactModel::Coulomb { friction } => {
-                if slip_is_zero(self, &y) {
-                    after_slip_stop(self, friction, &mut y)
-                } else {
-                    Mode::Sliding
-                }
-            }
+        if let (ContactModel::Rolling, Some(v)) = (scene.contact, init.velocity) {
+            return Err(ModelError::invalid(
+                "initial.velocity",
+                format!("[{}, {}]", number(v.x), number(v.y)),
+                "not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r)",
+            ));
+        }
+        let (mode, stopped) = match on_plane(self, Arrival::Start, &mut y) {
+            Placed::In(mode) => (mode, None),
+            Placed::SlipStopped => (Mode::Sliding, Some(Status::SlipStopped)),
         };
-        if mode == Mode::Rolling {
-            if let (ContactModel::Rolling, Some(v)) = (scene.contact, init.velocity) {
-                return Err(ModelError::invalid(
-                    "initial.velocity",
-                    format!("[{}, {}]", number(v.x), number(v.y)),
-                    "not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r)",
-                ));
-            }
-            self.roll.project(&mut y);
-        }
-        if mode == Mode::Sliding && !slip_is_zero(self, &y) {
-            let s = self.slide.evaluate(&y).kin.slip.normalize();
-            set_reference(&mut y, s);
-        }
         let response = phase::<E>(mode).response(self, &y);
         self.check_finite(mode, &y)?;
         if let Some(mu) = scene.contact.friction()
@@ -87,16 +90,21 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
                 ),
             ));
         }
-        if !(response.normal > 0.0) && scene.landing.lift_off == LiftOff::Fly {
-            // The plane cannot hold the body (N ≤ 0: e.g. no gravity): it flies at once.
-            let kin = Kinematics::new(&scene.body, &y, mode == Mode::Rolling);
-            y[state::VEL] = kin.v_g.x;
-            y[state::VEL + 1] = kin.v_g.y;
-            y[state::HEIGHT] = kin.contact.height;
-            y[state::VEL_Z] = kin.v_g.z;
-            return Ok((Mode::Flight, y));
+        if let Some(status) = stopped {
+            return Ok(Start {
+                mode,
+                y,
+                events: vec![EventRecord {
+                    kind: EventKind::SlipStop,
+                    t: 0.0,
+                }],
+                stopped: Some(status),
+            });
         }
-        if !(response.normal > 0.0) {
+        if pushes(self, mode, &y) {
+            return Ok(go(mode, y));
+        }
+        if scene.landing.lift_off == LiftOff::Stop {
             return Err(ModelError::derived(
                 "initial",
                 "initial normal force N",
@@ -104,7 +112,25 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
                 "the plane must push on the body at t = 0 (N > 0) when contact.on_lift_off = \"stop\"; with these angles and rates the body would leave the plane at once",
             ));
         }
-        Ok((mode, y))
+        if let Err(Status::InconsistentContact {
+            gap_acceleration, ..
+        }) = flight_is_consistent(self, mode, &y)
+        {
+            return Err(ModelError::derived(
+                "initial",
+                "initial normal force N",
+                format!("{} N", number(response.normal)),
+                format!(
+                    "the plane would have to pull (N < 0) while without a contact force the body would fall into \
+                     the plane (gap acceleration {} m/s²): neither contact nor flight is consistent at t = 0 \
+                     (the rolling model's analogue of Painlevé's paradox; use model = \"coulomb\" with a finite friction)",
+                    number(gap_acceleration)
+                ),
+            ));
+        }
+        // The plane cannot hold the body (N ≤ 0: e.g. no gravity): it flies at once.
+        to_flight(self, mode, &mut y);
+        Ok(go(Mode::Flight, y))
     }
 
     /// Rejects an initial state whose derived quantities overflow, then one whose spin
@@ -143,6 +169,7 @@ impl Scene {
     /// effects do not enter the initial state).
     pub fn initial_state(&self) -> Result<(Mode, State), ModelError> {
         self.validate()?;
-        Machine::new(self, (), None).start()
+        let start = Machine::new(self, (), None).start()?;
+        Ok((start.mode, start.y))
     }
 }

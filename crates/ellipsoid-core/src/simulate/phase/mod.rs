@@ -1,19 +1,19 @@
 //! Contact phases: each declares its ODE system (a contact law over the scene's effects;
 //! the law's `ContactLaw::ROLLING` is its kinematics kind — whether v_G is a state or
 //! follows from the no-slip constraint; z_G and v_Gz follow from the contact constraint in
-//! every phase but flight, where they are states), its watch functions, and for each watch the phase that follows
-//! and the state map at the switch. The hybrid machine (`machine`) runs any of them; adding a phase is a new
-//! module here and one line in [`phase`], the registry.
+//! every phase but flight, where they are states), its watch functions (an enum of its
+//! own, matched exhaustively), and for each watch the transition it leads to
+//! (`transition`, where every transition is written). The hybrid machine (`machine`)
+//! runs any of them. A new phase touches four files: its module here, a line in
+//! [`phase`] (the registry) and a `Mode` (`outcome`), its transitions (`transition`),
+//! and its contact law (`model`).
 //!
 //! | phase | law | watches (g falling through 0) | on the event |
 //! |---|---|---|---|
-//! | frictionless | F = N e3 | N | stop: lost contact |
-//! | sliding | Coulomb, F = N(e3 − μ ŝ) | N, v_C·s_ref, \|v_C\| − floor, Painlevé denominator | slip stop → rolling (inside the cone, after the sticking impulse) or stop; Painlevé → stop |
-//! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left → sliding, slip opposite the friction rolling needed |
-//! | flight | F = 0 | gap z_G − h(ζ) | impact; flies on, or lands (persistent contact) below the settling speed |
-//!
-//! N reaching zero in a contact phase is a lift-off into flight (`flight::lift_off`), or
-//! stops the run with `on_lift_off = "stop"`.
+//! | frictionless | F = N e3 | N | lift-off |
+//! | sliding | Coulomb, F = N(e3 − μ ŝ) | N, v_C·s_ref, \|v_C\| − floor, Painlevé denominator | slip stop, Painlevé, lift-off |
+//! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left, lift-off |
+//! | flight | F = 0 | gap z_G − h(ζ) + δz | touchdown |
 //!
 //! With a contact disc (`Scene::disc`) the sliding law is Coulomb–Contensou's and the
 //! sliding phase watches N, √(\|v_C\|² + (R ω_n)²) − floor and the Painlevé denominator;
@@ -40,32 +40,20 @@ use super::recorder::Recorder;
 pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
-pub(super) use rolling::after_slip_stop;
-pub(super) use sliding::{SlidingPhase, set_reference, slip_band, slip_is_zero};
+pub(super) use sliding::{SlidingPhase, set_reference, slip_has_stopped, slip_is_zero};
 
-/// A watch function of a phase, or an observable of the scene.
+/// An event function of a segment: one of its phase's watches (by its index in
+/// [`Phase::watches`]), or an observable of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(super) enum Watch {
-    /// g = N (loss of contact).
-    Normal,
-    /// g = v_C·s_ref (slip stop).
-    Slip,
-    /// g = |v_C| − max(ε·scale, v_min) (a grazing slip stop; see `sliding::slip_floor`).
-    SlipFloor,
-    /// g = Painlevé denominator.
-    Painleve,
-    /// g = μN − |F_h| (rolling leaves the friction cone).
-    Cone(f64),
-    /// g = z_G − h(ζ), the gap under the lowest point (touchdown).
-    Gap,
-    /// g = column − value of `Scene::observe[k]`.
+pub(super) enum Slot {
+    Phase(usize),
     Observe(usize),
 }
 
 /// What a phase's event leads to.
 pub(super) enum Next {
-    /// The run ends.
-    Stop(Status),
+    /// The run ends with this status, its state in this mode.
+    Stop(Status, Mode),
     /// The run goes on in this phase (the same one for a renewed state).
     Go(Mode),
 }
@@ -74,19 +62,27 @@ pub(super) enum Next {
 pub(super) trait Phase {
     const MODE: Mode;
     type Law: ContactLaw;
+    /// Its watch functions.
+    type Watch: Copy;
     /// Its ODE system.
     fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Self::Law, E>;
-    /// Its watch functions (each falling through zero is an event).
-    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<Watch>;
+    /// Its watch functions for a segment starting at `y0` (each falling through zero is
+    /// an event).
+    fn watches<E: Effect + Copy>(m: &Machine<'_, E>, y0: &State) -> Vec<Self::Watch>;
     /// The value of one of its watches at a state.
-    fn watch<E: Effect + Copy>(m: &Machine<'_, E>, watch: Watch, ev: &Evaluation, y: &State)
-    -> f64;
-    /// What the event of `watch` at (t, y) leads to; may change `y` (the state map at the
-    /// switch) and records what happened in `events`.
+    fn watch<E: Effect + Copy>(
+        m: &Machine<'_, E>,
+        watch: Self::Watch,
+        ev: &Evaluation,
+        y: &State,
+    ) -> f64;
+    /// What the event of `watch` at (t, y) leads to (`transition`); may change `y` (the
+    /// state map at the switch) and `t` (a touchdown taken back to gap = 0), and records
+    /// what happened in `events`.
     fn on_event<E: Effect + Copy + 'static>(
         m: &Machine<'_, E>,
-        watch: Watch,
-        t: f64,
+        watch: Self::Watch,
+        t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next;
@@ -123,11 +119,12 @@ pub(super) trait AnyPhase<E> {
         prev: Option<&EulerAngles>,
     ) -> (Sample, Invariants);
     fn response(&self, m: &Machine<'_, E>, y: &State) -> Response;
+    /// [`Phase::on_event`] of its watch number `watch`.
     fn on_event(
         &self,
         m: &Machine<'_, E>,
-        watch: Watch,
-        t: f64,
+        watch: usize,
+        t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next;
@@ -168,12 +165,14 @@ impl<P: Phase, E: Effect + Copy + 'static> AnyPhase<E> for Registered<P> {
     fn on_event(
         &self,
         m: &Machine<'_, E>,
-        watch: Watch,
-        t: f64,
+        watch: usize,
+        t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
-        P::on_event(m, watch, t, y, events)
+        // The kind of the watch: a watch's value at `y` may differ from the segment's
+        // (`SlidingWatch::DiscStop`'s direction), which no transition reads.
+        P::on_event(m, P::watches(m, y)[watch], t, y, events)
     }
     fn on_failure(
         &self,

@@ -1,0 +1,474 @@
+//! The hybrid system's transitions, written once (docs/physics.md, "The hybrid
+//! machine"): from a phase, on an event, under a condition, to a phase, with the state
+//! map. The phases (`phase`) locate their events; everything that decides between phases
+//! is here.
+//!
+//! | from | event | condition | to | state map |
+//! |---|---|---|---|---|
+//! | start | on the plane | [`on_plane`] | its phase, or stop `slip_stopped` | s_ref ← ŝ; rolling: v_G ← −ω × r |
+//! | start | above the plane | | flight | z_G = h(ζ) + height |
+//! | flight | touchdown (gap ↓ −δz) | rebound > v_settle | flight | back to gap = 0, impact, loss in W |
+//! | flight | touchdown | rebound ≤ v_settle, N > 0 there | [`on_plane`] | back to gap = 0, plastic impact, z_G and v_Gz from the contact |
+//! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
+//! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
+//! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
+//! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
+//! | sliding | Painlevé denominator ↓ 0 | | stop `painleve` | |
+//! | rolling | cone left (μN − \|F_h\| ↓ 0) | | sliding | s_ref ← −F̂_h, seed slip |
+//! | any contact | N ↓ 0 | `on_lift_off = "stop"` | stop `lost_contact` | |
+//! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact |
+//! | any contact | N ↓ 0 | flight inconsistent | stop `inconsistent_contact` | |
+//!
+//! Flight is consistent where the gap's acceleration with no contact force is not into
+//! the plane ([`flight_is_consistent`]).
+
+use nalgebra::Vector2;
+
+use crate::effects::Effect;
+use crate::impact::{self, Approach, Tangential};
+use crate::integrate::{OdeSystem, rk4_step};
+use crate::invariants::Invariants;
+use crate::model::{Kinematics, Rolling, Sliding};
+use crate::state::{self, State};
+
+use super::machine::Machine;
+use super::numerics::{BACK_STEPS, GAP_ACCEL_ROUNDOFF, SLIP_SEED};
+use super::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
+use super::phase::{Next, phase, set_reference, slip_has_stopped, slip_is_zero};
+use super::scene::{ContactModel, LiftOff};
+
+/// How a state came onto the plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Arrival {
+    /// The run's initial state (rolling: v_G follows from ω, no sticking impulse).
+    Start,
+    /// A persistent landing; `stuck`: the impact left no slip.
+    Landing { stuck: bool },
+    /// A located and confirmed slip stop of the sliding phase.
+    SlipStop,
+}
+
+/// Where a state on the plane goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Placed {
+    /// Into this contact phase.
+    In(Mode),
+    /// Nowhere: slip (and a contact disc's spin) has stopped in a model that ends there.
+    SlipStopped,
+}
+
+/// The phase a state on the plane enters, with its state map — the one rule for the
+/// start, a landing and a slip stop:
+/// - frictionless: frictionless;
+/// - rolling: rolling, on the constraint (the residual slip removed by the sticking
+///   impulse, `Rolling::stick`, except at the start, where v_G follows from ω);
+/// - a contact disc (sliding or Coulomb): stopped when slip and spin have both stopped
+///   (or at a confirmed slip stop), else sliding — it does not stick while it spins;
+/// - pure sliding: stopped when the slip is zero (or stuck, or a confirmed stop), else
+///   sliding;
+/// - Coulomb: when the slip is zero (or stuck, or a confirmed stop), rolling if the cone
+///   holds after the sticking impulse, else sliding from rest opposite the friction
+///   rolling needed ([`start_sliding_from_rest`]); else sliding.
+///
+/// Sliding starts with s_ref along the slip.
+pub(super) fn on_plane<E: Effect>(m: &Machine<'_, E>, arrival: Arrival, y: &mut State) -> Placed {
+    let stuck = match arrival {
+        Arrival::Start => false,
+        Arrival::Landing { stuck } => stuck,
+        Arrival::SlipStop => true,
+    };
+    match m.scene.contact {
+        ContactModel::Frictionless => Placed::In(Mode::Frictionless),
+        ContactModel::Rolling => {
+            if arrival != Arrival::Start {
+                Rolling::stick(&m.scene.body, y);
+            }
+            m.roll.project(y);
+            Placed::In(Mode::Rolling)
+        }
+        ContactModel::Sliding { .. } | ContactModel::Coulomb { .. } if m.scene.disc.is_some() => {
+            if arrival == Arrival::SlipStop || slip_has_stopped(m, y) {
+                Placed::SlipStopped
+            } else {
+                renew_reference(m, y);
+                Placed::In(Mode::Sliding)
+            }
+        }
+        ContactModel::Sliding { .. } if stuck || slip_is_zero(m, y) => Placed::SlipStopped,
+        ContactModel::Coulomb { friction } if stuck || slip_is_zero(m, y) => {
+            if rolls_once_stuck(m, friction, y) {
+                Placed::In(Mode::Rolling)
+            } else {
+                start_sliding_from_rest(m, y);
+                Placed::In(Mode::Sliding)
+            }
+        }
+        ContactModel::Sliding { .. } | ContactModel::Coulomb { .. } => {
+            renew_reference(m, y);
+            Placed::In(Mode::Sliding)
+        }
+    }
+}
+
+/// Whether the plane pushes on the body in `mode` at `y` (N > 0).
+pub(super) fn pushes<E: Effect + Copy + 'static>(
+    m: &Machine<'_, E>,
+    mode: Mode,
+    y: &State,
+) -> bool {
+    phase::<E>(mode).response(m, y).normal > 0.0
+}
+
+/// The slip stop located by the sliding phase at (t, y): a confirmed stop goes on the
+/// plane ([`on_plane`]); one not confirmed is a turn of the slip by more than 90° within
+/// a step, and sliding goes on with s_ref renewed.
+pub(super) fn slip_stop<E: Effect>(
+    m: &Machine<'_, E>,
+    confirmed: bool,
+    t: f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    if !confirmed {
+        renew_reference(m, y);
+        return Next::Go(Mode::Sliding);
+    }
+    events.push(EventRecord {
+        kind: EventKind::SlipStop,
+        t,
+    });
+    match on_plane(m, Arrival::SlipStop, y) {
+        Placed::SlipStopped => Next::Stop(Status::SlipStopped, Mode::Sliding),
+        Placed::In(mode) => {
+            if mode != Mode::Sliding {
+                switch(events, t, Mode::Sliding, mode);
+            }
+            Next::Go(mode)
+        }
+    }
+}
+
+/// The sliding normal force's denominator reached zero at t: no consistent contact force.
+pub(super) fn painleve(t: f64, events: &mut Vec<EventRecord>) -> Next {
+    events.push(EventRecord {
+        kind: EventKind::Painleve,
+        t,
+    });
+    Next::Stop(
+        Status::Painleve {
+            denominator: 0.0,
+            error: None,
+        },
+        Mode::Sliding,
+    )
+}
+
+/// Rolling left the friction cone at (t, y): sliding from rest
+/// ([`start_sliding_from_rest`]).
+pub(super) fn cone_left<E: Effect>(
+    m: &Machine<'_, E>,
+    t: f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    start_sliding_from_rest(m, y);
+    switch(events, t, Mode::Rolling, Mode::Sliding);
+    Next::Go(Mode::Sliding)
+}
+
+/// N reached zero in contact mode `from` at (t, y): the run stops with
+/// `on_lift_off = "stop"`; else the body flies where flight is consistent, its state
+/// taking z_G = h(ζ), v_Gz and (rolling) v_G from the contact, so that E, L_G and the
+/// position are continuous; else the run stops with `inconsistent_contact`.
+pub(super) fn lift_off<E: Effect>(
+    m: &Machine<'_, E>,
+    from: Mode,
+    t: f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    if m.scene.landing.lift_off == LiftOff::Stop {
+        events.push(EventRecord {
+            kind: EventKind::LostContact,
+            t,
+        });
+        return Next::Stop(Status::LostContact, from);
+    }
+    if let Err(status) = flight_is_consistent(m, from, y) {
+        return Next::Stop(status, from);
+    }
+    to_flight(m, from, y);
+    events.push(EventRecord {
+        kind: EventKind::LiftOff,
+        t,
+    });
+    switch(events, t, from, Mode::Flight);
+    Next::Go(Mode::Flight)
+}
+
+/// The state map of leaving the plane from contact mode `from`: z_G and v_Gz (and,
+/// rolling, v_G) become flight states with the values the contact gave them.
+pub(super) fn to_flight<E>(m: &Machine<'_, E>, from: Mode, y: &mut State) {
+    let kin = Kinematics::new(&m.scene.body, y, from == Mode::Rolling);
+    y[state::VEL] = kin.v_g.x;
+    y[state::VEL + 1] = kin.v_g.y;
+    y[state::HEIGHT] = kin.contact.height;
+    y[state::VEL_Z] = kin.v_g.z;
+}
+
+/// Whether flight is consistent at the contact state `y` of mode `from`, where N ≤ 0:
+/// the gap's acceleration with no contact force,
+/// ```text
+///   g̈_free = −(m g − f_z − m u·I⁻¹T − m κ)/m,
+/// ```
+/// is not into the plane. Its numerator is that of the unilateral law
+/// (`model::unilateral`) for every force direction, so a frictionless contact or a
+/// sliding one with a positive Painlevé denominator has g̈_free ≥ 0 wherever N ≤ 0 and
+/// leaves consistently. Rolling, whose friction need not vanish with N, can reach N ≤ 0
+/// with g̈_free < 0: the plane would have to pull, and without it the body falls into
+/// the plane — the rolling model's analogue of Painlevé's paradox (docs/physics.md,
+/// "The hybrid machine"), reported as `Err` with the numbers.
+pub(super) fn flight_is_consistent<E: Effect>(
+    m: &Machine<'_, E>,
+    from: Mode,
+    y: &State,
+) -> Result<(), Status> {
+    let free = m.free.evaluate(y);
+    let mass = m.scene.body.mass();
+    let accel = -free.response.normal * free.response.painleve / mass;
+    let scale = m.scene.gravity
+        + free.kin.omega.norm_squared() * m.scene.body.semi_axes().max()
+        + free.load.force.norm() / mass;
+    if accel >= -GAP_ACCEL_ROUNDOFF * scale {
+        return Ok(());
+    }
+    Err(Status::InconsistentContact {
+        mode: from,
+        normal: phase_normal(m, from, y),
+        gap_acceleration: accel,
+    })
+}
+
+/// N of contact mode `mode` at `y` \[N\].
+fn phase_normal<E: Effect>(m: &Machine<'_, E>, mode: Mode, y: &State) -> f64 {
+    match mode {
+        Mode::Rolling => m.roll.evaluate(y).response.normal,
+        Mode::Sliding => m.slide.evaluate(y).response.normal,
+        Mode::Frictionless | Mode::Flight => m.free.evaluate(y).response.normal,
+    }
+}
+
+/// Touchdown, located at gap = −δz on the flight's dense output at (t, y): the impact
+/// is taken where the gap is zero ([`back_to_contact`], which moves `t` back), its loss
+/// booked in W; the body flies on, or, for a rebound below the settling speed
+/// ([`settling_speed`]), the impact is taken plastic and the state goes on the plane.
+pub(super) fn touchdown<E: Effect + Copy + 'static>(
+    m: &Machine<'_, E>,
+    t: &mut f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    let body = &m.scene.body;
+    (*t, *y) = back_to_contact(m, *t, y);
+    let kin = Kinematics::flying(body, y);
+    let rot = kin.rot;
+    let approach = Approach {
+        mass: body.mass(),
+        inertia_inv: rot * body.inertia_inv() * rot.transpose(),
+        r: rot * kin.contact.r,
+        v_g: kin.v_g,
+        omega: rot * kin.omega,
+    };
+    let law = tangential(m.scene.contact);
+    let pre = *y;
+    // The state after an impact: its velocities, the loss in W, and no gap (it is zero to
+    // round-off at the located contact).
+    let after = |hit: &impact::Impact| {
+        let mut y = pre;
+        y[state::VEL] = hit.v_g.x;
+        y[state::VEL + 1] = hit.v_g.y;
+        y[state::VEL_Z] = hit.v_g.z;
+        y.fixed_rows_mut::<3>(state::OMEGA)
+            .copy_from(&rot.tr_mul(&hit.omega));
+        y[state::WORK] += hit.energy_loss;
+        y[state::HEIGHT] = kin.contact.height;
+        y
+    };
+    let mut hit = impact::resolve(&approach, law, m.scene.landing.restitution);
+    *y = after(&hit);
+    // The settling speed after the impact: its rates decide what presses the body down.
+    let settles = hit.normal_velocity.1 <= settling_speed(m, y, &kin);
+    if settles && hit.normal_velocity.1 > 0.0 {
+        hit = impact::resolve(&approach, law, 0.0);
+        *y = after(&hit);
+    }
+    events.push(EventRecord {
+        kind: EventKind::Touchdown {
+            speed: -hit.normal_velocity.0,
+        },
+        t: *t,
+    });
+    let report = |persistent| {
+        EventKind::Impact(ImpactReport {
+            impulse: hit.impulse,
+            energy_loss: hit.energy_loss,
+            stuck: hit.stuck,
+            rebound: hit.normal_velocity.1,
+            persistent,
+        })
+    };
+    let impact = |events: &mut Vec<EventRecord>, persistent| {
+        events.push(EventRecord {
+            kind: report(persistent),
+            t: *t,
+        })
+    };
+    if !settles {
+        impact(events, false);
+        return Next::Go(Mode::Flight);
+    }
+    let mut landed = *y;
+    clear_flight_slots(m, &mut landed);
+    match on_plane(m, Arrival::Landing { stuck: hit.stuck }, &mut landed) {
+        Placed::SlipStopped => {
+            impact(events, true);
+            *y = landed;
+            events.push(EventRecord {
+                kind: EventKind::SlipStop,
+                t: *t,
+            });
+            Next::Stop(Status::SlipStopped, Mode::Sliding)
+        }
+        Placed::In(mode) if pushes(m, mode, &landed) => {
+            impact(events, true);
+            *y = landed;
+            switch(events, *t, Mode::Flight, mode);
+            Next::Go(mode)
+        }
+        // The body's own motion lifts it: it flies on from rest relative to the plane,
+        // unless flight is inconsistent there too.
+        // The state it flies from is the one on the plane (for rolling, stuck): the
+        // consistency of flight was decided there.
+        Placed::In(mode) => match flight_is_consistent(m, mode, &landed) {
+            Ok(()) => {
+                impact(events, false);
+                *y = landed;
+                to_flight(m, mode, y);
+                Next::Go(Mode::Flight)
+            }
+            Err(status) => {
+                impact(events, true);
+                *y = landed;
+                Next::Stop(status, mode)
+            }
+        },
+    }
+}
+
+/// The state on the flight's trajectory through (t, y) where the gap is zero: touchdown
+/// is located at gap = −δz (`phase::flight`), and an impact taken there, with the
+/// penetration then removed, would add 2 a δz to v_n² at every bounce (a: the gap's
+/// free deceleration) — enough to stall a Zeno sequence above the settling speed
+/// whenever a e²/(1 − e²) > g (docs/physics.md, "Settling"). Newton's iteration on s,
+/// gap(t + s) = 0 with d gap/dt = v_n, the lowest point's normal velocity, each y(t + s)
+/// one RK4 step of the flight system from (t, y); |s| ≈ δz/|v_n| is at most a few ns.
+fn back_to_contact<E: Effect>(m: &Machine<'_, E>, t: f64, y: &State) -> (f64, State) {
+    let body = &m.scene.body;
+    let gap_and_rate = |y: &State| {
+        let kin = Kinematics::flying(body, y);
+        let v_n = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
+        (kin.gap, v_n)
+    };
+    let mut k = [State::zeros(); 4];
+    let (mut s, mut ys) = (0.0, *y);
+    for _ in 0..BACK_STEPS {
+        let (gap, v_n) = gap_and_rate(&ys);
+        if gap == 0.0 || !(v_n < 0.0) {
+            break;
+        }
+        s -= gap / v_n;
+        ys = rk4_step(&m.fly, t, y, s, &mut k);
+    }
+    (t + s, ys)
+}
+
+/// The settling speed at the touchdown state `y` (`Numerics::settling_speed`), with the
+/// gap's deceleration with no contact force a = (m g − f_z − m u·I⁻¹T − m κ)/m
+/// (see [`flight_is_consistent`]).
+fn settling_speed<E: Effect>(m: &Machine<'_, E>, y: &State, kin: &Kinematics) -> f64 {
+    let free = m.free.evaluate(y);
+    let decel = free.response.normal * free.response.painleve / m.scene.body.mass();
+    m.numerics.settling_speed(decel, kin)
+}
+
+/// The impact law of the scene's contact model: frictionless, Coulomb (sliding and
+/// Coulomb models) or its no-slip limit (rolling).
+fn tangential(contact: ContactModel) -> Tangential {
+    match contact {
+        ContactModel::Frictionless => Tangential::Frictionless,
+        ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } => {
+            Tangential::Coulomb { friction }
+        }
+        ContactModel::Rolling => Tangential::NoSlip,
+    }
+}
+
+/// Records a mode switch.
+fn switch(events: &mut Vec<EventRecord>, t: f64, from: Mode, to: Mode) {
+    events.push(EventRecord {
+        kind: EventKind::ModeSwitch { from, to },
+        t,
+    });
+}
+
+/// Removes the slip of `y` (`Rolling::stick`, onto the rolling constraint) and tells
+/// whether rolling holds there: the friction it needs within the cone, μN − |F_h| ≥ 0.
+pub(super) fn rolls_once_stuck<E: Effect>(m: &Machine<'_, E>, mu: f64, y: &mut State) -> bool {
+    Rolling::stick(&m.scene.body, y);
+    m.roll.project(y);
+    Rolling::cone_margin(&m.roll.evaluate(y).response, mu) >= 0.0
+}
+
+/// Sets the slip reference to −F_h/|F_h| of the rolling contact force: the slip that
+/// develops when rolling fails opposes the friction it needed. The slip starts as
+/// [`SLIP_SEED`] of the speed scale along that direction, not as zero: the sliding law's
+/// watch g = v_C·s_ref then starts positive, so a slip that round-off turns against s_ref
+/// is a located crossing (a stop), never a run on with friction along the slip
+/// (docs/physics.md, "Friction along the slip, and the onset's seed").
+fn start_sliding_from_rest<E: Effect>(m: &Machine<'_, E>, y: &mut State) {
+    let f_h = m.roll.evaluate(y).response.force.xy();
+    let s = if f_h.norm() > 0.0 {
+        -f_h.normalize()
+    } else {
+        Vector2::x()
+    };
+    set_reference(y, s);
+    let seed = s * (SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&m.scene.body, y, false)));
+    // E + W stays exact: the seed's kinetic energy m (v_G·δv + |δv|²/2) is booked in W.
+    let v = state::velocity(y);
+    y[state::WORK] -= m.scene.body.mass() * (v.dot(&seed) + 0.5 * seed.norm_squared());
+    y[state::VEL] += seed.x;
+    y[state::VEL + 1] += seed.y;
+}
+
+/// Sets s_ref to the slip's direction (kept where the slip is zero): the sliding law's
+/// friction opposes the slip from the segment's start, where v_C·s_ref > 0.
+pub(super) fn renew_reference<E: Effect>(m: &Machine<'_, E>, y: &mut State) {
+    let slip = m.slide.evaluate(y).kin.slip;
+    if slip != Vector2::zeros() {
+        set_reference(y, slip.normalize());
+    }
+}
+
+/// A persistent landing's state with z_G and v_Gz given by the contact from now on
+/// (their slots cleared for the slip reference): the kinetic energy of the rebound this
+/// removes (below the settling speed) is booked in W, so E + W stays exact.
+fn clear_flight_slots<E>(m: &Machine<'_, E>, y: &mut State) {
+    let body = &m.scene.body;
+    let energy =
+        |kin: &Kinematics| Invariants::from_kinematics(body, m.scene.gravity, kin, 0.0).energy;
+    let flying = energy(&Kinematics::flying(body, y));
+    y[state::HEIGHT] = 0.0;
+    y[state::VEL_Z] = 0.0;
+    y[state::WORK] += flying - energy(&Kinematics::new(body, y, false));
+}
