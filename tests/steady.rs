@@ -116,32 +116,27 @@ dt = 1e-3
     }
 }
 
-fn oblate() -> Case {
-    let (a, c, m) = (0.03, 0.01, 0.05);
+/// A homogeneous spheroid (a = b, c, mass m; A = m(a² + c²)/5, C = 2ma²/5 about its
+/// centre), G a distance `d` below the centre, upright.
+fn spheroid(name: &'static str, a: f64, c: f64, m: f64, d: f64) -> Case {
     Case {
-        name: "oblate",
+        name,
         a,
         c,
         m,
         big_a: m * (a * a + c * c) / 5.0,
         big_c: 2.0 * m * a * a / 5.0,
-        d: 0.002,
+        d,
         family: Family::Upright,
     }
 }
 
+fn oblate() -> Case {
+    spheroid("oblate", 0.03, 0.01, 0.05, 0.002)
+}
+
 fn egg() -> Case {
-    let (a, c, m) = (0.02, 0.03, 0.06);
-    Case {
-        name: "egg on its end",
-        a,
-        c,
-        m,
-        big_a: m * (a * a + c * c) / 5.0,
-        big_c: 2.0 * m * a * a / 5.0,
-        d: 0.0,
-        family: Family::Upright,
-    }
+    spheroid("egg on its end", 0.02, 0.03, 0.06, 0.0)
 }
 
 /// A tippe-top-like sphere, G 5 mm off the centre, standing on the pole G is far from.
