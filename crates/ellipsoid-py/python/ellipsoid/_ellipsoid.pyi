@@ -26,10 +26,12 @@ __all__ = [
     "Trajectory",
     "__version__",
     "check",
+    "linearize",
     "load",
     "make_study",
     "precision",
     "simulate",
+    "steady_raw",
     "sweep",
 ]
 
