@@ -527,3 +527,34 @@ fn val_sweep_locates_the_critical_spin() {
         }
     }
 }
+
+/// The rolling rattleback's spectrum is not symmetric about the imaginary axis: its
+/// stability is lost transversally, a pair crossing alone (Re λ ∝ n), on both sides of
+/// n = 0 where it is neutrally stable. A sweep through 0 finds two `hopf` critical values
+/// next to 0 (within where Re λ = 1e-9 max |λ|: |n| < 1e-5 rad/s).
+#[test]
+fn val_rattleback_loses_stability_by_crossing_at_zero_spin() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/rattleback.toml");
+    let text = std::fs::read_to_string(path)
+        .unwrap()
+        .replace(
+            "rotation = [{ axis = \"x\", angle_deg = 0.5 }, { axis = \"y\", angle_deg = 0.5 }]",
+            "",
+        )
+        .replace("omega_body = [0.0, 0.0, -5.0]", "psi_dot = 0.0");
+    let base = scenario::parse(&text, "rattleback", &[] as &[&str]).unwrap();
+    let sw = steady::sweep(&base, Family::Upright, "initial.psi_dot", &[-1.0, 0.0, 1.0]).unwrap();
+    let stable: Vec<bool> = sw
+        .rows
+        .iter()
+        .map(|r| r.as_ref().unwrap().spectrum.stable())
+        .collect();
+    assert_eq!(stable, [false, true, false]);
+    assert_eq!(sw.critical.len(), 2, "{:?}", sw.critical);
+    for (c, above) in sw.critical.iter().zip([true, false]) {
+        assert_eq!(c.kind, steady::CriticalKind::Hopf, "{c:?}");
+        assert_eq!(c.stable_above, above);
+        assert!(c.value.abs() < 1e-5, "{c:?}");
+    }
+}
