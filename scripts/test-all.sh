@@ -2,8 +2,11 @@
 # Runs every test of the project on a machine that has only the toolchains (Rust via
 # rustup, Python 3.10+, a C compiler): runs the Rust tests (release: the physics tests
 # integrate for real), a fixed 60 s fuzzing budget on the scenario parser, builds the
-# Python wheel with `pip wheel` into a fresh venv and runs pytest, then the viewer's
-# browser tests. Exits non-zero on the first failure.
+# manylinux Python wheel (scripts/build-wheel.sh), installs it into a fresh venv and runs
+# pytest, and the README's quick start in a venv of its own; then the viewer's browser
+# tests, then the documentation's checks: no engineering record in the user docs, the
+# tutorial notebooks executed, the gallery current, the API reference built. Exits
+# non-zero on the first failure.
 #
 # HDF5 is built from source (HDF5 2.x, linked statically) by the default build: that needs
 # CMake >= 3.26. If the system's is older or missing, one comes from PyPI into the venv.
@@ -19,7 +22,9 @@ python3 -m venv .venv
 pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
 # mpmath: reference values of some tests; dask[distributed] and pyarrow: the parameter-study
 # tests (a LocalCluster of 2 worker processes; Parquet tables read back).
-"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow
+# nbclient, ipykernel, nbconvert: the tutorial notebooks executed and rendered; pdoc: the API reference.
+"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow \
+  nbclient ipykernel nbconvert pdoc
 cmake_ok() { command -v cmake >/dev/null && printf '%s\n3.26\n' "$(cmake --version | head -1 | awk '{print $3}')" | sort -V -C -r 2>/dev/null; }
 if [ -z "${CMAKE:-}" ] && ! cmake_ok; then
   "${pip[@]}" 'cmake>=3.26'
@@ -39,8 +44,11 @@ if ! command -v chromium >/dev/null 2>&1 || [ ! -f /usr/share/fonts/truetype/dej
     || { $sudo apt-get update && $sudo apt-get install -y --no-install-recommends chromium fonts-dejavu-core; }
 fi
 
-# 2. Rust: formatting and lints first (cheap, and a red CI should say why at once), then
-#    every crate but the Python extension (tested below through its wheel).
+# 2. The cheap checks first (the user docs, formatting, lints: a red CI should say why at
+#    once), then the Rust tests of every crate but the Python extension (tested below
+#    through its wheel).
+echo "== docs: no commit hashes, history of the work or load averages; links resolve"
+.venv/bin/python scripts/check-docs.py
 echo "== cargo fmt --check, cargo clippy"
 cargo fmt --all --check
 cargo clippy --release --all-targets --features ellipsoid-cli/hdf5 -- -D warnings
@@ -52,7 +60,7 @@ cargo test --release
 echo "== fuzz (${fuzz_seconds} s)"
 cargo run --release --quiet -p ellipsoid-core --example fuzz_scenario -- --seconds "$fuzz_seconds"
 
-# 4. Python: a wheel built by `pip wheel` (PEP 517 through maturin, HDF5 included),
+# 4. Python: the manylinux wheel built by scripts/build-wheel.sh (maturin, HDF5 included),
 #    installed in the venv, then pytest. The command-line tool that `cargo test --release`
 #    just built is the reference of the parity tests.
 echo "== python"
@@ -62,13 +70,41 @@ export ELLIPSOID_CLI="$target/release/ellipsoid"
 [ -x "$ELLIPSOID_CLI" ] || cargo build --release -p ellipsoid-cli
 export ELLIPSOID_EXPECT_HDF5=1
 export ELLIPSOID_EXPECT_BROWSER=1  # installed above: a browser test that cannot find it fails
+# The wheel for any Linux: manylinux_2_17 (zig cc links against glibc 2.17's symbols and
+# compiles HDF5), checked by auditwheel; pytest, the notebooks and the quick start run on it.
 rm -rf "$target/wheels"
-.venv/bin/python -m pip wheel --quiet --disable-pip-version-check --no-deps -w "$target/wheels" ./crates/ellipsoid-py
+WHEEL_VENV=.venv scripts/build-wheel.sh "$target/wheels"
+.venv/bin/auditwheel show "$target"/wheels/ellipsoid-*.whl | grep -q '"manylinux_2_17_x86_64"' \
+  || { echo "the wheel is not manylinux_2_17_x86_64"; exit 1; }
 "${pip[@]}" "$target"/wheels/ellipsoid-*.whl
 .venv/bin/python -m pytest -q crates/ellipsoid-py/tests
 
-# 4. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
+# 4b. A fresh venv installs the wheel (numpy, matplotlib, pandas from PyPI) and runs the
+#     README's Python quick start, in a directory of its own.
+echo "== the README's quick start in a fresh venv"
+qs="$target/quickstart"
+rm -rf "$qs" && mkdir -p "$qs"
+python3 -m venv "$qs/venv"
+"$qs/venv/bin/python" -m pip install --quiet --disable-pip-version-check "$target"/wheels/ellipsoid-*.whl matplotlib pandas
+.venv/bin/python - "$qs/quickstart.py" <<'EOF_QS'
+import re, sys
+section = open("README.md", encoding="utf-8").read().split("## Python quick start", 1)[1]
+open(sys.argv[1], "w", encoding="utf-8").write(re.findall(r"```python\n(.*?)```", section, re.S)[0])
+EOF_QS
+ln -s "$PWD/scenarios" "$qs/scenarios"
+(cd "$qs" && venv/bin/python quickstart.py)
+
+# 5. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
 echo "== browser"
 .venv/bin/python -m pytest -q tests/browser
+
+# 6. The documentation against the installed wheel: every tutorial notebook executed by
+#    nbclient (an error or a printed traceback fails; rendered to HTML with its figures in
+#    target/site/examples), the gallery current (a bundled scenario without an entry fails),
+#    the API reference built by pdoc without a warning or an undocumented member.
+echo "== notebooks, gallery, API reference"
+.venv/bin/python scripts/run-notebooks.py --html "$target/site/examples"
+.venv/bin/python scripts/gallery.py --check
+.venv/bin/python scripts/api-docs.py -o "$target/site/api"
 
 echo "all tests passed"

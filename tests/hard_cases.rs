@@ -1099,26 +1099,21 @@ fn hard_9_friction_limits_reduce_to_the_other_models() {
         .map(|(a, b)| (axis(a) - axis(b)).norm() + (a.position - b.position).norm())
         .fold(0.0, f64::max);
     assert!(d0 < 1e-12, "μ = 0 differs from frictionless by {d0:e}");
-    // Large μ, starting without slip (no velocity given): Coulomb never leaves rolling,
-    // and equals it.
+    // Large μ, starting without slip (G at the rolling model's velocity −ω × r): Coulomb
+    // never leaves rolling, and equals it.
+    let rolling_scene = scene(oblate(), ContactModel::Rolling, init, None, 2.0, 1e-2, TOL);
+    let (_, y0) = rolling_scene.initial_state().unwrap();
+    let no_slip = Vector2::new(y0[state::VEL], y0[state::VEL + 1]);
     let (out, sticky) = run(&scene(
         oblate(),
         ContactModel::Coulomb { friction: 50.0 },
         init,
-        None,
+        Some(no_slip),
         2.0,
         1e-2,
         TOL,
     ));
-    let (_, rolling) = run(&scene(
-        oblate(),
-        ContactModel::Rolling,
-        init,
-        None,
-        2.0,
-        1e-2,
-        TOL,
-    ));
+    let (_, rolling) = run(&rolling_scene);
     assert!(
         sticky.iter().all(|s| s.mode == Mode::Rolling),
         "{:?}",

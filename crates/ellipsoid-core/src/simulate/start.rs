@@ -41,15 +41,11 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
         let omega = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
         y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&omega);
         let flying = init.height > 0.0;
-        match init.velocity {
-            Some(v) => {
-                y[state::VEL] = v.x;
-                y[state::VEL + 1] = v.y;
-            }
-            None if !flying && matches!(scene.contact, ContactModel::Coulomb { .. }) => {
-                self.roll.project(&mut y)
-            }
-            None => {}
+        // G starts at rest unless `velocity` is given (docs/scenarios.md): with friction
+        // the contact then slides if ω makes it slip; rolling projects v_G below.
+        if let Some(v) = init.velocity {
+            y[state::VEL] = v.x;
+            y[state::VEL + 1] = v.y;
         }
         let go = |mode, y| Start {
             mode,
