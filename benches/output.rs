@@ -4,6 +4,9 @@
 //!
 //! - `integration`: no samples but the first and last (the physics alone);
 //! - `samples`: every row built (dense output, Euler angles, invariants) and dropped;
+//! - `kept`: every row built and kept in a `Vec`, as the Python package's `simulate`
+//!   does (its numpy columns are made from it on first access; benches/python_samples.py
+//!   measures that side);
 //! - `csv_rows`: every row formatted as CSV and thrown away (`io::sink`: the CPU cost);
 //! - `csv`: every row formatted into a CSV file (a temporary file, written and synced to
 //!   disk as `ellipsoid run` does before renaming it into place, then removed);
@@ -72,6 +75,16 @@ fn output(c: &mut Criterion) {
             finished(run(&sampled, None, "bench", None, |_| {
                 Ok::<(), ellipsoid_io::OutputError>(())
             }))
+        })
+    });
+    g.bench_function("kept", |b| {
+        b.iter(|| {
+            let mut kept = Vec::new();
+            finished(run(&sampled, None, "bench", None, |s| {
+                kept.push(*s);
+                Ok::<(), ellipsoid_io::OutputError>(())
+            }));
+            kept.len()
         })
     });
     g.bench_function("csv_rows", |b| {

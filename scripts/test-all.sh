@@ -22,9 +22,10 @@ python3 -m venv .venv
 pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
 # mpmath: reference values of some tests; dask[distributed] and pyarrow: the parameter-study
 # tests (a LocalCluster of 2 worker processes; Parquet tables read back).
-# nbclient, ipykernel, nbconvert: the tutorial notebooks executed and rendered; pdoc: the API reference.
+# nbclient, nbformat, ipykernel, nbconvert: the notebooks executed (tutorials, display tests)
+# and rendered; pdoc: the API reference; xarray: Trajectory.to_xarray.
 "${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow \
-  nbclient ipykernel nbconvert pdoc
+  xarray nbclient nbformat ipykernel nbconvert pdoc
 cmake_ok() { command -v cmake >/dev/null && printf '%s\n3.26\n' "$(cmake --version | head -1 | awk '{print $3}')" | sort -V -C -r 2>/dev/null; }
 if [ -z "${CMAKE:-}" ] && ! cmake_ok; then
   "${pip[@]}" 'cmake>=3.26'

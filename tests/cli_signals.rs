@@ -223,3 +223,79 @@ fn killed_at_random_moments_the_target_is_never_partial_and_an_old_output_surviv
             .starts_with("t,x,y")
     );
 }
+
+/// Runs `args` in `dir`, ending it (and failing) if it has not finished within `limit`:
+/// an input that blocks or never ends must be refused, not waited on.
+fn finishes_within(dir: &Path, args: &[&str], limit: Duration) -> std::process::Output {
+    let mut child = Command::new(BIN)
+        .args(args)
+        .current_dir(dir)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let start = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let out = child.wait_with_output().unwrap();
+            panic!(
+                "`ellipsoid {}` still running after {limit:?}: {}",
+                args.join(" "),
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+fn mkfifo(path: &Path) {
+    let ok = Command::new("mkfifo")
+        .arg(path)
+        .status()
+        .expect("mkfifo runs")
+        .success();
+    assert!(ok, "mkfifo {}", path.display());
+}
+
+/// A scenario, study file, `base` or journal that is a FIFO (which would block with no
+/// writer, and where SIGTERM used to wait forever), or an endless device such as
+/// /dev/zero (read until memory ran out): refused at once as not a regular file, exit 2.
+#[test]
+fn pipes_and_endless_devices_are_refused_as_inputs_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    mkfifo(&d.join("fifo.toml"));
+    let nutation = nutation();
+    let nutation = nutation.to_str().unwrap();
+    std::fs::write(
+        d.join("zero-base.toml"),
+        "base = \"/dev/zero\"\n[[axis]]\nkey = \"initial.psi_dot\"\nvalues = [1.0]\n",
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("s.toml"),
+        format!("base = {nutation:?}\n[[axis]]\nkey = \"initial.psi_dot\"\nvalues = [20.0]\n"),
+    )
+    .unwrap();
+    mkfifo(&d.join("t.csv.journal"));
+    let cases: [(&[&str], &str); 6] = [
+        (&["run", "fifo.toml", "-o", "o.csv"], "fifo.toml"),
+        (&["run", "/dev/zero", "-o", "o.csv"], "/dev/zero"),
+        (&["check", "/dev/urandom"], "/dev/urandom"),
+        (&["study", "fifo.toml", "-o", "o.csv"], "fifo.toml"),
+        (&["study", "zero-base.toml", "-o", "o.csv"], "/dev/zero"),
+        (&["study", "s.toml", "-o", "t.csv"], "t.csv.journal"),
+    ];
+    for (args, named) in cases {
+        let out = finishes_within(d, args, Duration::from_secs(5));
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(named) && stderr.contains("not a regular file"),
+            "{args:?}: {stderr}"
+        );
+    }
+    assert!(!d.join("o.csv").exists() && !d.join("t.csv").exists());
+}

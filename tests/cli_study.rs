@@ -337,3 +337,74 @@ fn trajectories_are_one_hdf5_group_per_row_named_by_its_key() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains(".h5"));
 }
+
+/// A small study of `values` of `initial.psi_dot` (0.2 s runs).
+fn write_small_study(dir: &Path, values: &str) {
+    let base = scenarios().join("nutation.toml");
+    let text = format!(
+        "base = {base:?}\n[set]\n\"output.t_end\" = 0.2\n\"output.dt\" = 0.01\n\
+         [[axis]]\nkey = \"initial.psi_dot\"\nvalues = [{values}]\n"
+    );
+    std::fs::write(dir.join("study.toml"), text).unwrap();
+}
+
+/// `-j` is bounded like Python's `workers` (4 per CPU, at least 8): 100000 threads used to
+/// take minutes to start and end in a failed stack guard page.
+#[test]
+fn jobs_beyond_four_per_cpu_are_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    write_small_study(dir.path(), "20.0, 40.0");
+    for jobs in ["0", "100000", "1000000000"] {
+        let t = Instant::now();
+        let out = study(dir.path(), &["study.toml", "-o", "t.csv", "-j", jobs, "-q"]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "-j {jobs}: {stderr}");
+        assert!(
+            stderr.contains(&format!("--jobs {jobs}: give 1 to ")) && stderr.contains("4 per CPU"),
+            "{stderr}"
+        );
+        assert!(t.elapsed() < Duration::from_secs(1), "{:?}", t.elapsed());
+        assert!(!dir.path().join("t.csv").exists());
+    }
+    let out = study(dir.path(), &["study.toml", "-o", "t.csv", "-j", "8", "-q"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// Points that run the same scenario (a repeated value) share a key: one group for them,
+/// where a second group of the same name used to fail the whole study.
+#[test]
+fn trajectories_of_points_running_the_same_scenario_share_one_group() {
+    let dir = tempfile::tempdir().unwrap();
+    write_small_study(dir.path(), "20.0, 40.0, 20.0");
+    let out = study(
+        dir.path(),
+        &["study.toml", "-o", "t.csv", "--trajectories", "t.h5", "-q"],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = std::fs::read_to_string(dir.path().join("t.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    let key = header.iter().position(|h| *h == "key").unwrap();
+    let keys: Vec<String> = table
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(key).unwrap().to_owned())
+        .collect();
+    assert_eq!(keys.len(), 3);
+    assert_eq!(keys[0], keys[2]);
+    let mut distinct = vec![keys[0].clone(), keys[1].clone()];
+    distinct.sort();
+    let h5 = dir.path().join("t.h5");
+    assert_eq!(ellipsoid_io::hdf5::group_names(&h5).unwrap(), distinct);
+    let g = ellipsoid_io::hdf5::read_group(&h5, &keys[0]).unwrap();
+    assert_eq!(g.numbers["initial.psi_dot"], 20.0);
+    assert_eq!(g.column("t").unwrap().len(), 21);
+}

@@ -394,3 +394,44 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
         assert!(!d.join(f).exists(), "{f} written");
     }
 }
+
+/// A summary may come from someone else: the page it makes carries neither the content of
+/// the file its `scenario` names (a parse error used to quote the file's first
+/// `key = "value"` into the page's note) nor that file's directories.
+#[test]
+fn a_page_carries_no_local_file_content_or_directories_from_a_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, json) = tippe_top(dir.path());
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let secrets = tempfile::tempdir().unwrap();
+    let secret = secrets.path().join("notes.toml");
+    std::fs::write(&secret, "password = \"hunter2\"\n").unwrap();
+    let scenario = scenarios().join("tippe-top.toml");
+    for (named, note) in [
+        (&secret, "body unknown: the scenario notes.toml"),
+        (&scenario, "body from tippe-top.toml"),
+    ] {
+        let mut s = summary.clone();
+        s["scenario"] = named.to_str().unwrap().into();
+        std::fs::write(dir.path().join("s.json"), s.to_string()).unwrap();
+        let o = ellipsoid(
+            dir.path(),
+            &[
+                "view",
+                csv.to_str().unwrap(),
+                "--summary",
+                "s.json",
+                "-o",
+                "v.html",
+                "-q",
+            ],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let page = std::fs::read_to_string(dir.path().join("v.html")).unwrap();
+        assert!(page.contains(note), "{note}");
+        assert!(!page.contains("hunter2") && !page.contains("password"));
+        let parent = named.parent().unwrap().to_str().unwrap();
+        assert!(!page.contains(parent), "the page names {parent}");
+    }
+}

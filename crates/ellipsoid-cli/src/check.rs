@@ -155,11 +155,29 @@ fn describe(d: &Derived) -> String {
         ),
     );
     line("height of G", format!("{} m", init.height));
-    match (init.mode, init.normal_force, init.energy, init.slip_speed) {
-        (Some(mode), Some(n), Some(energy), Some(slip)) => {
+    match (
+        init.mode,
+        init.normal_force,
+        init.energy,
+        init.slip_speed,
+        init.velocity,
+    ) {
+        (Some(mode), Some(n), Some(energy), Some(slip), Some(v)) => {
             line("initial mode", mode.to_owned());
             line("initial N", format!("{n} N (m g = {} N)", body.weight));
             line("initial energy", format!("{energy} J"));
+            line(
+                "initial v_G",
+                format!(
+                    "{} m/s (world; {})",
+                    vec3(&v),
+                    if init.velocity_given {
+                        "given"
+                    } else {
+                        "velocity not given"
+                    }
+                ),
+            );
             line("initial slip speed", format!("{slip} m/s"));
         }
         _ => line(

@@ -42,6 +42,9 @@ pub enum Command {
     /// the body moving on the plane with its contact trace, play/pause, speed, a time
     /// slider, θ(t) and energy plots with a linked cursor.
     View(ViewArgs),
+    /// Render a trajectory file (CSV or HDF5) as an animated GIF, without a browser: the
+    /// body on the plane, its contact trace, the time and θ in a corner.
+    Animate(crate::animate::AnimateArgs),
     /// Run a parameter study: every point of a study file's axes over a base scenario, in
     /// parallel on all cores, one table row per run (CSV, Parquet or HDF5). Resumable:
     /// finished rows are kept in RESULTS.journal beside the table, and a rerun skips them.
@@ -89,7 +92,8 @@ pub struct StudyArgs {
     /// RESULTS.journal in the same directory. Directories are created as needed.
     #[arg(short, long, value_name = "RESULTS.parquet|.csv|.h5")]
     pub output: PathBuf,
-    /// Worker threads (default: one per CPU).
+    /// Worker threads (default: one per CPU; at most 4 per CPU, at least 8, and never
+    /// more than the runs).
     #[arg(short, long, value_name = "N")]
     pub jobs: Option<usize>,
     /// Ignore and replace the journal of an earlier run (start over).
@@ -178,12 +182,16 @@ pub struct PlotArgs {
         default_value = "theta,rates,energy,forces,path"
     )]
     pub panels: String,
+    /// Output columns instead of the panels, comma-separated, each drawn against time with
+    /// its unit (e.g. `omega_world_z,theta`).
+    #[arg(long, value_name = "LIST", conflicts_with = "panels")]
+    pub columns: Option<String>,
     /// The run's JSON summary (`ellipsoid run --summary`): marks its events and, through the
     /// scenario it names, gives the body's shape for the contact path. An `.h5` file
     /// carries its own.
     #[arg(long, value_name = "FILE.json")]
     pub summary: Option<PathBuf>,
-    /// Title line (default: the input file name).
+    /// Title line (default: the scenario named by the summary, else the input file name).
     #[arg(long)]
     pub title: Option<String>,
     /// Print nothing but errors.
@@ -203,7 +211,7 @@ pub struct ViewArgs {
     /// through the scenario it names. An `.h5` file carries its own.
     #[arg(long, value_name = "FILE.json")]
     pub summary: Option<PathBuf>,
-    /// Page title (default: the input file name).
+    /// Page title (default: the scenario named by the summary, else the input file name).
     #[arg(long)]
     pub title: Option<String>,
     /// Print nothing but errors.

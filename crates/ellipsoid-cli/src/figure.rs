@@ -5,15 +5,19 @@
 //! ```text
 //! panel    draws                                                         needs
 //! theta    θ(t)                                                          theta
-//! rates    θ̇, φ̇, ψ̇ (and the world-frame vertical spin ω_z if present)    theta_dot, phi_dot, psi_dot
+//! rates    θ̇, φ̇, ψ̇ (and the world-frame vertical spin ω_z if present;    theta_dot, phi_dot, psi_dot
+//!          φ̇, ψ̇ left out where sin θ < 0.1: they diverge as 1/sin θ)
 //! energy   E (and E + W when work is dissipated); the relative drift      energy
 //!          of the conserved quantity, |ΔE|/|E0| or |Δ(E + W)|/|E0 + W0|
 //!          (the `drift` column when present), on a log axis
 //! forces   normal force N and slip speed, contact mode shaded            normal_force, slip_speed
 //! path     the paths on the plane of the contact point, G and C0                 x, y (contact: contact_x/y,
 //!                                                                        or the body's shape)
+//! COLUMN   any numeric output column against time (`--columns`)          COLUMN
 //! ```
-//! Every time axis marks the events (dashed purple lines). Long runs are drawn from the
+//! Every time axis marks the events (dashed purple lines; at most [`EVENT_LINES`] of them:
+//! events closer together than that fraction of the axis share one line, so a chattering
+//! run's 20,000 events draw as a band of lines, not 20,000). Long runs are drawn from the
 //! min/max envelope of each series (`ellipsoid_io::viewer::envelope`), so peaks survive.
 
 use ellipsoid_io::table::Table;
@@ -26,6 +30,8 @@ pub const PANELS: [&str; 5] = ["theta", "rates", "energy", "forces", "path"];
 
 /// Points per series after decimation (two per bucket).
 const BUCKETS: usize = 2_000;
+/// Most event lines on one time axis (about one per 4 px of its width).
+const EVENT_LINES: usize = 250;
 /// Figure width and height of one panel row (px).
 const WIDTH: u32 = 1100;
 const ROW: u32 = 300;
@@ -47,6 +53,29 @@ fn mode_color(name: &str) -> RGBColor {
         "frictionless" => RGBColor(0xee, 0xee, 0xee),
         _ => RGBColor(0xe0, 0xe0, 0xf8),
     }
+}
+
+/// Below this |sin θ| the Euler rates φ̇, ψ̇ are not drawn (z-x-z singularity).
+const SIN_SINGULAR: f64 = 0.1;
+
+/// Parses `--columns a,b,c`: numeric output columns other than `t`, no repeats; each is
+/// drawn as a panel of its own against time.
+pub fn parse_columns(spec: &str) -> Result<Vec<&'static str>, String> {
+    let names = ellipsoid_io::columns::NUMERIC_COLUMNS.map(|c| c.0);
+    let mut out = Vec::new();
+    for name in spec.split(',').map(str::trim) {
+        let Some(c) = names[1..].iter().find(|c| **c == name) else {
+            return Err(format!(
+                "--columns: {name:?} is not a numeric output column; the columns are {}",
+                names[1..].join(", ")
+            ));
+        };
+        if out.contains(c) {
+            return Err(format!("--columns: {name:?} is named twice"));
+        }
+        out.push(*c);
+    }
+    Ok(out)
 }
 
 /// Parses `--panels a,b,c`: known names, no repeats, at least one.
@@ -75,7 +104,8 @@ pub fn check_columns(table: &Table, panels: &[&str]) -> Result<(), String> {
             "rates" => &["theta_dot", "phi_dot", "psi_dot"],
             "energy" => &["energy"],
             "forces" => &["normal_force", "slip_speed"],
-            _ => &["x", "y"],
+            "path" => &["x", "y"],
+            _ => std::slice::from_ref(p),
         };
         table.require(need, &format!("the {p} panel"))?;
     }
@@ -210,10 +240,10 @@ fn time_chart(
         .bold_line_style(BLACK.mix(0.08))
         .draw()
         .map_err(err)?;
-    for e in &table.events {
+    for t in event_lines(table, t0, t1) {
         chart
             .draw_series(DashedLineSeries::new(
-                [(e.t, y0), (e.t, y1)],
+                [(t, y0), (t, y1)],
                 5,
                 4,
                 EVENT.stroke_width(1),
@@ -243,6 +273,22 @@ fn time_chart(
     Ok(())
 }
 
+/// The times of the event lines on an axis from `t0` to `t1`: the axis cut into
+/// [`EVENT_LINES`] equal bins, the first event (in the summary's order) of each bin that
+/// has one.
+fn event_lines(table: &Table, t0: f64, t1: f64) -> Vec<f64> {
+    let mut taken = [false; EVENT_LINES + 1];
+    let mut lines = Vec::new();
+    for e in &table.events {
+        let bin = ((e.t - t0) / (t1 - t0) * EVENT_LINES as f64).clamp(0.0, EVENT_LINES as f64);
+        // `as` maps NaN to 0: such an event shares the first bin.
+        if !std::mem::replace(&mut taken[bin as usize], true) {
+            lines.push(e.t);
+        }
+    }
+    lines
+}
+
 fn theta_panel(area: &Area<'_>, table: &Table) -> Res {
     let t = table.t();
     let theta = table.column("theta").expect("checked");
@@ -257,39 +303,75 @@ fn theta_panel(area: &Area<'_>, table: &Table) -> Res {
     )
 }
 
+/// Any numeric column against time, labelled with its unit.
+fn column_panel(area: &Area<'_>, table: &Table, name: &str) -> Res {
+    let unit = ellipsoid_io::columns::NUMERIC_COLUMNS
+        .iter()
+        .find(|c| c.0 == name)
+        .map_or("1", |c| c.1);
+    time_chart(
+        area,
+        table,
+        name,
+        &format!("{name} ({unit})"),
+        &[series(
+            name,
+            BLUE,
+            table.t(),
+            table.column(name).expect("checked"),
+        )],
+        false,
+        false,
+    )
+}
+
 fn rates_panel(area: &Area<'_>, table: &Table) -> Res {
     let t = table.t();
-    let mut s = vec![
-        series(
-            "θ̇ (theta_dot)",
-            BLUE,
-            t,
-            table.column("theta_dot").expect("checked"),
-        ),
-        series(
-            "φ̇ (phi_dot)",
-            ORANGE,
-            t,
-            table.column("phi_dot").expect("checked"),
-        ),
-        series(
-            "ψ̇ (psi_dot)",
-            GREEN,
-            t,
-            table.column("psi_dot").expect("checked"),
-        ),
-    ];
+    // φ̇ and ψ̇ only where the z-x-z angles are regular (|sin θ| ≥ SIN_SINGULAR).
+    let regular = |name: &str| -> (Vec<f64>, Vec<f64>) {
+        let v = table.column(name).expect("checked");
+        match table.column("theta") {
+            Some(theta) => t
+                .iter()
+                .zip(v)
+                .zip(theta)
+                .filter(|(_, th)| th.sin().abs() >= SIN_SINGULAR)
+                .map(|((t, v), _)| (*t, *v))
+                .unzip(),
+            None => (t.to_vec(), v.to_vec()),
+        }
+    };
+    let (tp, phi_dot) = regular("phi_dot");
+    let (tq, psi_dot) = regular("psi_dot");
+    let mut s = vec![series(
+        "θ̇ (theta_dot)",
+        BLUE,
+        t,
+        table.column("theta_dot").expect("checked"),
+    )];
+    if !tp.is_empty() {
+        s.push(series("φ̇ (phi_dot)", ORANGE, &tp, &phi_dot));
+        s.push(series("ψ̇ (psi_dot)", GREEN, &tq, &psi_dot));
+    }
     if let Some(w) = table.column("omega_world_z") {
         s.push(series("ω_z, world (omega_world_z)", RED, t, w));
     }
     time_chart(
         area,
         table,
-        if s.len() > 3 {
-            "Euler rates and the vertical spin"
-        } else {
-            "Euler rates"
-        },
+        &format!(
+            "Euler rates{}{}",
+            if table.column("omega_world_z").is_some() {
+                " and the vertical spin"
+            } else {
+                ""
+            },
+            if tp.len() < t.len() {
+                " (φ̇, ψ̇ left out where sin θ < 0.1)"
+            } else {
+                ""
+            }
+        ),
         "rate (rad/s)",
         &s,
         false,
@@ -520,7 +602,8 @@ pub fn svg(table: &Table, panels: &[&str], title: &str) -> Result<String, String
                 "rates" => rates_panel(area, table)?,
                 "energy" => energy_panel(area, table)?,
                 "forces" => forces_panel(area, table)?,
-                _ => path_panel(area, table)?,
+                "path" => path_panel(area, table)?,
+                column => column_panel(area, table, column)?,
             }
         }
         root.present().map_err(err)?;
@@ -649,6 +732,28 @@ mod tests {
         assert!(svg.contains("1e-"), "decade labels on the drift axis");
     }
 
+    /// A chattering run's events: each panel draws at most [`EVENT_LINES`] lines, where
+    /// 20,000 events made a 282 MB SVG whose PNG failed.
+    #[test]
+    fn dense_events_share_lines() {
+        let mut t = table();
+        let lone = t.events[0].t;
+        for k in 0..20_000 {
+            t.events.push(ellipsoid_io::table::Event {
+                t: 0.5 + 1e-6 * k as f64,
+                kind: "mode_switch".into(),
+                label: "sliding → rolling".into(),
+            });
+        }
+        let (t0, t1) = (t.t()[0], *t.t().last().unwrap());
+        let lines = event_lines(&t, t0, t1);
+        assert_eq!(lines[0], lone, "a lone event keeps its line");
+        assert!(lines.len() <= 4, "{} lines", lines.len());
+        let svg = svg(&t, &PANELS, "test").unwrap();
+        assert!(svg.len() < 2_000_000, "{} bytes", svg.len());
+        png(&svg).unwrap();
+    }
+
     #[test]
     fn panels_are_parsed_strictly() {
         assert_eq!(parse_panels("theta, path").unwrap(), ["theta", "path"]);
@@ -665,6 +770,46 @@ mod tests {
                 .unwrap_err()
                 .contains("the forces panel needs the column `slip_speed`")
         );
+    }
+
+    #[test]
+    fn columns_are_panels_of_their_own_with_units() {
+        assert_eq!(
+            parse_columns("energy, slip_speed").unwrap(),
+            ["energy", "slip_speed"]
+        );
+        assert!(
+            parse_columns("t")
+                .unwrap_err()
+                .contains("not a numeric output column")
+        );
+        assert!(parse_columns("work,work").unwrap_err().contains("twice"));
+        let svg = svg(&table(), &["work", "slip_speed"], "x").unwrap();
+        assert!(svg.contains("work (J)") && svg.contains("slip_speed (m/s)"));
+        assert!(
+            super::svg(&table(), &["omega_world_z"], "x")
+                .unwrap_err()
+                .contains("omega_world_z")
+        );
+    }
+
+    #[test]
+    fn euler_rates_are_left_out_near_the_singularity() {
+        // θ passes through 0 at i = 250, where φ̇ = −ψ̇ = 1/θ diverges (as z-x-z rates do).
+        let names = ["t", "theta", "theta_dot", "phi_dot", "psi_dot"];
+        let t = Table::from_rows("mem.csv", &names, 501, |i| {
+            let th = (i as f64 - 250.0) * 1e-3;
+            let big = if th == 0.0 { 1e6 } else { 1.0 / th };
+            (vec![i as f64 * 1e-3, th, 1.0, big, -big], "sliding".into())
+        });
+        let svg = svg(&t, &["rates"], "x").unwrap();
+        assert!(
+            svg.contains("left out where sin θ &lt; 0.1"),
+            "{}",
+            &svg[..300]
+        );
+        // the rate axis ends near ±10 (1/0.1), not at ±1e6
+        assert!(!svg.contains(">1e6<") && !svg.contains("1000000"));
     }
 
     #[test]

@@ -4,6 +4,7 @@
 //! (nothing new written); 2 bad input (nothing written); 3 the simulation stopped early (trajectory and
 //! summary up to the stop are written). See `docs/scenarios.md`.
 
+mod animate;
 mod check;
 mod cli;
 mod error;
@@ -35,6 +36,9 @@ fn main() -> ExitCode {
             .unwrap_or_default();
         eprintln!("error: internal error: {msg}{place}; please report it");
     }));
+    // Before any HDF5 file is opened: HDF5 must never load code from its plugin directories.
+    #[cfg(feature = "hdf5")]
+    ellipsoid_io::hdf5::forbid_plugins();
     let cli = cli::Cli::parse();
     let result = match &cli.command {
         cli::Command::Run(args) => run::run(args),
@@ -42,6 +46,7 @@ fn main() -> ExitCode {
         cli::Command::Precision(args) => precision::precision(args),
         cli::Command::Plot(args) => visual::plot(args),
         cli::Command::View(args) => visual::view(args),
+        cli::Command::Animate(args) => animate::animate(args),
         cli::Command::Study(args) => study::study(args),
         cli::Command::Steady(args) => steady::steady(args),
     };

@@ -35,10 +35,11 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
         .map_err(|rule| CliError::Usage(format!("{}: {rule}", args.output.display())))?;
     let plan = spec::load(&args.study)?;
     let study = Study::new(plan)?;
-    if let Some(0) = args.jobs {
-        return Err(CliError::Usage(
-            "--jobs: give at least 1 worker thread".into(),
-        ));
+    let max = study::max_threads();
+    if let Some(j) = args.jobs.filter(|j| !(1..=max).contains(j)) {
+        return Err(CliError::Usage(format!(
+            "--jobs {j}: give 1 to {max} worker threads (4 per CPU, at least 8); more than one per CPU only adds overhead"
+        )));
     }
     if let Some(t) = &args.trajectories {
         check_trajectories(t, &args.output, &study)?;

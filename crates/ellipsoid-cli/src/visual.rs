@@ -14,7 +14,7 @@ use crate::error::CliError;
 use crate::figure;
 
 /// Reads the trajectory and, if given, the summary.
-fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliError> {
+pub(crate) fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliError> {
     let mut t = table::read(input).map_err(|e| CliError::Usage(e.to_string()))?;
     if let Some(p) = summary {
         let s = table::read_summary(p).map_err(|e| CliError::Usage(e.to_string()))?;
@@ -23,9 +23,22 @@ fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliError> {
     Ok(t)
 }
 
+/// The default title: the scenario the summary names (the run's name), else the input
+/// file's name.
+fn default_title(table: &Table, summary: Option<&Path>) -> String {
+    summary
+        .and_then(|p| table::read_summary(p).ok())
+        .and_then(|s| s.get("scenario")?.as_str().map(str::to_owned))
+        .unwrap_or_else(|| table.source.clone())
+}
+
 /// Refuses an output whose extension is not one of `allowed` (so it cannot be the
 /// input), or that is not a regular file.
-fn check_output(output: &Path, allowed: &[&str], what: &str) -> Result<String, CliError> {
+pub(crate) fn check_output(
+    output: &Path,
+    allowed: &[&str],
+    what: &str,
+) -> Result<String, CliError> {
     let ext = output
         .extension()
         .map(|e| e.to_string_lossy().to_lowercase())
@@ -46,7 +59,7 @@ fn check_output(output: &Path, allowed: &[&str], what: &str) -> Result<String, C
 }
 
 /// Writes `bytes` atomically, making the directory if needed.
-fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
+pub(crate) fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
     if let Some(dir) = output
         .parent()
         .filter(|d| !d.as_os_str().is_empty() && !d.exists())
@@ -62,7 +75,11 @@ fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
 
 pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     let ext = check_output(&args.output, &["svg", "png"], "figure")?;
-    let panels = figure::parse_panels(&args.panels).map_err(CliError::Usage)?;
+    let panels = match &args.columns {
+        Some(columns) => figure::parse_columns(columns),
+        None => figure::parse_panels(&args.panels),
+    }
+    .map_err(CliError::Usage)?;
     let table = load(&args.input, args.summary.as_deref())?;
     figure::check_columns(&table, &panels).map_err(CliError::Usage)?;
     if table.shape.is_none()
@@ -72,7 +89,10 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     {
         eprintln!("note: {}", table.shape_note);
     }
-    let title = args.title.clone().unwrap_or_else(|| table.source.clone());
+    let title = args
+        .title
+        .clone()
+        .unwrap_or_else(|| default_title(&table, args.summary.as_deref()));
     let svg = figure::svg(&table, &panels, &title).map_err(CliError::Plot)?;
     let bytes = if ext == "png" {
         figure::png(&svg).map_err(CliError::Plot)?
@@ -96,7 +116,10 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
 pub fn view(args: &ViewArgs) -> Result<ExitCode, CliError> {
     check_output(&args.output, &["html", "htm"], "page")?;
     let table = load(&args.input, args.summary.as_deref())?;
-    let title = args.title.clone().unwrap_or_else(|| table.source.clone());
+    let title = args
+        .title
+        .clone()
+        .unwrap_or_else(|| default_title(&table, args.summary.as_deref()));
     let page =
         ellipsoid_io::viewer::html(&table, &title).map_err(|e| CliError::Usage(e.to_string()))?;
     if table.shape.is_none() && !args.quiet {

@@ -36,12 +36,24 @@ impl Body {
         inertia: Matrix3<f64>,
         com_offset: Vector3<f64>,
     ) -> Result<Self, ModelError> {
+        // The contact geometry squares the semi-axes (the support function, Aₖ²nₖ): a
+        // square that underflows to a subnormal or zero, or overflows, is refused.
+        let (min, max) = (f64::MIN_POSITIVE.sqrt(), f64::MAX.sqrt());
         for (name, v) in ["a", "b", "c"].iter().zip(semi_axes.iter()) {
             if !(v.is_finite() && *v > 0.0) {
                 return Err(ModelError::invalid(
                     format!("body.{name}"),
                     number(*v),
                     "a semi-axis must be a positive, finite length in metres",
+                ));
+            }
+            if !(min..=max).contains(v) {
+                return Err(ModelError::invalid(
+                    format!("body.{name}"),
+                    number(*v),
+                    format!(
+                        "a semi-axis must be from {min:.1e} to {max:.1e} m, so that its square is a normal float"
+                    ),
                 ));
             }
         }

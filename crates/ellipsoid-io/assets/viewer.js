@@ -4,6 +4,11 @@
 const D = JSON.parse(document.getElementById('data').textContent);
 const $ = (id) => document.getElementById(id);
 const fail = (msg) => { $('error').textContent = String(msg); console.error(msg); };
+// Whatever stops the page says so on it (a module that throws would leave it blank),
+// unless a more precise message is already there.
+const stopped = (why) => { if (!$('error').textContent) fail(`the viewer stopped: ${why}`); };
+window.addEventListener('error', (e) => stopped(e.message));
+window.addEventListener('unhandledrejection', (e) => stopped(e.reason));
 
 function f32(b64) {
   const bin = atob(b64);
@@ -36,7 +41,13 @@ else if (!D.contact) $('note').textContent = 'contact point unknown: G\'s path s
 
 // ---------------------------------------------------------------- scene
 const host = $('scene');
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+let renderer;
+try {
+  renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+} catch (e) {
+  fail(`WebGL is not available in this browser (${e.message || e}), so the 3-D view cannot be drawn: enable hardware acceleration or WebGL, or open the page in another browser.`);
+  throw e;
+}
 renderer.setPixelRatio(window.devicePixelRatio || 1);
 host.appendChild(renderer.domElement);
 const scene = new THREE.Scene();

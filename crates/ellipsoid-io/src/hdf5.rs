@@ -25,6 +25,95 @@ use crate::atomic;
 use crate::columns::{self, NUMERIC, NUMERIC_COLUMNS};
 use crate::{Metadata, OutputError};
 
+/// Turns off HDF5's plugin loading for the whole process, before any file is opened: with
+/// it on, reading a dataset whose filter is not built in makes HDF5 `dlopen` every library
+/// in its plugin directories (by default a path inside the build tree, then
+/// `/usr/local/hdf5/lib/plugin`), so whoever can write there runs code in this process.
+/// Also empties the plugin search path, so that no error names it. Idempotent; called at
+/// start-up by the CLI and the Python module, and again by every function here that opens
+/// a file (so library users are covered too).
+pub fn forbid_plugins() {
+    static ONCE: std::sync::Once = std::sync::Once::new();
+    ONCE.call_once(|| {
+        h5::sync::sync(|| {
+            // SAFETY: plain calls into the HDF5 library, serialised by its lock; the
+            // library is initialised by `sync`.
+            unsafe {
+                let off = plugin_ffi::H5PLset_loading_state(0);
+                assert!(off >= 0, "HDF5 refused to turn plugin loading off");
+                let mut paths: std::ffi::c_uint = 0;
+                while plugin_ffi::H5PLsize(&mut paths) >= 0 && paths > 0 {
+                    if plugin_ffi::H5PLremove(0) < 0 {
+                        break;
+                    }
+                }
+            }
+        })
+    });
+}
+
+/// Whether HDF5 may load plugins of any kind, and how many plugin directories it searches
+/// (after [`forbid_plugins`]: `(false, 0)`).
+pub fn plugin_state() -> (bool, u32) {
+    h5::sync::sync(|| {
+        let mut mask: std::ffi::c_uint = 0;
+        let mut paths: std::ffi::c_uint = 0;
+        // SAFETY: as in `forbid_plugins`; both write one integer through a valid pointer.
+        unsafe {
+            plugin_ffi::H5PLget_loading_state(&mut mask);
+            plugin_ffi::H5PLsize(&mut paths);
+        }
+        (mask != 0, paths)
+    })
+}
+
+/// The plugin controls of H5PLpublic.h, declared with their C signatures (the
+/// `hdf5-metno-sys` declaration of `H5PLset_loading_state` takes a pointer where the C
+/// function takes the mask by value).
+mod plugin_ffi {
+    use std::ffi::{c_int, c_uint};
+    unsafe extern "C" {
+        pub fn H5PLset_loading_state(plugin_control_mask: c_uint) -> c_int;
+        pub fn H5PLget_loading_state(plugin_control_mask: *mut c_uint) -> c_int;
+        pub fn H5PLsize(num_paths: *mut c_uint) -> c_int;
+        pub fn H5PLremove(index: c_uint) -> c_int;
+    }
+}
+
+/// Refuses a dataset whose filter pipeline needs a filter this build lacks (with plugins
+/// off, any filter that is not built in: this build has shuffle, Fletcher32, N-bit and
+/// scale-offset, not deflate/gzip, szip or third-party compressors), before reading it.
+pub fn check_filters(ds: &h5::Dataset, name: &str) -> Result<(), String> {
+    forbid_plugins();
+    for filter in ds.filters() {
+        if !filter.is_available() {
+            let id = filter.id();
+            let what = match id {
+                1 => "deflate (gzip)".to_owned(),
+                4 => "szip".to_owned(),
+                _ => format!("filter {id}"),
+            };
+            return Err(format!(
+                "the dataset `{name}` is compressed with a filter this build lacks ({what}); \
+                 write it uncompressed (h5py: no `compression=`), or as written by `ellipsoid run`"
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Opens an HDF5 file for reading, plugins off ([`forbid_plugins`]).
+pub fn open(path: &Path) -> h5::Result<h5::File> {
+    forbid_plugins();
+    h5::File::open(path)
+}
+
+/// Creates (truncates) an HDF5 file, plugins off ([`forbid_plugins`]).
+fn create(path: &Path) -> h5::Result<h5::File> {
+    forbid_plugins();
+    h5::File::create(path)
+}
+
 /// Longest mode name ("frictionless").
 const MODE_LEN: usize = 12;
 
@@ -66,7 +155,7 @@ impl Hdf5File {
             message: e.to_string(),
         };
         {
-            let file = h5::File::create(&self.tmp).map_err(fail)?;
+            let file = create(&self.tmp).map_err(fail)?;
             let column = |k: usize| Cow::Owned(self.rows.iter().map(|r| r[k]).collect());
             write_columns(&file, column, &self.modes).map_err(fail)?;
 
@@ -154,7 +243,7 @@ impl Hdf5Groups {
             path: path.to_owned(),
             message: e.to_string(),
         };
-        let file = h5::File::create(&tmp).map_err(fail)?;
+        let file = create(&tmp).map_err(fail)?;
         for (k, v) in attrs {
             str_attr(&file, k, v).map_err(fail)?;
         }
@@ -271,7 +360,7 @@ pub fn group_names(path: &Path) -> Result<Vec<String>, OutputError> {
         path: path.to_owned(),
         message: e.to_string(),
     };
-    let file = h5::File::open(path).map_err(fail)?;
+    let file = open(path).map_err(fail)?;
     let mut names: Vec<String> = file
         .groups()
         .map_err(fail)?
@@ -293,7 +382,7 @@ fn read_in(path: &Path, group: Option<&str>) -> Result<Hdf5Trajectory, OutputErr
         path: path.to_owned(),
         message: e.to_string(),
     };
-    let file = h5::File::open(path).map_err(fail)?;
+    let file = open(path).map_err(fail)?;
     let loc: h5::Group = match group {
         Some(g) => file.group(g).map_err(fail)?,
         None => file.group("/").map_err(fail)?,
@@ -301,6 +390,9 @@ fn read_in(path: &Path, group: Option<&str>) -> Result<Hdf5Trajectory, OutputErr
     let mut columns = Vec::new();
     for (name, _) in NUMERIC_COLUMNS {
         let ds = loc.dataset(name).map_err(fail)?;
+        check_filters(&ds, name)
+            .map_err(h5::Error::from)
+            .map_err(fail)?;
         let units: VarLenUnicode = ds
             .attr("units")
             .and_then(|a| a.read_scalar())
@@ -311,10 +403,11 @@ fn read_in(path: &Path, group: Option<&str>) -> Result<Hdf5Trajectory, OutputErr
             ds.read_raw::<f64>().map_err(fail)?,
         ));
     }
-    let modes = loc
-        .dataset(columns::MODE)
-        .and_then(|d| d.read_raw::<FixedAscii<MODE_LEN>>())
+    let modes = loc.dataset(columns::MODE).map_err(fail)?;
+    check_filters(&modes, columns::MODE)
+        .map_err(h5::Error::from)
         .map_err(fail)?;
+    let modes = modes.read_raw::<FixedAscii<MODE_LEN>>().map_err(fail)?;
     let mut attributes = std::collections::BTreeMap::new();
     let mut numbers = std::collections::BTreeMap::new();
     for name in loc.attr_names().map_err(fail)? {
@@ -367,7 +460,7 @@ pub fn write_table(
         message: e.to_string(),
     };
     {
-        let file = h5::File::create(&tmp).map_err(fail)?;
+        let file = create(&tmp).map_err(fail)?;
         let mut names = Vec::new();
         for c in columns {
             let name = c.name.replace('/', "∕");
@@ -402,4 +495,21 @@ pub fn write_table(
         file.close().map_err(fail)?;
     }
     atomic::Prepared::new(tmp, path).commit()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plugins_are_off_and_no_plugin_directory_is_searched() {
+        forbid_plugins();
+        assert_eq!(plugin_state(), (false, 0));
+        // Opening a file goes through the same switch.
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.h5");
+        create(&path).unwrap().close().unwrap();
+        open(&path).unwrap();
+        assert_eq!(plugin_state(), (false, 0));
+    }
 }

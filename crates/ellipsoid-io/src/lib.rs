@@ -6,6 +6,7 @@
 //! Column names and units are declared once, in [`columns`]. Trajectories are read back by
 //! [`table`]; [`viewer`] makes the self-contained 3-D viewer page from one.
 
+pub mod animate;
 pub mod atomic;
 pub mod columns;
 pub mod csv;

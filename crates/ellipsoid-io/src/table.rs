@@ -274,13 +274,16 @@ impl Table {
 
     /// Sets the events, status and shape from a run summary (the JSON of `--summary`).
     /// The shape comes from `scenario_text` if given, else from the scenario file the
-    /// summary names (with its overrides), if it can be read.
+    /// summary names (with its overrides), if it can be read. A summary may come from
+    /// someone else: what it makes the table carry (and so a page or figure) names that
+    /// file by its name alone, never its directories, and never quotes the file.
     pub fn apply_summary(&mut self, summary: &Value, scenario_text: Option<&str>) {
         self.apply_events(summary);
-        let source = summary
-            .get("scenario")
-            .and_then(Value::as_str)
-            .unwrap_or("the scenario");
+        let source = summary.get("scenario").and_then(Value::as_str);
+        let name = source.and_then(|s| Path::new(s).file_name()).map_or_else(
+            || "the scenario".into(),
+            |n| n.to_string_lossy().into_owned(),
+        );
         let overrides: Vec<String> = summary
             .get("overrides")
             .and_then(Value::as_array)
@@ -290,17 +293,17 @@ impl Table {
                     .collect()
             })
             .unwrap_or_default();
-        let parsed = match scenario_text {
-            Some(text) => scenario::parse(text, source, &overrides),
-            None if summary.get("scenario").is_some() => {
-                scenario::load(Path::new(source), &overrides)
-            }
-            None => return,
+        let parsed = match (scenario_text, source) {
+            (Some(text), _) => scenario::parse(text, &name, &overrides),
+            (None, Some(path)) => scenario::load(Path::new(path), &overrides),
+            (None, None) => return,
         };
         match parsed {
-            Ok(s) => self.set_body(&s.scene.body, &format!("body from {source}")),
-            Err(e) => {
-                self.shape_note = format!("body unknown (the scenario could not be read: {e})")
+            Ok(s) => self.set_body(&s.scene.body, &name),
+            Err(_) => {
+                self.shape_note = format!(
+                    "body unknown: the scenario {name} that the summary names could not be read as a scenario (`ellipsoid check` says why)"
+                )
             }
         }
     }
@@ -317,14 +320,18 @@ impl Table {
             .map(str::to_owned);
     }
 
-    /// Sets the shape from a body.
-    pub fn set_body(&mut self, body: &ellipsoid_core::body::Body, note: &str) {
+    /// Sets the shape from the body of the scenario `source`, which the note names by its
+    /// file name alone (a page carries no directories of the machine that made it).
+    pub fn set_body(&mut self, body: &ellipsoid_core::body::Body, source: &str) {
         let (a, g) = (body.semi_axes(), body.com_offset());
         self.shape = Some(Shape {
             semi_axes: [a.x, a.y, a.z],
             com_offset: [g.x, g.y, g.z],
         });
-        self.shape_note = note.to_owned();
+        let name = Path::new(source)
+            .file_name()
+            .map_or_else(|| source.into(), |n| n.to_string_lossy());
+        self.shape_note = format!("body from {name}");
     }
 }
 
@@ -358,7 +365,8 @@ fn event(v: &Value) -> Option<Event> {
 
 /// Reads a JSON summary (`ellipsoid run --summary FILE.json`).
 pub fn read_summary(path: &Path) -> Result<Value, ReadError> {
-    let text = read_bounded(path, MAX_SUMMARY_BYTES)?;
+    let text = scenario::read_bounded(path, MAX_SUMMARY_BYTES)
+        .map_err(|e| ReadError::format(path, None, e))?;
     let text = String::from_utf8(text)
         .map_err(|_| ReadError::format(path, None, "the summary is not UTF-8 text"))?;
     let v: Value = serde_json::from_str(&text).map_err(|e| {
@@ -378,37 +386,19 @@ pub fn read_summary(path: &Path) -> Result<Value, ReadError> {
     Ok(v)
 }
 
-/// Opens `path`, which must be a regular file of at most `limit` bytes.
+/// Opens `path`, which must be a regular file of at most `limit` bytes (by its size; the
+/// readers also stop after `limit` bytes read).
 fn open_bounded(path: &Path, limit: u64) -> Result<(std::fs::File, u64), ReadError> {
-    let io = |e| ReadError::Io {
-        path: path.to_owned(),
-        source: e,
-    };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let meta = file.metadata().map_err(io)?;
-    if !meta.is_file() {
-        return Err(ReadError::format(path, None, "not a regular file"));
-    }
-    if meta.len() > limit {
+    let file = scenario::open_regular(path).map_err(|e| ReadError::format(path, None, e))?;
+    let len = file.metadata().map_or(0, |m| m.len());
+    if len > limit {
         return Err(ReadError::format(
             path,
             None,
-            format!("{} bytes is more than the {limit} read at most", meta.len()),
+            format!("{len} bytes is more than the {limit} read at most"),
         ));
     }
-    Ok((file, meta.len()))
-}
-
-fn read_bounded(path: &Path, limit: u64) -> Result<Vec<u8>, ReadError> {
-    let (file, len) = open_bounded(path, limit)?;
-    let mut buf = Vec::with_capacity(len as usize);
-    file.take(limit + 1)
-        .read_to_end(&mut buf)
-        .map_err(|e| ReadError::Io {
-            path: path.to_owned(),
-            source: e,
-        })?;
-    Ok(buf)
+    Ok((file, len))
 }
 
 /// Reads a trajectory file by extension: `.csv`, or `.h5`/`.hdf5` (feature `hdf5`; the
@@ -435,7 +425,7 @@ pub fn read(path: &Path) -> Result<Table, ReadError> {
 /// `mode` as a name, every other value a finite number.
 pub fn read_csv(path: &Path) -> Result<Table, ReadError> {
     let (file, _) = open_bounded(path, MAX_FILE_BYTES)?;
-    let mut reader = BufReader::with_capacity(1 << 16, file);
+    let mut reader = BufReader::with_capacity(1 << 16, file.take(MAX_FILE_BYTES));
     let mut line = String::new();
     let n = reader
         .read_line(&mut line)
@@ -624,7 +614,7 @@ fn read_hdf5(path: &Path) -> Result<Table, ReadError> {
         return Err(ReadError::format(path, None, "not a regular file"));
     }
     let fail = |e: h5::Error| ReadError::format(path, None, format!("HDF5: {e}"));
-    let file = h5::File::open(path).map_err(|e| {
+    let file = crate::hdf5::open(path).map_err(|e| {
         ReadError::format(
             path,
             None,
@@ -666,6 +656,7 @@ fn read_hdf5(path: &Path) -> Result<Table, ReadError> {
                 ),
             ));
         }
+        crate::hdf5::check_filters(&ds, name).map_err(|e| ReadError::format(path, None, e))?;
         if name == crate::columns::MODE {
             let raw = ds.read_raw::<FixedAscii<32>>().map_err(fail)?;
             modes = Some(

@@ -6,7 +6,7 @@ use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyString};
 use rayon::prelude::*;
 
 use crate::convert;
-use crate::errors::{self, Class};
+use crate::errors;
 use crate::run::{self, Failure, Run};
 use crate::scenario::{PyScenario, resolve};
 use crate::trajectory::Trajectory;
@@ -17,31 +17,62 @@ use crate::trajectory::Trajectory;
 /// are applied first, as `Scenario.replace` does (e.g. `output={"t_end": 0.5}` or
 /// `**{"output.t_end": 0.5}`, end time in s).
 ///
+/// `t_eval`: the output times [s] (strictly increasing, in [0, t_end]) instead of the
+/// scenario's `dt` or `times`, as solve_ivp's `t_eval`. `method`: the integrator, by
+/// the scenario's name ("dop853", "dopri5", "rk4") or scipy's, case-insensitive:
+/// "RK45" is dopri5 (Dormand–Prince 5(4), as scipy's RK45), "DOP853" dop853, "RK4" the
+/// classical fixed-step RK4 (it needs `solver={"step": h}`); scipy's "RK23", "Radau",
+/// "BDF" and "LSODA" have no counterpart here.
+///
 /// The GIL is released while the run lasts; Ctrl-C (SIGINT) stops it at its next
 /// integration step and raises KeyboardInterrupt.
 ///
-/// Loss of contact and the pure sliding model's slip stop are outcomes: the trajectory
-/// ends there and `traj.status` / `traj.events` say so. Raises ScenarioError for bad
-/// input (including a state the physics rejects at t = 0, e.g. N ≤ 0), and
-/// SimulationError (with the partial trajectory as `.trajectory`) for a Painlevé
-/// inconsistency, a solver failure, chattering, or a non-finite state.
+/// Every run that starts returns its Trajectory, as solve_ivp returns its result: loss of
+/// contact and the pure sliding model's slip stop are outcomes (`traj.success`), and a
+/// Painlevé inconsistency, a solver failure, chattering or a non-finite state end the
+/// trajectory with `traj.success == False`, `traj.status` and `traj.message` saying why.
+/// Only bad input raises (ScenarioError, including a state the physics rejects at
+/// t = 0, e.g. N ≤ 0): there is no run to return.
 #[pyfunction]
-#[pyo3(signature = (scenario, /, **changes))]
+#[pyo3(signature = (scenario, /, *, t_eval = None, method = None, **changes))]
 pub fn simulate(
     py: Python<'_>,
     scenario: &Bound<'_, PyAny>,
+    t_eval: Option<&Bound<'_, PyAny>>,
+    method: Option<&Bound<'_, PyAny>>,
     changes: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<Trajectory>> {
     let source = scenario
         .cast::<PyScenario>()
         .map(|s| s.get().inner.source.clone())
         .unwrap_or_else(|_| "<changes>".into());
-    let inner = resolve(
-        py,
-        scenario,
-        convert::Conv { source: &source }.overrides(changes)?,
-    )?
-    .inner;
+    let mut overrides = convert::Conv { source: &source }.overrides(changes)?;
+    if let Some(m) = method.filter(|m| !m.is_none()) {
+        overrides.push(format!(
+            "solver.method=\"{}\"",
+            method_name(py, &source, m)?
+        ));
+    }
+    let mut resolved = resolve(py, scenario, overrides)?;
+    if let Some(t) = t_eval.filter(|t| !t.is_none()) {
+        let times: Vec<f64> = py
+            .import("numpy")?
+            .getattr("asarray")?
+            .call1((t, "float64"))
+            .and_then(|a| a.call_method0("ravel"))
+            .and_then(|a| a.extract())
+            .map_err(|_| {
+                errors::type_error(
+                    py,
+                    &source,
+                    Some("t_eval"),
+                    None,
+                    "expected a sequence of output times (s)",
+                )
+            })?;
+        resolved = resolved.with_output_times(py, &times)?;
+    }
+    let inner = resolved.inner;
     let (result, interrupt) =
         run::detached(py, move |cancel| run::run_caught(inner, true, cancel))?;
     if let Some(e) = interrupt {
@@ -53,7 +84,36 @@ pub fn simulate(
         .map_err(|e| errors::internal_error(py, &e.to_string()))
 }
 
-/// A run's result as a Trajectory (or its summary dict), or its error as an exception.
+/// scipy's integrator names (and the scenario's own), case-insensitive, → the
+/// scenario's `solver.method`.
+fn method_name(py: Python<'_>, source: &str, method: &Bound<'_, PyAny>) -> PyResult<&'static str> {
+    const RULE: &str = "give \"RK45\" (dopri5), \"DOP853\" (dop853), \"RK4\" (rk4, with solver.step), or the scenario names dopri5, dop853, rk4 (case-insensitive); scipy's RK23, Radau, BDF and LSODA have no counterpart here";
+    let name = method.cast::<PyString>().map_err(|_| {
+        errors::type_error(
+            py,
+            source,
+            Some("method"),
+            None,
+            format!("expected a string; {RULE}"),
+        )
+    })?;
+    let name = name.to_string_lossy().to_ascii_lowercase();
+    match name.as_str() {
+        "rk45" | "dopri5" => Ok("dopri5"),
+        "dop853" => Ok("dop853"),
+        "rk4" => Ok("rk4"),
+        _ => Err(errors::value_error(
+            py,
+            source,
+            Some("method"),
+            Some(&format!("{name:?}")),
+            RULE,
+        )),
+    }
+}
+
+/// A run's result as a Trajectory (or its summary dict), or its input error as an
+/// exception. A run that stopped on an error is a Trajectory too (`success` False).
 fn finish(
     py: Python<'_>,
     result: Result<Run, Failure>,
@@ -64,20 +124,11 @@ fn finish(
         Err(Failure::Model(e)) => return Err(errors::scenario_error(py, &e)),
         Err(Failure::Panic(msg)) => return Err(errors::internal_error(py, &msg)),
     };
-    let failure = errors::status_error(&run.status, &run.summary.message);
-    let status = run.summary.status;
     let traj = Bound::new(py, Trajectory::new(run))?;
-    match failure {
-        None if summary_only => traj.getattr("summary"),
-        None => Ok(traj.into_any()),
-        Some(message) => Err(Class::Simulation.error(
-            py,
-            &message,
-            &[
-                ("status", status.into_pyobject(py)?.into_any().unbind()),
-                ("trajectory", traj.into_any().unbind()),
-            ],
-        )),
+    if summary_only {
+        traj.getattr("summary")
+    } else {
+        Ok(traj.into_any())
     }
 }
 
@@ -88,9 +139,10 @@ fn finish(
 /// `scenarios` holds `ellipsoid.Scenario` objects or scenario file paths, e.g.
 /// `[base.replace(contact={"friction": mu}) for mu in (0.1, 0.2, 0.3)]`.
 ///
-/// `errors="raise"` (default) raises the first failure in input order once every run has
-/// ended; `errors="return"` puts the exception object (ScenarioError, SimulationError
-/// with `.trajectory`, ...) in the failed run's place instead. Ctrl-C stops every run at
+/// A run that stops on an error is a Trajectory with `success == False`, as in
+/// `simulate`. `errors="raise"` (default) raises the first input error (ScenarioError)
+/// in input order once every run has ended; `errors="return"` puts the exception object
+/// in that scenario's place instead. Ctrl-C stops every run at
 /// its next integration step and raises KeyboardInterrupt.
 #[pyfunction]
 #[pyo3(signature = (scenarios, workers = None, *, summaries_only = None, errors = None))]
@@ -139,7 +191,7 @@ pub fn sweep<'py>(
             )
         })?,
     };
-    let workers = worker_count(py, workers.as_ref())?;
+    let workers = worker_count(py, "sweep", workers.as_ref())?;
     let mut slots: Vec<Option<PyResult<Bound<'py, PyAny>>>> = Vec::new();
     let mut jobs: Vec<(usize, Scenario)> = Vec::new();
     let items = scenarios.try_iter().map_err(|_| {
@@ -196,16 +248,17 @@ pub fn sweep<'py>(
     PyList::new(py, out)
 }
 
-/// Most worker threads a sweep may start: 4 per CPU, at least 8. More threads than CPUs
-/// only add overhead (each run is CPU-bound and takes an 8 MiB stack); 10⁶ of them used
-/// to take the machine down.
-pub fn max_workers() -> usize {
-    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
-    (4 * cpus).max(8)
-}
+/// Most worker threads a sweep or a study may start (4 per CPU, at least 8), as in
+/// `ellipsoid study -j`.
+pub use ellipsoid_study::study::max_threads as max_workers;
 
-/// The `workers` argument: None (one per CPU) or an integer in 1..=[`max_workers`].
-fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+/// The `workers` argument of `source` (`sweep`, `study`): None (one per CPU) or an integer
+/// in 1..=[`max_workers`].
+pub(crate) fn worker_count(
+    py: Python<'_>,
+    source: &str,
+    workers: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<usize>> {
     let Some(w) = workers.filter(|w| !w.is_none()) else {
         return Ok(None);
     };
@@ -220,7 +273,7 @@ fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<
             .unwrap_or_default();
         return Err(errors::type_error(
             py,
-            "sweep",
+            source,
             Some("workers"),
             None,
             format!("expected an integer, found {ty}; {rule}"),
@@ -243,7 +296,7 @@ fn worker_count(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<
         Ok(n) if n >= 1 && n as u64 <= max as u64 => Ok(Some(n as usize)),
         _ => Err(errors::value_error(
             py,
-            "sweep",
+            source,
             Some("workers"),
             Some(&shown),
             rule,

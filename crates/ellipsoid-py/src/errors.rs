@@ -17,7 +17,6 @@
 //! here until it is given its class.
 
 use ellipsoid_core::scenario::{ErrorKind, ScenarioError, ScenarioErrors};
-use ellipsoid_core::simulate::Status;
 use ellipsoid_io::OutputError;
 use pyo3::exceptions::{PyException, PyOSError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -177,7 +176,7 @@ pub fn scenario_errors(py: Python<'_>, errs: &ScenarioErrors) -> PyErr {
     let top = scenario_error_as(py, Class::Scenario, first);
     let build = || -> PyResult<PyErr> {
         let value = top.value(py);
-        value.setattr("args", (errs.to_string(),))?;
+        value.setattr("args", (python_words(&errs.to_string()),))?;
         let list = pyo3::types::PyList::new(py, each.iter().map(|e| e.value(py)))?;
         value.setattr("errors", list)?;
         Ok(PyErr::from_value(value.clone().into_any()))
@@ -306,7 +305,16 @@ fn scenario_error_bare(py: Python<'_>, class: Class, e: &ScenarioError) -> PyErr
         ("column", num(loc.column)),
         ("override", any(loc.set.as_deref())),
     ];
-    class.error(py, &e.to_string(), &attrs)
+    class.error(py, &python_words(&e.to_string()), &attrs)
+}
+
+/// A scenario error's text in Python's terms: a change given as a keyword
+/// (`replace(body={"mass": -1})`, `simulate(..., output={"t_end": 2})`) is named "the
+/// change body.mass=-1", not by the command line's `--set`.
+fn python_words(message: &str) -> String {
+    message
+        .replace(": --set ", ": the change ")
+        .replace("as changed by --set ", "as changed by ")
 }
 
 /// A write failure, as `ellipsoid.OutputError`.
@@ -352,16 +360,6 @@ fn errno_of(py: Python<'_>, kind: std::io::ErrorKind) -> Option<i32> {
         .and_then(|m| m.getattr(name))
         .and_then(|v| v.extract())
         .ok()
-}
-
-/// Whether a run that ended with `status` is an error (`Some(message)`, the summary's
-/// `message`) or an outcome.
-pub fn status_error(status: &Status, message: &str) -> Option<String> {
-    match status {
-        Status::Cancelled => Some("the run was cancelled".to_owned()),
-        s if s.is_error() => Some(message.to_owned()),
-        _ => None,
-    }
 }
 
 /// Runs `f`, turning a panic into `ellipsoid.InternalError` (pyo3 would raise its

@@ -17,6 +17,7 @@ mod api;
 mod convert;
 mod errors;
 mod parameter_study;
+mod pickle;
 mod run;
 mod scenario;
 mod steady;
@@ -28,6 +29,9 @@ use pyo3::prelude::*;
 /// The compiled core of the `ellipsoid` package (import `ellipsoid`, not this module).
 #[pymodule]
 fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    // Before any HDF5 file is opened: HDF5 must never load code from its plugin directories.
+    #[cfg(feature = "hdf5")]
+    ellipsoid_io::hdf5::forbid_plugins();
     let py = m.py();
     m.add("__version__", run::VERSION)?;
     m.add("HDF5", cfg!(feature = "hdf5"))?;
@@ -47,5 +51,19 @@ fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
     m.add_function(wrap_pyfunction!(steady::steady_raw, m)?)?;
     m.add_function(wrap_pyfunction!(steady::linearize, m)?)?;
+    m.add_function(wrap_pyfunction!(hdf5_plugins, m)?)?;
+    m.add_function(wrap_pyfunction!(parameter_study::study_workers, m)?)?;
+    m.add_function(wrap_pyfunction!(parameter_study::argument_error, m)?)?;
     Ok(())
+}
+
+/// Whether the HDF5 library inside this module may load plugins, and how many plugin
+/// directories it searches: `(False, 0)` (turned off at import; a test checks it).
+#[pyfunction]
+#[pyo3(name = "_hdf5_plugins")]
+fn hdf5_plugins() -> (bool, u32) {
+    #[cfg(feature = "hdf5")]
+    return ellipsoid_io::hdf5::plugin_state();
+    #[cfg(not(feature = "hdf5"))]
+    (false, 0)
 }

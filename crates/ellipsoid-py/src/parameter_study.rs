@@ -517,4 +517,42 @@ impl PyStudy {
         py.detach(|| ellipsoid_study::study::table::write(&path, &cols, &table, &source))
             .map_err(|e| errors::output_error(py, &e))
     }
+
+    /// Writes `data`, a table another library made (pandas' Parquet), at `path` as the
+    /// study's own tables are written: atomically (a temporary beside it, renamed into
+    /// place), refusing a symbolic link, directory or device there.
+    fn write_bytes(&self, py: Python<'_>, path: PathBuf, data: &[u8]) -> PyResult<()> {
+        py.detach(|| ellipsoid_io::atomic::write(&path, data))
+            .map_err(|e| errors::output_error(py, &e))
+    }
+}
+
+/// `ellipsoid.study`'s `workers`, checked as `sweep`'s are: None (0: one per CPU) or 1 to
+/// 4 per CPU (at least 8); anything else a ScenarioError or ScenarioTypeError.
+#[pyfunction]
+#[pyo3(name = "_study_workers", signature = (workers = None))]
+pub fn study_workers(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
+    Ok(crate::api::worker_count(py, "study", workers)?.unwrap_or(0))
+}
+
+/// The exception for a bad `ellipsoid.study` argument checked in Python: a ScenarioError
+/// (a ScenarioTypeError if `wrong_type`) naming `key`, `value` and `rule`, as every input
+/// error of the package is.
+#[pyfunction]
+#[pyo3(name = "_argument_error", signature = (key, value, rule, wrong_type = false))]
+pub fn argument_error(
+    py: Python<'_>,
+    key: &str,
+    value: Option<&str>,
+    rule: &str,
+    wrong_type: bool,
+) -> Py<PyAny> {
+    let make = if wrong_type {
+        errors::type_error
+    } else {
+        errors::value_error
+    };
+    make(py, "study", Some(key), value, rule)
+        .into_value(py)
+        .into_any()
 }

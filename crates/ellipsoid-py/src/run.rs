@@ -24,6 +24,9 @@ use pyo3::prelude::*;
 /// How often the detached caller checks for signals.
 const POLL: Duration = Duration::from_millis(50);
 
+/// Most samples reserved before a run (24 MB of them); beyond, the vector grows.
+const RESERVE: usize = 100_000;
+
 /// Stack of the worker threads (the CLI runs on the main thread, which usually has 8 MiB).
 pub const STACK: usize = 8 << 20;
 
@@ -56,7 +59,13 @@ pub fn run(
     keep_samples: bool,
     cancel: &Arc<AtomicBool>,
 ) -> Result<Run, Failure> {
-    let mut samples = Vec::new();
+    // Room for the samples asked for (up to [`RESERVE`]), so that a run with dense output
+    // does not copy them as the vector grows.
+    let mut samples = Vec::with_capacity(if keep_samples {
+        scenario.scene.sample_times.len().min(RESERVE)
+    } else {
+        0
+    });
     let finished =
         ellipsoid_io::run::run(&scenario, None, VERSION, Some(Arc::clone(cancel)), |s| {
             if keep_samples {

@@ -61,6 +61,57 @@ impl PyScenario {
         all.extend(more);
         Self::parse(py, &self.inner.text, &self.inner.source, &all)
     }
+
+    /// This scenario sampled at `times` [s] instead of its `dt` or `times` (`simulate`'s
+    /// `t_eval`): the `[output]` table's sampling keys and changes are dropped and
+    /// `output.times` set, so that the scenario's text and changes still rebuild it.
+    /// The times must be finite, strictly increasing, in [0, t_end], at most
+    /// `MAX_SAMPLES`; an error names `t_eval`.
+    pub fn with_output_times(&self, py: Python<'_>, times: &[f64]) -> PyResult<Self> {
+        let source = &self.inner.source;
+        let t_end = self.inner.scene.t_end;
+        let bad = |value: String, rule: String| {
+            errors::value_error(py, source, Some("t_eval"), Some(&value), rule)
+        };
+        if times.is_empty() {
+            return Err(bad("[]".into(), "give at least one output time (s)".into()));
+        }
+        if times.len() > scenario::MAX_SAMPLES {
+            return Err(bad(
+                format!("{} times", times.len()),
+                format!("at most {} output times are allowed", scenario::MAX_SAMPLES),
+            ));
+        }
+        if let Some(x) = times.iter().find(|x| !(0.0..=t_end).contains(*x)) {
+            return Err(bad(
+                x.to_string(),
+                format!("every time in t_eval must lie in [0, t_end] = [0, {t_end}] s"),
+            ));
+        }
+        if let Some(w) = times.windows(2).find(|w| w[1] <= w[0]) {
+            return Err(bad(
+                format!("{} after {}", w[1], w[0]),
+                "the times in t_eval must be strictly increasing (s)".into(),
+            ));
+        }
+        let mut doc: toml::Table = toml::from_str(&self.inner.text)
+            .map_err(|e| errors::internal_error(py, &e.to_string()))?;
+        if let Some(toml::Value::Table(output)) = doc.get_mut("output") {
+            output.remove("dt");
+            output.remove("times");
+        }
+        let mut overrides: Vec<String> = self
+            .inner
+            .overrides
+            .iter()
+            .filter(|o| !(o.starts_with("output.dt=") || o.starts_with("output.times=")))
+            .cloned()
+            .collect();
+        let list = toml::Value::Array(times.iter().map(|&x| toml::Value::Float(x)).collect());
+        overrides.push(format!("output.times={list}"));
+        let text = toml::to_string(&doc).map_err(|e| errors::internal_error(py, &e.to_string()))?;
+        Self::parse(py, &text, source, &overrides)
+    }
 }
 
 #[pymethods]
@@ -200,12 +251,57 @@ impl PyScenario {
 
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
         let source = PyString::new(py, &self.inner.source).repr()?;
-        let mut s = format!("<ellipsoid.Scenario {source}");
-        for o in &self.inner.overrides {
-            s.push_str(&format!(" {o}"));
+        let scene = &self.inner.scene;
+        let ax = scene.body.semi_axes();
+        let init = &scene.initial;
+        let omega = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
+        let mut s = format!(
+            "<ellipsoid.Scenario {source}: {}, a = {} m, b = {} m, c = {} m, mass = {} kg; theta = {} rad, omega_body = [{}, {}, {}] rad/s; {}, t_end = {} s, {} samples",
+            self.contact_model(),
+            ax.x,
+            ax.y,
+            ax.z,
+            scene.body.mass(),
+            init.angles.theta,
+            omega.x,
+            omega.y,
+            omega.z,
+            scene.solver.method.name(),
+            scene.t_end,
+            scene.sample_times.len(),
+        );
+        if !self.inner.overrides.is_empty() {
+            s.push_str(&format!("; changes: {}", self.inner.overrides.join(" ")));
         }
         s.push('>');
         Ok(s)
+    }
+
+    /// Pickling (joblib, multiprocessing): the text, the name and the changes, parsed
+    /// again when unpickled.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let rebuild = py.import("ellipsoid._result")?.getattr("_scenario")?;
+        (
+            rebuild,
+            (
+                self.inner.text.clone(),
+                self.inner.source.clone(),
+                self.inner.overrides.clone(),
+            ),
+        )
+            .into_pyobject(py)
+            .map(Bound::into_any)
+    }
+
+    /// The inverse of `__reduce__`.
+    #[staticmethod]
+    fn _from_parts(
+        py: Python<'_>,
+        text: &str,
+        source: &str,
+        overrides: Vec<String>,
+    ) -> PyResult<Self> {
+        Self::parse(py, text, source, &overrides)
     }
 
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {

@@ -3,16 +3,16 @@
 
 use std::path::{Path, PathBuf};
 
-use ellipsoid_core::simulate::Sample;
+use ellipsoid_core::simulate::{Mode, Sample, Status};
 use ellipsoid_io::columns::{self, NUMERIC, NUMERIC_COLUMNS};
 use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, csv::CsvFile};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::PyDict;
 
 use crate::errors::{self, Class};
-use crate::run::Run;
+use crate::run::{self, Run};
 use crate::scenario::PyScenario;
 
 /// The result of a run: one float64 numpy array per output column, named like the
@@ -37,44 +37,87 @@ pub struct Trajectory {
     samples: Vec<Sample>,
     summary: Summary,
     scenario: PyScenario,
-    numeric: [PyOnceLock<Py<PyArray1<f64>>>; NUMERIC],
+    /// Whether the run ended as a run may ([`succeeded`]).
+    success: bool,
+    numeric: PyOnceLock<Vec<Py<PyArray1<f64>>>>,
     mode: PyOnceLock<Py<PyAny>>,
 }
 
 impl Trajectory {
     pub fn new(run: Run) -> Self {
-        Trajectory {
-            samples: run.samples,
-            summary: run.summary,
-            scenario: PyScenario {
+        let success = succeeded(&run.status);
+        Self::from_parts(
+            run.samples,
+            run.summary,
+            PyScenario {
                 inner: run.scenario,
             },
-            numeric: [const { PyOnceLock::new() }; NUMERIC],
+            success,
+        )
+    }
+
+    fn from_parts(
+        samples: Vec<Sample>,
+        summary: Summary,
+        scenario: PyScenario,
+        success: bool,
+    ) -> Self {
+        Trajectory {
+            samples,
+            summary,
+            scenario,
+            success,
+            numeric: PyOnceLock::new(),
             mode: PyOnceLock::new(),
         }
     }
 
-    fn column<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        let arr = self.numeric[index].get_or_try_init(py, || -> PyResult<_> {
-            let data: Vec<f64> = self
-                .samples
-                .iter()
-                .map(|s| columns::values(s)[index])
-                .collect();
-            let arr = PyArray1::from_vec(py, data);
-            readonly(arr.as_any())?;
-            Ok(arr.unbind())
-        })?;
-        Ok(arr.bind(py).clone())
+    /// Where the run ended [s] (its last state, which a trajectory sampled at explicit
+    /// times may not hold as a row).
+    fn t_final(&self) -> f64 {
+        self.summary
+            .final_state
+            .get("t")
+            .and_then(serde_json::Value::as_f64)
+            .or_else(|| self.samples.last().map(|s| s.t))
+            .unwrap_or(0.0)
     }
 
+    /// Numeric column `index` (`NUMERIC_COLUMNS` order). Every column is made on the first
+    /// access of any, in one pass over the samples (a column at a time would read each
+    /// sample 27 times).
+    fn column<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let all = self.numeric.get_or_try_init(py, || -> PyResult<_> {
+            let mut data: Vec<Vec<f64>> = (0..NUMERIC)
+                .map(|_| Vec::with_capacity(self.samples.len()))
+                .collect();
+            for s in &self.samples {
+                for (col, v) in data.iter_mut().zip(columns::values(s)) {
+                    col.push(v);
+                }
+            }
+            data.into_iter()
+                .map(|col| {
+                    let arr = PyArray1::from_vec(py, col);
+                    readonly(arr.as_any())?;
+                    Ok(arr.unbind())
+                })
+                .collect::<PyResult<Vec<_>>>()
+        })?;
+        Ok(all[index].bind(py).clone())
+    }
+
+    /// The `mode` column: a numpy str array, made from one byte per sample (the mode's
+    /// index in `Mode::NAMES`).
     fn modes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let arr = self.mode.get_or_try_init(py, || -> PyResult<_> {
-            let names = PyList::new(py, self.samples.iter().map(|s| s.mode.name()))?;
-            let arr = py
-                .import("numpy")?
-                .getattr("array")?
-                .call((names,), Some(&[("dtype", "U12")].into_py_dict(py)?))?;
+            let codes: Vec<u8> = self.samples.iter().map(|s| s.mode as u8).collect();
+            let numpy = py.import("numpy")?;
+            let names = numpy.getattr("array")?.call(
+                (Mode::NAMES.to_vec(),),
+                Some(&[("dtype", "U12")].into_py_dict(py)?),
+            )?;
+            let arr = names.get_item(PyArray1::from_vec(py, codes))?;
             readonly(&arr)?;
             Ok(arr.unbind())
         })?;
@@ -117,6 +160,20 @@ impl Trajectory {
 
 use pyo3::types::IntoPyDict;
 
+/// Rows of `Trajectory.states`: the configuration and velocities in output coordinates,
+/// and the dissipated work.
+const STATE_NAMES: [&str; 13] = [
+    "x", "y", "z", "theta", "phi", "psi", "omega_x", "omega_y", "omega_z", "vx", "vy", "vz", "work",
+];
+
+/// `ellipsoid._result.NAME(traj)`: the result conventions written in Python.
+fn result_helper<'py>(slf: &Bound<'py, Trajectory>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    slf.py()
+        .import("ellipsoid._result")?
+        .getattr(name)?
+        .call1((slf,))
+}
+
 /// A path on the plane as two numpy arrays, x and y [m].
 type XyArrays<'py> = (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>);
 
@@ -137,10 +194,7 @@ impl Trajectory {
         if let Ok(v) = serde_json::from_str::<serde_json::Value>(&self.summary.to_json()) {
             t.apply_events(&v);
         }
-        t.set_body(
-            &self.scenario.inner.scene.body,
-            &format!("body from {}", self.scenario.inner.source),
-        );
+        t.set_body(&self.scenario.inner.scene.body, &self.scenario.inner.source);
         t
     }
 
@@ -149,6 +203,22 @@ impl Trajectory {
         ellipsoid_io::viewer::html(&self.table(), title)
             .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))
     }
+}
+
+/// `x` to about 6 significant digits, for `repr`.
+fn short(x: f64) -> String {
+    if x == 0.0 || (1e-3..1e5).contains(&x.abs()) {
+        let s = format!("{x:.6}");
+        s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        format!("{x:.5e}")
+    }
+}
+
+/// Whether a run that ended with `status` ended as a run may: an outcome, not an error
+/// and not cancelled.
+fn succeeded(status: &Status) -> bool {
+    !status.is_error() && !matches!(status, Status::Cancelled)
 }
 
 fn readonly(arr: &Bound<'_, PyAny>) -> PyResult<()> {
@@ -301,6 +371,213 @@ impl Trajectory {
         self.modes(py)
     }
 
+    /// Whether the run ended as a run may (solve_ivp's `success`): it reached t_end or
+    /// stopped at an outcome (a terminal observable, loss of contact with
+    /// `on_lift_off = "stop"`, the sliding model's slip stop). False for a Painlevé
+    /// inconsistency, a solver failure, chattering, a non-finite state or a cancelled run;
+    /// `message` says why.
+    #[getter]
+    fn success(&self) -> bool {
+        self.success
+    }
+
+    /// solve_ivp's integer status: 0 reached t_end, 1 stopped at a terminal event (an
+    /// outcome), -1 failed. (`status` is the string that summaries and study tables carry.)
+    #[getter]
+    fn status_code(&self) -> i32 {
+        match self.summary.status {
+            "completed" => 0,
+            _ if self.success() => 1,
+            _ => -1,
+        }
+    }
+
+    /// Evaluations of the right-hand side (solve_ivp's `nfev`; `summary["stats"]` has
+    /// the steps).
+    #[getter]
+    fn nfev(&self) -> u64 {
+        self.summary.stats.rhs_evals
+    }
+
+    /// The state as a matrix, shape (n_states, n_t), rows named by `state_names` (x, y, z
+    /// [m]; theta, phi, psi [rad]; omega_x, omega_y, omega_z [rad/s], body axes; vx, vy,
+    /// vz [m/s]; work [J]), like solve_ivp's `y`. (`traj.y` is the y coordinate of G.)
+    #[getter]
+    fn states<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        result_helper(slf, "states")
+    }
+
+    /// Names of the rows of `states` (and of the columns of `y_events`).
+    #[classattr]
+    fn state_names() -> Vec<&'static str> {
+        STATE_NAMES.to_vec()
+    }
+
+    /// Event times [s] by name (solve_ivp's `t_events`): one float64 array per observable
+    /// of the scenario (by its `name`) and per built-in event kind ("slip_stop",
+    /// "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve"),
+    /// empty when it did not occur.
+    #[getter]
+    fn t_events<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        result_helper(slf, "t_events")
+    }
+
+    /// The state at each event, by the names of `t_events`: arrays of shape
+    /// (n_events, n_states), columns named by `state_names`. An observable's is the state
+    /// located with it; a built-in event's is the dense output there (`sol`, which reruns
+    /// the scenario once for all of them).
+    #[getter]
+    fn y_events<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        result_helper(slf, "y_events")
+    }
+
+    /// The run's dense interpolant (solve_ivp's `sol`): the state at the times `t` [s]
+    /// (a number or an array, any order, repeats allowed, each in [0, t_final]) as a
+    /// Trajectory whose rows are those times, in the order given: `traj.sol(ts).theta`.
+    ///
+    /// It reruns the scenario with `t` as its output times: the integrator's steps do not
+    /// depend on the output times, and each value comes from the dense output (Hermite or
+    /// DOP853's own interpolant) of the step that holds it, piecewise over the phases and
+    /// events, so `sol(ts)` is identical to `simulate(scenario, t_eval=sorted(ts))` and
+    /// costs one run.
+    fn sol(&self, py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<Trajectory> {
+        let times: Vec<f64> = py
+            .import("numpy")?
+            .getattr("asarray")?
+            .call1((t, "float64"))?
+            .call_method0("ravel")?
+            .extract()?;
+        let end = self.t_final();
+        let source = &self.scenario.inner.source;
+        if times.len() > ellipsoid_core::scenario::MAX_SAMPLES {
+            return Err(errors::value_error(
+                py,
+                source,
+                Some("t"),
+                Some(&times.len().to_string()),
+                format!(
+                    "Trajectory.sol takes at most {} times at once",
+                    ellipsoid_core::scenario::MAX_SAMPLES
+                ),
+            ));
+        }
+        if let Some(bad) = times.iter().find(|&&x| !(0.0..=end).contains(&x)) {
+            return Err(errors::value_error(
+                py,
+                source,
+                Some("t"),
+                Some(&bad.to_string()),
+                format!("Trajectory.sol: every time must lie in [0, {end}] s, the span of the run"),
+            ));
+        }
+        let mut sorted = times.clone();
+        sorted.sort_by(f64::total_cmp);
+        sorted.dedup();
+        let mut scenario = self.scenario.inner.clone();
+        scenario.scene.sample_times = sorted.clone();
+        let (result, interrupt) =
+            run::detached(py, move |cancel| run::run_caught(scenario, true, cancel))?;
+        if let Some(e) = interrupt {
+            return Err(e);
+        }
+        let rerun = match result {
+            Ok(r) => r,
+            Err(run::Failure::Model(e)) => return Err(errors::scenario_error(py, &e)),
+            Err(run::Failure::Panic(msg)) => return Err(errors::internal_error(py, &msg)),
+        };
+        if rerun.samples.len() != sorted.len() {
+            return Err(errors::internal_error(
+                py,
+                &format!(
+                    "the rerun for Trajectory.sol gave {} of {} samples",
+                    rerun.samples.len(),
+                    sorted.len()
+                ),
+            ));
+        }
+        let samples = times
+            .iter()
+            .map(|x| rerun.samples[sorted.partition_point(|s| s < x)])
+            .collect();
+        Ok(Trajectory::new(Run { samples, ..rerun }))
+    }
+
+    /// Names of the scenario's observables (`[[observe]]`), in order.
+    #[getter]
+    fn _observables(&self) -> Vec<String> {
+        self.scenario
+            .inner
+            .scene
+            .observe
+            .iter()
+            .map(|o| o.name.clone())
+            .collect()
+    }
+
+    /// Pickling (joblib, multiprocessing): the samples as float64 values, the modes, the
+    /// summary JSON and the scenario; unpickled, the trajectory is the same in every column
+    /// and writes the same files.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let values: Vec<u8> = self
+            .samples
+            .iter()
+            .flat_map(|s| columns::values(s).into_iter().flat_map(f64::to_le_bytes))
+            .collect();
+        let modes: Vec<&str> = self.samples.iter().map(|s| s.mode.name()).collect();
+        let rebuild = py.import("ellipsoid._result")?.getattr("_trajectory")?;
+        let args = (
+            self.scenario.clone(),
+            pyo3::types::PyBytes::new(py, &values),
+            modes,
+            self.summary.to_json(),
+            self.success,
+        );
+        (rebuild, args).into_pyobject(py).map(Bound::into_any)
+    }
+
+    /// The inverse of `__reduce__`.
+    #[staticmethod]
+    fn _from_pickle(
+        py: Python<'_>,
+        scenario: &Bound<'_, PyScenario>,
+        values: &[u8],
+        modes: Vec<String>,
+        summary: &str,
+        success: bool,
+    ) -> PyResult<Trajectory> {
+        let bad = |what: String| {
+            Class::Internal.error(py, &format!("cannot unpickle a Trajectory: {what}"), &[])
+        };
+        let row = NUMERIC * 8;
+        if values.len() != modes.len() * row {
+            return Err(bad(format!(
+                "{} bytes for {} samples",
+                values.len(),
+                modes.len()
+            )));
+        }
+        let samples = values
+            .chunks_exact(row)
+            .zip(&modes)
+            .map(|(chunk, m)| {
+                let mut v = [0.0; NUMERIC];
+                for (x, b) in v.iter_mut().zip(chunk.chunks_exact(8)) {
+                    *x = f64::from_le_bytes(b.try_into().expect("chunks of 8 bytes"));
+                }
+                crate::pickle::mode(m)
+                    .map(|mode| crate::pickle::sample(&v, mode))
+                    .ok_or_else(|| bad(format!("unknown mode {m:?}")))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let summary = crate::pickle::summary(summary).map_err(bad)?;
+        Ok(Trajectory::from_parts(
+            samples,
+            summary,
+            scenario.get().clone(),
+            success,
+        ))
+    }
+
     /// Column names in the CSV file's order.
     #[classattr]
     fn columns() -> Vec<&'static str> {
@@ -363,12 +640,23 @@ impl Trajectory {
     }
 
     fn __repr__(&self) -> String {
-        let t = self.samples.last().map_or(f64::NAN, |s| s.t);
+        let last = self.samples.last().map(columns::values);
+        let value = |name: &str| {
+            last.and_then(|v| columns::index(name).map(|i| v[i]))
+                .map_or("-".to_owned(), short)
+        };
         format!(
-            "<ellipsoid.Trajectory {}: {} samples to t = {t} s, {}>",
+            "<ellipsoid.Trajectory {}: {} samples, t = 0 to {} s, {} ({}); final theta = {} rad, omega_world_z = {} rad/s, energy = {} J, {} events, nfev = {}>",
             self.scenario.inner.source,
             self.samples.len(),
-            self.summary.status
+            self.t_final(),
+            self.summary.status,
+            if self.success() { "success" } else { "failure" },
+            value("theta"),
+            value("omega_world_z"),
+            value("energy"),
+            self.summary.events.len(),
+            self.summary.stats.rhs_evals,
         )
     }
 
@@ -384,14 +672,18 @@ impl Trajectory {
         Ok(d)
     }
 
-    /// The columns as a pandas DataFrame (needs pandas), in file order.
-    fn to_pandas<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let pandas = py.import("pandas").map_err(|e| {
-            pyo3::exceptions::PyImportError::new_err(format!(
-                "Trajectory.to_pandas needs pandas (`pip install pandas`): {e}"
-            ))
-        })?;
-        pandas.getattr("DataFrame")?.call1((self.to_dict(py)?,))
+    /// The columns as a pandas DataFrame (needs pandas), indexed by `t` [s], the other
+    /// columns in file order; `df.attrs["units"]` maps every column (and `t`) to its SI
+    /// unit, `df.attrs["scenario"]` and `df.attrs["status"]` say what was run and how it
+    /// ended.
+    fn to_pandas<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        result_helper(slf, "to_pandas")
+    }
+
+    /// The columns as an xarray Dataset (needs xarray) over the dimension `t` [s], each
+    /// variable with its `units` attribute; the scenario and the status as attributes.
+    fn to_xarray<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        result_helper(slf, "to_xarray")
     }
 
     /// Writes the trajectory as CSV, byte for byte what `ellipsoid run -o PATH` writes for
@@ -427,33 +719,79 @@ impl Trajectory {
 
     /// The 3-D viewer page of this run (the same HTML as `ellipsoid view`): the body on the
     /// plane with its contact trace, play/pause, speed, a time slider, θ(t) and energy
-    /// plots with a linked cursor; self-contained (opens offline). With `path`, writes it
-    /// there atomically and returns None; without, returns the HTML text.
+    /// plots with a linked cursor; self-contained (opens offline). Without `path`, returns
+    /// the HTML text as an `ellipsoid._display.ViewerPage` (a `str` that Jupyter displays
+    /// as the viewer, inline: 0.7–1.4 MB in the notebook). With `path`, writes it there
+    /// atomically and returns a `ViewerFile` (an `os.PathLike` that Jupyter displays as an
+    /// iframe of the file: a notebook stays small).
     #[pyo3(signature = (path=None, *, title=None))]
-    fn view(
+    fn view<'py>(
         &self,
-        py: Python<'_>,
+        py: Python<'py>,
         path: Option<PathBuf>,
         title: Option<String>,
-    ) -> PyResult<Option<String>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
         let html = self.page(py, title.as_deref())?;
+        let display = py.import("ellipsoid._display")?;
         match path {
-            None => Ok(Some(html)),
+            None => display.getattr("ViewerPage")?.call1((html,)),
             Some(p) => {
                 ellipsoid_io::atomic::write(&p, html.as_bytes())
                     .map_err(|e| errors::output_error(py, &e))?;
-                Ok(None)
+                display.getattr("ViewerFile")?.call1((p,))
             }
         }
     }
 
+    /// Writes the run as an animated GIF at `path`, rendered without a browser (the same
+    /// renderer as `ellipsoid animate`): the body on the plane, its contact trace, the time
+    /// and θ in a corner; `width`×`height` px (16 to 2000), `fps` frames per second (at
+    /// most 100), `speed` simulated seconds per second (0.25: four times slower). Returns
+    /// the number of frames (at most 2000). Raises OutputError if the file cannot be
+    /// written, ScenarioError for a bad option.
+    #[pyo3(signature = (path, *, width=480, height=360, fps=25.0, speed=1.0))]
+    fn animate(
+        &self,
+        py: Python<'_>,
+        path: PathBuf,
+        width: u32,
+        height: u32,
+        fps: f64,
+        speed: f64,
+    ) -> PyResult<usize> {
+        let opt = ellipsoid_io::animate::Options {
+            width,
+            height,
+            fps,
+            speed,
+        };
+        let source = &self.scenario.inner.source;
+        opt.check()
+            .map_err(|rule| errors::value_error(py, source, Some("animate"), None, rule))?;
+        if !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
+        {
+            return Err(errors::value_error(
+                py,
+                source,
+                Some("path"),
+                Some(&path.display().to_string()),
+                "an animation is written as .gif",
+            ));
+        }
+        let table = self.table();
+        let mut bytes = Vec::new();
+        let frames = py
+            .detach(|| ellipsoid_io::animate::gif(&table, &opt, &mut bytes))
+            .map_err(|e| errors::internal_error(py, &e))?;
+        ellipsoid_io::atomic::write(&path, &bytes).map_err(|e| errors::output_error(py, &e))?;
+        Ok(frames)
+    }
+
     /// Jupyter: the viewer inline, in an iframe.
-    fn _repr_html_(&self, py: Python<'_>) -> PyResult<String> {
-        let html = self.page(py, None)?;
-        let doc = html.replace('&', "&amp;").replace('"', "&quot;");
-        Ok(format!(
-            "<iframe srcdoc=\"{doc}\" style=\"width: 100%; height: 680px; border: 1px solid #ccc\" sandbox=\"allow-scripts\"></iframe>"
-        ))
+    fn _repr_html_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        self.view(py, None, None)?.call_method0("_repr_html_")
     }
 
     /// The geometric centre C0's path on the plane, (x, y) [m] (used by `plot`); None
@@ -474,17 +812,22 @@ impl Trajectory {
 
     /// The multi-panel figure of `ellipsoid plot` drawn with matplotlib (needed; raises
     /// ImportError saying how to install it): `panels` a comma-separated string or a list
-    /// of "theta", "rates", "energy", "forces", "path" (default: all). Returns the
-    /// matplotlib Figure.
-    #[pyo3(signature = (panels=None))]
+    /// of "theta", "rates", "energy", "forces", "path" (default: all); or `columns`, any
+    /// numeric output columns (a list or a comma-separated string), one panel each. With
+    /// `ax` (a matplotlib Axes) it draws there instead: the columns, or one of the panels
+    /// theta, rates, path. Returns the Figure (in Jupyter it displays itself; in a script
+    /// it is pyplot's, for `plt.show()`; `fig.savefig("x.pdf")` for PDF).
+    #[pyo3(signature = (panels=None, *, columns=None, ax=None))]
     fn plot<'py>(
         slf: &Bound<'py, Self>,
         panels: Option<Bound<'py, PyAny>>,
+        columns: Option<Bound<'py, PyAny>>,
+        ax: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         slf.py()
             .import("ellipsoid._plot")?
             .getattr("plot")?
-            .call1((slf, panels))
+            .call1((slf, panels, columns, ax))
     }
 
     /// Writes the trajectory in the format its extension names (`.csv`, `.h5`, `.hdf5`),

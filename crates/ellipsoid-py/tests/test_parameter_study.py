@@ -227,3 +227,83 @@ def test_a_dask_worker_killed_mid_study_still_gives_the_complete_identical_table
     assert thread is not None and not any(p == victim for p in dask_client.run(os.getpid).values()), "the worker was not replaced"
     assert lost >= 1, "no chunk was running on the killed worker"
     pd.testing.assert_frame_equal(deterministic(result["df"]), deterministic(expected))
+
+
+def test_a_parquet_table_is_written_atomically_and_never_through_a_link(tmp_path: Path) -> None:
+    """`out=x.parquet` is written like .csv and .h5: a temporary renamed into place, and a
+    symbolic link there refused (pandas' `to_parquet` on the path overwrote its target)."""
+    pytest.importorskip("pyarrow")
+    axes = {"initial.psi_dot": [20.0, 40.0]}
+    victim = tmp_path / "victim.txt"
+    victim.write_text("keep me")
+    link = tmp_path / "t.parquet"
+    link.symlink_to(victim)
+    with pytest.raises(ellipsoid.OutputError, match="is a symbolic link"):
+        ellipsoid.study(base(), axes, out=link)
+    assert victim.read_text() == "keep me" and link.is_symlink()
+    out = tmp_path / "sub.parquet"
+    df = ellipsoid.study(base(), axes, out=out)
+    assert list(pd.read_parquet(out)["key"]) == list(df["key"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["sub.parquet", "t.parquet", "victim.txt"]
+
+
+def test_ctrl_c_cancels_the_queued_chunks_of_a_concurrent_futures_executor() -> None:
+    """Ctrl-C while `study` waits on a concurrent.futures executor drops the chunks not yet
+    started (they used to run to the end before the interrupt reached the caller)."""
+
+    class Recording(concurrent.futures.ThreadPoolExecutor):
+        def __init__(self) -> None:
+            super().__init__(1)
+            self.futures: list[concurrent.futures.Future] = []
+
+        def submit(self, *args, **kwargs):  # type: ignore[no-untyped-def]
+            f = super().submit(*args, **kwargs)
+            self.futures.append(f)
+            return f
+
+    with Recording() as ex:
+
+        def interrupt_after_the_first_chunk() -> None:
+            while not any(f.done() for f in ex.futures):
+                time.sleep(0.001)
+            os.kill(os.getpid(), signal.SIGINT)
+
+        watcher = threading.Thread(target=interrupt_after_the_first_chunk, daemon=True)
+        watcher.start()
+        with pytest.raises(KeyboardInterrupt):
+            ellipsoid.study(base(), AXES, OUTCOMES, executor=ex, chunk_seconds=0.001)
+        watcher.join()
+        waiting = [f for f in ex.futures if not (f.done() or f.running())]
+        assert waiting == [], f"{len(waiting)} of {len(ex.futures)} chunks still queued"
+        assert sum(f.cancelled() for f in ex.futures) > len(ex.futures) // 2
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "cls", "match"),
+    [
+        ({"workers": True}, ellipsoid.ScenarioTypeError, r"study: workers: expected an integer, found bool"),
+        ({"workers": "4"}, ellipsoid.ScenarioTypeError, r"workers: expected an integer, found str"),
+        ({"workers": -1}, ellipsoid.ScenarioError, r"workers = -1: give 1 to \d+ worker threads"),
+        ({"workers": 2**64}, ellipsoid.ScenarioError, r"workers = 18446744073709551616: give 1 to"),
+        ({"chunk_seconds": "2"}, ellipsoid.ScenarioTypeError, r"chunk_seconds: expected a number of seconds, found str"),
+        ({"chunk_seconds": float("nan")}, ellipsoid.ScenarioError, r"chunk_seconds = nan: give a positive, finite number"),
+        ({"out": 5}, ellipsoid.ScenarioTypeError, r"out: expected a path"),
+        ({"journal": 5.0}, ellipsoid.ScenarioTypeError, r"journal: expected a path"),
+        ({"combine": "zip", "axes": "study"}, ellipsoid.ScenarioError, r"combine = 'zip': combine belongs to the study file"),
+        ({"journal": "j", "executor": "threads"}, ellipsoid.ScenarioError, r"journal: journal= is for local runs"),
+    ],
+)
+def test_every_argument_error_of_study_is_an_ellipsoid_error(kwargs, cls, match, tmp_path: Path) -> None:
+    """Argument errors used to be plain OverflowError/TypeError/ValueError, and workers=True
+    was accepted (sweep refuses it)."""
+    axes: object = {"initial.psi_dot": [20.0]}
+    if kwargs.pop("axes", None) == "study":
+        spec = tmp_path / "s.toml"
+        spec.write_text(f'base = "{SCENARIOS / "nutation.toml"}"\n[[axis]]\nkey = "initial.psi_dot"\nvalues = [20.0]\n')
+        axes = ellipsoid.load_study(spec)
+    with concurrent.futures.ThreadPoolExecutor(1) as ex:
+        if kwargs.get("executor") == "threads":
+            kwargs["executor"] = ex
+        with pytest.raises(cls, match=match) as info:
+            ellipsoid.study(None if not isinstance(axes, dict) else base(), axes, **kwargs)
+    assert isinstance(info.value, ellipsoid.EllipsoidError)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -34,7 +35,8 @@ def test_view_is_the_command_line_page_byte_for_byte(cli: Path, tmp_path: Path) 
     page = traj.view(title="tt")
     assert isinstance(page, str)
     assert page == (tmp_path / "cli.html").read_text(encoding="utf-8")
-    assert traj.view(tmp_path / "py.html", title="tt") is None
+    written = traj.view(tmp_path / "py.html", title="tt")
+    assert os.fspath(written) == str(tmp_path / "py.html")  # in Jupyter: an iframe of the file
     assert (tmp_path / "py.html").read_text(encoding="utf-8") == page
 
 

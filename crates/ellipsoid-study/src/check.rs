@@ -132,6 +132,11 @@ pub struct InitialData {
     pub energy: Option<f64>,
     /// Speed of the contact point [m/s].
     pub slip_speed: Option<f64>,
+    /// Velocity of G as the run starts it [m/s] (world axes): the given `velocity`, else
+    /// what the contact model makes of its absence.
+    pub velocity: Option<[f64; 3]>,
+    /// Whether `[initial] velocity` was given in the scenario.
+    pub velocity_given: bool,
 }
 
 /// θ̇, φ̇, ψ̇ [rad/s].
@@ -269,6 +274,8 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
             normal_force: first.map(|s| s.normal_force),
             energy: first.map(|s| s.energy),
             slip_speed: first.map(|s| s.slip_speed),
+            velocity: first.map(|s| arr(&s.velocity)),
+            velocity_given: init.velocity.is_some(),
         },
         invariants: drift_entries(&outcome.drift)
             .into_iter()

@@ -39,6 +39,7 @@ use crate::simulate::{
 use crate::state::EulerAngles;
 
 mod collect;
+mod file;
 mod format;
 mod reader;
 #[cfg(test)]
@@ -47,6 +48,7 @@ mod tree;
 
 pub use collect::MAX_ERRORS;
 use collect::*;
+pub use file::{MAX_SCENARIO_BYTES, open_regular, read_bounded};
 use format::*;
 use reader::*;
 use tree::*;
@@ -284,7 +286,7 @@ pub fn load_all(
         value: None,
         rule,
     };
-    let bytes = std::fs::read(path)
+    let bytes = read_bounded(path, MAX_SCENARIO_BYTES)
         .map_err(|e| io(format!("cannot read the scenario file: {e}"), None, None))?;
     let text = String::from_utf8(bytes).map_err(|e| {
         // Where the first bad byte is: line and column (in characters) of the valid text before it.

@@ -362,8 +362,8 @@ fn overflowing_initial_state_is_rejected_by_name() {
     let cases = [
         ("body.mass=1e308", "the normal force N = NaN N"),
         ("initial.velocity=[1e200, 0]", "the energy E = inf J"),
-        // frictionless: the error is the overflow, not a Painlevé test on NaN with μ = 0
-        ("body.a=1e300", "the normal force N = NaN N"),
+        // (body.a = 1e300 overflowed here; it is now refused by the parser, its square not
+        // being a float: semi_axes_whose_squares_are_not_normal_floats_are_refused)
         ("initial.psi_dot=1e200", "the normal force N = NaN N"),
     ];
     for (set, what) in cases {
@@ -605,6 +605,25 @@ fn numbers_in_messages_are_short() {
         e,
         "x.toml:3:1: body.a = -5e-324: a semi-axis must be a positive, finite length in metres"
     );
+}
+
+/// A subnormal semi-axis (5e-324 m) used to be accepted and "complete"; semi-axes whose
+/// squares leave the normal floats are refused, naming the range.
+#[test]
+fn semi_axes_whose_squares_are_not_normal_floats_are_refused() {
+    for (bad, shown) in [
+        ("5e-324", "5e-324"),
+        ("1e-160", "1e-160"),
+        ("1e155", "1e155"),
+    ] {
+        let e = err(&edit("a = 0.025", &format!("a = {bad}")), &[]);
+        assert_eq!(
+            e,
+            format!(
+                "x.toml:3:1: body.a = {shown}: a semi-axis must be from 1.5e-154 to 1.3e154 m, so that its square is a normal float"
+            )
+        );
+    }
 }
 
 /// `[contact] contact_radius` and `contact_law` (issue #14): read into `Scene::disc`, and

@@ -5,7 +5,6 @@
 
 use crate::effects::Effect;
 use crate::error::{ModelError, number};
-use crate::integrate::OdeSystem;
 use crate::model::Kinematics;
 use crate::state::{self, State};
 

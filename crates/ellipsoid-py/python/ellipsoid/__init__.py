@@ -23,6 +23,13 @@ locally on every core or on a `concurrent.futures` executor or a Dask client —
 its table as a pandas DataFrame, one row per run (docs/studies.md); `load_study(path)`
 reads a study file.
 
+Results follow solve_ivp's conventions where they can: `traj.success`, `traj.nfev`,
+`traj.message`, `traj.status_code`, `traj.states` (the state matrix; `traj.y` is G's y),
+`traj.t_events` / `traj.y_events` by name, `traj.sol(ts)` the dense interpolant, and
+`simulate(scenario, t_eval=ts, method="RK45")`. Trajectories and scenarios pickle;
+`traj.to_pandas()` is indexed by t, `traj.to_xarray()` and `to_xarray(study_table)` give
+xarray Datasets with units as attributes.
+
 `steady(scenario, family="upright", vary={"initial.psi_dot": values})` finds the steady
 motions of a family and their eigenvalues and critical values (`Steady`: `.values`,
 `.eigenvalues`, `.critical`, `.states`, `.to_pandas()`); `linearize(scenario, state=None)`
@@ -31,8 +38,8 @@ returns the Jacobian of the reduced dynamics and its coordinates' names
 
 Errors: every exception derives from `EllipsoidError`: `ScenarioError` (a ValueError) for
 bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Python type),
-`SimulationError` (a RuntimeError, with the partial `.trajectory`) for a run
-that stops on an error, `OutputError` (an OSError) for files that cannot be written,
+`SimulationError` (a RuntimeError) when `precision`'s reference run fails (a simulation
+that stops on an error returns its trajectory with `success` False), `OutputError` (an OSError) for files that cannot be written,
 `InternalError` for bugs.
 """
 
@@ -56,6 +63,7 @@ from ellipsoid._ellipsoid import (
     simulate,
     sweep,
 )
+from ellipsoid._result import study_to_xarray as to_xarray
 from ellipsoid._steady import Steady, steady
 from ellipsoid._study import Study, load_study, study
 
@@ -83,4 +91,5 @@ __all__ = [
     "steady",
     "study",
     "sweep",
+    "to_xarray",
 ]

@@ -25,6 +25,9 @@ __all__ = [
     "SimulationError",
     "Trajectory",
     "__version__",
+    "_argument_error",
+    "_hdf5_plugins",
+    "_study_workers",
     "check",
     "linearize",
     "load",
@@ -40,6 +43,13 @@ __version__: Final[str]
 HDF5: Final[bool]
 #: Column names of a trajectory, in the CSV file's order.
 COLUMNS: Final[list[str]]
+
+def _study_workers(workers: Any = None) -> int:
+    """`study`'s workers checked as `sweep`'s: 0 (one per CPU) or 1 to 4 per CPU (at least 8)."""
+def _argument_error(key: str, value: str | None, rule: str, wrong_type: bool = False) -> ScenarioError:
+    """The ScenarioError (ScenarioTypeError if `wrong_type`) for a bad `study` argument."""
+def _hdf5_plugins() -> tuple[bool, int]:
+    """Whether HDF5 may load plugins, and how many plugin directories it searches: (False, 0)."""
 
 _Path = str | os.PathLike[str]
 # A scenario value: bool, int, float, str, list/tuple, dict (a table), numpy array or scalar.
@@ -119,6 +129,9 @@ class Scenario:
     @property
     def contact_model(self) -> Literal["frictionless", "sliding", "rolling", "coulomb"]: ...
     def __eq__(self, other: object, /) -> bool: ...
+    def __reduce__(self) -> tuple[Any, tuple[str, str, list[str]]]: ...
+    @staticmethod
+    def _from_parts(text: str, source: str, overrides: list[str]) -> Scenario: ...
     def __copy__(self) -> Scenario: ...
     def __deepcopy__(self, memo: Any, /) -> Scenario: ...
     __hash__: ClassVar[None]  # type: ignore[assignment]
@@ -229,21 +242,53 @@ class Trajectory:
     def events(self) -> list[dict[str, Any]]: ...
     @property
     def scenario(self) -> Scenario: ...
+    @property
+    def success(self) -> bool:
+        """Whether the run reached t_end or stopped at an outcome (solve_ivp's `success`)."""
+    @property
+    def status_code(self) -> Literal[-1, 0, 1]:
+        """solve_ivp's integer status: 0 reached t_end, 1 a terminal event, -1 failed."""
+    @property
+    def nfev(self) -> int:
+        """Right-hand-side evaluations."""
+    @property
+    def states(self) -> npt.NDArray[np.float64]:
+        """The state matrix, shape (n_states, n_t), rows named by `state_names` (`y` is G's y)."""
+    #: Row names of `states`.
+    state_names: ClassVar[list[str]]
+    @property
+    def t_events(self) -> dict[str, _FloatArray]:
+        """Event times [s] per observable name and built-in event kind."""
+    @property
+    def y_events(self) -> dict[str, npt.NDArray[np.float64]]:
+        """States at the events, (n_events, n_states) per name of `t_events`."""
+    @property
+    def _observables(self) -> list[str]: ...
+    def sol(self, t: float | npt.ArrayLike) -> Trajectory:
+        """The dense interpolant at times `t` [s] (a rerun with them as output times)."""
+    def __reduce__(self) -> tuple[Any, tuple[Any, ...]]: ...
+    @staticmethod
+    def _from_pickle(scenario: Scenario, values: bytes, modes: list[str], summary: str, success: bool) -> Trajectory: ...
     def __len__(self) -> int: ...
     def to_dict(self) -> dict[str, npt.NDArray[Any]]: ...
     def to_pandas(self) -> Any:
-        """A pandas.DataFrame of the columns (needs pandas)."""
+        """A pandas.DataFrame indexed by t [s], units in `attrs` (needs pandas)."""
+    def to_xarray(self) -> Any:
+        """An xarray.Dataset over t [s], units as attributes (needs xarray)."""
     def to_csv(self, path: _Path) -> None: ...
     def to_hdf5(self, path: _Path) -> None: ...
     def save(self, path: _Path) -> None: ...
     @overload
     def view(self, path: None = None, *, title: str | None = None) -> str:
-        """The 3-D viewer page (the HTML of `ellipsoid view`), as text."""
+        """The 3-D viewer page (the HTML of `ellipsoid view`), as text that Jupyter displays."""
     @overload
-    def view(self, path: _Path, *, title: str | None = None) -> None:
-        """Writes the 3-D viewer page to `path`."""
-    def plot(self, panels: str | Sequence[str] | None = None) -> Any:
-        """The panels of `ellipsoid plot` as a matplotlib Figure (needs matplotlib)."""
+    def view(self, path: _Path, *, title: str | None = None) -> os.PathLike[str]:
+        """Writes the 3-D viewer page to `path`; Jupyter displays the file."""
+    def _repr_html_(self) -> str: ...
+    def animate(self, path: _Path, *, width: int = 480, height: int = 360, fps: float = 25.0, speed: float = 1.0) -> int:
+        """Writes the run as an animated GIF (no browser needed); returns the frame count."""
+    def plot(self, panels: str | Sequence[str] | None = None, *, columns: str | Sequence[str] | None = None, ax: Any = None) -> Any:
+        """The panels of `ellipsoid plot`, or any columns, as a matplotlib Figure (needs matplotlib)."""
 
 @final
 class Study:
@@ -286,6 +331,8 @@ class Study:
         """Runs points `start` to `stop` (exclusive) without the GIL; their rows in point order."""
     def write(self, path: _Path, rows: list[tuple[Any, ...]]) -> None:
         """Writes rows from `run` as the table at `path` (.csv, .h5; .parquet if built in), atomically."""
+    def write_bytes(self, path: _Path, data: bytes) -> None:
+        """Writes `data` (pandas' Parquet table) at `path` atomically, refusing a link, directory or device there."""
 
 def make_study(base: Scenario | _Path, axes: Mapping[str | tuple[str, ...], Any], outcomes: _Table | None = None, combine: Literal["grid", "zip"] | None = None) -> Study:
     """A study from Python arguments (what `ellipsoid.study` calls)."""
@@ -378,7 +425,15 @@ class PrecisionTable:
     def write(self, dir: _Path) -> list[pathlib.Path]: ...
 
 def load(path: _Path, **changes: _Value) -> Scenario: ...
-def simulate(scenario: Scenario | _Path, /, **changes: _Value) -> Trajectory: ...
+def simulate(
+    scenario: Scenario | _Path,
+    /,
+    *,
+    t_eval: npt.ArrayLike | None = None,
+    method: Literal["RK45", "DOP853", "RK4", "dopri5", "dop853", "rk4"] | str | None = None,
+    **changes: _Value,
+) -> Trajectory:
+    """Runs a scenario; `t_eval` output times [s], `method` scipy's or the scenario's name."""
 def check(scenario: Scenario | _Path, /, **changes: _Value) -> dict[str, Any]:
     """What `ellipsoid check` prints, as a dict (SI units, radians)."""
 def precision(

@@ -2,10 +2,17 @@
 dependency, imported only here).
 
 Panels, top to bottom: theta (θ(t)), rates (θ̇, φ̇, ψ̇, and the world-frame vertical spin
-when the trajectory has it), energy (E, E + W when work is dissipated, and the relative
+when the trajectory has it; φ̇ and ψ̇ are left out where sin θ < 0.1, near the z-x-z
+singularity at θ = 0 where they diverge as 1/sin θ), energy (E, E + W when work is dissipated, and the relative
 drift of the conserved quantity on a log axis), forces (normal force and slip speed with
 the contact mode shaded), path (the paths on the plane of the contact point, G and the geometric centre C0). Events
-are dashed vertical lines. SI units on every axis.
+are dashed vertical lines, labelled by kind in the first time panel. SI units on every
+axis. Or any output columns, one panel each (`columns=`), or drawn into an existing
+matplotlib Axes (`ax=`), so figures compose.
+
+In a Jupyter notebook the Figure displays itself (PNG, no `%matplotlib inline` needed);
+in a script it is a pyplot figure, so `plt.show()` shows it and `fig.savefig("x.pdf")`
+writes PDF, SVG or PNG.
 """
 
 from __future__ import annotations
@@ -13,11 +20,50 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
+import io
+import sys
+
 import numpy as np
 
 PANELS = ("theta", "rates", "energy", "forces", "path")
 _MODE_COLORS = {"sliding": "#ffe3c4", "rolling": "#d4f0d4", "frictionless": "#eeeeee"}
 _EVENT = "#8040a0"
+#: Below this sin θ the Euler rates φ̇, ψ̇ are not drawn (they diverge as 1/sin θ).
+_SIN_SINGULAR = 0.1
+#: At most this many events are labelled (all are drawn).
+_EVENT_LABELS = 12
+
+
+def _in_kernel() -> bool:
+    """Whether this runs in a Jupyter kernel, which displays what a cell returns."""
+    ipython = sys.modules.get("IPython")
+    shell = ipython.get_ipython() if ipython is not None else None  # type: ignore[attr-defined]
+    return shell is not None and hasattr(shell, "kernel")
+
+
+def _png(fig: Any) -> bytes:
+    """A figure as PNG (Jupyter's `_repr_png_`)."""
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=80)
+    return buf.getvalue()
+
+
+def _figure(**kw: Any) -> Any:
+    """A matplotlib Figure that Jupyter displays as PNG without `%matplotlib inline`
+    (`_repr_png_`); outside a Jupyter kernel it is pyplot's (so `plt.show()` shows it)."""
+    try:
+        from matplotlib.figure import Figure
+    except ImportError as e:  # pragma: no cover - exercised with matplotlib hidden
+        raise ImportError(f"Trajectory.plot needs matplotlib (`pip install matplotlib`): {e}") from e
+    cls = type("TrajectoryFigure", (Figure,), {"_repr_png_": _png})
+    if not _in_kernel():
+        try:
+            import matplotlib.pyplot as plt
+
+            return plt.figure(FigureClass=cls, **kw)
+        except ImportError:  # pragma: no cover - pyplot without a usable backend
+            pass
+    return cls(**kw)
 
 
 def _panels(panels: str | Sequence[str] | None) -> list[str]:
@@ -45,10 +91,15 @@ def _drift(traj: Any) -> tuple[np.ndarray, str]:
     return (total - total[0]) / scale, ("E + W" if dissipative else "E")
 
 
-def _time_axis(ax: Any, traj: Any, shade: bool = False) -> None:
+def _time_axis(ax: Any, traj: Any, shade: bool = False, labels: bool = False) -> None:
     ax.set_xlabel("time t (s)")
-    for e in traj.events:
+    events = traj.events
+    for i, e in enumerate(events):
         ax.axvline(e["t"], color=_EVENT, ls="--", lw=0.9)
+        if labels and i < _EVENT_LABELS:
+            name = e.get("name", e["kind"])
+            ax.annotate(name, (e["t"], 1.0), xycoords=("data", "axes fraction"), xytext=(2, -2),
+                        textcoords="offset points", rotation=90, va="top", fontsize=7, color=_EVENT)
     if shade and len(traj):
         t, mode = traj.t, traj.mode
         start = 0
@@ -60,42 +111,114 @@ def _time_axis(ax: Any, traj: Any, shade: bool = False) -> None:
     ax.grid(alpha=0.3)
 
 
-def plot(traj: Any, panels: str | Sequence[str] | None = None) -> Any:
+def _legend(ax: Any) -> None:
+    """The legend beside the axes, off the data."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+
+
+def _columns(traj: Any, columns: str | Sequence[str]) -> list[str]:
+    names = [c.strip() for c in columns.split(",")] if isinstance(columns, str) else list(columns)
+    if not names:
+        raise ValueError("columns: give at least one output column")
+    for c in names:
+        if c not in traj.columns or c in ("t", "mode"):
+            raise ValueError(f"columns: {c!r} is not a numeric output column; the columns are {', '.join(traj.columns[1:])}")
+    return names
+
+
+def _draw_column(ax: Any, traj: Any, name: str, labels: bool) -> None:
+    unit = traj.units[name]
+    ax.plot(traj.t, getattr(traj, name), label=f"{name} ({unit})")
+    ax.set_ylabel(f"{name} ({unit})")
+    _time_axis(ax, traj, labels=labels)
+
+
+def _draw_rates(ax: Any, traj: Any) -> None:
+    t = traj.t
+    singular = np.abs(np.sin(traj.theta)) < _SIN_SINGULAR
+    ax.plot(t, traj.theta_dot, label="θ̇ (theta_dot)")
+    for data, label in ((traj.phi_dot, "φ̇ (phi_dot)"), (traj.psi_dot, "ψ̇ (psi_dot)")):
+        ax.plot(t, np.where(singular, np.nan, data), label=label)
+    wz = getattr(traj, "omega_world_z", None)
+    if wz is not None:
+        ax.plot(t, wz, label="ω_z, world (omega_world_z)")
+    ax.set_ylabel("rate (rad/s)")
+    title = "Euler rates" + (" and the vertical spin" if wz is not None else "")
+    if singular.any():
+        title += f" (φ̇, ψ̇ hidden where sin θ < {_SIN_SINGULAR}: singular there)"
+    ax.set_title(title)
+    _legend(ax)
+    _time_axis(ax, traj)
+
+
+def _draw_path(ax: Any, traj: Any) -> None:
+    ax.plot(traj.x, traj.y, color="#808080", lw=2, label="G")
+    contact = traj._contact_path()
+    centre = traj._centre_path()
+    if contact is not None:
+        ax.plot(contact[0], contact[1], color="#1f77b4", lw=0.8, label="contact point")
+        ax.set_title("paths on the plane: contact point, G" + (", centre C0" if centre is not None else ""))
+    if centre is not None:
+        ax.plot(centre[0], centre[1], color="#ff7f0e", lw=0.8, label="centre C0")
+    else:
+        ax.set_title("path of G on the plane")
+    ax.plot([traj.x[0]], [traj.y[0]], "o", color="#2ca02c", label="start")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    _legend(ax)
+    ax.grid(alpha=0.3)
+
+
+def _draw_theta(ax: Any, traj: Any) -> None:
+    ax.plot(traj.t, traj.theta, color="#1f77b4", label="θ")
+    ax.set_ylabel("θ (rad)")
+    ax.set_title("tilt of the symmetry axis θ")
+    _time_axis(ax, traj, labels=True)
+
+
+#: The panels drawn on one Axes (the others take two).
+_SINGLE = {"theta": _draw_theta, "rates": _draw_rates, "path": _draw_path}
+
+
+def plot(traj: Any, panels: str | Sequence[str] | None = None, columns: str | Sequence[str] | None = None, ax: Any = None) -> Any:
+    if columns is not None:
+        if panels is not None:
+            raise ValueError("give panels or columns, not both")
+        names = _columns(traj, columns)
+        if ax is not None:
+            for i, c in enumerate(names):
+                _draw_column(ax, traj, c, labels=i == 0)
+            if len(names) > 1:
+                ax.set_ylabel(", ".join(f"{c} ({traj.units[c]})" for c in names))
+            _legend(ax)
+            return ax.figure
+        fig = _figure(figsize=(11, 2.6 * len(names)), layout="constrained")
+        fig.suptitle(traj.scenario.source)
+        axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
+        for i, (a, c) in enumerate(zip(axes, names)):
+            _draw_column(a, traj, c, labels=i == 0)
+        return fig
     names = _panels(panels)
-    try:
-        from matplotlib.figure import Figure
-    except ImportError as e:  # pragma: no cover - exercised with matplotlib hidden
-        raise ImportError(f"Trajectory.plot needs matplotlib (`pip install matplotlib`): {e}") from e
-    fig = Figure(figsize=(11, 3.0 * len(names)), layout="constrained")
+    if ax is not None:
+        if len(names) != 1 or names[0] not in _SINGLE:
+            raise ValueError(f"ax= takes one panel of {', '.join(_SINGLE)} (or columns=); energy and forces draw two axes")
+        _SINGLE[names[0]](ax, traj)
+        return ax.figure
+    fig = _figure(figsize=(11, 3.0 * len(names)), layout="constrained")
     grid = fig.add_gridspec(len(names), 2)
     t = traj.t
     fig.suptitle(traj.scenario.source)
     for row, name in enumerate(names):
-        if name == "theta":
-            ax = fig.add_subplot(grid[row, :])
-            ax.plot(t, traj.theta, color="#1f77b4", label="θ")
-            ax.set_ylabel("θ (rad)")
-            ax.set_title("tilt of the symmetry axis θ")
-            _time_axis(ax, traj)
-        elif name == "rates":
-            ax = fig.add_subplot(grid[row, :])
-            ax.plot(t, traj.theta_dot, label="θ̇ (theta_dot)")
-            ax.plot(t, traj.phi_dot, label="φ̇ (phi_dot)")
-            ax.plot(t, traj.psi_dot, label="ψ̇ (psi_dot)")
-            wz = getattr(traj, "omega_world_z", None)
-            if wz is not None:
-                ax.plot(t, wz, label="ω_z, world (omega_world_z)")
-            ax.set_ylabel("rate (rad/s)")
-            ax.set_title("Euler rates" + (" and the vertical spin" if wz is not None else ""))
-            ax.legend(loc="upper right")
-            _time_axis(ax, traj)
+        if name in _SINGLE:
+            _SINGLE[name](fig.add_subplot(grid[row, :]), traj)
         elif name == "energy":
             ax = fig.add_subplot(grid[row, 0])
             ax.plot(t, traj.energy, label="E")
             d, what = _drift(traj)
             if what == "E + W":
                 ax.plot(t, traj.energy + traj.work, color="#2ca02c", label="E + W")
-                ax.legend(loc="upper right")
+                _legend(ax)
             ax.set_ylabel("energy (J)")
             ax.set_title("energy")
             _time_axis(ax, traj)
@@ -104,7 +227,7 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None) -> Any:
             ax.set_ylabel("|relative drift| (1, log)")
             ax.set_title(f"relative drift of {what}")
             _time_axis(ax, traj)
-        elif name == "forces":
+        else:
             for col, (data, label, title) in enumerate(
                 ((traj.normal_force, "normal force N (N)", "normal force"), (traj.slip_speed, "slip speed |v_C| (m/s)", "slip speed"))
             ):
@@ -113,22 +236,4 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None) -> Any:
                 ax.set_ylabel(label)
                 ax.set_title(f"{title} (shaded: contact mode)")
                 _time_axis(ax, traj, shade=True)
-        else:
-            ax = fig.add_subplot(grid[row, :])
-            ax.plot(traj.x, traj.y, color="#808080", lw=2, label="G")
-            contact = traj._contact_path()
-            centre = traj._centre_path()
-            if contact is not None:
-                ax.plot(contact[0], contact[1], color="#1f77b4", lw=0.8, label="contact point")
-                ax.set_title("paths on the plane: contact point, G" + (", centre C0" if centre is not None else ""))
-            if centre is not None:
-                ax.plot(centre[0], centre[1], color="#ff7f0e", lw=0.8, label="centre C0")
-            else:
-                ax.set_title("path of G on the plane")
-            ax.plot([traj.x[0]], [traj.y[0]], "o", color="#2ca02c", label="start")
-            ax.set_aspect("equal", adjustable="datalim")
-            ax.set_xlabel("x (m)")
-            ax.set_ylabel("y (m)")
-            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0))
-            ax.grid(alpha=0.3)
     return fig

@@ -11,12 +11,14 @@ that ran twice (a Dask worker lost mid-task and the task resubmitted) gives the 
 
 from __future__ import annotations
 
+import io
+import json
 import math
 import os
 import time
 from typing import Any, Literal
 
-from ellipsoid._ellipsoid import Study, make_study
+from ellipsoid._ellipsoid import Study, _argument_error, _study_workers, make_study
 
 __all__ = ["study", "load_study", "Study"]
 
@@ -57,14 +59,17 @@ def _slots(executor: Any) -> int:
     return int(n) if n else (os.cpu_count() or 1)
 
 
-def _frame(st: Study, rows: list):
+def _frame(st: Study, rows: list, nullable_dtypes: bool = True):
     import pandas as pd  # type: ignore[import-untyped,unused-ignore]  # optional: pandas-stubs may be absent
 
     cols = st.columns
     by_column = list(zip(*rows)) if rows else [()] * len(cols)
     data = {}
     for name, ty, nullable, values in zip(cols, st.types, st.nullable, by_column):
-        if ty == "float":
+        if nullable and not nullable_dtypes and ty in ("float", "int"):
+            # plain float64, NaN where there is no value (matplotlib, numpy take it as is)
+            data[name] = pd.array([float("nan") if v is None else v for v in values], dtype="float64")
+        elif ty == "float":
             data[name] = pd.array(values, dtype="Float64") if nullable else pd.array(values, dtype="float64")
         elif ty == "int":
             data[name] = pd.array(values, dtype="Int64") if nullable else pd.array(values, dtype="int64")
@@ -73,6 +78,11 @@ def _frame(st: Study, rows: list):
     df = pd.DataFrame(data, columns=cols)
     df.attrs["units"] = dict(st.units)
     df.attrs["study"] = st.source
+    # the axes' columns (the first key of each), for `ellipsoid.to_xarray(df)`
+    spec = json.loads(st.to_json())
+    keys = [axis["dims"][0]["key"] for axis in spec["axes"]]
+    df.attrs["axes"] = [c for k in keys for c in cols if c.split(" [")[0] == k][: len(keys)]
+    df.attrs["combine"] = spec["combine"]
     return df
 
 
@@ -87,6 +97,7 @@ def study(
     journal: "str | os.PathLike[str] | None" = None,
     chunk_seconds: float = 2.0,
     out: "str | os.PathLike[str] | None" = None,
+    nullable: bool = True,
 ):
     """Runs a parameter study and returns its table as a ``pandas.DataFrame``.
 
@@ -103,44 +114,64 @@ def study(
 
     ``executor``: None (every core of this machine), a ``concurrent.futures.Executor``, or
     a ``dask.distributed.Client``; ``chunk_seconds`` sizes its tasks. ``workers``: threads
-    for the local run (default one per CPU). ``journal``: a file keeping finished rows
+    for the local run (default one per CPU; 1 to 4 per CPU, at least 8). ``journal``: a file keeping finished rows
     (local runs only): rerunning skips them, so a killed study resumes. ``out``: also write
-    the table there (.csv, .h5; .parquet with pandas' ``to_parquet``).
+    the table there (.csv, .h5; .parquet with pandas' ``to_parquet``), atomically, refusing a
+    symbolic link, directory or device at that path.
 
     The columns are the file's (``ellipsoid study``): ``point``, the axis values, then
     ``status``, ``message``, ``t_final [s]``, ``t_NAME [s]`` per observable, the chosen
     ``final.``/``min.``/``max.`` columns, ``drift.NAME [1]``, ``wall_time [s]``,
     ``rhs_evals``, ``key``; floats and counts that may have no value use pandas' nullable
     dtypes (``Float64``, ``Int64``: ``pd.NA``, never NaN). A run that fails is a row with
-    its status and message. ``df.attrs["units"]`` maps each column to its SI unit.
+    its status and message. ``nullable=False``: plain ``float64`` with NaN instead
+    (counts that may be missing become floats too), for matplotlib and numpy.
+    ``df.attrs["units"]`` maps each column to its SI unit, ``df.attrs["axes"]`` names the
+    axes' columns and ``df.attrs["combine"]`` says "grid" or "zip"
+    (``ellipsoid.to_xarray(df)`` makes a grid an n-D Dataset).
     """
+    threads = _study_workers(workers)
+    _check_seconds(chunk_seconds)
+    for key, path in (("journal", journal), ("out", out)):
+        if path is not None and not isinstance(path, (str, os.PathLike)):
+            raise _argument_error(key, None, f"expected a path (str or os.PathLike), found {type(path).__name__}", True)
     if isinstance(axes, Study):
-        st = axes.replace(base=base, outcomes=outcomes) if (base is not None or outcomes is not None) else axes
         if combine is not None:
-            raise ValueError("combine belongs to the study file when axes is an ellipsoid.Study")
+            raise _argument_error("combine", repr(combine), "combine belongs to the study file when axes is an ellipsoid.Study")
+        st = axes.replace(base=base, outcomes=outcomes) if (base is not None or outcomes is not None) else axes
     else:
         st = make_study(base, axes, outcomes, combine)
     n = len(st)
     if executor is None:
-        rows = st.run(0, n, workers or 0, journal)
+        rows = st.run(0, n, threads, journal)
     else:
         if journal is not None:
-            raise ValueError("journal= is for local runs; with an executor the chunks are resubmitted instead")
+            raise _argument_error("journal", None, "journal= is for local runs; with an executor the chunks are resubmitted instead")
         rows = _distributed(st, executor, chunk_seconds)
-    df = _frame(st, rows)
+    df = _frame(st, rows, nullable)
     if out is not None:
         ext = os.fspath(out).rsplit(".", 1)[-1].lower()
         if ext in ("parquet", "pq"):
-            df.to_parquet(out, index=False)
+            # Made in memory, then written like every other table: atomically, never
+            # through a symbolic link.
+            buf = io.BytesIO()
+            df.to_parquet(buf, index=False)
+            st.write_bytes(out, buf.getvalue())
         else:
             st.write(out, rows)
     return df
 
 
+def _check_seconds(chunk_seconds: Any) -> None:
+    """`chunk_seconds`: a positive, finite number of seconds."""
+    if isinstance(chunk_seconds, bool) or not isinstance(chunk_seconds, (int, float)):
+        raise _argument_error("chunk_seconds", None, f"expected a number of seconds, found {type(chunk_seconds).__name__}", True)
+    if not (0 < chunk_seconds < math.inf):
+        raise _argument_error("chunk_seconds", repr(chunk_seconds), "give a positive, finite number of seconds")
+
+
 def _distributed(st: Study, executor: Any, chunk_seconds: float) -> list:
     n = len(st)
-    if not (chunk_seconds > 0):
-        raise ValueError(f"chunk_seconds = {chunk_seconds!r}: give a positive number of seconds")
     # A pilot of a few points here sizes the chunks (and its rows are kept).
     pilot = min(n, 4)
     t0 = time.perf_counter()
@@ -162,6 +193,14 @@ def _distributed(st: Study, executor: Any, chunk_seconds: float) -> list:
             futures.append(executor.submit(_run_chunk, payload, start, stop, 1, pure=False, retries=3))
         else:
             futures.append(executor.submit(_run_chunk, text, start, stop, 1))
-    for f in futures:  # in point order; each result as it is needed
-        rows.extend(f.result())
+    try:
+        for f in futures:  # in point order; each result as it is needed
+            rows.extend(f.result())
+    except BaseException:
+        # Ctrl-C (or a failed chunk): the chunks not started yet are dropped at once, so
+        # the executor is free when the exception reaches the caller (a concurrent.futures
+        # executor would otherwise run every queued chunk first).
+        for f in futures:
+            f.cancel()
+        raise
     return rows

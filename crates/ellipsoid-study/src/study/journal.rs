@@ -49,6 +49,11 @@ pub enum JournalError {
         "{path}: not a study journal (its first line is not `{MAGIC} …`); refusing to overwrite it"
     )]
     NotAJournal { path: PathBuf },
+    /// A pipe, device or directory where the journal goes (a FIFO would block).
+    #[error(
+        "{path}: the journal is not a regular file (a pipe, device or directory); remove it or write the table elsewhere"
+    )]
+    NotAFile { path: PathBuf },
 }
 
 /// An open journal, positioned to append.
@@ -75,6 +80,12 @@ impl Journal {
             path: path.to_owned(),
             source,
         };
+        // Checked before opening: reading a FIFO waits for a writer, for ever.
+        if std::fs::metadata(path).is_ok_and(|m| !m.is_file()) {
+            return Err(JournalError::NotAFile {
+                path: path.to_owned(),
+            });
+        }
         let mut file = OpenOptions::new()
             .read(true)
             .write(true)

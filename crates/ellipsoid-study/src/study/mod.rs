@@ -29,7 +29,9 @@ use rayon::prelude::*;
 
 pub use journal::{Journal, JournalError};
 pub use plan::{Base, Cell, Column, Combine, Outcomes, Plan, Study, Type};
-pub use run::{INTERNAL_ERROR, INVALID, PointResult, Trajectory, VERSION};
+pub use run::{
+    INTERNAL_ERROR, INVALID, PointResult, Trajectory, VERSION, max_threads, worker_threads,
+};
 pub use table::TableFormat;
 
 pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {

@@ -466,6 +466,26 @@ pub(crate) fn parse_value(text: &str) -> toml::Value {
         .unwrap_or_else(|| toml::Value::String(text.to_owned()))
 }
 
+/// The points of a grid over axes of `lens` values each, or the rule it breaks (more than
+/// [`MAX_POINTS`]).
+pub(crate) fn grid_points(lens: &[usize]) -> Result<usize, String> {
+    lens.iter()
+        .try_fold(1usize, |acc, &n| {
+            acc.checked_mul(n).filter(|p| *p <= MAX_POINTS)
+        })
+        .ok_or_else(|| too_many_points(lens))
+}
+
+/// The rule broken by axes of `lens` values whose product is more than [`MAX_POINTS`].
+fn too_many_points(lens: &[usize]) -> String {
+    let shown: Vec<String> = lens.iter().map(|n| n.to_string()).collect();
+    let total: f64 = lens.iter().map(|&n| n as f64).product();
+    format!(
+        "{} = {total:e} points; a study has at most {MAX_POINTS} (split it into several studies)",
+        shown.join(" × ")
+    )
+}
+
 impl Study {
     /// Checks the plan and prepares it: the base must be a valid scenario, every key a
     /// valid path into it, the number of points at most [`MAX_POINTS`], and the first
@@ -518,23 +538,20 @@ impl Study {
                     ));
                 }
                 let mut keys = Vec::new();
-                for k in std::iter::once(&d.key).chain(&d.also) {
-                    let p = parse_path(k).map_err(|r| {
+                let named =
+                    std::iter::once((&d.key, "key")).chain(d.also.iter().map(|k| (k, "also")));
+                for (k, field) in named {
+                    let fail = |r| {
                         err(
-                            Some(format!("axis[{}].key", d.key)),
+                            Some(format!("axis[{}].{field}", d.key)),
                             Some(format!("{k:?}")),
                             r,
                         )
-                    })?;
+                    };
+                    let p = parse_path(k).map_err(fail)?;
                     // The path must reach into the base (indices exist, no scalar in the way).
                     let mut probe = base_table.clone();
-                    set_path(&mut probe, &p.segs, d.values.get(0)).map_err(|r| {
-                        err(
-                            Some(format!("axis[{}].key", d.key)),
-                            Some(format!("{k:?}")),
-                            r,
-                        )
-                    })?;
+                    set_path(&mut probe, &p.segs, d.values.get(0)).map_err(fail)?;
                     keys.push(p);
                 }
                 dims.push(keys);
@@ -543,9 +560,7 @@ impl Study {
             lens.push(n);
         }
         let points = match plan.combine {
-            Combine::Grid => lens.iter().try_fold(1usize, |acc, &n| {
-                acc.checked_mul(n).filter(|p| *p <= MAX_POINTS)
-            }),
+            Combine::Grid => grid_points(&lens).ok(),
             Combine::Zip => {
                 if let Some((i, n)) = lens.iter().enumerate().find(|(_, n)| **n != lens[0]) {
                     return Err(err(
@@ -561,18 +576,14 @@ impl Study {
             }
         };
         let points = points.ok_or_else(|| {
-            let shown: Vec<String> = lens.iter().map(|n| n.to_string()).collect();
-            let total: f64 = match plan.combine {
-                Combine::Grid => lens.iter().map(|&n| n as f64).product(),
-                Combine::Zip => lens[0] as f64,
+            let rule = match plan.combine {
+                Combine::Grid => grid_points(&lens).unwrap_err(),
+                Combine::Zip => too_many_points(&lens[..1]),
             };
             err(
                 Some("combine".into()),
                 Some(format!("{:?}", plan.combine).to_lowercase()),
-                format!(
-                    "{} = {total:e} points; a study has at most {MAX_POINTS} (split it into several studies)",
-                    shown.join(" × ")
-                ),
+                rule,
             )
         })?;
         let observables: Vec<String> = base_scenario

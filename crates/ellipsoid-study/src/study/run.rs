@@ -57,6 +57,25 @@ impl Trajectory {
     }
 }
 
+/// Most worker threads a study (or a sweep) may start: 4 per CPU, at least 8. More threads
+/// than CPUs only add overhead (each run is CPU-bound and takes an 8 MiB stack); 10⁵ of
+/// them took minutes to start and ended in a failed stack guard page.
+pub fn max_threads() -> usize {
+    let cpus = std::thread::available_parallelism().map_or(1, |n| n.get());
+    (4 * cpus).max(8)
+}
+
+/// The worker threads started for `points` runs when `requested` were asked (0: one per
+/// CPU): never more than [`max_threads`], never more than the runs, at least one.
+pub fn worker_threads(requested: usize, points: usize) -> usize {
+    let wanted = if requested == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        requested
+    };
+    wanted.min(max_threads()).min(points).max(1)
+}
+
 impl Study {
     /// Runs point `index`; `None` if it was cancelled.
     pub fn run_point(&self, index: usize, cancel: Option<&Arc<AtomicBool>>) -> Option<PointResult> {
@@ -220,7 +239,8 @@ impl Study {
             .collect()
     }
 
-    /// Runs the points `indices` on `threads` worker threads (0: one per CPU), handing
+    /// Runs the points `indices` on `threads` worker threads (0: one per CPU; at most
+    /// [`max_threads`] and the number of points, see [`worker_threads`]), handing
     /// each result to `on_row` on the calling thread as it finishes (in completion order).
     /// Stops starting points once `cancel` is set; runs in flight stop at their next
     /// integration step and give no row.
@@ -244,7 +264,7 @@ impl Study {
         mut on_row: impl FnMut(PointResult),
     ) -> Result<(), String> {
         let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
+            .num_threads(worker_threads(threads, indices.len()))
             .stack_size(8 << 20)
             .thread_name(|i| format!("ellipsoid-study-{i}"))
             .build()

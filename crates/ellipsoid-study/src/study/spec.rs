@@ -351,21 +351,24 @@ pub fn load(path: &Path) -> Result<Plan, ScenarioErrors> {
     let source = path.display().to_string();
     let fail =
         |rule: String| ScenarioErrors::from(super::plan::study_error(&source, None, None, rule));
-    let meta =
-        std::fs::metadata(path).map_err(|e| fail(format!("cannot read the study file: {e}")))?;
-    if meta.len() > MAX_STUDY_BYTES as u64 {
-        return Err(fail(format!(
-            "the study file has {} bytes; at most {MAX_STUDY_BYTES} are read",
-            meta.len()
-        )));
-    }
-    let bytes =
-        std::fs::read(path).map_err(|e| fail(format!("cannot read the study file: {e}")))?;
+    let bytes = ellipsoid_core::scenario::read_bounded(path, MAX_STUDY_BYTES as u64)
+        .map_err(|e| fail(format!("cannot read the study file: {e}")))?;
     let text = String::from_utf8(bytes).map_err(|e| {
-        fail(format!(
-            "the study file is not UTF-8 text, as TOML must be (bad byte at offset {})",
-            e.utf8_error().valid_up_to()
-        ))
+        // Where the first bad byte is: line and column (in characters) of the text before it.
+        let bytes = e.as_bytes();
+        let good = std::str::from_utf8(&bytes[..e.utf8_error().valid_up_to()]).unwrap_or_default();
+        let mut error = super::plan::study_error(
+            &source,
+            None,
+            None,
+            format!(
+                "the study file is not UTF-8 text, as TOML must be: byte 0x{:02x} does not begin a UTF-8 character (save the file as UTF-8)",
+                bytes[good.len()]
+            ),
+        );
+        error.location.line = Some(good.matches('\n').count() + 1);
+        error.location.column = Some(good.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1);
+        ScenarioErrors::from(error)
     })?;
     let dir = path.parent().unwrap_or(Path::new(""));
     parse(&text, &source, Some(dir), None, Naming::File)
@@ -428,11 +431,9 @@ fn parse_doc(doc: &Doc<'_>, dir: Option<&Path>, given: Option<Base>) -> Res<Plan
             DeValue::String(p) => {
                 let path = dir.map_or_else(|| Path::new(p.as_ref()).to_owned(), |d| d.join(p.as_ref()));
                 let shown = path.display().to_string();
-                let meta = std::fs::metadata(&path).map_err(|e| doc.invalid(v, "base", format!("cannot read the base scenario {shown}: {e}")))?;
-                if meta.len() > MAX_BASE_BYTES as u64 {
-                    return Err(doc.invalid(v, "base", format!("the base scenario has {} bytes; at most {MAX_BASE_BYTES} are read", meta.len())));
-                }
-                let text = std::fs::read_to_string(&path).map_err(|e| doc.invalid(v, "base", format!("cannot read the base scenario {shown}: {e}")))?;
+                let cannot = |e: String| doc.invalid(v, "base", format!("cannot read the base scenario {shown}: {e}"));
+                let bytes = ellipsoid_core::scenario::read_bounded(&path, MAX_BASE_BYTES as u64).map_err(cannot)?;
+                let text = String::from_utf8(bytes).map_err(|_| cannot("the file is not UTF-8 text, as TOML must be".into()))?;
                 Base { text, source: shown, overrides: Vec::new() }
             }
             DeValue::Table(_) => {
@@ -461,6 +462,24 @@ fn parse_doc(doc: &Doc<'_>, dir: Option<&Path>, given: Option<Base>) -> Res<Plan
     let mut axes_out = Vec::new();
     if let Some(v) = get("axis") {
         let list = doc.array(v, "axis", MAX_AXES)?;
+        // The grid's size, from the counts the axes declare, before any value is made.
+        if combine == Combine::Grid {
+            // (An axis of more than MAX_POINTS values is left to read_axis, which names it.)
+            let declared: Vec<usize> = list
+                .iter()
+                .filter_map(declared_count)
+                .filter(|n| *n <= MAX_POINTS)
+                .collect();
+            super::plan::grid_points(&declared).map_err(|rule| {
+                doc.err(
+                    ErrorKind::Invalid,
+                    &v.span(),
+                    "combine",
+                    Some("grid".into()),
+                    rule,
+                )
+            })?;
+        }
         for (i, a) in list.iter().enumerate() {
             axes_out.push(read_axis(doc, a, i)?);
         }
@@ -478,6 +497,45 @@ fn parse_doc(doc: &Doc<'_>, dir: Option<&Path>, given: Option<Base>) -> Res<Plan
         axes: axes_out,
         combine,
         outcomes,
+    })
+}
+
+/// Refuses a generator range from `a` to `b` whose width `b − a` overflows: the values
+/// made from it would be infinite or NaN.
+fn finite_span(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, key: &str, a: f64, b: f64) -> Res<()> {
+    if (b - a).is_finite() {
+        Ok(())
+    } else {
+        Err(doc.invalid(
+            v,
+            key,
+            format!("the ends {a:e} and {b:e} are too far apart: their difference must be a finite number (below 1.8e308), or the values would be infinite or NaN"),
+        ))
+    }
+}
+
+/// The number of values axis `v` declares (its generator's `n`, or its list's length),
+/// read without making any; None for an axis [`read_axis`] will refuse.
+fn declared_count(v: &Spanned<DeValue<'_>>) -> Option<usize> {
+    fn field<'a, 'i>(t: &'a DeTable<'i>, name: &str) -> Option<&'a DeValue<'i>> {
+        t.iter()
+            .find(|(k, _)| k.get_ref() == name)
+            .map(|(_, v)| v.get_ref())
+    }
+    let int = |v: &DeValue<'_>| match v {
+        DeValue::Integer(i) => i64::from_str_radix(&i.as_str().replace('_', ""), i.radix())
+            .ok()
+            .and_then(|n| usize::try_from(n).ok()),
+        _ => None,
+    };
+    let DeValue::Table(t) = v.get_ref() else {
+        return None;
+    };
+    GENERATORS.iter().find_map(|g| match (*g, field(t, g)?) {
+        ("values", DeValue::Array(a)) => Some(a.len()),
+        ("linspace" | "logspace", DeValue::Array(a)) => a.get(2).and_then(|n| int(n.get_ref())),
+        ("random" | "latin_hypercube", DeValue::Table(r)) => field(r, "n").and_then(int),
+        _ => None,
     })
 }
 
@@ -597,6 +655,9 @@ fn read_axis(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, i: usize) -> Res<Axis> {
                 ),
             ));
         }
+        for (lo, hi) in low.iter().zip(&high) {
+            finite_span(doc, need("high")?, &format!("{lname}.high"), *lo, *hi)?;
+        }
         let n = doc.count(need("n")?, &format!("{lname}.n"))?;
         let seed = doc.seed(lget("seed"), &format!("{lname}.seed"))?;
         let cols = axes::latin_hypercube(&low, &high, n, seed);
@@ -640,6 +701,7 @@ fn read_axis(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, i: usize) -> Res<Axis> {
             }
             let (a, b) = (doc.number(&list[0], &gname)?, doc.number(&list[1], &gname)?);
             let n = doc.count(&list[2], &gname)?;
+            finite_span(doc, gv, &gname, a, b)?;
             if generator == "logspace" {
                 if !(a > 0.0 && b > 0.0) {
                     return Err(doc.invalid(gv, &gname, "logspace = [start, stop, n] spaces the values geometrically: start and stop must be > 0 (they are the values, not their exponents)"));
@@ -669,6 +731,7 @@ fn read_axis(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, i: usize) -> Res<Axis> {
                     format!("low must be below high ({low} is not below {high})"),
                 ));
             }
+            finite_span(doc, need("high")?, &format!("{gname}.high"), low, high)?;
             let n = doc.count(need("n")?, &format!("{gname}.n"))?;
             let seed = doc.seed(rget("seed"), &format!("{gname}.seed"))?;
             Values::Floats(axes::random(low, high, n, seed))
@@ -694,18 +757,24 @@ fn read_outcomes(doc: &Doc<'_>, t: &DeTable<'_>) -> Res<Outcomes> {
             "wall_time" => o.wall_time = doc.boolean(v, &key)?,
             "rhs_evals" => o.rhs_evals = doc.boolean(v, &key)?,
             name => {
-                let list = match v.get_ref() {
-                    DeValue::String(s) if s == "all" => {
-                        let mut all: Vec<String> = ellipsoid_core::columns::NUMERIC_COLUMNS
-                            .iter()
-                            .map(|c| c.0.to_owned())
-                            .collect();
-                        if name == "final" {
-                            all.insert(ellipsoid_core::columns::MODE_POSITION, "mode".into());
-                        }
-                        all
+                let all = match v.get_ref() {
+                    DeValue::String(s) => s == "all",
+                    DeValue::Array(a) => {
+                        a.len() == 1 && matches!(a[0].get_ref(), DeValue::String(s) if s == "all")
                     }
-                    _ => doc.strings(v, &key, MAX_KEYS)?,
+                    _ => false,
+                };
+                let list = if all {
+                    let mut all: Vec<String> = ellipsoid_core::columns::NUMERIC_COLUMNS
+                        .iter()
+                        .map(|c| c.0.to_owned())
+                        .collect();
+                    if name == "final" {
+                        all.insert(ellipsoid_core::columns::MODE_POSITION, "mode".into());
+                    }
+                    all
+                } else {
+                    doc.strings(v, &key, MAX_KEYS)?
                 };
                 match name {
                     "final" => o.final_columns = list,

@@ -255,3 +255,92 @@ fn a_plan_travels_as_json_without_changing_a_bit() {
         assert_eq!(back.resolve(i).unwrap().key, s.resolve(i).unwrap().key);
     }
 }
+
+#[test]
+fn worker_threads_are_bounded_by_the_cap_and_the_runs() {
+    let max = max_threads();
+    assert!(max >= 8);
+    assert_eq!(worker_threads(5, 2), 2);
+    assert_eq!(worker_threads(3, 0), 1);
+    assert_eq!(worker_threads(1_000_000_000, 1_000_000_000), max);
+    assert!(worker_threads(0, 3) <= 3);
+    assert_eq!(worker_threads(1, 100), 1);
+}
+
+/// The grid's size is known from the generators' `n` before any value is made: 32 axes
+/// of 10⁷ values used to make 2.5 GB of values before the count was checked.
+#[test]
+fn the_point_count_is_checked_before_any_value_is_made() {
+    let axis = "[[axis]]\nkey = \"contact.friction\"\nlinspace = [0.1, 1, 10000000]\n";
+    let e = plan(&axis.repeat(32)).unwrap_err();
+    assert!(
+        e.starts_with("s.toml:1:1: combine = grid: 10000000 × 10000000 × "),
+        "{e}"
+    );
+    assert!(
+        e.contains("= 1e224 points; a study has at most 10000000"),
+        "{e}"
+    );
+    let e = plan("[[axis]]\nkey = \"contact.friction\"\nvalues = [0.1, 0.2]\n[[axis]]\nkey = \"initial.phi_dot\"\nrandom = { low = 0, high = 1, n = 6000000 }\n").unwrap_err();
+    assert!(e.contains("2 × 6000000 = 1.2e7 points"), "{e}");
+}
+
+/// Generator ranges whose width overflows are refused: they made NaN and inf values,
+/// which then reached the scenario as the string "NaN".
+#[test]
+fn generators_make_only_finite_values() {
+    for (doc, key) in [
+        ("linspace = [-1e308, 1e308, 3]", "axis[0].linspace"),
+        ("logspace = [1e-300, 1.7e308, 3]", ""),
+        (
+            "random = { low = -1.7e308, high = 1.7e308, n = 3 }",
+            "axis[0].random.high",
+        ),
+    ] {
+        let text = format!("[[axis]]\nkey = \"contact.friction\"\n{doc}\n");
+        match plan(&text) {
+            Err(e) => assert!(
+                !key.is_empty() && e.contains(key) && e.contains("too far apart"),
+                "{doc}: {e}"
+            ),
+            Ok(p) => {
+                assert!(key.is_empty(), "{doc} accepted");
+                match &p.axes[0].dims[0].values {
+                    Values::Floats(v) => assert!(v.iter().all(|x| x.is_finite()), "{v:?}"),
+                    other => panic!("{other:?}"),
+                }
+            }
+        }
+    }
+    let e = plan("[[axis]]\nkeys = [\"contact.friction\"]\nlatin_hypercube = { low = [-1e308], high = [1e308], n = 5 }\n").unwrap_err();
+    assert!(
+        e.contains("axis[0].latin_hypercube.high") && e.contains("too far apart"),
+        "{e}"
+    );
+}
+
+/// Study-file messages name the right field and place: `final = ["all"]` is the documented
+/// "all"; a misspelt `also` key is reported on `also`; a non-UTF-8 file gets line:column.
+#[test]
+fn study_file_messages_name_the_field_and_place() {
+    let all = study(
+        "[[axis]]\nkey = \"contact.friction\"\nvalues = [0.3]\n[outcomes]\nfinal = [\"all\"]\n",
+    )
+    .unwrap();
+    let word = study(
+        "[[axis]]\nkey = \"contact.friction\"\nvalues = [0.3]\n[outcomes]\nfinal = \"all\"\n",
+    )
+    .unwrap();
+    assert_eq!(header(&all), header(&word));
+    assert!(header(&all).iter().any(|h| h.starts_with("final.mode")));
+    let e = study("[[axis]]\nkey = \"contact.friction\"\nalso = [\"initial.omega_body[7]\"]\nvalues = [0.3]\n").unwrap_err();
+    assert!(
+        e.contains("axis[contact.friction].also = \"initial.omega_body[7]\""),
+        "{e}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("s.toml");
+    std::fs::write(&path, b"combine = \"grid\"\nx = \"ab\xff\"\n").unwrap();
+    let e = spec::load(&path).unwrap_err().to_string();
+    assert!(e.contains("s.toml:2:8: ") && e.contains("byte 0xff"), "{e}");
+}

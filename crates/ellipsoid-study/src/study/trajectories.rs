@@ -1,10 +1,11 @@
 //! A study's trajectories (`ellipsoid study --trajectories RUNS.h5`; feature `hdf5`): one
-//! HDF5 file, a group per run named by its row's key, laid out like `ellipsoid run`'s
-//! HDF5 output (`t`, …, `gap` with `units`, `mode`), with the row's point, axis values,
-//! status and message as group attributes. Written group by group as the runs finish,
-//! to a temporary renamed into place by [`TrajectoryFile::commit`]; bounded by
-//! [`MAX_ROWS`] samples over all runs.
+//! HDF5 file, a group per distinct row key (points that run the same scenario share one),
+//! laid out like `ellipsoid run`'s HDF5 output (`t`, …, `gap` with `units`, `mode`), with
+//! the point, axis values, status and message of the first such row to finish as group
+//! attributes. Written group by group as the runs finish, to a temporary renamed into
+//! place by [`TrajectoryFile::commit`]; bounded by [`MAX_ROWS`] samples over all runs.
 
+use std::collections::HashSet;
 use std::path::Path;
 
 use ellipsoid_core::columns::NUMERIC;
@@ -41,6 +42,8 @@ pub fn check_size(study: &Study) -> Result<(), String> {
 /// The trajectory file being written.
 pub struct TrajectoryFile {
     groups: Hdf5Groups,
+    /// The keys that have a group already.
+    keys: HashSet<String>,
 }
 
 impl TrajectoryFile {
@@ -58,12 +61,20 @@ impl TrajectoryFile {
                 ),
             ],
         )?;
-        Ok(TrajectoryFile { groups })
+        Ok(TrajectoryFile {
+            groups,
+            keys: HashSet::new(),
+        })
     }
 
     /// Adds run `r`'s trajectory `t` as the group named by its key (a point that never
-    /// ran: `invalid-<point>`, with no samples). Refuses to go past [`MAX_ROWS`].
+    /// ran: `invalid-<point>`, with no samples). Points that run the same scenario share
+    /// its key, so the first of them to finish makes the group and the others add
+    /// nothing (their trajectories are the same). Refuses to go past [`MAX_ROWS`].
     pub fn add(&mut self, study: &Study, r: &PointResult, t: &Trajectory) -> Result<(), String> {
+        if !r.key.is_empty() && !self.keys.insert(r.key.clone()) {
+            return Ok(());
+        }
         let rows = self.groups.rows() + t.len() as u64;
         if rows > MAX_ROWS {
             return Err(format!(

@@ -1,0 +1,468 @@
+//! An animated GIF of a run, rendered without a browser: the body on the plane, its
+//! contact trace, the time and θ in a corner (`ellipsoid animate`,
+//! `Trajectory.animate`).
+//!
+//! Each frame is ray-cast in an orthographic camera looking down at 30° on the plane: a
+//! ray hits the ellipsoid |S⁻¹ R⁻¹(p − C0)| = 1 (S = diag(a, b, c), R the z-x-z rotation,
+//! C0 = G − R g) where the quadratic in the ray parameter has a root, and is shaded by
+//! Lambert's law with the surface normal R S⁻² p_b; the body's octants are coloured
+//! alternately so that the spin shows, its lower half (z_b < 0) in another hue. Pixels
+//! that miss it show the plane z = 0 (a checkerboard, one square per largest semi-axis)
+//! and the contact point's path so far. The camera is fixed (the run's whole path in
+//! view), so a frame differs from the last only around the body: each is written as the
+//! rectangle that changed, which keeps the file small. Colours come from one fixed
+//! palette, so no quantisation is needed.
+
+use std::io::Write;
+
+use nalgebra::{Matrix3, Vector3};
+
+use crate::table::{Shape, Table, euler_rotation};
+
+/// Most frames an animation may have (a minute at 25 fps, plus some).
+pub const MAX_FRAMES: usize = 2_000;
+/// Largest frame side, px.
+pub const MAX_SIDE: u32 = 2_000;
+
+/// What to render.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Options {
+    /// Frame size, px.
+    pub width: u32,
+    pub height: u32,
+    /// Frames per second of the animation.
+    pub fps: f64,
+    /// Simulated seconds per second of animation (1 = real time).
+    pub speed: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            width: 480,
+            height: 360,
+            fps: 25.0,
+            speed: 1.0,
+        }
+    }
+}
+
+impl Options {
+    /// Checks the bounds: sides 16..=[`MAX_SIDE`] px, fps in (0, 100], speed positive
+    /// and finite.
+    pub fn check(&self) -> Result<(), String> {
+        for (name, v) in [("width", self.width), ("height", self.height)] {
+            if !(16..=MAX_SIDE).contains(&v) {
+                return Err(format!("{name} = {v} px: give 16 to {MAX_SIDE} px"));
+            }
+        }
+        if !(self.fps > 0.0 && self.fps <= 100.0) {
+            return Err(format!(
+                "fps = {}: give a frame rate in (0, 100] (a GIF counts in 1/100 s)",
+                self.fps
+            ));
+        }
+        if !(self.speed > 0.0 && self.speed.is_finite()) {
+            return Err(format!(
+                "speed = {}: give a positive number of simulated seconds per second",
+                self.speed
+            ));
+        }
+        Ok(())
+    }
+}
+
+// The palette: 0 background, 1–2 the checkerboard, 3 trace, 4 text, 5 text shadow,
+// then BODY_LEVELS shades of each of the four body colours.
+const TRACE: u8 = 3;
+const TEXT: u8 = 4;
+const TEXT_BG: u8 = 5;
+const BODY: u8 = 6;
+const BODY_LEVELS: u8 = 40;
+const BODY_COLOURS: [[f64; 3]; 4] = [
+    [0.20, 0.45, 0.85], // upper half, even octants
+    [0.95, 0.95, 0.98], // upper half, odd octants
+    [0.90, 0.45, 0.15], // lower half, even
+    [0.98, 0.85, 0.55], // lower half, odd
+];
+
+fn palette() -> Vec<u8> {
+    let mut p = vec![
+        255, 255, 255, // background
+        222, 226, 232, // checker light
+        200, 206, 214, // checker dark
+        200, 30, 40, // trace
+        20, 20, 20, // text
+        255, 255, 255, // text background
+    ];
+    for c in BODY_COLOURS {
+        for l in 0..BODY_LEVELS {
+            let k = 0.25 + 0.75 * f64::from(l) / f64::from(BODY_LEVELS - 1);
+            p.extend(c.map(|x| (255.0 * x * k).round() as u8));
+        }
+    }
+    p
+}
+
+/// The orthographic camera: screen axes `right`, `up`, the direction `back` towards the
+/// viewer, the world point at the frame's centre and px per metre.
+struct Camera {
+    right: Vector3<f64>,
+    up: Vector3<f64>,
+    back: Vector3<f64>,
+    centre: Vector3<f64>,
+    scale: f64,
+    width: u32,
+    height: u32,
+}
+
+impl Camera {
+    /// Looking down at 30° from azimuth −60°, fitted to the box `lo`..`hi`.
+    fn fit(lo: Vector3<f64>, hi: Vector3<f64>, width: u32, height: u32) -> Self {
+        let (az, el) = (-60f64.to_radians(), 30f64.to_radians());
+        let back = Vector3::new(el.cos() * az.cos(), el.cos() * az.sin(), el.sin());
+        let right = Vector3::new(-az.sin(), az.cos(), 0.0);
+        let up = back.cross(&right);
+        let centre = (lo + hi) / 2.0;
+        let (mut du, mut dv) = (0f64, 0f64);
+        for i in 0..8 {
+            let corner = Vector3::new(
+                if i & 1 == 0 { lo.x } else { hi.x },
+                if i & 2 == 0 { lo.y } else { hi.y },
+                if i & 4 == 0 { lo.z } else { hi.z },
+            ) - centre;
+            du = du.max(corner.dot(&right).abs());
+            dv = dv.max(corner.dot(&up).abs());
+        }
+        let scale =
+            (0.45 * f64::from(width) / du.max(1e-12)).min(0.45 * f64::from(height) / dv.max(1e-12));
+        Camera {
+            right,
+            up,
+            back,
+            centre,
+            scale,
+            width,
+            height,
+        }
+    }
+
+    /// The pixel of world point `p`.
+    fn pixel(&self, p: &Vector3<f64>) -> (f64, f64) {
+        let d = p - self.centre;
+        (
+            f64::from(self.width) / 2.0 + d.dot(&self.right) * self.scale,
+            f64::from(self.height) / 2.0 - d.dot(&self.up) * self.scale,
+        )
+    }
+
+    /// A point on the ray through pixel (i, j), in front of the scene.
+    fn origin(&self, i: u32, j: u32) -> Vector3<f64> {
+        let u = (f64::from(i) + 0.5 - f64::from(self.width) / 2.0) / self.scale;
+        let v = (f64::from(self.height) / 2.0 - f64::from(j) - 0.5) / self.scale;
+        self.centre + self.right * u + self.up * v
+    }
+}
+
+/// The body's pose in one frame.
+struct Pose {
+    /// Body → world rotation.
+    r: Matrix3<f64>,
+    /// Geometric centre C0.
+    c0: Vector3<f64>,
+}
+
+impl Pose {
+    fn new(shape: &Shape, g: Vector3<f64>, theta: f64, phi: f64, psi: f64) -> Self {
+        let r = euler_rotation(theta, phi, psi);
+        Pose {
+            c0: g - r * Vector3::from(shape.com_offset),
+            r,
+        }
+    }
+}
+
+/// The palette index of the body where the ray from `o` along −`back` hits it, if it does.
+fn body_pixel(shape: &Shape, pose: &Pose, o: &Vector3<f64>, back: &Vector3<f64>) -> Option<u8> {
+    let inv = Vector3::from(shape.semi_axes).map(|a| 1.0 / a);
+    // ray in body axes, scaled so that the body is the unit sphere: q(s) = q0 + s w
+    let q0 = (pose.r.transpose() * (o - pose.c0)).component_mul(&inv);
+    let w = (pose.r.transpose() * -back).component_mul(&inv);
+    let (a, b, c) = (w.dot(&w), q0.dot(&w), q0.dot(&q0) - 1.0);
+    let disc = b * b - a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let s = (-b - disc.sqrt()) / a;
+    let q = q0 + w * s; // on the unit sphere; body point S q, normal ∝ S⁻¹ q
+    let n = pose.r * q.component_mul(&inv).normalize();
+    let light = Vector3::new(-0.3, -0.5, 0.8).normalize();
+    let lambert = 0.35 + 0.65 * n.dot(&light).max(0.0);
+    let octant = usize::from(q.x >= 0.0) ^ usize::from(q.y >= 0.0);
+    let colour = octant + if q.z < 0.0 { 2 } else { 0 };
+    let level = (lambert * f64::from(BODY_LEVELS - 1)).round() as u8;
+    Some(BODY + colour as u8 * BODY_LEVELS + level.min(BODY_LEVELS - 1))
+}
+
+/// The plane's checkerboard at the ray from `o` (squares of side `square`).
+fn floor_pixel(o: &Vector3<f64>, back: &Vector3<f64>, square: f64) -> u8 {
+    let p = o - back * (o.z / back.z);
+    let k = (p.x / square).floor() as i64 + (p.y / square).floor() as i64;
+    if k.rem_euclid(2) == 0 { 1 } else { 2 }
+}
+
+/// 5×7 glyphs of the corner text, one row per byte (bit 4 leftmost).
+fn glyph(c: char) -> [u8; 7] {
+    match c {
+        '0' => [14, 17, 19, 21, 25, 17, 14],
+        '1' => [4, 12, 4, 4, 4, 4, 14],
+        '2' => [14, 17, 1, 2, 4, 8, 31],
+        '3' => [31, 2, 4, 2, 1, 17, 14],
+        '4' => [2, 6, 10, 18, 31, 2, 2],
+        '5' => [31, 16, 30, 1, 1, 17, 14],
+        '6' => [6, 8, 16, 30, 17, 17, 14],
+        '7' => [31, 1, 2, 4, 8, 8, 8],
+        '8' => [14, 17, 17, 14, 17, 17, 14],
+        '9' => [14, 17, 17, 15, 1, 2, 12],
+        '.' => [0, 0, 0, 0, 0, 12, 12],
+        '-' => [0, 0, 0, 31, 0, 0, 0],
+        '=' => [0, 0, 31, 0, 31, 0, 0],
+        't' => [8, 8, 28, 8, 8, 9, 6],
+        's' => [0, 0, 14, 16, 14, 1, 30],
+        'r' => [0, 0, 22, 25, 16, 16, 16],
+        'a' => [0, 0, 14, 1, 15, 17, 15],
+        'd' => [1, 1, 13, 19, 17, 17, 15],
+        'θ' => [14, 17, 17, 31, 17, 17, 14],
+        _ => [0; 7],
+    }
+}
+
+/// Writes `text` at (x, y) with each font pixel `k`×`k` px, on a white box.
+fn text(buf: &mut [u8], width: u32, height: u32, x: u32, y: u32, k: u32, text: &str) {
+    let n = text.chars().count() as u32;
+    let (w, h) = ((6 * n + 1) * k, 9 * k);
+    for j in y..(y + h).min(height) {
+        for i in x..(x + w).min(width) {
+            buf[(j * width + i) as usize] = TEXT_BG;
+        }
+    }
+    for (ci, c) in text.chars().enumerate() {
+        for (row, bits) in glyph(c).iter().enumerate() {
+            for col in 0..5u32 {
+                if bits & (16 >> col) == 0 {
+                    continue;
+                }
+                for dy in 0..k {
+                    for dx in 0..k {
+                        let i = x + (1 + 6 * ci as u32 + col) * k + dx;
+                        let j = y + (1 + row as u32) * k + dy;
+                        if i < width && j < height {
+                            buf[(j * width + i) as usize] = TEXT;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// Draws the segment a–b (pixels) `colour`, 2 px wide, where `mask` is false.
+fn segment(buf: &mut [u8], mask: &[bool], width: u32, height: u32, a: (f64, f64), b: (f64, f64)) {
+    let n =
+        ((b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil() as usize).clamp(1, 4 * MAX_SIDE as usize);
+    for k in 0..=n {
+        let f = k as f64 / n as f64;
+        let (x, y) = (a.0 + (b.0 - a.0) * f, a.1 + (b.1 - a.1) * f);
+        for (dx, dy) in [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0), (1.0, 1.0)] {
+            let (i, j) = ((x + dx - 0.5).floor(), (y + dy - 0.5).floor());
+            if i >= 0.0 && j >= 0.0 && i < f64::from(width) && j < f64::from(height) {
+                let at = (j as u32 * width + i as u32) as usize;
+                if !mask[at] {
+                    buf[at] = TRACE;
+                }
+            }
+        }
+    }
+}
+
+/// Renders the run in `table` (which needs t, x, y, z, theta, phi, psi and the body's
+/// shape) as an animated GIF written to `out`: frames at t = k·speed/fps from the first
+/// row to the last, at most [`MAX_FRAMES`]. Returns the number of frames.
+pub fn gif(table: &Table, opt: &Options, out: impl Write) -> Result<usize, String> {
+    opt.check()?;
+    let shape = table
+        .shape
+        .ok_or_else(|| format!("cannot draw the body: {}", table.shape_note))?;
+    let cols = table.require(&["t", "x", "y", "z", "theta", "phi", "psi"], "an animation")?;
+    let (t, x, y, z, theta, phi, psi) = (
+        cols[0], cols[1], cols[2], cols[3], cols[4], cols[5], cols[6],
+    );
+    if t.is_empty() {
+        return Err("the trajectory has no rows".into());
+    }
+    let (t0, t1) = (t[0], t[t.len() - 1]);
+    let step = opt.speed / opt.fps;
+    let frames = (((t1 - t0) / step).floor() as usize + 1).min(MAX_FRAMES);
+    let rmax = shape.semi_axes.iter().copied().fold(0.0, f64::max);
+    // the box the camera keeps in view: every position of G, grown by the body
+    let (mut lo, mut hi) = (
+        Vector3::repeat(f64::INFINITY),
+        Vector3::repeat(f64::NEG_INFINITY),
+    );
+    for i in 0..t.len() {
+        let g = Vector3::new(x[i], y[i], z[i]);
+        lo = lo.inf(&g);
+        hi = hi.sup(&g);
+    }
+    let grow = Vector3::repeat(rmax + shape.com_offset.iter().map(|v| v.abs()).fold(0.0, f64::max));
+    let (lo, hi) = (Vector3::new(lo.x, lo.y, 0.0) - grow, hi + grow);
+    let (w, h) = (opt.width, opt.height);
+    let cam = Camera::fit(Vector3::new(lo.x, lo.y, 0.0), hi, w, h);
+    let (pal, n) = (palette(), (w * h) as usize);
+    let mut enc = gif::Encoder::new(out, w as u16, h as u16, &pal).map_err(|e| e.to_string())?;
+    enc.set_repeat(gif::Repeat::Infinite)
+        .map_err(|e| e.to_string())?;
+    let floor: Vec<u8> = (0..n)
+        .map(|p| floor_pixel(&cam.origin(p as u32 % w, p as u32 / w), &cam.back, rmax))
+        .collect();
+    let trace: Vec<(f64, f64)> = (0..t.len())
+        .map(|i| {
+            let c = shape.contact_point([x[i], y[i], z[i]], theta[i], phi[i], psi[i]);
+            cam.pixel(&Vector3::new(c[0], c[1], 0.0))
+        })
+        .collect();
+    let delay = (100.0 / opt.fps).round().max(1.0) as u16;
+    let text_scale = (h / 180).max(1);
+    let mut prev: Option<Vec<u8>> = None;
+    let mut row = 0;
+    for k in 0..frames {
+        let tk = t0 + k as f64 * step;
+        while row + 1 < t.len() && t[row + 1] <= tk {
+            row += 1;
+        }
+        let pose = Pose::new(
+            &shape,
+            Vector3::new(x[row], y[row], z[row]),
+            theta[row],
+            phi[row],
+            psi[row],
+        );
+        let mut buf = floor.clone();
+        let mut mask = vec![false; n];
+        // only pixels near the body can show it
+        let (cx, cy) = cam.pixel(&pose.c0);
+        let reach = rmax * cam.scale + 2.0;
+        let (i0, i1) = (
+            (cx - reach).max(0.0) as u32,
+            ((cx + reach).ceil().max(0.0) as u32).min(w),
+        );
+        let (j0, j1) = (
+            (cy - reach).max(0.0) as u32,
+            ((cy + reach).ceil().max(0.0) as u32).min(h),
+        );
+        for j in j0..j1 {
+            for i in i0..i1 {
+                if let Some(c) = body_pixel(&shape, &pose, &cam.origin(i, j), &cam.back) {
+                    let at = (j * w + i) as usize;
+                    buf[at] = c;
+                    mask[at] = true;
+                }
+            }
+        }
+        for pair in trace[..=row].windows(2) {
+            segment(&mut buf, &mask, w, h, pair[0], pair[1]);
+        }
+        let label = format!("t = {tk:.3} s  θ = {:.3} rad", theta[row]);
+        text(&mut buf, w, h, 4, 4, text_scale, &label);
+        let frame = changed(&buf, prev.as_deref(), w, h, delay);
+        enc.write_frame(&frame).map_err(|e| e.to_string())?;
+        prev = Some(buf);
+    }
+    Ok(frames)
+}
+
+/// The frame to write: the rectangle of `buf` that differs from `prev` (the whole frame
+/// first; one pixel when nothing changed).
+fn changed<'a>(buf: &'a [u8], prev: Option<&[u8]>, w: u32, h: u32, delay: u16) -> gif::Frame<'a> {
+    let (mut x0, mut y0, mut x1, mut y1) = (w, h, 0, 0);
+    match prev {
+        None => (x0, y0, x1, y1) = (0, 0, w, h),
+        Some(p) => {
+            for j in 0..h {
+                for i in 0..w {
+                    let at = (j * w + i) as usize;
+                    if buf[at] != p[at] {
+                        (x0, y0) = (x0.min(i), y0.min(j));
+                        (x1, y1) = (x1.max(i + 1), y1.max(j + 1));
+                    }
+                }
+            }
+            if x1 == 0 {
+                (x0, y0, x1, y1) = (0, 0, 1, 1);
+            }
+        }
+    }
+    let mut sub = Vec::with_capacity(((x1 - x0) * (y1 - y0)) as usize);
+    for j in y0..y1 {
+        sub.extend_from_slice(&buf[(j * w + x0) as usize..(j * w + x1) as usize]);
+    }
+    gif::Frame {
+        left: x0 as u16,
+        top: y0 as u16,
+        width: (x1 - x0) as u16,
+        height: (y1 - y0) as u16,
+        delay,
+        dispose: gif::DisposalMethod::Keep,
+        buffer: sub.into(),
+        ..gif::Frame::default()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sphere of radius 1 whose centre is G, at rest upright: every pixel the camera
+    /// sees within 1 m of G's image is body, none beyond (an orthographic image of a
+    /// sphere is a disc of the same radius).
+    #[test]
+    fn a_sphere_is_a_disc_of_its_radius() {
+        let shape = Shape {
+            semi_axes: [1.0; 3],
+            com_offset: [0.0; 3],
+        };
+        let cam = Camera::fit(
+            Vector3::new(-3.0, -3.0, 0.0),
+            Vector3::new(3.0, 3.0, 3.0),
+            200,
+            200,
+        );
+        let pose = Pose::new(&shape, Vector3::new(0.0, 0.0, 1.0), 0.3, 0.2, 0.1);
+        let (cx, cy) = cam.pixel(&pose.c0);
+        let r = cam.scale;
+        for j in 0..200 {
+            for i in 0..200 {
+                let d = ((f64::from(i) + 0.5 - cx).hypot(f64::from(j) + 0.5 - cy)) / r;
+                let hit = body_pixel(&shape, &pose, &cam.origin(i, j), &cam.back).is_some();
+                if (d - 1.0).abs() > 1e-9 {
+                    assert_eq!(hit, d < 1.0, "pixel ({i}, {j}) at {d} radii");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn options_are_bounded() {
+        assert!(Options::default().check().is_ok());
+        let bad = Options {
+            fps: 0.0,
+            ..Options::default()
+        };
+        assert!(bad.check().unwrap_err().contains("fps = 0"));
+        let big = Options {
+            width: 10_000,
+            ..Options::default()
+        };
+        assert!(big.check().unwrap_err().contains("width = 10000 px"));
+    }
+}

@@ -1,0 +1,54 @@
+"""`Trajectory.animate` (and `ellipsoid animate`, the same renderer): a GIF rendered
+without a browser."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ellipsoid
+from conftest import REPO
+
+Image = pytest.importorskip("PIL.Image")
+
+
+def test_gif_frames_timing_and_the_body_where_g_is(tmp_path: Path) -> None:
+    traj = ellipsoid.simulate(REPO / "scenarios" / "tippe-top.toml", output={"t_end": 2.0})
+    path = tmp_path / "top.gif"
+    frames = traj.animate(path, width=240, height=180, fps=20, speed=0.5)
+    assert frames == int(2.0 / (0.5 / 20)) + 1 == 81
+    im = Image.open(path)
+    assert im.size == (240, 180) and im.n_frames == frames
+    assert im.info["duration"] == 50  # 1/20 s per frame
+    assert path.stat().st_size < 3_000_000
+    # The top stays near the origin: the frame's middle third holds the body (not the
+    # plane's two greys), the corners do not.
+    rgb = np.asarray(im.convert("RGB"), dtype=int)
+    plane = {(222, 226, 232), (200, 206, 214)}
+    middle = {tuple(p) for p in rgb[60:120, 80:160].reshape(-1, 3)}
+    assert len(middle - plane - {(255, 255, 255), (20, 20, 20)}) > 10
+    assert tuple(rgb[-1, -1]) in plane and tuple(rgb[-1, 0]) in plane
+    with pytest.raises(ellipsoid.ScenarioError, match="fps = 0"):
+        traj.animate(tmp_path / "x.gif", fps=0)
+    with pytest.raises(ellipsoid.ScenarioError, match="written as .gif"):
+        traj.animate(tmp_path / "x.mp4")
+
+
+def test_the_cli_writes_the_same_gif(tmp_path: Path, cli: Path) -> None:
+    scenario = REPO / "scenarios" / "egg-jump.toml"
+    csv, summary = tmp_path / "egg.csv", tmp_path / "egg.json"
+    subprocess.run([cli, "run", scenario, "-o", csv, "--summary", summary, "--set", "output.t_end=0.5", "-q"], check=True)
+    subprocess.run([cli, "animate", csv, "--summary", summary, "-o", tmp_path / "cli.gif", "--width", "160", "--height", "120", "-q"], check=True)
+    traj = ellipsoid.simulate(scenario, output={"t_end": 0.5})
+    traj.animate(tmp_path / "py.gif", width=160, height=120)
+    a = Image.open(tmp_path / "cli.gif")
+    b = Image.open(tmp_path / "py.gif")
+    assert a.n_frames == b.n_frames == 13
+    for k in (0, 6, 12):
+        a.seek(k)
+        b.seek(k)
+        diff = np.abs(np.asarray(a.convert("RGB"), dtype=int) - np.asarray(b.convert("RGB"), dtype=int))
+        assert (diff.max(axis=2) > 0).mean() < 0.01, k  # the CSV's round trip moves a few edge pixels at most

@@ -1,0 +1,205 @@
+"""A result a solve_ivp user already knows: `sol`, `t_events`/`y_events`, `success`,
+`nfev`, `states`, `t_eval`/`method`, pickling, `repr`, pandas and xarray views."""
+
+from __future__ import annotations
+
+import pickle
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import ellipsoid
+from conftest import REPO, oblate
+
+SCENARIOS = REPO / "scenarios"
+INVERTED = {"name": "inverted", "column": "theta", "crosses": 1.5707963, "direction": "up", "terminal": False}
+
+
+def tippe_top(t_end: float = 1.5) -> ellipsoid.Trajectory:
+    return ellipsoid.simulate(SCENARIOS / "tippe-top.toml", output={"t_end": t_end}, observe=[INVERTED])
+
+
+def test_sol_is_a_rerun_at_those_times_in_any_order() -> None:
+    traj = tippe_top()
+    ts = np.array([1.2, 0.0, 0.3337, 1.2, 0.75, 1.5])
+    at = traj.sol(ts)
+    np.testing.assert_array_equal(at.t, ts)  # the order given, repeats kept
+    rerun = ellipsoid.simulate(traj.scenario, t_eval=np.unique(ts))
+    order = np.searchsorted(np.unique(ts), ts)
+    for name in ellipsoid.COLUMNS:
+        np.testing.assert_array_equal(getattr(at, name), getattr(rerun, name)[order], err_msg=name)
+    # At the run's own sample times it is the run itself (the steps do not depend on them).
+    again = traj.sol(traj.t)
+    for name in ("theta", "phi", "x", "omega_z", "energy", "work", "slip_speed"):
+        np.testing.assert_array_equal(getattr(again, name), getattr(traj, name), err_msg=name)
+    assert len(traj.sol(0.5)) == 1
+    with pytest.raises(ellipsoid.ScenarioError, match=r"t = 2: Trajectory.sol: every time must lie in \[0, 1.5\] s, the span of the run"):
+        traj.sol([0.1, 2.0])
+
+
+def test_sol_between_samples_conserves_what_the_scene_conserves() -> None:
+    """Frictionless body of revolution: E, L_z and ω·e3* are conserved; the dense output
+    at times off the sample grid keeps E to the solver's tolerance (an interpolant that
+    were merely linear between 1 ms samples would miss it by ~1e-6)."""
+    traj = ellipsoid.simulate(oblate())
+    ts = np.linspace(0.0, 1.0, 997)[1:-1] + 1.234e-4
+    at = traj.sol(ts)
+    e0 = traj.energy[0]
+    assert np.max(np.abs(at.energy - e0)) / abs(e0) < 1e-10
+    linear = np.interp(ts, traj.t, traj.theta)
+    assert np.max(np.abs(at.theta - linear)) > 1e-8, "the interpolant is not the samples'"
+
+
+def test_sol_across_flight_and_impacts() -> None:
+    traj = ellipsoid.simulate(SCENARIOS / "drop.toml", output={"t_end": 0.6})
+    kinds = {e["kind"] for e in traj.events}
+    assert {"touchdown", "impact"} <= kinds, kinds
+    t_hit = traj.t_events["touchdown"][0]
+    ts = np.array([0.5 * t_hit, t_hit, 0.5 * (t_hit + traj.t[-1])])
+    at = traj.sol(ts)
+    assert at.mode[0] == "flight"
+    assert abs(at.gap[1]) < 1e-9, "the body touches the plane at the touchdown's time"
+    g = traj.scenario.text  # free fall before the touchdown: z(t) = z0 + vz0 t − g t²/2
+    assert "gravity" not in g or "9.81" in g
+    z = traj.z[0] + traj.vz[0] * ts[0] - 0.5 * 9.81 * ts[0] ** 2
+    assert abs(at.z[0] - z) < 1e-12
+
+
+def test_events_by_name_and_kind() -> None:
+    traj = tippe_top()
+    te, ye = traj.t_events, traj.y_events
+    assert set(te) == set(ye) and "inverted" in te and "slip_stop" in te and "impact" in te
+    assert te["impact"].shape == (0,) and ye["impact"].shape == (0, len(traj.state_names))
+    for e in traj.events:
+        key = e.get("name", e["kind"])
+        assert e["t"] in te[key]
+    theta = traj.state_names.index("theta")
+    # An observable's state is located with it: θ is the value crossed.
+    assert abs(ye["inverted"][0, theta] - INVERTED["crosses"]) < 1e-12
+    # A built-in event's state is the dense output there: at the slip stop the contact
+    # point stops (slip speed from the rerun at that time).
+    t_stop = te["slip_stop"][0]
+    assert traj.sol(t_stop).slip_speed[0] < 1e-9
+    np.testing.assert_array_equal(ye["slip_stop"][0], traj.sol(t_stop).states[:, 0])
+
+
+def test_success_status_code_nfev_message() -> None:
+    done = ellipsoid.simulate(oblate(output=dict(t_end=0.1, dt=1e-2)))
+    assert done.success and done.status_code == 0 and done.nfev == done.summary["stats"]["rhs_evals"] > 0
+    assert done.message.startswith("reached t_end")
+    stopped = ellipsoid.simulate(oblate(output=dict(t_end=1.0, dt=1e-2)), observe=[{"name": "half", "column": "t", "crosses": 0.5, "terminal": True}])
+    assert stopped.status == "observed" and stopped.success and stopped.status_code == 1
+    failed = ellipsoid.simulate(SCENARIOS / "nutation.toml", solver={"max_steps": 5}, output={"t_end": 1.0})
+    assert not failed.success and failed.status_code == -1 and "steps" in failed.message
+
+
+def test_states_matrix_rows_are_the_named_columns() -> None:
+    traj = tippe_top(0.2)
+    assert traj.states.shape == (len(traj.state_names), len(traj))
+    for row, name in zip(traj.states, traj.state_names):
+        np.testing.assert_array_equal(row, getattr(traj, name))
+    np.testing.assert_array_equal(traj.states[traj.state_names.index("y")], traj.y)  # y is G's y
+    assert not traj.states.flags.writeable
+
+
+def test_t_eval_and_scipy_method_names() -> None:
+    ts = np.array([0.0, 0.013, 0.25, 0.5])
+    traj = ellipsoid.simulate(SCENARIOS / "nutation.toml", t_eval=ts, method="RK45", output={"t_end": 0.5})
+    np.testing.assert_array_equal(traj.t, ts)
+    assert 'solver.method="dopri5"' in traj.scenario.overrides
+    assert traj.scenario.sample_times.tolist() == ts.tolist()
+    ref = ellipsoid.simulate(SCENARIOS / "nutation.toml", t_eval=ts, method="dop853", output={"t_end": 0.5})
+    np.testing.assert_allclose(traj.theta, ref.theta, rtol=0, atol=1e-7)  # two methods, one motion
+    # The scenario rebuilds from its text and changes (dt removed, times set).
+    assert pickle.loads(pickle.dumps(traj.scenario)) == traj.scenario
+    with pytest.raises(ellipsoid.ScenarioError, match="t_eval = 0.1 after 0.2: the times in t_eval must be strictly increasing"):
+        ellipsoid.simulate(SCENARIOS / "nutation.toml", t_eval=[0.2, 0.1])
+    with pytest.raises(ellipsoid.ScenarioError, match=r"t_eval = 20: every time in t_eval must lie in \[0, t_end\]"):
+        ellipsoid.simulate(SCENARIOS / "nutation.toml", t_eval=[0.0, 20.0])
+    with pytest.raises(ellipsoid.ScenarioError, match="method = \"lsoda\": .*LSODA have no counterpart"):
+        ellipsoid.simulate(SCENARIOS / "nutation.toml", method="LSODA")
+    with pytest.raises(ellipsoid.ScenarioError, match="solver.step"):
+        ellipsoid.simulate(SCENARIOS / "nutation.toml", method="rk4")
+
+
+def _run(path: str) -> ellipsoid.Trajectory:
+    return ellipsoid.simulate(path, output={"t_end": 0.3})
+
+
+def test_trajectory_and_scenario_pickle_and_cross_processes(tmp_path: Path) -> None:
+    traj = tippe_top(0.8)
+    back = pickle.loads(pickle.dumps(traj))
+    assert back.summary == traj.summary and back.success == traj.success and len(back) == len(traj)
+    for name in ellipsoid.COLUMNS:
+        np.testing.assert_array_equal(getattr(back, name), getattr(traj, name), err_msg=name)
+    traj.to_csv(tmp_path / "a.csv")
+    back.to_csv(tmp_path / "b.csv")
+    assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()
+    failed = pickle.loads(pickle.dumps(ellipsoid.simulate(SCENARIOS / "nutation.toml", solver={"max_steps": 5})))
+    assert not failed.success
+    with ProcessPoolExecutor(2) as pool:
+        got = list(pool.map(_run, [str(SCENARIOS / "nutation.toml"), str(SCENARIOS / "billiard.toml")]))
+    assert [g.completed for g in got] == [True, True]
+    np.testing.assert_array_equal(got[0].theta, _run(str(SCENARIOS / "nutation.toml")).theta)
+
+
+def test_repr_shows_the_values() -> None:
+    traj = tippe_top(0.2)
+    r = repr(traj)
+    assert "tippe-top.toml" in r and f"{len(traj)} samples" in r and "completed (success)" in r
+    assert f"nfev = {traj.nfev}" in r and "final theta = " in r
+    s = repr(traj.scenario)
+    assert "coulomb" in s and "a = 0.015 m" in s and "t_end = 0.2 s" in s and "output.t_end=0.2" in s
+
+
+def test_to_pandas_and_to_xarray_carry_units() -> None:
+    pd = pytest.importorskip("pandas")
+    xr = pytest.importorskip("xarray")
+    traj = tippe_top(0.2)
+    df = traj.to_pandas()
+    assert isinstance(df, pd.DataFrame) and df.index.name == "t" and "t" not in df.columns
+    assert df.attrs["units"]["theta"] == "rad" and df.attrs["status"] == "completed"
+    np.testing.assert_array_equal(df.loc[traj.t[5], "theta"], traj.theta[5])
+    ds = traj.to_xarray()
+    assert isinstance(ds, xr.Dataset) and ds["theta"].attrs["units"] == "rad" and ds["t"].attrs["units"] == "s"
+    np.testing.assert_array_equal(ds["omega_world_z"].values, traj.omega_world_z)
+    assert list(ds["mode"].values[:1]) == [traj.mode[0]]
+
+
+def test_study_table_as_plain_floats_and_as_an_n_d_dataset() -> None:
+    pytest.importorskip("pandas")
+    pytest.importorskip("xarray")
+    base = oblate(output=dict(t_end=0.05, dt=1e-2))
+    axes = {"initial.psi_dot": [40.0, 60.0], "initial.theta": [0.1, 0.2, 0.3]}
+    df = ellipsoid.study(base, axes, outcomes={"final": ["theta"]}, nullable=False)
+    assert str(df["final.theta [rad]"].dtype) == "float64" and str(df["drift.jellett [1]"].dtype) == "float64"
+    assert df["drift.jellett [1]"].isna().all()  # not conserved here: NaN, not pd.NA
+    assert df.attrs["axes"] == ["initial.psi_dot [rad/s]", "initial.theta [rad]"] and df.attrs["combine"] == "grid"
+    ds = ellipsoid.to_xarray(df)
+    assert dict(ds.sizes) == {"initial.psi_dot [rad/s]": 2, "initial.theta [rad]": 3}
+    final = ds["final.theta [rad]"]
+    assert final.attrs["units"] == "rad" and final.shape == (2, 3)
+    # each cell is its own run: θ(0.05 s) of the run at that (ψ̇, θ0)
+    run = ellipsoid.simulate(base.replace(initial={"psi_dot": 60.0, "theta": 0.3}))
+    assert float(final.sel({"initial.psi_dot [rad/s]": 60.0, "initial.theta [rad]": 0.3})) == run.theta[-1]
+    zipped = ellipsoid.study(base, axes | {"initial.theta": [0.1, 0.2]}, combine="zip")
+    assert list(ellipsoid.to_xarray(zipped).sizes) == ["point"]
+
+
+def test_check_reports_the_velocity_of_g_and_the_slip_the_run_starts_with() -> None:
+    for changes in ({}, {"initial.velocity": [0.1, -0.02]}):
+        s = ellipsoid.load(SCENARIOS / "tippe-top.toml", output={"t_end": 0.01}, **changes)
+        init = ellipsoid.check(s)["initial"]
+        first = ellipsoid.simulate(s)
+        assert init["velocity"] == [first.vx[0], first.vy[0], first.vz[0]]
+        assert init["slip_speed"] == first.slip_speed[0] and init["velocity_given"]
+    assert ellipsoid.check(s)["initial"]["velocity"][:2] == [0.1, -0.02]
+
+
+def test_errors_name_python_changes_not_command_line_flags() -> None:
+    with pytest.raises(ellipsoid.ScenarioError) as info:
+        ellipsoid.load(SCENARIOS / "nutation.toml").replace(initial={"thetta": 0.1})
+    msg = str(info.value)
+    assert "--set" not in msg and "the change initial.thetta=0.1" in msg and "did you mean `theta`" in msg
