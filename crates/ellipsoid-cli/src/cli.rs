@@ -54,6 +54,34 @@ pub enum Command {
     /// SIGINT/SIGTERM (the finished rows stay in the journal; rerun to finish). See
     /// docs/studies.md.
     Study(StudyArgs),
+    /// Steady motions and their linear stability: the scenario's steady motion of a family
+    /// (its state, eigenvalues and modes), or with --vary the family against one scenario
+    /// key, with the critical values where the stability changes. See docs/physics.md,
+    /// "Steady motions and their stability".
+    ///
+    /// Exit status: 0 done; 2 bad input (nothing written); 1 output error.
+    Steady(SteadyArgs),
+}
+
+#[derive(Debug, Args)]
+pub struct SteadyArgs {
+    /// The scenario file (TOML): its body, contact model (frictionless, rolling, or
+    /// coulomb's rolling phase) and initial spin.
+    pub scenario: PathBuf,
+    /// The family: upright, inverted (precession, rolling-circle: not implemented yet).
+    #[arg(long, default_value = "upright")]
+    pub family: String,
+    /// Vary one scenario key: KEY=a:b:n, n evenly spaced values from a to b
+    /// (e.g. initial.psi_dot=0:200:201).
+    #[arg(long, value_name = "KEY=a:b:n", allow_hyphen_values = true)]
+    pub vary: Option<String>,
+    /// Write the table (CSV: the key, spin, theta, normal_force, stable, max_real,
+    /// lambdaK_re, lambdaK_im, modeK for K = 1..4, error).
+    #[arg(short, long, value_name = "OUT.csv")]
+    pub output: Option<PathBuf>,
+    /// Override a scenario value before validation (as for `run`). Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
 }
 
 #[derive(Debug, Args)]

@@ -13,6 +13,7 @@ mod interrupt;
 mod precision;
 mod progress;
 mod run;
+mod steady;
 mod study;
 mod visual;
 
@@ -47,6 +48,7 @@ fn main() -> ExitCode {
         cli::Command::View(args) => visual::view(args),
         cli::Command::Animate(args) => animate::animate(args),
         cli::Command::Study(args) => study::study(args),
+        cli::Command::Steady(args) => steady::steady(args),
     };
     match result {
         Ok(code) => code,

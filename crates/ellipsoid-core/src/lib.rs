@@ -19,3 +19,4 @@ pub mod reference;
 pub mod scenario;
 pub mod simulate;
 pub mod state;
+pub mod steady;

@@ -8,6 +8,7 @@
 //!   behind `ellipsoid precision` and `ellipsoid check`);
 //! - [`parameter_study`]: `Study` and `make_study`, parameter studies from `ellipsoid-study`
 //!   (`ellipsoid.study` itself, with executors and the DataFrame, is `python/ellipsoid/_study.py`);
+//! - [`steady`]: `linearize` and the arrays behind `ellipsoid.steady` (`python/ellipsoid/_steady.py`);
 //! - [`errors`]: the exception tree, one base class `EllipsoidError`.
 //!
 //! The Python sources (`python/ellipsoid/`) re-export these names and carry the stubs.
@@ -19,6 +20,7 @@ mod parameter_study;
 mod pickle;
 mod run;
 mod scenario;
+mod steady;
 mod study;
 mod trajectory;
 
@@ -47,6 +49,8 @@ fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(api::sweep, m)?)?;
     m.add_function(wrap_pyfunction!(study::precision, m)?)?;
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
+    m.add_function(wrap_pyfunction!(steady::steady_raw, m)?)?;
+    m.add_function(wrap_pyfunction!(steady::linearize, m)?)?;
     m.add_function(wrap_pyfunction!(hdf5_plugins, m)?)?;
     m.add_function(wrap_pyfunction!(parameter_study::study_workers, m)?)?;
     m.add_function(wrap_pyfunction!(parameter_study::argument_error, m)?)?;

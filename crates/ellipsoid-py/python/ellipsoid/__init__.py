@@ -30,6 +30,12 @@ Results follow solve_ivp's conventions where they can: `traj.success`, `traj.nfe
 `traj.to_pandas()` is indexed by t, `traj.to_xarray()` and `to_xarray(study_table)` give
 xarray Datasets with units as attributes.
 
+`steady(scenario, family="upright", vary={"initial.psi_dot": values})` finds the steady
+motions of a family and their eigenvalues and critical values (`Steady`: `.values`,
+`.eigenvalues`, `.critical`, `.states`, `.to_pandas()`); `linearize(scenario, state=None)`
+returns the Jacobian of the reduced dynamics and its coordinates' names
+(docs/physics.md, "Steady motions and their stability").
+
 Errors: every exception derives from `EllipsoidError`: `ScenarioError` (a ValueError) for
 bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Python type),
 `SimulationError` (a RuntimeError) when `precision`'s reference run fails (a simulation
@@ -51,12 +57,14 @@ from ellipsoid._ellipsoid import (
     Trajectory,
     __version__,
     check,
+    linearize,
     load,
     precision,
     simulate,
     sweep,
 )
 from ellipsoid._result import study_to_xarray as to_xarray
+from ellipsoid._steady import Steady, steady
 from ellipsoid._study import Study, load_study, study
 
 __all__ = [
@@ -67,6 +75,7 @@ __all__ = [
     "OutputError",
     "PrecisionTable",
     "Scenario",
+    "Steady",
     "Study",
     "ScenarioError",
     "ScenarioTypeError",
@@ -74,10 +83,12 @@ __all__ = [
     "Trajectory",
     "__version__",
     "check",
+    "linearize",
     "load",
     "load_study",
     "precision",
     "simulate",
+    "steady",
     "study",
     "sweep",
     "to_xarray",

@@ -29,10 +29,12 @@ __all__ = [
     "_hdf5_plugins",
     "_study_workers",
     "check",
+    "linearize",
     "load",
     "make_study",
     "precision",
     "simulate",
+    "steady_raw",
     "sweep",
 ]
 
@@ -469,3 +471,12 @@ def sweep(
     summaries_only: bool = False,
     errors: Literal["raise", "return"] = "raise",
 ) -> list[Any]: ...
+
+def steady_raw(
+    scenario: Scenario | _Path, family: str, key: str | None = None, values: list[float] | None = None
+) -> dict[str, Any]:
+    """The arrays behind `ellipsoid.steady` (use that)."""
+def linearize(scenario: Scenario | _Path, state: Sequence[float] | None = None) -> tuple[npt.NDArray[np.float64], list[str]]:
+    """The Jacobian (5 × 5) of the reduced dynamics (ζ·t1, ζ·t2, ω1, ω2, ω3) of `scenario` at
+    `state` = (ζ1, ζ2, ζ3, ω1, ω2, ω3) (world up and ω in body axes), or at the scenario's
+    initial state, and the coordinates' names (docs/physics.md, "Steady motions and their stability")."""

@@ -1,0 +1,246 @@
+//! `ellipsoid steady`: a steady motion of a scenario's body and its linear stability, or
+//! a family of them against one scenario key with its critical values
+//! (docs/physics.md, "Steady motions and their stability").
+
+use std::fmt::Write as _;
+use std::process::ExitCode;
+
+use ellipsoid_core::error::{ModelError, number};
+use ellipsoid_core::scenario::{self, Scenario};
+use ellipsoid_core::steady::{self, Analysis, Family, Sweep, sweep::MAX_VALUES};
+use ellipsoid_io::atomic;
+
+use crate::cli::SteadyArgs;
+use crate::error::CliError;
+
+pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
+    let family = Family::parse(&args.family).map_err(|e| CliError::Usage(format!("--{e}")))?;
+    let scenario = scenario::load_all(&args.scenario, &args.set)?;
+    if let Some(path) = &args.output {
+        atomic::check_target(path)?;
+    }
+    let located = |e: ModelError| CliError::from(scenario.locate(&e));
+    let table = match &args.vary {
+        None => {
+            let an = steady::analyse(&scenario.scene, family).map_err(located)?;
+            print!("{}", describe(&an));
+            table_of("spin", &[an.motion.spin], &[Ok(an)])
+        }
+        Some(spec) => {
+            let (key, values) = parse_vary(spec).map_err(CliError::Usage)?;
+            let sw = steady::sweep(&scenario, family, &key, &values).map_err(located)?;
+            print!("{}", summarise(&scenario, &sw));
+            table_of(&sw.key, &sw.values, &sw.rows)
+        }
+    };
+    if let Some(path) = &args.output {
+        atomic::write(path, table.as_bytes())?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `KEY=a:b:n`: n values from a to b, evenly spaced (n = 1: a alone).
+fn parse_vary(spec: &str) -> Result<(String, Vec<f64>), String> {
+    let rule = "--vary takes KEY=a:b:n (n evenly spaced values from a to b), e.g. initial.psi_dot=0:200:201";
+    let (key, range) = spec
+        .split_once('=')
+        .ok_or_else(|| format!("--vary {spec:?}: {rule}"))?;
+    let parts: Vec<&str> = range.split(':').collect();
+    let [a, b, n] = parts[..] else {
+        return Err(format!("--vary {spec:?}: {rule}"));
+    };
+    let number = |s: &str| {
+        s.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("--vary {spec:?}: {s:?} is not a finite number; {rule}"))
+    };
+    let (a, b) = (number(a)?, number(b)?);
+    let n: usize = n
+        .trim()
+        .parse()
+        .ok()
+        .filter(|n| (1..=MAX_VALUES).contains(n))
+        .ok_or_else(|| {
+            format!("--vary {spec:?}: the count {n:?} must be an integer from 1 to {MAX_VALUES}")
+        })?;
+    let values = (0..n)
+        .map(|i| {
+            if n == 1 {
+                a
+            } else {
+                a + (b - a) * i as f64 / (n - 1) as f64
+            }
+        })
+        .collect();
+    Ok((key.trim().to_owned(), values))
+}
+
+/// One steady motion in words: the state, then each mode.
+fn describe(an: &Analysis) -> String {
+    let m = &an.motion;
+    let mut o = String::new();
+    // + 0.0 prints −0 (a zero times a negative spin) as 0.
+    let (zeta, omega) = steady::reduce::split(&m.at.map(|x| x + 0.0));
+    let _ = writeln!(o, "family               {}", m.family.name());
+    let _ = writeln!(
+        o,
+        "spin n               {} rad/s (about the upward vertical)",
+        m.spin
+    );
+    let _ = writeln!(o, "tilt theta           {} rad", m.theta);
+    let _ = writeln!(
+        o,
+        "zeta (up, body axes) [{}, {}, {}]",
+        zeta.x, zeta.y, zeta.z
+    );
+    let _ = writeln!(
+        o,
+        "omega (body axes)    [{}, {}, {}] rad/s",
+        omega.x, omega.y, omega.z
+    );
+    let _ = writeln!(o, "normal force N       {} N", m.normal_force);
+    if let Some(margin) = m.cone_margin {
+        let _ = writeln!(o, "friction cone margin {margin} N (mu N - |F_h|)");
+    }
+    let verdict = if an.spectrum.stable() {
+        "stable"
+    } else {
+        "unstable"
+    };
+    let _ = writeln!(o, "verdict              {verdict}");
+    let _ = writeln!(
+        o,
+        "modes (eigenvalue lambda in 1/s, body frame; eigenvector in {}):",
+        steady::COORDINATES.join(", ")
+    );
+    for mode in &an.spectrum.modes {
+        let v: Vec<String> = mode
+            .vector
+            .iter()
+            .map(|c| format!("{:.6}{:+.6}i", c.re, c.im))
+            .collect();
+        let _ = writeln!(
+            o,
+            "  {:<7} {:+.10e} {:+.10e}i   [{}]",
+            mode.name,
+            mode.eigenvalue.re,
+            mode.eigenvalue.im,
+            v.join(", ")
+        );
+    }
+    o
+}
+
+/// A sweep in words: one line per value, then the critical values.
+fn summarise(scenario: &Scenario, sw: &Sweep) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "{} family of {} against {} ({} values)",
+        sw.family.name(),
+        scenario.source,
+        sw.key,
+        sw.values.len()
+    );
+    let _ = writeln!(
+        o,
+        "{:>16} {:>9} {:>16}  eigenvalues (1/s)",
+        sw.key, "verdict", "max Re (1/s)"
+    );
+    for (v, row) in sw.values.iter().zip(&sw.rows) {
+        match row {
+            Ok(an) => {
+                let ev: Vec<String> = an
+                    .spectrum
+                    .eigenvalues()
+                    .iter()
+                    .map(|z| format!("{:.6e}{:+.6e}i", z.re, z.im))
+                    .collect();
+                let verdict = if an.spectrum.stable() {
+                    "stable"
+                } else {
+                    "unstable"
+                };
+                let _ = writeln!(
+                    o,
+                    "{v:>16} {verdict:>9} {:>16.6e}  {}",
+                    an.spectrum.max_real(),
+                    ev.join("  ")
+                );
+            }
+            Err(e) => {
+                let _ = writeln!(o, "{v:>16}  no steady motion: {e}");
+            }
+        }
+    }
+    if sw.critical.is_empty() {
+        let _ = writeln!(o, "critical values: none between these values");
+    }
+    for c in &sw.critical {
+        let _ = writeln!(
+            o,
+            "critical {} = {:.15e} ({}; stable {}; eigenvalue {:.6e}{:+.6e}i)",
+            sw.key,
+            c.value,
+            c.kind.name(),
+            if c.stable_above { "above" } else { "below" },
+            c.eigenvalue.re,
+            c.eigenvalue.im
+        );
+    }
+    o
+}
+
+/// The CSV table: the varied key, the steady state, the verdict and the four eigenvalues
+/// with their modes' names; a value without a steady motion has its message in `error`.
+fn table_of(key: &str, values: &[f64], rows: &[steady::sweep::Row]) -> String {
+    let mut o = String::new();
+    let mut header = vec![
+        key.to_owned(),
+        "spin".into(),
+        "theta".into(),
+        "normal_force".into(),
+        "stable".into(),
+        "max_real".into(),
+    ];
+    for k in 1..=4 {
+        header.extend([
+            format!("lambda{k}_re"),
+            format!("lambda{k}_im"),
+            format!("mode{k}"),
+        ]);
+    }
+    header.push("error".into());
+    let _ = writeln!(o, "{}", header.join(","));
+    for (v, row) in values.iter().zip(rows) {
+        let mut cells = vec![number(*v)];
+        match row {
+            Ok(an) => {
+                let m = &an.motion;
+                cells.extend([
+                    number(m.spin + 0.0),
+                    number(m.theta),
+                    number(m.normal_force),
+                    an.spectrum.stable().to_string(),
+                    number(an.spectrum.max_real()),
+                ]);
+                for mode in &an.spectrum.modes {
+                    cells.extend([
+                        number(mode.eigenvalue.re),
+                        number(mode.eigenvalue.im),
+                        mode.name.to_owned(),
+                    ]);
+                }
+                cells.push(String::new());
+            }
+            Err(e) => {
+                cells.extend(std::iter::repeat_n(String::new(), 5 + 12));
+                cells.push(format!("\"{}\"", e.to_string().replace('"', "\"\"")));
+            }
+        }
+        let _ = writeln!(o, "{}", cells.join(","));
+    }
+    o
+}

@@ -1,0 +1,231 @@
+//! Steady motions: the states that are equilibria of the reduced field, i.e. motions
+//! steady up to the plane's symmetries (docs/physics.md, "Steady motions and their
+//! stability", "Families").
+//!
+//! "upright" and "inverted": the body spins at n about the vertical in a rest attitude
+//! ζ0, one where the contact point is directly below G (r ∥ ζ0, a critical point of
+//! G's height h(ζ)), so ω0 = n ζ0. It is steady at every n exactly when ζ0 is a
+//! principal axis of inertia (ω × Iω = n² ζ0 × Iζ0 = 0). "upright" is the rest attitude
+//! nearest ζ = +e3 (the body's c axis up, the paper's θ = 0), "inverted" the one nearest
+//! −e3 (θ = π). The family's parameter is n; x0(n) = (ζ0, n ζ0), so the family's
+//! direction in reduced coordinates is (0, 0, ζ0).
+
+use nalgebra::{Matrix2, Vector2, Vector3};
+
+use super::linearize::{Reduced, tangent_basis};
+use super::reduce::{Phase, ReducedField, join};
+use crate::body::Body;
+use crate::error::{ModelError, number};
+use crate::geometry::{Contact, hessian};
+use crate::simulate::{ContactModel, Scene};
+
+/// A family of steady motions (`ellipsoid steady --family`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Family {
+    /// Spinning about the vertical in the rest attitude nearest the c axis up.
+    Upright,
+    /// The same nearest the c axis down.
+    Inverted,
+    /// Frictionless precession of a tilted body of revolution (G fixed).
+    Precession,
+    /// Routh's steady rolling of a tilted body of revolution on a circle.
+    RollingCircle,
+}
+
+impl Family {
+    /// The names, as `--family` and Python's `family` take them.
+    pub const NAMES: [&'static str; 4] = ["upright", "inverted", "precession", "rolling-circle"];
+
+    /// The family named `name`, or an error naming the field `family`.
+    pub fn parse(name: &str) -> Result<Self, ModelError> {
+        match name {
+            "upright" => Ok(Family::Upright),
+            "inverted" => Ok(Family::Inverted),
+            "precession" => Ok(Family::Precession),
+            "rolling-circle" => Ok(Family::RollingCircle),
+            _ => Err(ModelError::invalid(
+                "family",
+                format!("\"{name}\""),
+                format!("must be one of {}", Family::NAMES.join(", ")),
+            )),
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Upright => "upright",
+            Family::Inverted => "inverted",
+            Family::Precession => "precession",
+            Family::RollingCircle => "rolling-circle",
+        }
+    }
+}
+
+/// One steady motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteadyMotion {
+    pub family: Family,
+    /// (ζ0, ω0): world up and the angular velocity, body axes.
+    pub at: Phase,
+    /// Spin about the upward vertical n = ω0·ζ0 [rad/s].
+    pub spin: f64,
+    /// Tilt θ of the body's c axis from the vertical \[rad\].
+    pub theta: f64,
+    /// Normal force N \[N\].
+    pub normal_force: f64,
+    /// Under the Coulomb model, the friction cone's margin μN − |F_h| \[N\]: the motion
+    /// rolls (and the rolling analysis holds) only where it is positive.
+    pub cone_margin: Option<f64>,
+    /// The family's tangent dx0/dp in reduced coordinates (a zero eigenvector).
+    pub family_direction: Reduced,
+    /// |f(x0)| relative to the field's scale: how far from steady the state is.
+    pub residual: f64,
+}
+
+/// Largest accepted residual |f(x0)| of a steady state, relative to the field's scale.
+const RESIDUAL_TOLERANCE: f64 = 1e-9;
+
+/// The steady motion of `family` whose spin about the vertical is the scene's initial
+/// ω·ζ0 (`initial.omega_body`, or the Euler rates: at θ = 0, n = φ̇ + ψ̇).
+pub fn steady_motion(
+    field: &ReducedField,
+    scene: &Scene,
+    family: Family,
+) -> Result<SteadyMotion, ModelError> {
+    let start = match family {
+        Family::Upright => Vector3::z(),
+        Family::Inverted => -Vector3::z(),
+        Family::Precession | Family::RollingCircle => {
+            return Err(ModelError::invalid(
+                "family",
+                format!("\"{}\"", family.name()),
+                "this family is not implemented yet: use \"upright\" or \"inverted\"",
+            ));
+        }
+    };
+    let body = field.body();
+    let zeta = rest_attitude(body, start)?;
+    let inertia = body.inertia();
+    let gyro = zeta.cross(&(inertia * zeta)).norm();
+    if gyro > 1e-12 * inertia.norm() {
+        return Err(ModelError::invalid(
+            "body.inertia",
+            format!("|ζ0 × I ζ0| = {} kg m^2", number(gyro)),
+            format!(
+                "the {} rest attitude ζ0 = ({:.6}, {:.6}, {:.6}) is not a principal axis of inertia, so spinning about the vertical there is not a steady motion",
+                family.name(),
+                zeta.x,
+                zeta.y,
+                zeta.z
+            ),
+        ));
+    }
+    let init = &scene.initial;
+    let omega_init = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
+    let spin = omega_init.dot(&zeta);
+    upright_motion(field, family, zeta, spin)
+}
+
+/// The steady spin at `spin` in the rest attitude `zeta` (see the module docs).
+pub fn upright_motion(
+    field: &ReducedField,
+    family: Family,
+    zeta: Vector3<f64>,
+    spin: f64,
+) -> Result<SteadyMotion, ModelError> {
+    let at = join(&zeta, &(zeta * spin));
+    let body = field.body();
+    let scale_omega = spin
+        .abs()
+        .max((field.gravity() / body.semi_axes().max()).sqrt());
+    let residual = field.rate(&at).amax() / (scale_omega * scale_omega);
+    if !(residual <= RESIDUAL_TOLERANCE) {
+        return Err(ModelError::invalid(
+            "initial",
+            format!("|f(x0)| = {} of the field's scale", number(residual)),
+            format!("the {} spin is not steady for this body", family.name()),
+        ));
+    }
+    let force = field.force(&at);
+    let normal_force = force.z;
+    if !(normal_force > 0.0) {
+        return Err(ModelError::derived(
+            "initial",
+            "normal force N",
+            number(normal_force),
+            format!(
+                "the plane must push on the body in the {} steady spin",
+                family.name()
+            ),
+        ));
+    }
+    let cone_margin = field
+        .friction()
+        .map(|mu| mu * normal_force - force.xy().norm());
+    let mut family_direction = Reduced::zeros();
+    family_direction.fixed_rows_mut::<3>(2).copy_from(&zeta);
+    Ok(SteadyMotion {
+        family,
+        at,
+        spin,
+        theta: zeta.xy().norm().atan2(zeta.z),
+        normal_force,
+        cone_margin,
+        family_direction,
+        residual,
+    })
+}
+
+/// The rest attitude nearest `start`: the unit ζ at which the lever arm r(ζ) = C − G is
+/// parallel to ζ (G straight above C; ∇h = −r has no tangential part). Newton on the
+/// sphere with the Riemannian Hessian P(H + (ζ·r) 𝟙)P of h (`geometry`).
+pub fn rest_attitude(body: &Body, start: Vector3<f64>) -> Result<Vector3<f64>, ModelError> {
+    let mut zeta = start.normalize();
+    for _ in 0..50 {
+        let r = Contact::new(body, zeta, Vector3::zeros()).r;
+        let [t1, t2] = tangent_basis(&zeta);
+        // Tangential gradient of h: −(r·t1, r·t2).
+        let grad = Vector2::new(-r.dot(&t1), -r.dot(&t2));
+        if grad.norm() <= 1e-15 * body.semi_axes().max() {
+            return Ok(zeta);
+        }
+        let h = hessian(body, zeta) + nalgebra::Matrix3::identity() * zeta.dot(&r);
+        let hess = Matrix2::new(
+            t1.dot(&(h * t1)),
+            t1.dot(&(h * t2)),
+            t2.dot(&(h * t1)),
+            t2.dot(&(h * t2)),
+        );
+        let Some(step) = hess.lu().solve(&-grad) else {
+            break;
+        };
+        zeta = (zeta + t1 * step.x + t2 * step.y).normalize();
+    }
+    Err(ModelError::invalid(
+        "body.com_offset",
+        format!("({:.6}, {:.6}, {:.6})", start.x, start.y, start.z),
+        "no rest attitude (G straight above the contact point) was found near this orientation",
+    ))
+}
+
+/// The scene started on `at` displaced by `delta` (a phase-space direction, `ζ` part
+/// tangent): attitude from ζ (φ = 0), ω given in body axes, G where the scene puts it,
+/// at rest horizontally (frictionless) or rolling. The body touches the plane.
+pub fn started_at(scene: &Scene, at: &Phase, delta: &Phase) -> Scene {
+    let x = at + delta;
+    let (zeta, omega) = super::reduce::split(&x);
+    let mut scene = scene.clone();
+    let init = &mut scene.initial;
+    init.angles = super::reduce::attitude(&zeta);
+    init.omega_body = Some(omega);
+    init.height = 0.0;
+    init.velocity_z = None;
+    init.velocity = match scene.contact {
+        ContactModel::Frictionless | ContactModel::Sliding { .. } => {
+            Some(nalgebra::Vector2::zeros())
+        }
+        ContactModel::Rolling | ContactModel::Coulomb { .. } => None,
+    };
+    scene
+}

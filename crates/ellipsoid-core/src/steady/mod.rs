@@ -1,0 +1,121 @@
+//! Steady motions of the body on the plane and their linear stability
+//! (docs/physics.md, "Steady motions and their stability").
+//!
+//! Layout: [`reduce`] (the closed dynamics of ζ = Rᵀe3 and ω that the plane's symmetries
+//! and the contact constraint leave), [`families`] (the steady states), [`linearize`]
+//! (the Jacobian in tangent coordinates), [`spectrum`] (eigenvalues with the family's
+//! zero removed, eigenvectors named by what moves), [`sweep`] (a family against a
+//! parameter and its critical values).
+
+pub mod families;
+pub mod linearize;
+pub mod reduce;
+pub mod spectrum;
+pub mod sweep;
+
+pub use families::{Family, SteadyMotion, started_at};
+pub use linearize::{COORDINATES, Linearization, Reduced, linearize};
+pub use reduce::{Phase, ReducedField};
+pub use spectrum::{Mode, STABLE_TOLERANCE, Shape, Spectrum};
+pub use sweep::{Critical, CriticalKind, Sweep, sweep};
+
+use nalgebra::Vector3;
+
+use crate::error::ModelError;
+use crate::simulate::Scene;
+
+/// A steady motion, its linearisation and its spectrum.
+#[derive(Debug, Clone)]
+pub struct Analysis {
+    pub motion: SteadyMotion,
+    pub linearization: Linearization,
+    pub spectrum: Spectrum,
+}
+
+/// The steady motion of `family` that `scene` defines (its body, contact model and
+/// initial spin) and its stability.
+pub fn analyse(scene: &Scene, family: Family) -> Result<Analysis, ModelError> {
+    let field = ReducedField::from_scene(scene)?;
+    let motion = families::steady_motion(&field, scene, family)?;
+    Ok(analyse_motion(&field, motion))
+}
+
+/// The linearisation of `scene`'s reduced dynamics at `at` = (ζ, ω) (ζ normalised), or
+/// at the scene's initial state (ζ = Rᵀe3 of the initial attitude, ω the initial body
+/// angular velocity): the Jacobian in [`COORDINATES`], steady or not.
+pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization, ModelError> {
+    let field = ReducedField::from_scene(scene)?;
+    let at = at.unwrap_or_else(|| {
+        let init = &scene.initial;
+        let rot = init.angles.rotation().to_rotation_matrix().into_inner();
+        let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
+        reduce::join(
+            &zeta,
+            &init.omega_body.unwrap_or_else(|| init.angles.omega_body()),
+        )
+    });
+    let (zeta, omega) = reduce::split(&at);
+    if !(at.iter().all(|x| x.is_finite()) && zeta.norm() > 0.0) {
+        return Err(ModelError::invalid(
+            "state",
+            format!("({}, {})", zeta.transpose(), omega.transpose()),
+            "the state (ζ1, ζ2, ζ3, ω1, ω2, ω3) must be finite with ζ ≠ 0",
+        ));
+    }
+    Ok(linearize(&field, &at, None))
+}
+
+/// The linearisation and spectrum of a steady `motion` of `field`.
+pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Analysis {
+    let linearization = linearize(field, &motion.at, None);
+    let (zeta, _) = reduce::split(&linearization.at);
+    let spectrum = spectrum::spectrum(
+        &linearization,
+        &motion.family_direction,
+        &shape(field, zeta),
+    );
+    Analysis {
+        motion,
+        linearization,
+        spectrum,
+    }
+}
+
+impl Analysis {
+    /// The phase-space displacement ε Re(v) along mode `k` (its tilt ε rad).
+    pub fn perturbation(&self, k: usize, epsilon: f64) -> Phase {
+        let v = self.spectrum.modes[k].vector.map(|c| c.re * epsilon);
+        self.linearization.direction(&v)
+    }
+}
+
+/// How the body looks from above at attitude ζ0, for naming modes.
+fn shape(field: &ReducedField, zeta: Vector3<f64>) -> Shape {
+    let body = field.body();
+    let axes = body.semi_axes();
+    let i = body.inertia();
+    // The body axis most nearly vertical, and the other two by length.
+    let vertical = zeta.iamax();
+    let (p, q) = match vertical {
+        0 => (1, 2),
+        1 => (0, 2),
+        _ => (0, 1),
+    };
+    let (long, short) = if axes[p] >= axes[q] { (p, q) } else { (q, p) };
+    let unit = |k: usize| Vector3::from_fn(|j, _| if j == k { 1.0 } else { 0.0 });
+    let tol = 1e-12;
+    let g = body.com_offset();
+    let revolution = (axes[p] - axes[q]).abs() <= tol * axes.max()
+        && (i[(p, p)] - i[(q, q)]).abs() <= tol * i.norm()
+        && i[(p, q)].abs() <= tol * i.norm()
+        && i[(p, vertical)].abs() <= tol * i.norm()
+        && i[(q, vertical)].abs() <= tol * i.norm()
+        && g[p].abs().max(g[q].abs()) <= tol * axes.max()
+        && (zeta.abs()[vertical] - 1.0).abs() <= tol;
+    Shape {
+        zeta,
+        long: unit(long),
+        short: unit(short),
+        revolution,
+    }
+}

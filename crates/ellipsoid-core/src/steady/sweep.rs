@@ -1,0 +1,187 @@
+//! A family against a parameter: the spectrum at each value of one scenario key, and the
+//! critical values where the stability changes, located by bisection (docs/physics.md,
+//! "Steady motions and their stability", "Families against a parameter").
+
+use nalgebra::Complex;
+
+use super::{Analysis, Family, analyse};
+use crate::error::{ModelError, number};
+use crate::scenario::{self, Scenario};
+
+/// Most values a sweep accepts.
+pub const MAX_VALUES: usize = 100_000;
+
+/// Relative width to which a critical value's bracket is narrowed.
+const CRITICAL_TOLERANCE: f64 = 1e-13;
+
+/// Where the stability changes between two values of the parameter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Critical {
+    /// The parameter's value (the bracket's midpoint; its half-width ≤ 1e-13 relative).
+    pub value: f64,
+    pub kind: CriticalKind,
+    /// Whether the motion is stable on the side of larger values.
+    pub stable_above: bool,
+    /// The eigenvalue that leaves the stable half-plane, just on the unstable side [1/s].
+    pub eigenvalue: Complex<f64>,
+}
+
+/// How the stability changes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CriticalKind {
+    /// Two imaginary pairs meet and leave the axis as a quartet ±α ± iβ (the spectrum
+    /// is symmetric about the imaginary axis: the frictionless and rolling laws).
+    Collision,
+    /// A complex pair crosses the imaginary axis alone.
+    Hopf,
+    /// A real eigenvalue crosses zero.
+    Real,
+}
+
+impl CriticalKind {
+    /// Its name in tables and Python (`kind`).
+    pub fn name(self) -> &'static str {
+        match self {
+            CriticalKind::Collision => "collision",
+            CriticalKind::Hopf => "hopf",
+            CriticalKind::Real => "real",
+        }
+    }
+}
+
+/// One value's analysis, or why there is none (e.g. no steady motion there).
+pub type Row = Result<Analysis, ModelError>;
+
+/// The family along the values of one key.
+#[derive(Debug, Clone)]
+pub struct Sweep {
+    pub family: Family,
+    /// The scenario key varied.
+    pub key: String,
+    pub values: Vec<f64>,
+    pub rows: Vec<Row>,
+    /// Critical values, in increasing order.
+    pub critical: Vec<Critical>,
+}
+
+/// The analysis of `family` for `base` with `key` set to `value` (`key=value` applied
+/// after the scenario's own overrides).
+pub fn analyse_at(base: &Scenario, family: Family, key: &str, value: f64) -> Row {
+    let mut overrides = base.overrides.clone();
+    overrides.push(format!("{key}={value:e}"));
+    let scenario = scenario::parse(&base.text, &base.source, &overrides)
+        .map_err(|e| ModelError::invalid(key, number(value), e.to_string()))?;
+    analyse(&scenario.scene, family)
+}
+
+/// Sweeps `key` over `values` (finite, at most [`MAX_VALUES`]) and locates every change
+/// of stability between consecutive values that both have a steady motion.
+pub fn sweep(
+    base: &Scenario,
+    family: Family,
+    key: &str,
+    values: &[f64],
+) -> Result<Sweep, ModelError> {
+    if values.is_empty() || values.len() > MAX_VALUES {
+        return Err(ModelError::invalid(
+            key,
+            format!("{} values", values.len()),
+            format!("a sweep takes 1 to {MAX_VALUES} values"),
+        ));
+    }
+    if let Some(v) = values.iter().find(|v| !v.is_finite()) {
+        return Err(ModelError::invalid(
+            key,
+            number(*v),
+            "every value must be finite",
+        ));
+    }
+    let rows: Vec<Row> = values
+        .iter()
+        .map(|&v| analyse_at(base, family, key, v))
+        .collect();
+    let mut critical = Vec::new();
+    for k in 1..values.len() {
+        let (Ok(a), Ok(b)) = (&rows[k - 1], &rows[k]) else {
+            continue;
+        };
+        if a.spectrum.stable() != b.spectrum.stable() {
+            critical.push(locate(
+                base,
+                family,
+                key,
+                (values[k - 1], a),
+                (values[k], b),
+            ));
+        }
+    }
+    critical.sort_by(|x, y| x.value.total_cmp(&y.value));
+    Ok(Sweep {
+        family,
+        key: key.to_owned(),
+        values: values.to_vec(),
+        rows,
+        critical,
+    })
+}
+
+/// Bisects between a stable and an unstable value until the bracket is
+/// [`CRITICAL_TOLERANCE`] relative wide, then names the change from the unstable side.
+/// The predicate is [`super::Spectrum::stable`] (Re λ ≤ 1e-9 max |λ|): at a collision
+/// Re λ grows like √|p − p_c|, so the predicate flips within ~1e-18 |λ|²/(dRe²/dp) of p_c
+/// and the bracket is the error; at a transversal crossing (Hopf, real) it flips where
+/// Re λ = 1e-9 max |λ|, a distance 1e-9 max |λ| / (dRe λ/dp) from p_c.
+/// A value in between without a steady motion ends the search at the bracket so far.
+fn locate(
+    base: &Scenario,
+    family: Family,
+    key: &str,
+    (p, a): (f64, &Analysis),
+    (q, b): (f64, &Analysis),
+) -> Critical {
+    let stable_above = b.spectrum.stable();
+    let (mut stable, mut unstable) = if stable_above { (q, p) } else { (p, q) };
+    let mut at_unstable = if stable_above { a.clone() } else { b.clone() };
+    while (stable - unstable).abs() > CRITICAL_TOLERANCE * stable.abs().max(unstable.abs()) {
+        let mid = 0.5 * (stable + unstable);
+        if mid == stable || mid == unstable {
+            break;
+        }
+        let Ok(an) = analyse_at(base, family, key, mid) else {
+            break;
+        };
+        if an.spectrum.stable() {
+            stable = mid;
+        } else {
+            unstable = mid;
+            at_unstable = an;
+        }
+    }
+    let top = at_unstable.spectrum.modes[0].eigenvalue;
+    let scale = at_unstable.spectrum.scale();
+    // Classified on the unstable value of the sweep, where the eigenvalues are well
+    // separated (at the bracket a collision's pair is split by only ~√ of the bracket).
+    let kind = if top.im.abs() <= 1e-9 * scale {
+        CriticalKind::Real
+    } else if symmetric(if stable_above { a } else { b }) {
+        CriticalKind::Collision
+    } else {
+        CriticalKind::Hopf
+    };
+    Critical {
+        value: 0.5 * (stable + unstable),
+        kind,
+        stable_above,
+        eigenvalue: top,
+    }
+}
+
+/// Whether the spectrum is symmetric about the imaginary axis (every λ has a partner −λ̄
+/// within 1e-6 of the scale), as for a Hamiltonian or reversible system: its stability
+/// can change only where eigenvalues collide (or at zero).
+fn symmetric(an: &Analysis) -> bool {
+    let scale = an.spectrum.scale();
+    let eig = an.spectrum.eigenvalues();
+    eig.iter()
+        .all(|z| eig.iter().any(|w| (w + z.conj()).norm() <= 1e-6 * scale))
+}

@@ -1,0 +1,95 @@
+"""``ellipsoid.steady``: steady motions and their linear stability (docs/physics.md,
+"Steady motions and their stability"). The analysis is the core's (``steady`` module);
+this wraps its arrays in a result object."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from ellipsoid._ellipsoid import Scenario, ScenarioError, steady_raw
+
+
+class Steady:
+    """Steady motions of one family, one per value of the varied key.
+
+    ``values``: the varied values (without ``vary``, the one motion's spin n [rad/s]);
+    ``eigenvalues``: complex array, one row per value, four eigenvalues [1/s] (body frame)
+    sorted by decreasing real part, the zeros of the symmetries, the constraints and the
+    family removed; ``modes``: the name of each eigenvalue's mode ("tilt", "roll",
+    "pitch", "wobble", "spin"); ``states``: (ζ1, ζ2, ζ3, ω1, ω2, ω3) per value (world up
+    and the angular velocity in body axes [rad/s]); ``spin`` [rad/s], ``theta`` [rad],
+    ``normal_force`` [N], ``max_real`` [1/s], ``stable``; ``critical``: the critical
+    values, dicts with ``value``, ``kind`` ("collision", "hopf", "real"),
+    ``stable_side`` ("above" or "below") and ``eigenvalue``.
+    """
+
+    def __init__(self, raw: dict[str, Any]) -> None:
+        self.family: str = raw["family"]
+        self.key: str | None = raw["key"]
+        self.values: np.ndarray = raw["values"]
+        self.eigenvalues: np.ndarray = raw["eigenvalues"]
+        self.modes: list[list[str]] = raw["modes"]
+        self.states: np.ndarray = raw["states"]
+        self.spin: np.ndarray = raw["spin"]
+        self.theta: np.ndarray = raw["theta"]
+        self.normal_force: np.ndarray = raw["normal_force"]
+        self.max_real: np.ndarray = raw["max_real"]
+        self.stable: np.ndarray = raw["stable"]
+        self.critical: list[dict[str, Any]] = raw["critical"]
+
+    def __len__(self) -> int:
+        return len(self.values)
+
+    def __repr__(self) -> str:
+        crit = ", ".join(f"{c['value']:.10g} ({c['kind']})" for c in self.critical) or "none"
+        return (
+            f"<Steady {self.family}: {len(self)} value(s) of {self.key or 'spin'}, "
+            f"{int(self.stable.sum())} stable; critical: {crit}>"
+        )
+
+    def to_pandas(self) -> Any:
+        """The table of ``ellipsoid steady -o``: the key, spin, theta, normal_force, stable,
+        max_real, lambdaK_re, lambdaK_im, modeK (K = 1..4), as a ``pandas.DataFrame``."""
+        import pandas as pd  # type: ignore[import-untyped,unused-ignore]  # optional dependency
+
+        columns: dict[str, Any] = {
+            self.key or "spin": self.values,
+            "spin": self.spin,
+            "theta": self.theta,
+            "normal_force": self.normal_force,
+            "stable": self.stable,
+            "max_real": self.max_real,
+        }
+        for k in range(self.eigenvalues.shape[1]):
+            columns[f"lambda{k + 1}_re"] = self.eigenvalues[:, k].real
+            columns[f"lambda{k + 1}_im"] = self.eigenvalues[:, k].imag
+            columns[f"mode{k + 1}"] = [row[k] for row in self.modes]
+        return pd.DataFrame(columns)
+
+
+def steady(
+    scenario: Scenario | str | os.PathLike[str],
+    family: str = "upright",
+    vary: Mapping[str, Sequence[float] | np.ndarray] | None = None,
+) -> Steady:
+    """The steady motions of ``family`` ("upright", "inverted"; "precession" and
+    "rolling-circle" are not implemented yet) of ``scenario``'s body under its contact
+    model (frictionless, rolling, or the Coulomb model's rolling phase) and their
+    stability. Without ``vary``, the one motion the scenario's initial spin defines;
+    ``vary`` maps one scenario key to a 1-D array of values. Raises ScenarioError for a
+    bad scenario, family or key, or a value without a steady motion."""
+    if vary is None:
+        return Steady(steady_raw(scenario, family))
+    if not isinstance(vary, Mapping) or len(vary) != 1:
+        raise ScenarioError(
+            f"vary = {vary!r}: must map exactly one scenario key to a 1-D array of values"
+        )
+    ((key, values),) = vary.items()
+    array = np.asarray(values, dtype=float)
+    if array.ndim != 1:
+        raise ScenarioError(f"vary[{key!r}]: must be a 1-D array of values (got shape {array.shape})")
+    return Steady(steady_raw(scenario, family, str(key), [float(v) for v in array]))
