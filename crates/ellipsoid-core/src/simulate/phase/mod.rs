@@ -4,9 +4,10 @@
 //! every phase but flight, where they are states), its watch functions (an enum of its
 //! own, matched exhaustively), and for each watch the transition it leads to
 //! (`transition`, where every transition is written). The hybrid machine (`machine`)
-//! runs any of them. A new phase touches four files: its module here, a line in
-//! [`phase`] (the registry) and a `Mode` (`outcome`), its transitions (`transition`),
-//! and its contact law (`model`).
+//! runs any of them. A new phase touches six files today: its module here, a line in
+//! [`phase`] (the registry), its `Mode` (`outcome`), its transitions (`transition`), its
+//! contact law (`model`) and the machine's system for it (`machine`); the compiler lists
+//! every match that must learn the new mode and watches.
 //!
 //! | phase | law | watches (g falling through 0) | on the event |
 //! |---|---|---|---|
