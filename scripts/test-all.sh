@@ -75,8 +75,10 @@ export ELLIPSOID_EXPECT_BROWSER=1  # installed above: a browser test that cannot
 # compiles HDF5), checked by auditwheel; pytest, the notebooks and the quick start run on it.
 rm -rf "$target/wheels"
 WHEEL_VENV=.venv scripts/build-wheel.sh "$target/wheels"
-.venv/bin/auditwheel show "$target"/wheels/ellipsoid-*.whl | grep -q '"manylinux_2_17_x86_64"' \
-  || { echo "the wheel is not manylinux_2_17_x86_64"; exit 1; }
+# (auditwheel's whole report first: `grep -q` would close the pipe on it mid-report.)
+tag=$(.venv/bin/auditwheel show "$target"/wheels/ellipsoid-*.whl)
+grep -q '"manylinux_2_17_x86_64"' <<<"$tag" \
+  || { echo "the wheel is not manylinux_2_17_x86_64: $tag"; exit 1; }
 "${pip[@]}" "$target"/wheels/ellipsoid-*.whl
 .venv/bin/python -m pytest -q crates/ellipsoid-py/tests
 
