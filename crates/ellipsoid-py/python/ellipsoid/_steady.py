@@ -29,17 +29,29 @@ class Steady:
 
     def __init__(self, raw: dict[str, Any]) -> None:
         self.family: str = raw["family"]
+        """The family: "upright" or "inverted"."""
         self.key: str | None = raw["key"]
+        """The varied scenario key, or None without ``vary``."""
         self.values: np.ndarray = raw["values"]
+        """The varied values (without ``vary``, the one motion's spin n [rad/s])."""
         self.eigenvalues: np.ndarray = raw["eigenvalues"]
+        """Complex, one row per value: four eigenvalues [1/s] sorted by decreasing real part (the zeros of the symmetries, constraints and family removed)."""
         self.modes: list[list[str]] = raw["modes"]
+        """The mode of each eigenvalue: "tilt", "roll", "pitch", "wobble" or "spin"."""
         self.states: np.ndarray = raw["states"]
+        """(ζ1, ζ2, ζ3, ω1, ω2, ω3) per value: world up in body axes [1] and the angular velocity in body axes [rad/s]."""
         self.spin: np.ndarray = raw["spin"]
+        """The spin n about the vertical per value [rad/s]."""
         self.theta: np.ndarray = raw["theta"]
+        """The tilt of the symmetry axis per value [rad] (0 upright, π inverted)."""
         self.normal_force: np.ndarray = raw["normal_force"]
+        """The normal force N of each steady motion [N]."""
         self.max_real: np.ndarray = raw["max_real"]
+        """The largest real part of each row of eigenvalues [1/s]."""
         self.stable: np.ndarray = raw["stable"]
+        """Whether each steady motion is linearly stable (max_real ≤ 0 to round-off)."""
         self.critical: list[dict[str, Any]] = raw["critical"]
+        """The critical values: dicts with ``value``, ``kind`` ("collision", "hopf", "real"), ``stable_side`` ("above" or "below") and ``eigenvalue``."""
 
     def __len__(self) -> int:
         return len(self.values)
