@@ -250,7 +250,7 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
             sys: law,
             last: Memo::default(),
         };
-        let phase_watches = P::watches(self, &y0);
+        let phase_watches = P::watches(self);
         let watches: Vec<Slot> = (0..phase_watches.len())
             .map(Slot::Phase)
             .chain((0..scene.observe.len()).map(Slot::Observe))

@@ -31,7 +31,7 @@ impl Phase for FlightPhase {
         &m.fly
     }
 
-    fn watches<E: Effect + Copy>(_m: &Machine<'_, E>, _y0: &State) -> Vec<FlightWatch> {
+    fn watches<E: Effect + Copy>(_m: &Machine<'_, E>) -> Vec<FlightWatch> {
         vec![FlightWatch::Gap]
     }
 

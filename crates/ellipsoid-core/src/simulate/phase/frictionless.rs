@@ -28,7 +28,7 @@ impl Phase for FrictionlessPhase {
         &m.free
     }
 
-    fn watches<E: Effect + Copy>(_m: &Machine<'_, E>, _y0: &State) -> Vec<FrictionlessWatch> {
+    fn watches<E: Effect + Copy>(_m: &Machine<'_, E>) -> Vec<FrictionlessWatch> {
         vec![FrictionlessWatch::Normal]
     }
 

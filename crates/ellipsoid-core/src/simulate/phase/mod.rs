@@ -67,9 +67,8 @@ pub(super) trait Phase {
     type Watch: Copy;
     /// Its ODE system.
     fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Self::Law, E>;
-    /// Its watch functions for a segment starting at `y0` (each falling through zero is
-    /// an event).
-    fn watches<E: Effect + Copy>(m: &Machine<'_, E>, y0: &State) -> Vec<Self::Watch>;
+    /// Its watch functions (each falling through zero is an event).
+    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<Self::Watch>;
     /// The value of one of its watches at a state.
     fn watch<E: Effect + Copy>(
         m: &Machine<'_, E>,
@@ -171,9 +170,7 @@ impl<P: Phase, E: Effect + Copy + 'static> AnyPhase<E> for Registered<P> {
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
-        // The kind of the watch: a watch's value at `y` may differ from the segment's
-        // (`SlidingWatch::DiscStop`'s direction), which no transition reads.
-        P::on_event(m, P::watches(m, y)[watch], t, y, events)
+        P::on_event(m, P::watches(m)[watch], t, y, events)
     }
     fn on_failure(
         &self,

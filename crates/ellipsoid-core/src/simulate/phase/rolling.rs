@@ -32,7 +32,7 @@ impl Phase for RollingPhase {
         &m.roll
     }
 
-    fn watches<E: Effect + Copy>(m: &Machine<'_, E>, _y0: &State) -> Vec<RollingWatch> {
+    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<RollingWatch> {
         let mut w = vec![RollingWatch::Normal];
         if let ContactModel::Coulomb { friction } = m.scene.contact {
             w.push(RollingWatch::Cone(friction));

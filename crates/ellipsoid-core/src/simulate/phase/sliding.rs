@@ -16,7 +16,7 @@
 
 use std::ops::ControlFlow;
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::Vector2;
 
 use crate::effects::Effect;
 use crate::integrate::{
@@ -47,12 +47,6 @@ pub(in crate::simulate) enum SlidingWatch {
     SlipFloor,
     /// g = Painlevé denominator.
     Painleve,
-    /// With a contact disc, g = w·ŵ₀: the generalised slip w = (v_C, R ω_n)
-    /// (`Sliding::generalised_slip`) along its direction ŵ₀ at the segment's start. At the
-    /// stop w passes through zero in a finite time, and a step that straddles it may keep
-    /// |w| above the floor at every point the driver looks at; w·ŵ₀ changes sign there (it
-    /// also does where w turns by 90° during the segment: a turn, not confirmed).
-    DiscStop(Vector3<f64>),
 }
 
 impl Phase for SlidingPhase {
@@ -64,18 +58,13 @@ impl Phase for SlidingPhase {
         &m.slide
     }
 
-    fn watches<E: Effect + Copy>(m: &Machine<'_, E>, y0: &State) -> Vec<SlidingWatch> {
+    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<SlidingWatch> {
         if m.slide.contact.disc.is_some() {
-            let w0 = m.slide.contact.generalised_slip(&m.slide.evaluate(y0).kin);
-            let mut w = vec![
+            return vec![
                 SlidingWatch::Normal,
                 SlidingWatch::SlipFloor,
                 SlidingWatch::Painleve,
             ];
-            if w0 != Vector3::zeros() {
-                w.push(SlidingWatch::DiscStop(w0.normalize()));
-            }
-            return w;
         }
         vec![
             SlidingWatch::Normal,
@@ -103,7 +92,6 @@ impl Phase for SlidingPhase {
                 }
             }
             SlidingWatch::Painleve => ev.response.painleve,
-            SlidingWatch::DiscStop(w0) => m.slide.contact.generalised_slip(&ev.kin).dot(&w0),
         }
     }
 
@@ -126,16 +114,6 @@ impl Phase for SlidingPhase {
                 let confirmed = slip_has_stopped(m, y)
                     || (m.numerics.may_confirm(speed, &kin, disc)
                         && confirmed_by_tight_solve(m, *t, y));
-                slip_stop(m, confirmed, *t, y, events)
-            }
-            // w reversing within the slip band is a stop: there its direction is set by
-            // integration error (measured: DOPRI5 at rtol 1e-10 crossed at 2.4 floors, then
-            // slid on through the stop that DOP853 takes); outside it, a turn of w.
-            SlidingWatch::DiscStop(_) => {
-                let kin = m.slide.evaluate(y).kin;
-                let confirmed = m.slide.contact.stop_speed(&kin)
-                    <= m.slide.contact.band_width(&kin)
-                    || slip_has_stopped(m, y);
                 slip_stop(m, confirmed, *t, y, events)
             }
         }
