@@ -19,7 +19,7 @@ use crate::columns;
 #[derive(Debug, Clone, Serialize)]
 pub struct Summary {
     /// One of `Status::NAMES`: completed | observed | lost_contact | slip_stopped |
-    /// painleve | solver_failure | chattering | non_finite | cancelled.
+    /// painleve | inconsistent_contact | solver_failure | chattering | non_finite | cancelled.
     pub status: &'static str,
     /// Why, in a sentence.
     pub message: String,
@@ -282,9 +282,10 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
             normal,
             gap_acceleration,
         } => format!(
-            "no consistent motion at t = {t} s: {} contact would need the plane to pull (N = {} N) while with no contact \
-             force the body falls into the plane (gap acceleration {} m/s²); this is the {} model's analogue of Painlevé's \
-             paradox (model = \"coulomb\" with a finite friction coefficient resolves it by sliding)",
+            "no consistent motion at t = {t} s: the {} contact's normal force falls through zero (N = {} N), so going on \
+             would need the plane to pull, while with no contact force the body falls into the plane (gap acceleration \
+             {} m/s²); this is the {} model's analogue of Painlevé's paradox (model = \"coulomb\" with a finite friction \
+             coefficient resolves it by sliding)",
             mode.name(),
             number(*normal),
             number(*gap_acceleration),
