@@ -153,7 +153,8 @@ fn every_panel_names_its_axes_with_units_and_draws_its_data() {
             .filter(|p| p[0] < 200 || p[1] < 200 || p[2] < 200)
             .count();
         let share = inked as f64 / f64::from(w * h);
-        // (The title, the scenario's file name, inks about 0.1 % of its own.)
+        // A rendered page, not a blank one (the title, the scenario's file name, inks
+        // about 0.1 % of its own); that the data is drawn is the series colour's check below.
         assert!(
             share > 0.015,
             "{panel}: only {:.2} % of the PNG is drawn",

@@ -111,7 +111,7 @@ impl Phase for SlidingPhase {
                 let kin = m.slide.evaluate(y).kin;
                 let speed = m.slide.contact.stop_speed(&kin);
                 let disc = m.slide.contact.disc.is_some();
-                let confirmed = slip_has_stopped(m, y)
+                let confirmed = m.numerics.has_stopped(speed, &kin, disc)
                     || (m.numerics.may_confirm(speed, &kin, disc)
                         && confirmed_by_tight_solve(m, *t, y));
                 slip_stop(m, confirmed, *t, y, events)
