@@ -253,9 +253,13 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
                 "the slip speed reached zero at t = {t} s, where the pure sliding model ends (model = \"coulomb\" goes on rolling)"
             )
         }
-        Status::Painleve { error: None, .. } => format!(
-            "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) reached 0, \
-             so Coulomb sliding has no consistent contact force (reduce contact.friction or use the rolling model)"
+        Status::Painleve {
+            denominator,
+            error: None,
+        } => format!(
+            "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) fell to {denominator:.1e} \
+             on its way to 0, so N grows without bound and Coulomb sliding has no consistent contact force beyond \
+             (reduce contact.friction or use the rolling model)"
         ),
         Status::Painleve {
             denominator,

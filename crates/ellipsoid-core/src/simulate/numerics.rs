@@ -17,7 +17,12 @@ use super::scene::Scene;
 pub(super) const MAX_SWITCHES: usize = 10_000;
 
 /// Below this the sliding normal-force denominator (≥ 1 without friction) has collapsed:
-/// a solver failure there is the Painlevé singularity, N → ∞, and is reported as such.
+/// N = numerator/denominator is a thousand times its frictionless size and goes to
+/// infinity with the denominator (the Painlevé singularity). The sliding phase stops where
+/// the denominator falls through this value — a state whose N is still determined (to
+/// ~1e-13 relative), where a stop located at the zero itself would report N from a
+/// denominator of round-off size and either sign — and a solver failure below it is
+/// reported as that singularity.
 pub(super) const PAINLEVE_COLLAPSE: f64 = 1e-3;
 
 /// A fixed-step method cannot resolve a slip smaller than friction removes in a few

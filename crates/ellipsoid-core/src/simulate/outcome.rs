@@ -3,39 +3,12 @@
 //! declared here once; sentences are made by the callers (`ellipsoid-io`, the CLI, Python).
 
 use nalgebra::{Vector2, Vector3};
-use serde::Serialize;
 
 use crate::integrate::{IntegrateError, Stats};
 use crate::invariants::{Drift, Invariants};
 use crate::state::{EulerAngles, State};
 
-/// The contact phase in force (docs/physics.md, models 1–5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Mode {
-    Frictionless,
-    Sliding,
-    Rolling,
-    /// Off the plane (docs/physics.md, "Flight").
-    Flight,
-}
-
-impl Mode {
-    /// Every mode, in [`Mode::NAMES`] order.
-    pub const ALL: [Mode; 4] = [
-        Mode::Frictionless,
-        Mode::Sliding,
-        Mode::Rolling,
-        Mode::Flight,
-    ];
-    /// Their names in output files.
-    pub const NAMES: [&'static str; 4] = ["frictionless", "sliding", "rolling", "flight"];
-
-    /// Its name in output files.
-    pub fn name(self) -> &'static str {
-        Mode::NAMES[self as usize]
-    }
-}
+pub use super::phase::Mode;
 
 /// One output row (SI units; see `columns` for every column).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -80,7 +53,7 @@ pub enum EventKind {
     Touchdown { speed: f64 },
     /// The impact at a touchdown (docs/physics.md, "Impact at touchdown").
     Impact(ImpactReport),
-    /// The sliding normal-force denominator reached zero.
+    /// The sliding normal-force denominator collapsed (to 10⁻³, on its way to zero).
     Painleve,
     /// Observable `index` of the scene (`Scene::observe`) crossed its value; `sample` is
     /// the full state there.
@@ -139,7 +112,8 @@ pub enum Status {
     /// The pure sliding model's slip reached zero (an outcome).
     SlipStopped,
     /// The sliding normal force has no consistent value (an error): its denominator
-    /// 1 + m u·I⁻¹(r × d) fell to `denominator` (0 at a located event; small when the
+    /// 1 + m u·I⁻¹(r × d) fell to `denominator` (10⁻³ at a located event, where N is a
+    /// thousand times its frictionless size and still determined; below it when the
     /// integrator failed first, with `error`).
     Painleve {
         denominator: f64,

@@ -8,7 +8,7 @@ use crate::error::{ModelError, number};
 use crate::model::Kinematics;
 use crate::state::{self, State};
 
-use super::machine::Machine;
+use super::context::Context;
 use super::outcome::{EventKind, EventRecord, Mode, Status};
 use super::phase::phase;
 use super::scene::{ContactModel, LiftOff, Scene};
@@ -26,7 +26,7 @@ pub(super) struct Start {
     pub(super) stopped: Option<Status>,
 }
 
-impl<E: Effect + Copy + 'static> Machine<'_, E> {
+impl<E: Effect + Copy + 'static> Context<'_, E> {
     /// The initial phase and state, checked: a start above the plane flies; one on it
     /// enters the phase `transition::on_plane` gives, and flies where the plane cannot
     /// hold it (N ≤ 0) with `on_lift_off = "fly"`.
@@ -164,7 +164,7 @@ impl Scene {
     /// effects do not enter the initial state).
     pub fn initial_state(&self) -> Result<(Mode, State), ModelError> {
         self.validate()?;
-        let start = Machine::new(self, (), None).start()?;
+        let start = Context::new(self, (), None).start()?;
         Ok((start.mode, start.y))
     }
 }

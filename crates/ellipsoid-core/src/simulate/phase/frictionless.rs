@@ -6,7 +6,7 @@ use crate::model::{Evaluation, Frictionless, System};
 use crate::state::State;
 
 use super::{Next, Phase};
-use crate::simulate::machine::Machine;
+use crate::simulate::context::Context;
 use crate::simulate::outcome::{EventRecord, Mode};
 use crate::simulate::transition::lift_off;
 
@@ -24,16 +24,17 @@ impl Phase for FrictionlessPhase {
     type Law = Frictionless;
     type Watch = FrictionlessWatch;
 
-    fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Frictionless, E> {
-        &m.free
+    fn law<E>(_ctx: &Context<'_, E>) -> Frictionless {
+        Frictionless
     }
 
-    fn watches<E: Effect + Copy>(_m: &Machine<'_, E>) -> Vec<FrictionlessWatch> {
+    fn watches<E>(_ctx: &Context<'_, E>) -> Vec<FrictionlessWatch> {
         vec![FrictionlessWatch::Normal]
     }
 
-    fn watch<E: Effect + Copy>(
-        _m: &Machine<'_, E>,
+    fn watch<E: Effect>(
+        _ctx: &Context<'_, E>,
+        _sys: &System<Frictionless, E>,
         watch: FrictionlessWatch,
         ev: &Evaluation,
         _y: &State,
@@ -44,14 +45,14 @@ impl Phase for FrictionlessPhase {
     }
 
     fn on_event<E: Effect + Copy + 'static>(
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         watch: FrictionlessWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            FrictionlessWatch::Normal => lift_off(m, Mode::Frictionless, *t, y, events),
+            FrictionlessWatch::Normal => lift_off(ctx, Mode::Frictionless, *t, y, events),
         }
     }
 }
