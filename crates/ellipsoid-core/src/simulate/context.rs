@@ -1,11 +1,13 @@
 //! What every phase and transition reads: the scene, its numerics, its effects — and the
 //! two things made from them, a phase's ODE system and an output row.
 
+use std::cell::Cell;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
 use nalgebra::Vector3;
 
+use crate::body::{Body, Surface};
 use crate::invariants::Invariants;
 use crate::model::{ContactLaw, Evaluation, System};
 use crate::state::{self, EulerAngles, State};
@@ -23,6 +25,17 @@ pub(super) struct Context<'s, E> {
     pub(super) effects: E,
     /// Set by another thread to stop the run at its next step.
     pub(super) cancel: Option<Arc<AtomicBool>>,
+    /// The body's surface in contact with the plane (the last one that touched it while
+    /// in flight): the contact phases' geometry is this surface's. Changed only by the
+    /// transitions (`transition::touch`).
+    pub(super) surface: Cell<Surface>,
+}
+
+impl<E> Context<'_, E> {
+    /// The body, its geometry that of the surface in contact.
+    pub(super) fn body(&self) -> Body {
+        self.scene.body.touching(self.surface.get())
+    }
 }
 
 impl<'s, E: Copy> Context<'s, E> {
@@ -32,6 +45,7 @@ impl<'s, E: Copy> Context<'s, E> {
             numerics: Numerics::new(scene),
             effects,
             cancel,
+            surface: Cell::new(Surface::Ellipsoid),
         }
     }
 
@@ -39,7 +53,7 @@ impl<'s, E: Copy> Context<'s, E> {
     /// phase's contact law.
     pub(super) fn system<P: Phase>(&self) -> System<P::Law, E> {
         System {
-            body: self.scene.body.clone(),
+            body: self.body(),
             gravity: self.scene.gravity,
             contact: P::law(self),
             effects: self.effects,

@@ -13,6 +13,8 @@ use crate::integrate::{
     self, Action, Direction, Event, OdeSystem, Options, Stats, StopReason, Warning,
 };
 use crate::invariants::{Conservation, Invariant, Invariants};
+use nalgebra::Vector3;
+
 use crate::model::{ContactLaw, Evaluation, Kinematics, System};
 use crate::state::{self, EulerAngles, State};
 
@@ -157,7 +159,11 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         let conservative = !scene.effects.any();
         let axisymmetric_inertia =
             i[(0, 1)] == 0.0 && i[(0, 2)] == 0.0 && i[(1, 2)] == 0.0 && i[(0, 0)] == i[(1, 1)];
-        let revolution = a.x == a.y && g.x == 0.0 && g.y == 0.0 && axisymmetric_inertia;
+        let on_axis = |v: Vector3<f64>| v.x == 0.0 && v.y == 0.0;
+        let revolution = a.x == a.y
+            && on_axis(g)
+            && axisymmetric_inertia
+            && body.spheres().iter().all(|s| on_axis(s.center));
         Conservation {
             conservative,
             frictionless: conservative && scene.contact == ContactModel::Frictionless,
@@ -167,8 +173,9 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                     ContactModel::Frictionless | ContactModel::Rolling
                 ),
             revolution,
-            // The drilling torque of a contact disc changes Jellett's J = L_G·(G − C).
-            sphere: revolution && a.x == a.z && scene.disc.is_none(),
+            // The drilling torque of a contact disc changes Jellett's J = L_G·(G − C), and
+            // so does a change of the contacting surface (contact spheres).
+            sphere: revolution && a.x == a.z && scene.disc.is_none() && body.spheres().is_empty(),
             elastic_impacts: scene.landing.lift_off == LiftOff::Stop
                 || (scene.contact == ContactModel::Frictionless
                     && scene.landing.restitution == 1.0),
@@ -177,7 +184,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
 
     /// Each invariant's drift scale at the initial state `y` (see [`Invariant::scale`]).
     fn scales(&self, y: &State, inv: &Invariants) -> [f64; 6] {
-        let kin = Kinematics::new(&self.scene.body, y, false);
+        let kin = Kinematics::new(&self.body(), y, false);
         Invariant::ALL.map(|which| which.scale(&self.scene.body, &kin, inv))
     }
 }

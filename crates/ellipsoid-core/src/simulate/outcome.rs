@@ -4,6 +4,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
+use crate::body::Surface;
 use crate::integrate::{IntegrateError, Stats};
 use crate::invariants::{Drift, Invariants};
 use crate::state::{EulerAngles, State};
@@ -58,6 +59,8 @@ pub enum EventKind {
     /// Observable `index` of the scene (`Scene::observe`) crossed its value; `sample` is
     /// the full state there.
     Observed { index: usize, sample: Box<Sample> },
+    /// The body's surface in contact changed (bodies with contact spheres).
+    ContactSurface { from: Surface, to: Surface },
 }
 
 impl EventKind {
@@ -71,6 +74,7 @@ impl EventKind {
             EventKind::Touchdown { .. } => "touchdown",
             EventKind::Impact(_) => "impact",
             EventKind::Painleve => "painleve",
+            EventKind::ContactSurface { .. } => "contact_surface",
             EventKind::Observed { .. } => "observed",
         }
     }
@@ -133,6 +137,15 @@ pub enum Status {
         normal: f64,
         gap_acceleration: f64,
     },
+    /// Surface `touching` reached the plane while surface `pressed` was in contact, and
+    /// `pressed` does not separate after the impact (its normal velocity `approach` ≤ 0
+    /// \[m/s\]): the body would rest on two surfaces at once, which is not simulated (an
+    /// error; docs/physics.md, "Contact spheres").
+    SeveralContacts {
+        touching: Surface,
+        pressed: Surface,
+        approach: f64,
+    },
     /// A sample held NaN or infinity: `column` = `value` (an error; never reported as a result).
     NonFinite { column: &'static str, value: f64 },
     /// The caller asked to stop.
@@ -141,7 +154,7 @@ pub enum Status {
 
 impl Status {
     /// The names of every status, as summaries and `[check]` tables spell them.
-    pub const NAMES: [&'static str; 10] = [
+    pub const NAMES: [&'static str; 11] = [
         "completed",
         "observed",
         "lost_contact",
@@ -152,6 +165,7 @@ impl Status {
         "non_finite",
         "cancelled",
         "inconsistent_contact",
+        "several_contacts",
     ];
 
     /// Its name in summaries (`status` field).
@@ -167,6 +181,7 @@ impl Status {
             Status::NonFinite { .. } => 7,
             Status::Cancelled => 8,
             Status::InconsistentContact { .. } => 9,
+            Status::SeveralContacts { .. } => 10,
         }]
     }
 
@@ -190,6 +205,7 @@ impl Status {
                 | Status::Chattering { .. }
                 | Status::NonFinite { .. }
                 | Status::InconsistentContact { .. }
+                | Status::SeveralContacts { .. }
         )
     }
 }

@@ -52,9 +52,11 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             events: Vec::new(),
             stopped: None,
         };
+        // The surface that touches (or is nearest to) the plane: the lowest.
+        let lowest = Kinematics::flying(&scene.body, &y).contact;
+        self.surface.set(lowest.surface);
         if flying {
-            let kin = Kinematics::new(&scene.body, &y, false);
-            y[state::HEIGHT] = kin.contact.height + init.height;
+            y[state::HEIGHT] = lowest.height + init.height;
             y[state::VEL_Z] = init.velocity_z.unwrap_or(0.0);
             self.check_finite(Mode::Flight, &y)?;
             return Ok(go(Mode::Flight, y));

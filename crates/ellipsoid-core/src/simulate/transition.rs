@@ -11,6 +11,8 @@
 //! | flight | touchdown | rebound ≤ v_settle, N > 0 there | [`on_plane`] | back to gap = 0, plastic impact, z_G and v_Gz from the contact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the impact | as a touchdown | flight form, impact at the new surface |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays pressed | stop `several_contacts` | |
 //! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
 //! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
 //! | sliding | Painlevé denominator ↓ 10⁻³ (N → ∞ beyond) | | stop `painleve` | |
@@ -24,6 +26,7 @@
 
 use nalgebra::Vector2;
 
+use crate::body::Surface;
 use crate::effects::Effect;
 use crate::impact::{self, Approach, Tangential};
 use crate::integrate::{OdeSystem, rk4_step};
@@ -88,7 +91,7 @@ pub(super) fn on_plane<E: Effect + Copy + 'static>(
         ContactModel::Frictionless => Placed::In(Mode::Frictionless),
         ContactModel::Rolling => {
             if arrival != Arrival::Start {
-                Rolling::stick(&ctx.scene.body, y);
+                Rolling::stick(&ctx.body(), y);
             }
             ctx.system::<RollingPhase>().project(y);
             Placed::In(Mode::Rolling)
@@ -218,7 +221,7 @@ pub(super) fn lift_off<E: Effect + Copy + 'static>(
 /// The state map of leaving the plane from contact mode `from`: z_G and v_Gz (and,
 /// rolling, v_G) become flight states with the values the contact gave them.
 pub(super) fn to_flight<E>(ctx: &Context<'_, E>, from: Mode, y: &mut State) {
-    let kin = Kinematics::new(&ctx.scene.body, y, from == Mode::Rolling);
+    let kin = Kinematics::new(&ctx.body(), y, from == Mode::Rolling);
     y[state::VEL] = kin.v_g.x;
     y[state::VEL + 1] = kin.v_g.y;
     y[state::HEIGHT] = kin.contact.height;
@@ -272,18 +275,73 @@ fn phase_normal<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, mode: Mode, y:
 }
 
 /// Touchdown, located at gap = −δz on the flight's dense output at (t, y): the impact
-/// is taken where the gap is zero ([`back_to_contact`], which moves `t` back), its loss
-/// booked in W; the body flies on, or, for a rebound below the settling speed
-/// ([`settling_speed`]), the impact is taken plastic and the state goes on the plane.
+/// is taken where the gap is zero ([`back_to_contact`], which moves `t` back), at the
+/// body's lowest point, on whichever surface it is; its loss booked in W; the body flies
+/// on, or, for a rebound below the settling speed ([`settling_speed`]), the impact is
+/// taken plastic and the state goes on the plane, the touching surface in contact.
 pub(super) fn touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     t: &mut f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
+    let lowest = Kinematics::flying(&ctx.scene.body, y).contact.surface;
+    let (next, _) = land(ctx, lowest, t, y, events);
+    next
+}
+
+/// Surface `touching` reached the plane (its gap located at −δz) at (t, y) while the body
+/// was in contact on another surface in mode `from`. Its impact is taken as a touchdown
+/// from flight — the state in flight form, the contact's impulse zero — which is the
+/// solution of the two-contact impact where the contact that was pressed separates after
+/// it (its normal velocity > 0; docs/physics.md, "Contact spheres"): then the run goes on
+/// as after any touchdown. Where it would not separate — its normal velocity after the
+/// impact not above the settling speed, the smallest a flight can resolve — both surfaces
+/// stay on the plane: the run stops at the located state with status `several_contacts`
+/// (contact on two surfaces at once is not simulated).
+pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    from: Mode,
+    touching: Surface,
+    t: &mut f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    let pressed = ctx.surface.get();
+    let (t0, y0, before) = (*t, *y, events.len());
+    to_flight(ctx, from, y);
+    let (next, y_after) = land(ctx, touching, t, y, events);
+    let kin = Kinematics::flying_at(&ctx.scene.body, pressed, &y_after);
+    let approach = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
+    if approach > settling_speed(ctx, &y_after, &kin) {
+        return next;
+    }
+    events.truncate(before);
+    ctx.surface.set(pressed);
+    (*t, *y) = (t0, y0);
+    Next::Stop(
+        Status::SeveralContacts {
+            touching,
+            pressed,
+            approach,
+        },
+        from,
+    )
+}
+
+/// The touchdown of `surface` ([`touchdown`]), also returning the state right after the
+/// impact (in flight form).
+fn land<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    surface: Surface,
+    t: &mut f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> (Next, State) {
     let body = &ctx.scene.body;
-    (*t, *y) = back_to_contact(ctx, *t, y);
-    let kin = Kinematics::flying(body, y);
+    (*t, *y) = back_to_contact(ctx, surface, *t, y);
+    let kin = Kinematics::flying_at(body, surface, y);
+    touch(ctx, surface, *t, events);
     let rot = kin.rot;
     let approach = Approach {
         mass: body.mass(),
@@ -315,6 +373,7 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         hit = impact::resolve(&approach, law, 0.0);
         *y = after(&hit);
     }
+    let after_impact = *y;
     events.push(EventRecord {
         kind: EventKind::Touchdown {
             speed: -hit.normal_velocity.0,
@@ -338,11 +397,11 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
     };
     if !settles {
         impact(events, false);
-        return Next::Go(Mode::Flight);
+        return (Next::Go(Mode::Flight), after_impact);
     }
     let mut landed = *y;
     clear_flight_slots(ctx, &mut landed);
-    match on_plane(ctx, Arrival::Landing { stuck: hit.stuck }, &mut landed) {
+    let next = match on_plane(ctx, Arrival::Landing { stuck: hit.stuck }, &mut landed) {
         Placed::SlipStopped => {
             impact(events, true);
             *y = landed;
@@ -375,24 +434,44 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
                 Next::Stop(status, mode)
             }
         },
+    };
+    (next, after_impact)
+}
+
+/// Makes `surface` the one in contact from t on, recording the change of surface (bodies
+/// with contact spheres only).
+pub(super) fn touch<E>(
+    ctx: &Context<'_, E>,
+    surface: Surface,
+    t: f64,
+    events: &mut Vec<EventRecord>,
+) {
+    let from = ctx.surface.replace(surface);
+    if from != surface {
+        events.push(EventRecord {
+            kind: EventKind::ContactSurface { from, to: surface },
+            t,
+        });
     }
 }
 
-/// The state on the flight's trajectory through (t, y) where the gap is zero: touchdown
+/// The state on the flight's trajectory through (t, y) where the gap of `surface` is
+/// zero: touchdown
 /// is located at gap = −δz (`phase::flight`), and an impact taken there, with the
 /// penetration then removed, would add 2 a δz to v_n² at every bounce (a: the gap's
 /// free deceleration) — enough to stall a Zeno sequence above the settling speed
 /// whenever a e²/(1 − e²) > g (docs/physics.md, "Settling"). Newton's iteration on s,
-/// gap(t + s) = 0 with d gap/dt = v_n, the lowest point's normal velocity, each y(t + s)
+/// gap(t + s) = 0 with d gap/dt = v_n, that surface's lowest point's normal velocity, each y(t + s)
 /// one RK4 step of the flight system from (t, y); |s| ≈ δz/|v_n| is at most a few ns.
 fn back_to_contact<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    surface: Surface,
     t: f64,
     y: &State,
 ) -> (f64, State) {
     let body = &ctx.scene.body;
     let gap_and_rate = |y: &State| {
-        let kin = Kinematics::flying(body, y);
+        let kin = Kinematics::flying_at(body, surface, y);
         let v_n = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
         (kin.gap, v_n)
     };
@@ -448,7 +527,7 @@ fn switch(events: &mut Vec<EventRecord>, t: f64, from: Mode, to: Mode) {
 /// μN − |F_h| ≥ 0.
 pub(super) fn rolls_once_stuck<E: Effect + Copy>(ctx: &Context<'_, E>, y: &mut State) -> bool {
     let roll = ctx.system::<RollingPhase>();
-    Rolling::stick(&ctx.scene.body, y);
+    Rolling::stick(&ctx.body(), y);
     roll.project(y);
     let mu = ctx.scene.contact.friction().unwrap_or(0.0);
     Rolling::cone_margin(&roll.evaluate(y).response, mu) >= 0.0
@@ -468,7 +547,7 @@ fn start_sliding_from_rest<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: 
         Vector2::x()
     };
     set_reference(y, s);
-    let seed = s * (SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&ctx.scene.body, y, false)));
+    let seed = s * (SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&ctx.body(), y, false)));
     // E + W stays exact: the seed's kinetic energy m (v_G·δv + |δv|²/2) is booked in W.
     let v = state::velocity(y);
     y[state::WORK] -= ctx.scene.body.mass() * (v.dot(&seed) + 0.5 * seed.norm_squared());
@@ -479,7 +558,7 @@ fn start_sliding_from_rest<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: 
 /// Sets s_ref to the slip's direction (kept where the slip is zero): the sliding law's
 /// friction opposes the slip from the segment's start, where v_C·s_ref > 0.
 pub(super) fn renew_reference<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut State) {
-    let slip = Kinematics::new(&ctx.scene.body, y, false).slip;
+    let slip = Kinematics::new(&ctx.body(), y, false).slip;
     if slip != Vector2::zeros() {
         set_reference(y, slip.normalize());
     }
@@ -489,7 +568,7 @@ pub(super) fn renew_reference<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, 
 /// (their slots cleared for the slip reference): the kinetic energy of the rebound this
 /// removes (below the settling speed) is booked in W, so E + W stays exact.
 fn clear_flight_slots<E>(ctx: &Context<'_, E>, y: &mut State) {
-    let body = &ctx.scene.body;
+    let body = &ctx.body();
     let energy =
         |kin: &Kinematics| Invariants::from_kinematics(body, ctx.scene.gravity, kin, 0.0).energy;
     let flying = energy(&Kinematics::flying(body, y));

@@ -17,7 +17,10 @@
 //! | frictionless | F = N e3 | N | lift-off |
 //! | sliding | Coulomb, F = N(e3 − μ ŝ) | N, v_C·s_ref, \|v_C\| − floor, Painlevé denominator | slip stop, Painlevé, lift-off |
 //! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left, lift-off |
-//! | flight | F = 0 | gap z_G − h(ζ) + δz | touchdown |
+//! | flight | F = 0 | gap z_G − h(ζ) + δz of the lowest surface | touchdown |
+//!
+//! With contact spheres every contact phase also watches each other surface's gap
+//! ([`touch_gap`]), whose touchdown is `transition::second_touchdown`.
 //!
 //! With a contact disc (`Scene::disc`) the sliding law is Coulomb–Contensou's and the
 //! sliding phase watches N, √(\|v_C\|² + (R ω_n)²) − floor and the Painlevé denominator;
@@ -32,8 +35,10 @@ use std::marker::PhantomData;
 
 use serde::Serialize;
 
+use crate::body::Surface;
 use crate::effects::Effect;
 use crate::error::ModelError;
+use crate::geometry;
 use crate::integrate::IntegrateError;
 use crate::invariants::Invariants;
 use crate::model::{ContactLaw, Evaluation, Response, System};
@@ -85,6 +90,23 @@ pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyP
         Mode::Rolling => &Registered::<RollingPhase>(PhantomData),
         Mode::Flight => &Registered::<FlightPhase>(PhantomData),
     }
+}
+
+/// The other surfaces a contact phase watches (bodies with contact spheres): every
+/// surface but the one in contact.
+pub(super) fn other_surfaces<'c, E>(ctx: &'c Context<'_, E>) -> impl Iterator<Item = Surface> + 'c {
+    let touching = ctx.surface.get();
+    ctx.scene.body.surfaces().filter(move |&s| s != touching)
+}
+
+/// The gap of `surface` while the body touches the plane with another, `ev` the contact
+/// phase's evaluation, plus the gap's round-off: h_k(ζ) − h_j(ζ) + δz
+/// (`geometry::height`; z_G = h_k in contact). Falling through zero, `surface` touches
+/// down (`transition::second_touchdown`).
+pub(super) fn touch_gap<E>(ctx: &Context<'_, E>, ev: &Evaluation, surface: Surface) -> f64 {
+    let kin = &ev.kin;
+    kin.contact.height - geometry::height(&ctx.scene.body, surface, kin.contact.zeta)
+        + ctx.numerics.gap_resolution(kin)
 }
 
 /// An event function of a segment: one of its phase's watches (by its index in

@@ -6,11 +6,12 @@ use crate::effects::Effect;
 use crate::model::{Evaluation, Rolling, System};
 use crate::state::State;
 
-use super::{Next, Phase};
+use super::{Next, Phase, other_surfaces, touch_gap};
+use crate::body::Surface;
 use crate::simulate::context::Context;
 use crate::simulate::outcome::{EventRecord, Mode};
 use crate::simulate::scene::ContactModel;
-use crate::simulate::transition::{cone_left, lift_off};
+use crate::simulate::transition::{cone_left, lift_off, second_touchdown};
 
 pub(in crate::simulate) struct RollingPhase;
 
@@ -21,6 +22,8 @@ pub(in crate::simulate) enum RollingWatch {
     Normal,
     /// g = μN − |F_h| (rolling leaves the friction cone), μ the scene's.
     Cone { friction: f64 },
+    /// Another surface's gap ([`touch_gap`]).
+    Touch(Surface),
 }
 
 impl Phase for RollingPhase {
@@ -33,16 +36,18 @@ impl Phase for RollingPhase {
     }
 
     fn watches<E>(ctx: &Context<'_, E>) -> Vec<RollingWatch> {
-        match ctx.scene.contact {
-            ContactModel::Coulomb { friction } => {
-                vec![RollingWatch::Normal, RollingWatch::Cone { friction }]
-            }
-            _ => vec![RollingWatch::Normal],
-        }
+        let cone = match ctx.scene.contact {
+            ContactModel::Coulomb { friction } => Some(RollingWatch::Cone { friction }),
+            _ => None,
+        };
+        std::iter::once(RollingWatch::Normal)
+            .chain(cone)
+            .chain(other_surfaces(ctx).map(RollingWatch::Touch))
+            .collect()
     }
 
     fn watch<E: Effect>(
-        _ctx: &Context<'_, E>,
+        ctx: &Context<'_, E>,
         _sys: &System<Rolling, E>,
         watch: RollingWatch,
         ev: &Evaluation,
@@ -51,6 +56,7 @@ impl Phase for RollingPhase {
         match watch {
             RollingWatch::Normal => ev.response.normal,
             RollingWatch::Cone { friction } => Rolling::cone_margin(&ev.response, friction),
+            RollingWatch::Touch(surface) => touch_gap(ctx, ev, surface),
         }
     }
 
@@ -64,6 +70,9 @@ impl Phase for RollingPhase {
         match watch {
             RollingWatch::Normal => lift_off(ctx, Mode::Rolling, *t, y, events),
             RollingWatch::Cone { .. } => cone_left(ctx, *t, y, events),
+            RollingWatch::Touch(surface) => {
+                second_touchdown(ctx, Mode::Rolling, surface, t, y, events)
+            }
         }
     }
 }

@@ -25,12 +25,13 @@ use crate::integrate::{
 use crate::model::{Evaluation, Kinematics, Sliding, System};
 use crate::state::{self, State};
 
-use super::{Next, Phase};
+use super::{Next, Phase, other_surfaces, touch_gap};
+use crate::body::Surface;
 use crate::simulate::context::Context;
 use crate::simulate::numerics::{CONFIRM_GROWTH, CONFIRM_HORIZON, PAINLEVE_COLLAPSE};
 use crate::simulate::outcome::{EventKind, EventRecord, Mode, Status};
 use crate::simulate::transition::{
-    lift_off, painleve, renew_reference, rolls_once_stuck, slip_stop,
+    lift_off, painleve, renew_reference, rolls_once_stuck, second_touchdown, slip_stop,
 };
 
 pub(in crate::simulate) struct SlidingPhase;
@@ -47,6 +48,8 @@ pub(in crate::simulate) enum SlidingWatch {
     SlipFloor,
     /// g = Painlevé denominator − [`PAINLEVE_COLLAPSE`].
     Painleve,
+    /// Another surface's gap ([`touch_gap`]).
+    Touch(Surface),
 }
 
 impl Phase for SlidingPhase {
@@ -65,19 +68,13 @@ impl Phase for SlidingPhase {
     }
 
     fn watches<E>(ctx: &Context<'_, E>) -> Vec<SlidingWatch> {
-        if ctx.scene.disc.is_some() {
-            return vec![
-                SlidingWatch::Normal,
-                SlidingWatch::SlipFloor,
-                SlidingWatch::Painleve,
-            ];
-        }
-        vec![
-            SlidingWatch::Normal,
-            SlidingWatch::Slip,
-            SlidingWatch::SlipFloor,
-            SlidingWatch::Painleve,
-        ]
+        // A contact disc has no sign change of v_C·s_ref to watch (see the module docs).
+        let slip = ctx.scene.disc.is_none().then_some(SlidingWatch::Slip);
+        std::iter::once(SlidingWatch::Normal)
+            .chain(slip)
+            .chain([SlidingWatch::SlipFloor, SlidingWatch::Painleve])
+            .chain(other_surfaces(ctx).map(SlidingWatch::Touch))
+            .collect()
     }
 
     fn watch<E: Effect>(
@@ -99,6 +96,7 @@ impl Phase for SlidingPhase {
                 }
             }
             SlidingWatch::Painleve => ev.response.painleve - PAINLEVE_COLLAPSE,
+            SlidingWatch::Touch(surface) => touch_gap(ctx, ev, surface),
         }
     }
 
@@ -116,6 +114,9 @@ impl Phase for SlidingPhase {
                 *t,
                 events,
             ),
+            SlidingWatch::Touch(surface) => {
+                second_touchdown(ctx, Mode::Sliding, surface, t, y, events)
+            }
             // Taken at once within the floor, else confirmed by a tight solve; one not
             // confirmed is a turn of the slip by more than 90° within a loose step.
             SlidingWatch::Slip | SlidingWatch::SlipFloor => {
@@ -252,7 +253,7 @@ fn stop_when_falling(g: EventFn<'_, { state::DIM }>) -> Event<'_, { state::DIM }
 
 /// Whether the material contact point's slip is zero to round-off.
 pub(in crate::simulate) fn slip_is_zero<E>(ctx: &Context<'_, E>, y: &State) -> bool {
-    let kin = Kinematics::new(&ctx.scene.body, y, false);
+    let kin = Kinematics::new(&ctx.body(), y, false);
     Sliding::direction(&kin, Vector2::zeros()) == Vector2::zeros()
 }
 
