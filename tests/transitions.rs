@@ -13,6 +13,7 @@ mod common;
 use std::path::Path;
 
 use common::run;
+use ellipsoid_core::body::Surface;
 use ellipsoid_core::invariants::Invariant;
 use ellipsoid_core::simulate::{EventKind, Mode, Outcome, Sample};
 
@@ -32,6 +33,8 @@ enum Expect {
     },
     /// The first touchdown's impact is not persistent, and the body flies on.
     Rebounds,
+    /// The surface in contact changes from the ellipsoid to contact sphere 0.
+    ChangesSurface,
     /// The run stops with `status` in `mode`, after an event `after` (if it records one).
     Stops {
         after: Option<&'static str>,
@@ -195,6 +198,38 @@ const ROWS: &[Row] = &[
     Row {
         table: 7,
         row: [
+            "any contact",
+            "another surface's gap ↓ −δz",
+            "the pressed surface separates",
+            "as a touchdown",
+        ],
+        scene: Scene {
+            file: "scenarios/tippe-top-stem.toml",
+            set: &["output.t_end=1.4"],
+        },
+        expect: Expect::ChangesSurface,
+    },
+    Row {
+        table: 8,
+        row: [
+            "any contact",
+            "another surface's gap ↓ −δz",
+            "the pressed surface stays pressed",
+            "stop several_contacts",
+        ],
+        scene: Scene {
+            file: "scenarios/tippe-top-stem.toml",
+            set: &[],
+        },
+        expect: Expect::Stops {
+            after: None,
+            status: "several_contacts",
+            mode: Mode::Sliding,
+        },
+    },
+    Row {
+        table: 9,
+        row: [
             "sliding",
             "slip stop, confirmed",
             "Coulomb, cone holds",
@@ -217,7 +252,7 @@ const ROWS: &[Row] = &[
         },
     },
     Row {
-        table: 7,
+        table: 9,
         row: [
             "sliding",
             "slip stop, confirmed",
@@ -241,7 +276,7 @@ const ROWS: &[Row] = &[
         },
     },
     Row {
-        table: 9,
+        table: 11,
         row: [
             "sliding",
             "Painlevé denominator ↓ 10⁻³",
@@ -259,7 +294,7 @@ const ROWS: &[Row] = &[
         },
     },
     Row {
-        table: 10,
+        table: 12,
         row: ["rolling", "cone left", "", "sliding"],
         scene: Scene {
             file: "tests/data/onset/prolate-onset.toml",
@@ -272,7 +307,7 @@ const ROWS: &[Row] = &[
         },
     },
     Row {
-        table: 11,
+        table: 13,
         row: [
             "any contact",
             "N ↓ 0",
@@ -290,7 +325,7 @@ const ROWS: &[Row] = &[
         },
     },
     Row {
-        table: 12,
+        table: 14,
         row: ["any contact", "N ↓ 0", "flight consistent", "flight"],
         scene: Scene {
             file: "scenarios/egg-jump.toml",
@@ -303,7 +338,7 @@ const ROWS: &[Row] = &[
         },
     },
     Row {
-        table: 13,
+        table: 15,
         row: [
             "any contact",
             "N ↓ 0",
@@ -326,7 +361,7 @@ const ROWS: &[Row] = &[
 /// that reach them.
 const ROWS_ELSEWHERE: &[(&[usize], &str, &str)] = &[
     (
-        &[8],
+        &[10],
         "sliding | slip stop, not confirmed (a turn of the slip) | sliding",
         "tests/hard_cases.rs, row 2d (a loose DOPRI5 step turns the slip through 90°)",
     ),
@@ -437,6 +472,26 @@ fn check_row(row: &Row) {
                 first_switch(&out, None).is_none(),
                 "{name}: a switch: {:?}",
                 out.events
+            );
+        }
+        Expect::ChangesSurface => {
+            let change = out.events.iter().position(|e| {
+                matches!(
+                    e.kind,
+                    EventKind::ContactSurface {
+                        from: Surface::Ellipsoid,
+                        to: Surface::Sphere(0)
+                    }
+                )
+            });
+            let i = change.unwrap_or_else(|| panic!("{name}: no change of surface"));
+            // The impact at the new surface follows, at the same time.
+            assert!(
+                out.events[i + 1..]
+                    .iter()
+                    .take_while(|e| e.t == out.events[i].t)
+                    .any(|e| matches!(e.kind, EventKind::Impact(_))),
+                "{name}: no impact at the change of surface"
             );
         }
         Expect::Stops {
