@@ -29,6 +29,8 @@ pub(super) struct Context<'s, E> {
     /// in flight): the contact phases' geometry is this surface's. Changed only by the
     /// transitions (`transition::touch`).
     pub(super) surface: Cell<Surface>,
+    /// The second surface in contact in the two-contact phase (`phase::two_contacts`).
+    pub(super) second: Cell<Surface>,
 }
 
 impl<E> Context<'_, E> {
@@ -46,6 +48,7 @@ impl<'s, E: Copy> Context<'s, E> {
             effects,
             cancel,
             surface: Cell::new(Surface::Ellipsoid),
+            second: Cell::new(Surface::Ellipsoid),
         }
     }
 

@@ -12,7 +12,12 @@
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the impact | as a touchdown | flight form, impact at the new surface |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays pressed | stop `several_contacts` | |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v⁺\| ≤ v_settle), the new one persistent, both N > 0, both slipping | two contacts | impact at the new surface; contact form; second constraint restored |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | the previous phase | impact at the new surface; contact form |
+//! | any contact | another surface's gap ↓ −δz | otherwise (the pressed one approaches; rolling; two contacts inconsistent) | stop `several_contacts` | |
+//! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
+//! | two contacts | a slip ↓ floor, or a third surface's gap ↓ −δz | | stop `several_contacts` | |
+//! | two contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
 //! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
 //! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
 //! | sliding | Painlevé denominator ↓ 10⁻³ (N → ∞ beyond) | | stop `painleve` | |
@@ -35,11 +40,11 @@ use crate::model::{Kinematics, Rolling, Sliding};
 use crate::state::{self, State};
 
 use super::context::Context;
-use super::numerics::{BACK_STEPS, GAP_ACCEL_ROUNDOFF, SLIP_SEED};
+use super::numerics::{BACK_STEPS, GAP_ACCEL_ROUNDOFF, PAINLEVE_COLLAPSE, SLIP_SEED};
 use super::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
 use super::phase::{
-    FlightPhase, FrictionlessPhase, Next, RollingPhase, phase, set_reference, slip_has_stopped,
-    slip_is_zero,
+    FlightPhase, FrictionlessPhase, Next, RollingPhase, TwoContactsPhase, phase, set_reference,
+    slip_has_stopped, slip_is_zero,
 };
 use super::scene::{ContactModel, LiftOff};
 
@@ -161,7 +166,12 @@ pub(super) fn slip_stop<E: Effect + Copy + 'static>(
 /// The sliding normal force's denominator collapsed to `denominator`
 /// (`numerics::PAINLEVE_COLLAPSE`) at t: N grows without bound, and Coulomb sliding has no
 /// consistent contact force beyond.
-pub(super) fn painleve(denominator: f64, t: f64, events: &mut Vec<EventRecord>) -> Next {
+pub(super) fn painleve(
+    mode: Mode,
+    denominator: f64,
+    t: f64,
+    events: &mut Vec<EventRecord>,
+) -> Next {
     events.push(EventRecord {
         kind: EventKind::Painleve,
         t,
@@ -171,7 +181,7 @@ pub(super) fn painleve(denominator: f64, t: f64, events: &mut Vec<EventRecord>) 
             denominator,
             error: None,
         },
-        Mode::Sliding,
+        mode,
     )
 }
 
@@ -313,8 +323,34 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     let (next, y_after) = land(ctx, touching, t, y, events);
     let kin = Kinematics::flying_at(&ctx.scene.body, pressed, &y_after);
     let approach = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
-    if approach > settling_speed(ctx, &y_after, &kin) {
+    let settle = settling_speed(ctx, &y_after, &kin);
+    if approach > settle {
         return next;
+    }
+    // The pressed surface stays on the plane (it neither leaves nor, beyond the settling
+    // speed, approaches it, which would need an impulse there too): the body goes on
+    // touching with it, and with the new surface too where that one stays.
+    let stays = approach >= -settle && from != Mode::Rolling;
+    let rebounds = matches!(next, Next::Go(Mode::Flight));
+    if stays {
+        let mut on = y_after;
+        ctx.surface.set(pressed);
+        clear_flight_slots(ctx, &mut on);
+        let kept =
+            |e: &EventRecord| matches!(e.kind, EventKind::Touchdown { .. } | EventKind::Impact(_));
+        if rebounds {
+            renew_reference(ctx, &mut on);
+            retain_from(events, before, kept);
+            *y = on;
+            return Next::Go(from);
+        }
+        ctx.second.set(touching);
+        if let Some(on) = onto_two_contacts(ctx, on) {
+            retain_from(events, before, kept);
+            switch(events, *t, from, Mode::TwoContacts);
+            *y = on;
+            return Next::Go(Mode::TwoContacts);
+        }
     }
     events.truncate(before);
     ctx.surface.set(pressed);
@@ -327,6 +363,76 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
         },
         from,
     )
+}
+
+/// Keeps of `events[from..]` those that pass `keep`.
+fn retain_from(events: &mut Vec<EventRecord>, from: usize, keep: impl Fn(&EventRecord) -> bool) {
+    let tail: Vec<EventRecord> = events.drain(from..).filter(|e| keep(e)).collect();
+    events.extend(tail);
+}
+
+/// The contact-form state `y` (on `Context::surface`) on both surfaces: the second
+/// contact's constraint restored (`TwoContacts::project`), where both normal forces are
+/// positive, the law consistent and, with friction, both contacts slipping (sticking at
+/// one of two contacts is not simulated); else `None`.
+fn onto_two_contacts<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    mut y: State,
+) -> Option<State> {
+    let sys = ctx.system::<TwoContactsPhase>();
+    sys.project(&mut y);
+    let ev = sys.evaluate(&y);
+    let r = &ev.response;
+    let pressed = r.second_normal > 0.0 && r.normal - r.second_normal > 0.0;
+    let slipping = ctx.scene.contact.friction().is_none_or(|mu| mu == 0.0) || {
+        let n = &ctx.numerics;
+        let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
+        let second = Kinematics {
+            contact,
+            slip,
+            ..ev.kin
+        };
+        Sliding::slip_above_floor(&ev.kin, n.slip_floor, n.v_min) > 0.0
+            && Sliding::slip_above_floor(&second, n.slip_floor, n.v_min) > 0.0
+    };
+    (pressed && r.painleve > PAINLEVE_COLLAPSE && slipping).then_some(y)
+}
+
+/// One of the two surfaces in contact leaves the plane (its normal force reached zero:
+/// the first, `Context::surface`, with `first_leaves`, else the second) at (t, y): the
+/// body goes on touching with the other alone, which enters the phase the rule "on the
+/// plane" gives ([`on_plane`]), or leaves the plane as well where it does not push
+/// ([`lift_off`]).
+pub(super) fn leave_second<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    first_leaves: bool,
+    t: f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    if first_leaves {
+        touch(ctx, ctx.second.get(), t, events);
+    }
+    let mut placed = *y;
+    match on_plane(ctx, Arrival::Landing { stuck: false }, &mut placed) {
+        Placed::SlipStopped => {
+            *y = placed;
+            events.push(EventRecord {
+                kind: EventKind::SlipStop,
+                t,
+            });
+            Next::Stop(Status::SlipStopped, Mode::Sliding)
+        }
+        Placed::In(mode) => {
+            *y = placed;
+            if pushes(ctx, mode, y) {
+                switch(events, t, Mode::TwoContacts, mode);
+                Next::Go(mode)
+            } else {
+                lift_off(ctx, mode, t, y, events)
+            }
+        }
+    }
 }
 
 /// The touchdown of `surface` ([`touchdown`]), also returning the state right after the

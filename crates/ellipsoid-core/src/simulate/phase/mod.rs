@@ -18,6 +18,7 @@
 //! | sliding | Coulomb, F = N(e3 − μ ŝ) | N, v_C·s_ref, \|v_C\| − floor, Painlevé denominator | slip stop, Painlevé, lift-off |
 //! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left, lift-off |
 //! | flight | F = 0 | gap z_G − h(ζ) + δz of the lowest surface | touchdown |
+//! | two contacts | sliding at two surfaces (`model::TwoContacts`) | N_1, N_2, each slip − floor, Painlevé denominator, a third surface's gap | one surface leaves; stop `several_contacts` or `painleve` |
 //!
 //! With contact spheres every contact phase also watches each other surface's gap
 //! ([`touch_gap`]), whose touchdown is `transition::second_touchdown`.
@@ -30,6 +31,7 @@ mod flight;
 mod frictionless;
 mod rolling;
 mod sliding;
+mod two_contacts;
 
 use std::marker::PhantomData;
 
@@ -53,6 +55,7 @@ pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
 pub(super) use sliding::{SlidingPhase, set_reference, slip_has_stopped, slip_is_zero};
+pub(super) use two_contacts::TwoContactsPhase;
 
 /// The contact phase in force (docs/physics.md, models 1–5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -63,18 +66,28 @@ pub enum Mode {
     Rolling,
     /// Off the plane (docs/physics.md, "Flight").
     Flight,
+    /// Two surfaces on the plane at once, both sliding (docs/physics.md, "Contact
+    /// spheres").
+    TwoContacts,
 }
 
 impl Mode {
     /// Every mode, in [`Mode::NAMES`] order.
-    pub const ALL: [Mode; 4] = [
+    pub const ALL: [Mode; 5] = [
         Mode::Frictionless,
         Mode::Sliding,
         Mode::Rolling,
         Mode::Flight,
+        Mode::TwoContacts,
     ];
     /// Their names in output files.
-    pub const NAMES: [&'static str; 4] = ["frictionless", "sliding", "rolling", "flight"];
+    pub const NAMES: [&'static str; 5] = [
+        "frictionless",
+        "sliding",
+        "rolling",
+        "flight",
+        "two_contacts",
+    ];
 
     /// Its name in output files.
     pub fn name(self) -> &'static str {
@@ -89,6 +102,7 @@ pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyP
         Mode::Sliding => &Registered::<SlidingPhase>(PhantomData),
         Mode::Rolling => &Registered::<RollingPhase>(PhantomData),
         Mode::Flight => &Registered::<FlightPhase>(PhantomData),
+        Mode::TwoContacts => &Registered::<TwoContactsPhase>(PhantomData),
     }
 }
 

@@ -110,6 +110,7 @@ impl Phase for SlidingPhase {
         match watch {
             SlidingWatch::Normal => lift_off(ctx, Mode::Sliding, *t, y, events),
             SlidingWatch::Painleve => painleve(
+                Mode::Sliding,
                 ctx.system::<Self>().evaluate(y).response.painleve,
                 *t,
                 events,
