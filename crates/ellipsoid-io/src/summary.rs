@@ -305,12 +305,10 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
             pressed,
             approach,
         } => format!(
-            "two surfaces on the plane at t = {t} s: the {} touched down while the {} was in contact, and after the \
-             impact the {} does not leave the plane (its normal velocity, {} m/s, is not above the settling speed), \
-             so the body would rest on both; contact on two surfaces at once is not simulated (docs/physics.md, \
-             \"Contact spheres\")",
+            "two surfaces on the plane at t = {t} s, the {} and the {} (normal velocity {} m/s), in a way that is \
+             not simulated: an impact needing impulses at both contacts, a slip stopping or a third surface \
+             touching while on two, or two contacts under the rolling model (docs/physics.md, \"Contact spheres\")",
             scene.body.surface_name(*touching),
-            scene.body.surface_name(*pressed),
             scene.body.surface_name(*pressed),
             number(*approach)
         ),

@@ -137,10 +137,12 @@ pub enum Status {
         normal: f64,
         gap_acceleration: f64,
     },
-    /// Surface `touching` reached the plane while surface `pressed` was in contact, and
-    /// `pressed` does not separate after the impact (its normal velocity `approach` ≤ 0
-    /// \[m/s\]): the body would rest on two surfaces at once, which is not simulated (an
-    /// error; docs/physics.md, "Contact spheres").
+    /// Two surfaces on the plane in a way that is not simulated (an error; docs/physics.md,
+    /// "Contact spheres"): surface `touching` reached the plane while `pressed` was in
+    /// contact and the impact would need impulses at both (`pressed` approaching at
+    /// `approach` < 0 \[m/s\] after it), or the two-contact phase cannot take them (the
+    /// rolling model, a normal force ≤ 0), or, on two surfaces, a slip stopped or a third
+    /// surface (`touching`) touched (`approach` = 0).
     SeveralContacts {
         touching: Surface,
         pressed: Surface,

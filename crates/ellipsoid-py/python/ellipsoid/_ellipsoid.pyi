@@ -228,7 +228,7 @@ class Trajectory:
         """Height of the body's lowest point above the plane [m] (0 in contact)."""
     @property
     def mode(self) -> npt.NDArray[np.str_]:
-        """Contact regime per sample: "frictionless", "sliding", "rolling" or "flight"."""
+        """Contact regime per sample: "frictionless", "sliding", "rolling", "flight" or "two_contacts"."""
     @property
     def summary(self) -> dict[str, Any]:
         """The command-line tool's summary dict (a fresh copy)."""
