@@ -106,7 +106,9 @@ fn every_panel_names_its_axes_with_units_and_draws_its_data() {
             &[
                 "x (m)",
                 "y (m)",
-                "paths on the plane: contact point, G, centre C0",
+                "paths on the plane",
+                "G",
+                "start",
                 "centre C0",
                 "contact point",
             ],
@@ -210,7 +212,9 @@ fn without_a_summary_the_contact_path_comes_from_its_columns_or_g_is_drawn_and_s
     let (err, text) = plot(csv.to_str().unwrap());
     assert!(!err.contains("note:"), "{err}");
     assert!(
-        text.contains("paths on the plane: contact point, G") && !text.contains("centre C0"),
+        text.contains("paths on the plane")
+            && text.contains("contact point")
+            && !text.contains("centre C0"),
         "contact path from its columns, no centre without the body"
     );
     // An older file without them, and no summary: G's path, and the figure says why.
@@ -219,13 +223,55 @@ fn without_a_summary_the_contact_path_comes_from_its_columns_or_g_is_drawn_and_s
     let (err, text) = plot(old.to_str().unwrap());
     assert!(err.contains("note: body unknown"), "{err}");
     assert!(
-        text.contains("path of G on the plane (contact point unknown"),
+        text.contains("paths on the plane (contact point unknown: body unknown")
+            && !text.contains("contact point\n</text>"),
         "the figure says why there is no contact path"
     );
     assert!(
         !text.contains("stroke=\"#8040A0\""),
         "no events without a summary"
     );
+}
+
+/// `-o FIG.pdf`: the figure as one vector PDF page (no raster image), 1100 px wide at
+/// 96 px per inch, its font embedded.
+#[test]
+fn plot_writes_a_vector_pdf_by_its_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, summary) = tippe_top(dir.path());
+    let o = ellipsoid(
+        dir.path(),
+        &[
+            "plot",
+            csv.to_str().unwrap(),
+            "--summary",
+            summary.to_str().unwrap(),
+            "--panels",
+            "theta,forces",
+            "-o",
+            "fig.pdf",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let pdf = std::fs::read(dir.path().join("fig.pdf")).unwrap();
+    let text = String::from_utf8_lossy(&pdf);
+    assert!(pdf.starts_with(b"%PDF-") && text.trim_end().ends_with("%%EOF"));
+    assert_eq!(
+        text.matches("/Type /Page\n").count()
+            + text.matches("/Type /Page ").count()
+            + text.matches("/Type /Page/").count(),
+        1,
+        "one page"
+    );
+    // 1100 x (40 + 2 x 300) px at 96 px per inch = 825 x 480 pt.
+    assert!(text.contains("/MediaBox [0 0 825 480]"), "page size");
+    assert!(text.contains("/FontFile"), "the font is embedded");
+    assert!(!text.contains("/Subtype /Image"), "vector, not a picture");
+    let o = ellipsoid(
+        dir.path(),
+        &["plot", csv.to_str().unwrap(), "-o", "fig.eps"],
+    );
+    assert!(!o.status.success() && stderr(&o).contains("use .svg or .png or .pdf"));
 }
 
 #[test]
@@ -357,8 +403,8 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
             "unknown panel \"wobble\"; the panels are theta, rates, energy, forces, path",
         ),
         (
-            vec!["plot", csv, "-o", "f.pdf"],
-            "f.pdf: unknown figure format \"pdf\"; use .svg or .png",
+            vec!["plot", csv, "-o", "f.eps"],
+            "f.eps: unknown figure format \"eps\"; use .svg or .png or .pdf",
         ),
         (
             vec!["plot", csv, "-o", csv],
@@ -392,7 +438,7 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
         );
         assert!(!err.contains("panicked"), "{err}");
     }
-    for f in ["f.svg", "f.pdf", "v.html", "v.svg"] {
+    for f in ["f.svg", "f.eps", "v.html", "v.svg"] {
         assert!(!d.join(f).exists(), "{f} written");
     }
 }

@@ -34,7 +34,7 @@ pub enum Command {
     /// quadrature), otherwise the final-state error against DOP853 at rtol = 1e-14. See
     /// docs/performance.md.
     Precision(PrecisionArgs),
-    /// Draw a trajectory file (CSV or HDF5) as a multi-panel figure (SVG or PNG): θ(t),
+    /// Draw a trajectory file (CSV or HDF5) as a multi-panel figure (SVG, PNG or PDF): θ(t),
     /// Euler rates, energy and relative drift (log axis), normal force and slip speed with
     /// the contact mode shaded, paths on the plane; events marked.
     Plot(PlotArgs),
@@ -172,8 +172,9 @@ pub struct PlotArgs {
     /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run`.
     #[arg(value_name = "OUT.csv|OUT.h5")]
     pub input: PathBuf,
-    /// The figure: `.svg` or `.png` (directories created as needed).
-    #[arg(short, long, value_name = "FIG.svg|FIG.png")]
+    /// The figure: `.svg`, `.png` or `.pdf` (vector, fonts embedded), by extension
+    /// (directories created as needed).
+    #[arg(short, long, value_name = "FIG.svg|FIG.png|FIG.pdf")]
     pub output: PathBuf,
     /// Panels, comma-separated, drawn top to bottom: theta, rates, energy, forces, path.
     #[arg(

@@ -1,5 +1,5 @@
 //! `ellipsoid plot` and `ellipsoid view`: a trajectory file (CSV or HDF5) read back and
-//! drawn as a multi-panel figure (SVG or PNG, [`crate::figure`]) or as the self-contained
+//! drawn as a multi-panel figure (SVG, PNG or PDF, [`crate::figure`]) or as the self-contained
 //! 3-D viewer page (`ellipsoid_io::viewer`). Events and the body come from the summary
 //! (`--summary`, or the one stored in an HDF5 file) and the scenario it names.
 
@@ -77,7 +77,7 @@ pub(crate) fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
 }
 
 pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
-    let ext = check_output(&args.output, &["svg", "png"], "figure")?;
+    let ext = check_output(&args.output, &["svg", "png", "pdf"], "figure")?;
     let panels = match &args.columns {
         Some(columns) => figure::parse_columns(columns),
         None => figure::parse_panels(&args.panels),
@@ -97,10 +97,10 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
         .clone()
         .unwrap_or_else(|| default_title(&table, args.summary.as_deref()));
     let svg = figure::svg(&table, &panels, &title).map_err(CliError::Plot)?;
-    let bytes = if ext == "png" {
-        figure::png(&svg).map_err(CliError::Plot)?
-    } else {
-        svg.into_bytes()
+    let bytes = match ext.as_str() {
+        "png" => figure::png(&svg).map_err(CliError::Plot)?,
+        "pdf" => figure::pdf(&svg).map_err(CliError::Plot)?,
+        _ => svg.into_bytes(),
     };
     put(&args.output, &bytes)?;
     if !args.quiet {

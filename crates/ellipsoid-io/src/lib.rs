@@ -12,6 +12,7 @@ pub mod columns;
 pub mod csv;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
+pub mod panels;
 pub mod run;
 pub mod summary;
 pub mod table;

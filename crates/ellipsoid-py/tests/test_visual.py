@@ -81,6 +81,55 @@ def test_plot_draws_every_panel_with_units() -> None:
         tippe_top().plot(["theta", "wobble"])
 
 
+def svg_texts(path: Path) -> set[str]:
+    """Every text of an SVG figure, stripped."""
+    import xml.etree.ElementTree as ET
+
+    return {(el.text or "").strip() for el in ET.parse(path).iter() if el.tag.endswith("}text") or el.tag == "text"}
+
+
+def test_both_renderers_draw_the_declared_panels_alike(cli: Path, tmp_path: Path) -> None:
+    """`ellipsoid plot` (plotters) and `Trajectory.plot` (matplotlib) draw from one
+    declaration: the same axes with the same titles (suffixes included: the vertical spin,
+    the Euler rates left out near θ = 0, the modes shaded), labels and legend entries."""
+    pytest.importorskip("matplotlib")
+    scene = str(SCENARIOS / "tippe-top.toml")
+    run = [str(cli), "run", scene, "--set", "output.t_end=1.5", "-o", str(tmp_path / "run.csv"),
+           "--summary", str(tmp_path / "run.json"), "-q"]
+    subprocess.run(run, check=True)
+    subprocess.run([str(cli), "plot", str(tmp_path / "run.csv"), "--summary", str(tmp_path / "run.json"),
+                    "-o", str(tmp_path / "fig.svg"), "-q"], check=True)
+    texts = svg_texts(tmp_path / "fig.svg")
+    fig = tippe_top().plot()
+    from ellipsoid._plot import DECLARATION
+
+    assert len(fig.axes) == sum(len(p["axes"]) for p in DECLARATION["panels"])
+    assert fig.get_suptitle() == "tippe-top.toml" and "tippe-top.toml" in texts
+    titles = [ax.get_title() for ax in fig.axes]
+    assert "Euler rates and the vertical spin (φ̇, ψ̇ left out where sin θ < 0.1)" in titles
+    assert "normal force (shaded: sliding orange, rolling green)" in titles
+    for ax in fig.axes:
+        drawn = [ax.get_title(), ax.get_ylabel(), ax.get_xlabel()]
+        drawn += [t.get_text() for t in ax.get_legend().get_texts()] if ax.get_legend() else []
+        for text in drawn:
+            assert text in texts, f"matplotlib draws {text!r}, ellipsoid plot does not"
+    # and the other way: every caption of the SVG (its largest text but the figure's title)
+    # is a matplotlib title
+    import xml.etree.ElementTree as ET
+
+    captions = {(el.text or "").strip() for el in ET.parse(tmp_path / "fig.svg").iter()
+                if el.tag.endswith("text") and float(el.get("font-size", "0")) > 15}
+    assert captions == set(titles), captions ^ set(titles)
+
+
+def test_plot_writes_pdf(tmp_path: Path) -> None:
+    pytest.importorskip("matplotlib")
+    fig = tippe_top().plot("theta,forces")
+    fig.savefig(tmp_path / "fig.pdf")
+    data = (tmp_path / "fig.pdf").read_bytes()
+    assert data.startswith(b"%PDF-") and data.rstrip().endswith(b"%%EOF") and len(data) > 10_000
+
+
 def test_plot_without_matplotlib_says_how_to_get_it() -> None:
     code = (
         "import sys; sys.modules['matplotlib'] = None; sys.modules['matplotlib.figure'] = None\n"

@@ -25,6 +25,7 @@ __all__ = [
     "SimulationError",
     "Trajectory",
     "__version__",
+    "_PANELS",
     "_argument_error",
     "_hdf5_plugins",
     "_study_workers",
@@ -43,6 +44,8 @@ __version__: Final[str]
 HDF5: Final[bool]
 #: Column names of a trajectory, in the CSV file's order.
 COLUMNS: Final[list[str]]
+#: The figure's panels as JSON, declared once for `ellipsoid plot` and `Trajectory.plot`.
+_PANELS: Final[str]
 
 def _study_workers(workers: Any = None) -> int:
     """`study`'s workers checked as `sweep`'s: 0 (one per CPU) or 1 to 4 per CPU (at least 8)."""
