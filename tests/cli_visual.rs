@@ -327,12 +327,33 @@ fn hdf5_carries_its_own_events_and_body() {
         a == b,
         "the HDF5 file and the CSV with its summary draw the same figure"
     );
-    let v = ellipsoid(dir.path(), &["view", "tt.h5", "-o", "v.html", "-q"]);
+    let v = ellipsoid(
+        dir.path(),
+        &[
+            "view",
+            "tt.h5",
+            "-o",
+            "v.html",
+            "--columns",
+            "omega_world_z,slip_speed",
+            "-q",
+        ],
+    );
     assert!(v.status.success(), "{}", stderr(&v));
     let page = std::fs::read_to_string(dir.path().join("v.html")).unwrap();
     assert!(
         page.contains("\"semi_axes\":[") && page.contains("sliding → rolling"),
         "body and events in the page"
+    );
+    assert!(
+        page.contains("\"name\":\"omega_world_z\",\"label\":\"omega_world_z (rad/s)\"")
+            && page.contains("\"name\":\"slip_speed\"")
+            && !page.contains("\"name\":\"theta\""),
+        "the side plots asked for, and only those"
+    );
+    assert!(
+        page.contains("<title>tippe-top.toml</title>"),
+        "titled by the scenario's name"
     );
 }
 
@@ -425,6 +446,17 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
         (
             vec!["view", csv, "-o", "v.svg"],
             "unknown page format \"svg\"; use .html or .htm",
+        ),
+        (
+            vec![
+                "view",
+                csv,
+                "-o",
+                "v.html",
+                "--columns",
+                "theta,omega_z_world",
+            ],
+            "--columns: \"omega_z_world\" is not a numeric output column; the columns are x, y",
         ),
     ];
     let _ = summary;

@@ -40,7 +40,7 @@ pub enum Command {
     Plot(PlotArgs),
     /// Write a self-contained 3-D viewer page (HTML, opens offline) of a trajectory file:
     /// the body moving on the plane with its contact trace, play/pause, speed, a time
-    /// slider, θ(t) and energy plots with a linked cursor.
+    /// slider, side plots (θ(t) and energy, or `--columns`) with a linked cursor.
     View(ViewArgs),
     /// Render a trajectory file (CSV or HDF5) as an animated GIF, without a browser: the
     /// body on the plane, its contact trace, the time and θ in a corner.
@@ -215,6 +215,11 @@ pub struct ViewArgs {
     /// Page title (default: the scenario named by the summary, else the input file name).
     #[arg(long)]
     pub title: Option<String>,
+    /// The side plots against time, comma-separated output columns, at most 6 (e.g.
+    /// `omega_world_z,theta` for a rattleback's spin); `energy` adds E + W when work is
+    /// dissipated.
+    #[arg(long, value_name = "LIST", default_value = "theta,energy")]
+    pub columns: String,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,

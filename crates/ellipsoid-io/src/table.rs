@@ -120,6 +120,8 @@ pub struct Table {
     pub shape_note: String,
     /// Status of the run, if known (`completed`, `lost_contact`, …).
     pub status: Option<String>,
+    /// The file name (no directories) of the scenario the run's summary names, if known.
+    pub scenario: Option<String>,
 }
 
 impl Table {
@@ -280,10 +282,13 @@ impl Table {
     pub fn apply_summary(&mut self, summary: &Value, scenario_text: Option<&str>) {
         self.apply_events(summary);
         let source = summary.get("scenario").and_then(Value::as_str);
-        let name = source.and_then(|s| Path::new(s).file_name()).map_or_else(
-            || "the scenario".into(),
-            |n| n.to_string_lossy().into_owned(),
-        );
+        self.scenario = source
+            .and_then(|s| Path::new(s).file_name())
+            .map(|n| n.to_string_lossy().into_owned());
+        let name = self
+            .scenario
+            .clone()
+            .unwrap_or_else(|| "the scenario".into());
         let overrides: Vec<String> = summary
             .get("overrides")
             .and_then(Value::as_array)

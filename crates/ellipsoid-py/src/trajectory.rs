@@ -198,9 +198,35 @@ impl Trajectory {
         t
     }
 
-    fn page(&self, py: Python<'_>, title: Option<&str>) -> PyResult<String> {
-        let title = title.unwrap_or(&self.scenario.inner.source);
-        ellipsoid_io::viewer::html(&self.table(), title)
+    /// The viewer page, titled `title` (default: the scenario's file name, as `ellipsoid
+    /// view` titles it; never its directories), with the side plots `columns` (a comma-
+    /// separated string or a sequence of column names; default θ and the energy).
+    fn page(
+        &self,
+        py: Python<'_>,
+        title: Option<&str>,
+        columns: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<String> {
+        let source = &self.scenario.inner.source;
+        let name = Path::new(source)
+            .file_name()
+            .map_or_else(|| source.clone(), |n| n.to_string_lossy().into_owned());
+        let plots = match columns {
+            None => ellipsoid_io::viewer::DEFAULT_PLOTS
+                .map(String::from)
+                .to_vec(),
+            Some(c) => {
+                let spec = match c.extract::<String>() {
+                    Ok(s) => s,
+                    Err(_) => c.extract::<Vec<String>>()?.join(","),
+                };
+                ellipsoid_io::viewer::parse_plots(&spec).map_err(|rule| {
+                    errors::value_error(py, source, Some("columns"), Some(&spec), rule)
+                })?
+            }
+        };
+        let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
+        ellipsoid_io::viewer::html(&self.table(), title.unwrap_or(&name), &plots)
             .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))
     }
 }
@@ -718,20 +744,23 @@ impl Trajectory {
     }
 
     /// The 3-D viewer page of this run (the same HTML as `ellipsoid view`): the body on the
-    /// plane with its contact trace, play/pause, speed, a time slider, θ(t) and energy
-    /// plots with a linked cursor; self-contained (opens offline). Without `path`, returns
+    /// plane with its contact trace, play/pause, speed, a time slider, side plots with a
+    /// linked cursor — θ(t) and the energy, or the output columns `columns` (a list, or a
+    /// comma-separated string, at most 6: `columns=["omega_world_z", "theta"]`); titled
+    /// `title` (default: the scenario's file name); self-contained (opens offline). Without `path`, returns
     /// the HTML text as an `ellipsoid._display.ViewerPage` (a `str` that Jupyter displays
     /// as the viewer, inline: 0.7–1.4 MB in the notebook). With `path`, writes it there
     /// atomically and returns a `ViewerFile` (an `os.PathLike` that Jupyter displays as an
     /// iframe of the file: a notebook stays small).
-    #[pyo3(signature = (path=None, *, title=None))]
+    #[pyo3(signature = (path=None, *, title=None, columns=None))]
     fn view<'py>(
         &self,
         py: Python<'py>,
         path: Option<PathBuf>,
         title: Option<String>,
+        columns: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let html = self.page(py, title.as_deref())?;
+        let html = self.page(py, title.as_deref(), columns)?;
         let display = py.import("ellipsoid._display")?;
         match path {
             None => display.getattr("ViewerPage")?.call1((html,)),
@@ -791,7 +820,7 @@ impl Trajectory {
 
     /// Jupyter: the viewer inline, in an iframe.
     fn _repr_html_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.view(py, None, None)?.call_method0("_repr_html_")
+        self.view(py, None, None, None)?.call_method0("_repr_html_")
     }
 
     /// The geometric centre C0's path on the plane, (x, y) [m] (used by `plot`); None

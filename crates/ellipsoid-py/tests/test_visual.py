@@ -40,6 +40,25 @@ def test_view_is_the_command_line_page_byte_for_byte(cli: Path, tmp_path: Path) 
     assert (tmp_path / "py.html").read_text(encoding="utf-8") == page
 
 
+def test_view_side_plots_and_default_title_are_the_command_line_s(cli: Path, tmp_path: Path) -> None:
+    """`columns=` chooses the side plots as `ellipsoid view --columns` does, and both title
+    the page with the scenario's file name (no directories) by default."""
+    scenario = str(SCENARIOS / "tippe-top.toml")
+    run = [str(cli), "run", scenario, "-o", str(tmp_path / "t.csv"), "--summary", str(tmp_path / "t.json"), "--set", "output.t_end=1.5", "-q"]
+    subprocess.run(run, check=True)
+    view = [str(cli), "view", str(tmp_path / "t.csv"), "--summary", str(tmp_path / "t.json"), "-o", str(tmp_path / "cli.html"),
+            "--columns", "omega_world_z,theta", "-q"]
+    subprocess.run(view, check=True)
+    traj = ellipsoid.simulate(scenario, **{"output.t_end": 1.5})
+    page = traj.view(columns=["omega_world_z", "theta"])
+    assert page == (tmp_path / "cli.html").read_text(encoding="utf-8")
+    assert traj.view(columns="omega_world_z, theta") == page
+    assert "<title>tippe-top.toml</title>" in page and str(SCENARIOS) not in page
+    assert '"name":"omega_world_z","label":"omega_world_z (rad/s)"' in page
+    with pytest.raises(ellipsoid.ScenarioError, match='columns = thetaa: "thetaa" is not a numeric output column'):
+        traj.view(columns=["thetaa"])
+
+
 def test_view_page_carries_the_run() -> None:
     page = tippe_top().view()
     assert page.startswith("<!DOCTYPE html>") and "three.js authors" in page

@@ -282,10 +282,10 @@ class Trajectory:
     def to_hdf5(self, path: _Path) -> None: ...
     def save(self, path: _Path) -> None: ...
     @overload
-    def view(self, path: None = None, *, title: str | None = None) -> str:
+    def view(self, path: None = None, *, title: str | None = None, columns: str | Sequence[str] | None = None) -> str:
         """The 3-D viewer page (the HTML of `ellipsoid view`), as text that Jupyter displays."""
     @overload
-    def view(self, path: _Path, *, title: str | None = None) -> os.PathLike[str]:
+    def view(self, path: _Path, *, title: str | None = None, columns: str | Sequence[str] | None = None) -> os.PathLike[str]:
         """Writes the 3-D viewer page to `path`; Jupyter displays the file."""
     def _repr_html_(self) -> str: ...
     def animate(self, path: _Path, *, width: int = 480, height: int = 360, fps: float = 25.0, speed: float = 1.0) -> int:
