@@ -475,6 +475,32 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
     }
 }
 
+/// `-o ANIM.mp4` needs ffmpeg: without it the error names it and how to get it, exit 1,
+/// nothing written (the GIF needs nothing).
+#[test]
+fn animate_mp4_without_ffmpeg_says_what_is_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, summary) = tippe_top(dir.path());
+    let o = Command::new(BIN)
+        .args(["animate", csv.to_str().unwrap(), "--summary"])
+        .arg(&summary)
+        .args(["-o", "top.mp4"])
+        .env("ELLIPSOID_FFMPEG", dir.path().join("no-such-ffmpeg"))
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with("error: top.mp4: MP4 needs ffmpeg, which could not be run (")
+            && err.contains("no-such-ffmpeg")
+            && err.contains("apt-get install ffmpeg")
+            && err.trim_end().lines().count() == 1,
+        "{err}"
+    );
+    assert!(!dir.path().join("top.mp4").exists());
+}
+
 /// A summary may come from someone else: the page it makes carries neither the content of
 /// the file its `scenario` names (a parse error used to quote the file's first
 /// `key = "value"` into the page's note) nor that file's directories.

@@ -775,9 +775,11 @@ impl Trajectory {
     /// Writes the run as an animated GIF at `path`, rendered without a browser (the same
     /// renderer as `ellipsoid animate`): the body on the plane, its contact trace, the time
     /// and θ in a corner; `width`×`height` px (16 to 2000), `fps` frames per second (at
-    /// most 100), `speed` simulated seconds per second (0.25: four times slower). Returns
-    /// the number of frames (at most 2000). Raises OutputError if the file cannot be
-    /// written, ScenarioError for a bad option.
+    /// most 100), `speed` simulated seconds per second (0.25: four times slower). A `path`
+    /// ending in `.mp4` writes the same frames as H.264 MP4, encoded by the system's ffmpeg
+    /// (on the PATH, or named by $ELLIPSOID_FFMPEG). Returns the number of frames (at most
+    /// 2000). Raises OutputError if the file cannot be written (or, for MP4, ffmpeg is
+    /// missing or fails: the message says what to install), ScenarioError for a bad option.
     #[pyo3(signature = (path, *, width=480, height=360, fps=25.0, speed=1.0))]
     fn animate(
         &self,
@@ -797,23 +799,38 @@ impl Trajectory {
         let source = &self.scenario.inner.source;
         opt.check()
             .map_err(|rule| errors::value_error(py, source, Some("animate"), None, rule))?;
-        if !path
+        let ext = path
             .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
-        {
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        if ext != "gif" && ext != "mp4" {
             return Err(errors::value_error(
                 py,
                 source,
                 Some("path"),
                 Some(&path.display().to_string()),
-                "an animation is written as .gif",
+                "an animation is written as .gif, or as .mp4 where ffmpeg is installed",
             ));
         }
         let table = self.table();
-        let mut bytes = Vec::new();
-        let frames = py
-            .detach(|| ellipsoid_io::animate::gif(&table, &opt, &mut bytes))
-            .map_err(|e| errors::internal_error(py, &e))?;
+        let (bytes, frames) = if ext == "mp4" {
+            py.detach(|| ellipsoid_io::animate::mp4(&table, &opt))
+                .map_err(|e| {
+                    errors::output_error(
+                        py,
+                        &OutputError::Io {
+                            path: path.clone(),
+                            source: std::io::Error::other(e),
+                        },
+                    )
+                })?
+        } else {
+            let mut bytes = Vec::new();
+            let frames = py
+                .detach(|| ellipsoid_io::animate::gif(&table, &opt, &mut bytes))
+                .map_err(|e| errors::internal_error(py, &e))?;
+            (bytes, frames)
+        };
         ellipsoid_io::atomic::write(&path, &bytes).map_err(|e| errors::output_error(py, &e))?;
         Ok(frames)
     }

@@ -289,7 +289,7 @@ class Trajectory:
         """Writes the 3-D viewer page to `path`; Jupyter displays the file."""
     def _repr_html_(self) -> str: ...
     def animate(self, path: _Path, *, width: int = 480, height: int = 360, fps: float = 25.0, speed: float = 1.0) -> int:
-        """Writes the run as an animated GIF (no browser needed); returns the frame count."""
+        """Writes the run as an animated GIF (no browser needed), or MP4 for a `.mp4` path (needs ffmpeg); returns the frame count."""
     def plot(self, panels: str | Sequence[str] | None = None, *, columns: str | Sequence[str] | None = None, ax: Any = None) -> Any:
         """The panels of `ellipsoid plot`, or any columns, as a matplotlib Figure (needs matplotlib)."""
 
