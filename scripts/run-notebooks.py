@@ -93,11 +93,16 @@ def outputs(cell: nbformat.NotebookNode, stem: str, figures: dict[str, bytes]) -
     the page's figure directory -> PNG bytes). Standard error (progress and log lines of
     the libraries) is left out; tracebacks fail the run before a page is written."""
     parts: list[str] = []
+    printed = ""  # consecutive prints, one block (the kernel may send them in pieces)
     for out in cell.get("outputs", []):
         kind = out.get("output_type")
-        if kind == "stream" and out.get("name") == "stdout":
-            parts.append(text_block(out["text"]))
-        elif kind in ("execute_result", "display_data"):
+        if kind == "stream":
+            printed += out["text"] if out.get("name") == "stdout" else ""
+            continue
+        if printed:
+            parts.append(text_block(printed))
+            printed = ""
+        if kind in ("execute_result", "display_data"):
             data = out.get("data", {})
             if "image/png" in data:
                 png, width = small_png(data["image/png"])
@@ -112,6 +117,8 @@ def outputs(cell: nbformat.NotebookNode, stem: str, figures: dict[str, bytes]) -
                 parts.append("*(In Jupyter the 3-D viewer shows here, inline.)*\n")
             elif "text/plain" in data:
                 parts.append(text_block(data["text/plain"]))
+    if printed:
+        parts.append(text_block(printed))
     return parts
 
 
