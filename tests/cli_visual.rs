@@ -177,15 +177,17 @@ fn every_panel_names_its_axes_with_units_and_draws_its_data() {
     );
 }
 
-/// The CSV without the columns `names` (a file from before they existed).
+/// The CSV without the columns `names` and without its comment line (a file from before
+/// they existed).
 fn drop_columns(csv: &Path, names: &[&str], out: &Path) {
     let text = std::fs::read_to_string(csv).unwrap();
-    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let rows = || text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = rows().next().unwrap().split(',').collect();
     let keep: Vec<usize> = (0..header.len())
         .filter(|&k| !names.contains(&header[k]))
         .collect();
     let mut o = String::new();
-    for line in text.lines() {
+    for line in rows() {
         let f: Vec<&str> = line.split(',').collect();
         o.push_str(&keep.iter().map(|&k| f[k]).collect::<Vec<_>>().join(","));
         o.push('\n');
@@ -208,13 +210,25 @@ fn without_a_summary_the_contact_path_comes_from_its_columns_or_g_is_drawn_and_s
             std::fs::read_to_string(dir.path().join("p.svg")).unwrap(),
         )
     };
-    // contact_x, contact_y in the file: the contact path without the body (and no C0).
+    // The CSV's comment line names the body: the contact path and the centre C0, no note,
+    // the scenario's name as the title.
     let (err, text) = plot(csv.to_str().unwrap());
     assert!(!err.contains("note:"), "{err}");
     assert!(
         text.contains("paths on the plane")
             && text.contains("contact point")
-            && !text.contains("centre C0"),
+            && text.contains("centre C0")
+            && text.contains("\ntippe-top.toml\n</text>"),
+        "the body and the title from the CSV alone"
+    );
+    // contact_x, contact_y in a file without its comment line: the contact path without
+    // the body (and no C0).
+    let bare = dir.path().join("bare.csv");
+    drop_columns(&csv, &[], &bare);
+    let (err, text) = plot(bare.to_str().unwrap());
+    assert!(!err.contains("note:"), "{err}");
+    assert!(
+        text.contains("contact point") && !text.contains("centre C0"),
         "contact path from its columns, no centre without the body"
     );
     // An older file without them, and no summary: G's path, and the figure says why.
@@ -507,7 +521,10 @@ fn animate_mp4_without_ffmpeg_says_what_is_missing() {
 #[test]
 fn a_page_carries_no_local_file_content_or_directories_from_a_summary() {
     let dir = tempfile::tempdir().unwrap();
-    let (csv, json) = tippe_top(dir.path());
+    let (with_comment, json) = tippe_top(dir.path());
+    // Without the comment line, so that the body comes from the summary's scenario alone.
+    let csv = dir.path().join("bare.csv");
+    drop_columns(&with_comment, &[], &csv);
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let secrets = tempfile::tempdir().unwrap();

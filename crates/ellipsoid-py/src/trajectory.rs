@@ -713,11 +713,14 @@ impl Trajectory {
     }
 
     /// Writes the trajectory as CSV, byte for byte what `ellipsoid run -o PATH` writes for
-    /// the same run (the same writer). The file appears only when complete; its directory
-    /// must exist. Raises OutputError.
+    /// the same run (the same writer): a comment line naming the scenario and its body
+    /// (`# ellipsoid {...}`; read it back with `pandas.read_csv(path, comment="#")`), the
+    /// header, the rows. The file appears only when complete; its directory must exist.
+    /// Raises OutputError.
     fn to_csv(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let comment = ellipsoid_io::csv::comment(&self.scenario.inner);
         self.write(py, &path, |p| {
-            Ok(TrajectoryWriter::Csv(CsvFile::create(p)?))
+            Ok(TrajectoryWriter::Csv(CsvFile::create(p, Some(&comment))?))
         })
     }
 
