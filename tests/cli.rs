@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use serde_json::Value;
+use serde_json::{Value, json};
 
 const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
 
@@ -164,6 +164,8 @@ fn every_bundled_scenario_has_a_test() {
         "egg-jump",
         "drop",
         "tippe-top-jump",
+        "tippe-top-stem",
+        "top-on-peg",
     ];
     for entry in std::fs::read_dir(scenarios()).unwrap() {
         let path = entry.unwrap().path();
@@ -366,6 +368,47 @@ fn scenario_tippe_top_jump_hops_while_turning_over() {
     let kinds = event_kinds(&s);
     assert!(kinds.iter().filter(|k| **k == "lift_off").count() >= 5);
     assert!(kinds.contains(&"observed"), "θ passes π/2");
+}
+
+/// The stem touches down after the ball-only top's π/2 time, the summary names the
+/// surfaces, and the top comes to rest on ball and stem (docs/physics.md, "Contact
+/// spheres").
+#[test]
+fn scenario_tippe_top_stem_touches_down_and_rests_on_ball_and_stem() {
+    let (s, h, rows) = run_scenario("tippe-top-stem", None, "several_contacts");
+    let events = s["events"].as_array().unwrap();
+    let first = events
+        .iter()
+        .find(|e| e["kind"] == "contact_surface")
+        .expect("the stem touches");
+    assert_eq!(
+        (&first["from"], &first["to"]),
+        (&json!("ellipsoid"), &json!("stem"))
+    );
+    let inverted = events.iter().find(|e| e["kind"] == "observed").unwrap();
+    assert!(inverted["t"].as_f64().unwrap() < first["t"].as_f64().unwrap());
+    let message = s["message"].as_str().unwrap();
+    assert!(
+        message.contains("stem") && message.contains("ellipsoid"),
+        "{message}"
+    );
+    let theta = h.iter().position(|c| c == "theta").unwrap();
+    let last: f64 = rows.last().unwrap()[theta].parse().unwrap();
+    let theta_star = ((0.005_f64 - 0.015) / 0.013).acos();
+    assert!((last - theta_star).abs() < 1e-6, "θ = {last}");
+}
+
+/// The top on its peg spun at 200 rad/s sleeps: its tilt stays within 0.044..0.055 rad
+/// and only the peg touches.
+#[test]
+fn scenario_top_on_peg_sleeps() {
+    let (s, h, rows) = run_scenario("top-on-peg", None, "completed");
+    let theta = h.iter().position(|c| c == "theta").unwrap();
+    for row in &rows {
+        let t: f64 = row[theta].parse().unwrap();
+        assert!((0.044..0.055).contains(&t), "θ = {t}");
+    }
+    assert!(event_kinds(&s).iter().all(|k| *k != "contact_surface"));
 }
 
 #[test]

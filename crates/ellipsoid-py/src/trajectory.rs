@@ -441,8 +441,8 @@ impl Trajectory {
 
     /// Event times [s] by name (solve_ivp's `t_events`): one float64 array per observable
     /// of the scenario (by its `name`) and per built-in event kind ("slip_stop",
-    /// "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve"),
-    /// empty when it did not occur.
+    /// "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve",
+    /// "contact_surface"), empty when it did not occur.
     #[getter]
     fn t_events<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
         result_helper(slf, "t_events")
@@ -646,8 +646,10 @@ impl Trajectory {
     }
 
     /// Located events, in time order: dicts `{"kind": ..., "t": [s]}`, kind one of
-    /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "painleve",
-    /// "observed" (with "name" and "state", a dict of every column at the event).
+    /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "lift_off",
+    /// "touchdown", "impact", "painleve", "contact_surface" (with "from" and "to", the
+    /// surfaces by name), "observed" (with "name" and "state", a dict of every column at
+    /// the event).
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let json = serde_json::to_string(&self.summary.events)

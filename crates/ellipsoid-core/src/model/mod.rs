@@ -27,7 +27,7 @@ pub use sliding::{Sliding, SlipBand};
 
 use nalgebra::{Matrix3, Vector2, Vector3};
 
-use crate::body::Body;
+use crate::body::{Body, Surface};
 use crate::effects::{Effect, Wrench};
 use crate::geometry::Contact;
 use crate::integrate::OdeSystem;
@@ -77,14 +77,28 @@ impl Kinematics {
 
     /// Kinematics of a state in flight (docs/physics.md, "Flight"): z_G and v_Gz are
     /// states, the gap is g = z_G − h(ζ) with h(ζ) the height G would have touching
-    /// (`geometry`), and `contact` describes the body's lowest point; `slip` is that
-    /// point's horizontal velocity.
+    /// (`geometry`), and `contact` describes the body's lowest point, on whichever
+    /// surface it is (`Contact::lowest`); `slip` is that point's horizontal velocity.
     #[inline]
     pub fn flying(body: &Body, y: &State) -> Self {
         let rot = state::rotation(y);
         let omega = state::omega(y);
         let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
-        let contact = Contact::new(body, zeta, omega);
+        Kinematics::flying_with(Contact::lowest(body, zeta, omega), rot, omega, y)
+    }
+
+    /// [`Kinematics::flying`] with `contact` describing the lowest point of `surface`
+    /// (its gap may be above another surface's).
+    #[inline]
+    pub fn flying_at(body: &Body, surface: Surface, y: &State) -> Self {
+        let rot = state::rotation(y);
+        let omega = state::omega(y);
+        let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
+        Kinematics::flying_with(Contact::of(body, surface, zeta, omega), rot, omega, y)
+    }
+
+    #[inline(always)]
+    fn flying_with(contact: Contact, rot: Matrix3<f64>, omega: Vector3<f64>, y: &State) -> Self {
         let spin_lever = rot * omega.cross(&contact.r);
         let v_h = state::velocity(y);
         Kinematics {
