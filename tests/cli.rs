@@ -46,10 +46,10 @@ fn read_json(path: &Path) -> Value {
         .expect("summary is JSON")
 }
 
-/// Header and rows of a CSV trajectory, numbers parsed.
+/// Header and rows of a CSV trajectory (its `#` comment line skipped), numbers parsed.
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).expect("trajectory written");
-    let mut lines = text.lines();
+    let mut lines = text.lines().skip_while(|l| l.starts_with('#'));
     let header: Vec<String> = lines
         .next()
         .expect("header")

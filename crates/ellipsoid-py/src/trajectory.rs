@@ -199,9 +199,35 @@ impl Trajectory {
         t
     }
 
-    fn page(&self, py: Python<'_>, title: Option<&str>) -> PyResult<String> {
-        let title = title.unwrap_or(&self.scenario.inner.source);
-        ellipsoid_io::viewer::html(&self.table(), title)
+    /// The viewer page, titled `title` (default: the scenario's file name, as `ellipsoid
+    /// view` titles it; never its directories), with the side plots `columns` (a comma-
+    /// separated string or a sequence of column names; default θ and the energy).
+    fn page(
+        &self,
+        py: Python<'_>,
+        title: Option<&str>,
+        columns: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<String> {
+        let source = &self.scenario.inner.source;
+        let name = Path::new(source)
+            .file_name()
+            .map_or_else(|| source.clone(), |n| n.to_string_lossy().into_owned());
+        let plots = match columns {
+            None => ellipsoid_io::viewer::DEFAULT_PLOTS
+                .map(String::from)
+                .to_vec(),
+            Some(c) => {
+                let spec = match c.extract::<String>() {
+                    Ok(s) => s,
+                    Err(_) => c.extract::<Vec<String>>()?.join(","),
+                };
+                ellipsoid_io::viewer::parse_plots(&spec).map_err(|rule| {
+                    errors::value_error(py, source, Some("columns"), Some(&spec), rule)
+                })?
+            }
+        };
+        let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
+        ellipsoid_io::viewer::html(&self.table(), title.unwrap_or(&name), &plots)
             .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))
     }
 }
@@ -690,11 +716,14 @@ impl Trajectory {
     }
 
     /// Writes the trajectory as CSV, byte for byte what `ellipsoid run -o PATH` writes for
-    /// the same run (the same writer). The file appears only when complete; its directory
-    /// must exist. Raises OutputError.
+    /// the same run (the same writer): a comment line naming the scenario and its body
+    /// (`# ellipsoid {...}`; read it back with `pandas.read_csv(path, comment="#")`), the
+    /// header, the rows. The file appears only when complete; its directory must exist.
+    /// Raises OutputError.
     fn to_csv(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let comment = ellipsoid_io::csv::comment(&self.scenario.inner);
         self.write(py, &path, |p| {
-            Ok(TrajectoryWriter::Csv(CsvFile::create(p)?))
+            Ok(TrajectoryWriter::Csv(CsvFile::create(p, Some(&comment))?))
         })
     }
 
@@ -721,20 +750,23 @@ impl Trajectory {
     }
 
     /// The 3-D viewer page of this run (the same HTML as `ellipsoid view`): the body on the
-    /// plane with its contact trace, play/pause, speed, a time slider, θ(t) and energy
-    /// plots with a linked cursor; self-contained (opens offline). Without `path`, returns
+    /// plane with its contact trace, play/pause, speed, a time slider, side plots with a
+    /// linked cursor — θ(t) and the energy, or the output columns `columns` (a list, or a
+    /// comma-separated string, at most 6: `columns=["omega_world_z", "theta"]`); titled
+    /// `title` (default: the scenario's file name); self-contained (opens offline). Without `path`, returns
     /// the HTML text as an `ellipsoid._display.ViewerPage` (a `str` that Jupyter displays
     /// as the viewer, inline: 0.7–1.4 MB in the notebook). With `path`, writes it there
     /// atomically and returns a `ViewerFile` (an `os.PathLike` that Jupyter displays as an
     /// iframe of the file: a notebook stays small).
-    #[pyo3(signature = (path=None, *, title=None))]
+    #[pyo3(signature = (path=None, *, title=None, columns=None))]
     fn view<'py>(
         &self,
         py: Python<'py>,
         path: Option<PathBuf>,
         title: Option<String>,
+        columns: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let html = self.page(py, title.as_deref())?;
+        let html = self.page(py, title.as_deref(), columns)?;
         let display = py.import("ellipsoid._display")?;
         match path {
             None => display.getattr("ViewerPage")?.call1((html,)),
@@ -749,9 +781,11 @@ impl Trajectory {
     /// Writes the run as an animated GIF at `path`, rendered without a browser (the same
     /// renderer as `ellipsoid animate`): the body on the plane, its contact trace, the time
     /// and θ in a corner; `width`×`height` px (16 to 2000), `fps` frames per second (at
-    /// most 100), `speed` simulated seconds per second (0.25: four times slower). Returns
-    /// the number of frames (at most 2000). Raises OutputError if the file cannot be
-    /// written, ScenarioError for a bad option.
+    /// most 100), `speed` simulated seconds per second (0.25: four times slower). A `path`
+    /// ending in `.mp4` writes the same frames as H.264 MP4, encoded by the system's ffmpeg
+    /// (on the PATH, or named by $ELLIPSOID_FFMPEG). Returns the number of frames (at most
+    /// 2000). Raises OutputError if the file cannot be written (or, for MP4, ffmpeg is
+    /// missing or fails: the message says what to install), ScenarioError for a bad option.
     #[pyo3(signature = (path, *, width=480, height=360, fps=25.0, speed=1.0))]
     fn animate(
         &self,
@@ -771,30 +805,45 @@ impl Trajectory {
         let source = &self.scenario.inner.source;
         opt.check()
             .map_err(|rule| errors::value_error(py, source, Some("animate"), None, rule))?;
-        if !path
+        let ext = path
             .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
-        {
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        if ext != "gif" && ext != "mp4" {
             return Err(errors::value_error(
                 py,
                 source,
                 Some("path"),
                 Some(&path.display().to_string()),
-                "an animation is written as .gif",
+                "an animation is written as .gif, or as .mp4 where ffmpeg is installed",
             ));
         }
         let table = self.table();
-        let mut bytes = Vec::new();
-        let frames = py
-            .detach(|| ellipsoid_io::animate::gif(&table, &opt, &mut bytes))
-            .map_err(|e| errors::internal_error(py, &e))?;
+        let (bytes, frames) = if ext == "mp4" {
+            py.detach(|| ellipsoid_io::animate::mp4(&table, &opt))
+                .map_err(|e| {
+                    errors::output_error(
+                        py,
+                        &OutputError::Io {
+                            path: path.clone(),
+                            source: std::io::Error::other(e),
+                        },
+                    )
+                })?
+        } else {
+            let mut bytes = Vec::new();
+            let frames = py
+                .detach(|| ellipsoid_io::animate::gif(&table, &opt, &mut bytes))
+                .map_err(|e| errors::internal_error(py, &e))?;
+            (bytes, frames)
+        };
         ellipsoid_io::atomic::write(&path, &bytes).map_err(|e| errors::output_error(py, &e))?;
         Ok(frames)
     }
 
     /// Jupyter: the viewer inline, in an iframe.
     fn _repr_html_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.view(py, None, None)?.call_method0("_repr_html_")
+        self.view(py, None, None, None)?.call_method0("_repr_html_")
     }
 
     /// The geometric centre C0's path on the plane, (x, y) [m] (used by `plot`); None
