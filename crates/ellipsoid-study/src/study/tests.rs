@@ -344,3 +344,33 @@ fn study_file_messages_name_the_field_and_place() {
     let e = spec::load(&path).unwrap_err().to_string();
     assert!(e.contains("s.toml:2:8: ") && e.contains("byte 0xff"), "{e}");
 }
+
+/// Points that run the same scenario (a repeated axis value) all resume from its one
+/// journal row; a cancel flag already set when a resumed study prepares stops it before
+/// any run, with nothing appended.
+#[test]
+fn repeated_points_resume_from_one_row_and_a_cancelled_prepare_runs_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = study("[[axis]]\nkey = \"contact.friction\"\nvalues = [0.2, 0.3, 0.2, 0.2]\n").unwrap();
+    let j = dir.path().join("j");
+    let (mut journal, _) =
+        Journal::open(&j, &s.outcome_fingerprint(), s.outcome_columns().len()).unwrap();
+    journal.append(&s.run_point(0, None).unwrap()).unwrap();
+    drop(journal);
+    let before = std::fs::read(&j).unwrap();
+    let cancelled = execute(&s, Some(&j), 1, &Arc::new(AtomicBool::new(true)), |_| {});
+    assert!(
+        matches!(cancelled, Err(ExecError::Interrupted { done: 0, total: 4 })),
+        "{cancelled:?}"
+    );
+    assert_eq!(std::fs::read(&j).unwrap(), before);
+    let mut seen = Tally::default();
+    let r = execute(&s, Some(&j), 1, &Arc::new(AtomicBool::new(false)), |t| {
+        seen = *t
+    })
+    .unwrap();
+    assert_eq!((seen.done, seen.resumed), (4, 3));
+    let rows = s.rows(r);
+    assert_eq!(rows[0][2..], rows[2][2..]);
+    assert_eq!(rows[0][2..], rows[3][2..]);
+}
