@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyDict;
 
+use crate::args;
 use crate::errors::{self, Class};
 use crate::run::{self, Run};
 use crate::scenario::PyScenario;
@@ -728,6 +729,19 @@ impl Trajectory {
     fn view<'py>(
         &self,
         py: Python<'py>,
+        path: Option<&Bound<'py, PyAny>>,
+        title: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let source = &self.scenario.inner.source;
+        let path = args::opt_path(py, source, "path", path)?;
+        let title = args::opt_string(py, source, "title", title)?;
+        self.page_or_file(py, path, title)
+    }
+
+    /// The viewer page (`path` None) or the file written at `path`, as `view` returns them.
+    fn page_or_file<'py>(
+        &self,
+        py: Python<'py>,
         path: Option<PathBuf>,
         title: Option<String>,
     ) -> PyResult<Bound<'py, PyAny>> {
@@ -749,23 +763,32 @@ impl Trajectory {
     /// most 100), `speed` simulated seconds per second (0.25: four times slower). Returns
     /// the number of frames (at most 2000). Raises OutputError if the file cannot be
     /// written, ScenarioError for a bad option.
-    #[pyo3(signature = (path, *, width=480, height=360, fps=25.0, speed=1.0))]
+    #[pyo3(signature = (path, *, width=None, height=None, fps=None, speed=None))]
     fn animate(
         &self,
         py: Python<'_>,
-        path: PathBuf,
-        width: u32,
-        height: u32,
-        fps: f64,
-        speed: f64,
+        path: &Bound<'_, PyAny>,
+        width: Option<&Bound<'_, PyAny>>,
+        height: Option<&Bound<'_, PyAny>>,
+        fps: Option<&Bound<'_, PyAny>>,
+        speed: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
-        let opt = ellipsoid_io::animate::Options {
-            width,
-            height,
-            fps,
-            speed,
-        };
         let source = &self.scenario.inner.source;
+        let path = args::path(py, source, "path", path)?;
+        let pixels = |key, v, default| {
+            args::opt_count(py, source, key, v, u32::MAX as usize)
+                .map(|n| n.map_or(default, |n| n as u32))
+        };
+        let number = |key, v: Option<&Bound<'_, PyAny>>, default| {
+            v.filter(|v| !v.is_none())
+                .map_or(Ok(default), |v| args::number(py, source, key, v))
+        };
+        let opt = ellipsoid_io::animate::Options {
+            width: pixels("width", width, 480)?,
+            height: pixels("height", height, 360)?,
+            fps: number("fps", fps, 25.0)?,
+            speed: number("speed", speed, 1.0)?,
+        };
         opt.check()
             .map_err(|rule| errors::value_error(py, source, Some("animate"), None, rule))?;
         if !path
@@ -791,7 +814,8 @@ impl Trajectory {
 
     /// Jupyter: the viewer inline, in an iframe.
     fn _repr_html_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.view(py, None, None)?.call_method0("_repr_html_")
+        self.page_or_file(py, None, None)?
+            .call_method0("_repr_html_")
     }
 
     /// The geometric centre C0's path on the plane, (x, y) [m] (used by `plot`); None
