@@ -47,7 +47,7 @@ pub fn animate(args: &AnimateArgs) -> Result<ExitCode, CliError> {
         speed: args.speed,
     };
     opt.check().map_err(|e| CliError::Usage(format!("--{e}")))?;
-    let table = load(&args.input, args.summary.as_deref())?;
+    let table = load(&args.input, None, args.summary.as_deref())?;
     let mut bytes = Vec::new();
     let frames = animate::gif(&table, &opt, &mut bytes).map_err(CliError::Usage)?;
     put(&args.output, &bytes)?;

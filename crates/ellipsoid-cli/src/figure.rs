@@ -97,6 +97,33 @@ pub fn parse_panels(spec: &str) -> Result<Vec<&'static str>, String> {
 }
 
 /// The columns each panel needs, checked before anything is drawn.
+/// The columns the figure of `panels` draws from (besides `mode`): the panels' own, the
+/// energy's drift and the paths' (a caller reads these alone,
+/// `ellipsoid_io::table::read_columns`).
+pub fn columns_for<'a>(panels: &[&'a str]) -> Vec<&'a str> {
+    let mut cols = vec!["t", "energy", "work", "drift"];
+    for p in panels {
+        cols.extend_from_slice(match *p {
+            "theta" => &["theta"],
+            "rates" => &["theta", "theta_dot", "phi_dot", "psi_dot", "omega_world_z"],
+            "energy" => &[],
+            "forces" => &["normal_force", "slip_speed"],
+            "path" => &[
+                "x",
+                "y",
+                "z",
+                "theta",
+                "phi",
+                "psi",
+                "contact_x",
+                "contact_y",
+            ],
+            _ => std::slice::from_ref(p),
+        });
+    }
+    cols
+}
+
 pub fn check_columns(table: &Table, panels: &[&str]) -> Result<(), String> {
     for p in panels {
         let need: &[&str] = match *p {

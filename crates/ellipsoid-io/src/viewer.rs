@@ -136,6 +136,23 @@ pub enum ViewError {
 }
 
 /// The viewer page for `table`, titled `title`.
+/// The columns the page draws (with `mode`): what a caller needs to read
+/// ([`crate::table::read_columns`]).
+pub const COLUMNS: [&str; 12] = [
+    "t",
+    "x",
+    "y",
+    "z",
+    "theta",
+    "phi",
+    "psi",
+    "energy",
+    "work",
+    "drift",
+    "contact_x",
+    "contact_y",
+];
+
 pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
     let need = ["t", "x", "y", "z", "theta", "phi", "psi"];
     let cols = table
