@@ -409,6 +409,7 @@ impl PyStudy {
     /// not run again, and each finished row is appended (a killed study resumes). Ctrl-C
     /// stops the runs at their next step and raises KeyboardInterrupt.
     #[pyo3(signature = (start = None, stop = None, threads = None, journal = None))]
+    #[pyo3(text_signature = "(self, /, start=0, stop=None, threads=None, journal=None)")]
     fn run<'py>(
         &self,
         py: Python<'py>,

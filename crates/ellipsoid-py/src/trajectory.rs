@@ -199,6 +199,25 @@ impl Trajectory {
         t
     }
 
+    /// The viewer page (`path` None) or the file written at `path`, as `view` returns them.
+    fn page_or_file<'py>(
+        &self,
+        py: Python<'py>,
+        path: Option<PathBuf>,
+        title: Option<String>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let html = self.page(py, title.as_deref())?;
+        let display = py.import("ellipsoid._display")?;
+        match path {
+            None => display.getattr("ViewerPage")?.call1((html,)),
+            Some(p) => {
+                ellipsoid_io::atomic::write(&p, html.as_bytes())
+                    .map_err(|e| errors::output_error(py, &e))?;
+                display.getattr("ViewerFile")?.call1((p,))
+            }
+        }
+    }
+
     fn page(&self, py: Python<'_>, title: Option<&str>) -> PyResult<String> {
         let title = title.unwrap_or(&self.scenario.inner.source);
         ellipsoid_io::viewer::html(&self.table(), title)
@@ -738,25 +757,6 @@ impl Trajectory {
         self.page_or_file(py, path, title)
     }
 
-    /// The viewer page (`path` None) or the file written at `path`, as `view` returns them.
-    fn page_or_file<'py>(
-        &self,
-        py: Python<'py>,
-        path: Option<PathBuf>,
-        title: Option<String>,
-    ) -> PyResult<Bound<'py, PyAny>> {
-        let html = self.page(py, title.as_deref())?;
-        let display = py.import("ellipsoid._display")?;
-        match path {
-            None => display.getattr("ViewerPage")?.call1((html,)),
-            Some(p) => {
-                ellipsoid_io::atomic::write(&p, html.as_bytes())
-                    .map_err(|e| errors::output_error(py, &e))?;
-                display.getattr("ViewerFile")?.call1((p,))
-            }
-        }
-    }
-
     /// Writes the run as an animated GIF at `path`, rendered without a browser (the same
     /// renderer as `ellipsoid animate`): the body on the plane, its contact trace, the time
     /// and θ in a corner; `width`×`height` px (16 to 2000), `fps` frames per second (at
@@ -764,6 +764,7 @@ impl Trajectory {
     /// the number of frames (at most 2000). Raises OutputError if the file cannot be
     /// written, ScenarioError for a bad option.
     #[pyo3(signature = (path, *, width=None, height=None, fps=None, speed=None))]
+    #[pyo3(text_signature = "(self, /, path, *, width=480, height=360, fps=25.0, speed=1.0)")]
     fn animate(
         &self,
         py: Python<'_>,
