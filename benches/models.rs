@@ -200,6 +200,35 @@ fn scenarios(c: &mut Criterion) {
     group.finish();
 }
 
+/// The cost of a contact sphere that never touches (issue #25: at most one gap evaluation
+/// per step while it is open): `tippe-top-disc` whole, alone and with a sphere inside its
+/// ball (the same trajectory, bit for bit; tests/spheres.rs).
+fn idle_sphere(c: &mut Criterion) {
+    let base = bundled()
+        .into_iter()
+        .find(|(n, _)| n == "tippe-top-disc")
+        .unwrap()
+        .1;
+    let mut with = base.clone();
+    with.body = with
+        .body
+        .with_spheres(vec![ellipsoid_core::body::Sphere {
+            name: "inside".into(),
+            center: nalgebra::Vector3::new(0.0, 0.0, 0.005),
+            radius: 0.004,
+        }])
+        .unwrap();
+    let mut group = c.benchmark_group("idle_sphere");
+    group.sample_size(10);
+    group.bench_function("tippe-top-disc", |b| {
+        b.iter(|| black_box(run(black_box(&base))))
+    });
+    group.bench_function("tippe-top-disc+sphere", |b| {
+        b.iter(|| black_box(run(black_box(&with))))
+    });
+    group.finish();
+}
+
 /// 16 nutation runs (1 s each, tilts 0.05–0.8 rad): one core against all cores.
 fn sweep(c: &mut Criterion) {
     let base = bundled()
@@ -236,5 +265,5 @@ fn sweep(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, rhs, steps, scenarios, sweep);
+criterion_group!(benches, rhs, steps, scenarios, idle_sphere, sweep);
 criterion_main!(benches);

@@ -49,7 +49,7 @@ LINK = re.compile(r"\]\(([^)\s]+)(?:\s+\"[^\"]*\")?\)")
 
 def user_docs() -> list[Path]:
     docs = [ROOT / "README.md", ROOT / "crates/ellipsoid-py/README.md"]
-    docs += sorted((ROOT / "docs").glob("*.md"))
+    docs += sorted((ROOT / "docs").glob("*.md")) + sorted((ROOT / "docs" / "tutorials").glob("*.md"))
     docs += sorted((ROOT / "examples").glob("*.md")) + sorted((ROOT / "examples").glob("*.ipynb"))
     return [d for d in docs if d.name != "development.md"]
 

@@ -106,8 +106,8 @@ class Runner:
 class Run:
     def __init__(self, name: str, sets: list[str], csv_path: Path, summary: dict):
         self.name, self.sets, self.summary = name, sets, summary
-        with open(csv_path, newline="") as f:
-            rows = list(csv.reader(f))
+        with open(csv_path, newline="") as f:  # skipping the `#` comment line
+            rows = list(csv.reader(line for line in f if not line.startswith("#")))
         head = rows[0]
         cols = list(zip(*rows[1:]))
         self.mode = np.array(cols[head.index("mode")])

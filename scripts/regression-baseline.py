@@ -69,7 +69,8 @@ def run(exe: str, scenario: str) -> tuple[int, dict, list[str], list[str]]:
         if not js.exists():
             sys.exit(f"{scenario}: {exe} exited {r.returncode} without a summary:\n{r.stderr.decode()}")
         summary = json.loads(js.read_text())
-        lines = csv.read_text().rstrip("\n").split("\n")
+        # the comment line (the scenario and its body) is not a row
+        lines = [line for line in csv.read_text().rstrip("\n").split("\n") if not line.startswith("#")]
     return r.returncode, summary, lines[0].split(","), lines[1:]
 
 

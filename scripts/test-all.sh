@@ -103,11 +103,13 @@ echo "== browser"
 
 # 6. The documentation against the installed wheel: every tutorial notebook executed by
 #    nbclient (an error or a printed traceback fails; rendered to HTML with its figures in
-#    target/site/examples), the gallery current (a bundled scenario without an entry fails),
-#    the API reference built by pdoc without a warning or an undocumented member.
+#    target/site/examples) and their pages in docs/tutorials current, the gallery current (a
+#    bundled scenario without an entry fails), the API reference built by pdoc without a
+#    warning or an undocumented member and equal to its page docs/api.md.
 echo "== notebooks, gallery, API reference"
 .venv/bin/python scripts/run-notebooks.py --html "$target/site/examples"
+.venv/bin/python scripts/run-notebooks.py --check-pages docs/tutorials
 .venv/bin/python scripts/gallery.py --check
-.venv/bin/python scripts/api-docs.py -o "$target/site/api"
+.venv/bin/python scripts/api-docs.py -o "$target/site/api" --check-markdown docs/api.md
 
 echo "all tests passed"

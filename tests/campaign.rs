@@ -27,6 +27,28 @@ fn campaign_of_random_scenes_ends_every_run_physically() {
             scenes.push(s);
         }
     }
+    assert_all_physical(&scenes);
+}
+
+/// The same for 100 random scenes (seed 25) whose bodies carry one or two random contact
+/// spheres (`campaign::with_spheres`): besides the outcomes above, a run may end at rest
+/// on two surfaces (`several_contacts`), which is not simulated.
+#[test]
+fn campaign_of_random_scenes_with_contact_spheres_ends_every_run_physically() {
+    let mut rng = Rng::new(25);
+    let mut scenes = Vec::new();
+    while scenes.len() < 100 {
+        if let Some(s) = campaign::scene(&mut rng, Method::Dop853)
+            .and_then(|s| campaign::with_spheres(&s, &mut rng))
+        {
+            scenes.push(s);
+        }
+    }
+    assert_all_physical(&scenes);
+}
+
+/// Runs `scenes` under DOP853 and DOPRI5 and asserts the checks of the module docs.
+fn assert_all_physical(scenes: &[ellipsoid_core::simulate::Scene]) {
     let failures: Vec<String> = scenes
         .par_iter()
         .enumerate()
@@ -51,8 +73,9 @@ fn campaign_of_random_scenes_ends_every_run_physically() {
         .collect();
     assert!(
         failures.is_empty(),
-        "{} of {COUNT} scenes failed:\n{}",
+        "{} of {} scenes failed:\n{}",
         failures.len(),
+        scenes.len(),
         failures.join("\n\n")
     );
 }

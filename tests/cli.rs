@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use serde_json::Value;
+use serde_json::{Value, json};
 
 const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
 
@@ -46,10 +46,10 @@ fn read_json(path: &Path) -> Value {
         .expect("summary is JSON")
 }
 
-/// Header and rows of a CSV trajectory, numbers parsed.
+/// Header and rows of a CSV trajectory (its `#` comment line skipped), numbers parsed.
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     let text = std::fs::read_to_string(path).expect("trajectory written");
-    let mut lines = text.lines();
+    let mut lines = text.lines().skip_while(|l| l.starts_with('#'));
     let header: Vec<String> = lines
         .next()
         .expect("header")
@@ -164,6 +164,8 @@ fn every_bundled_scenario_has_a_test() {
         "egg-jump",
         "drop",
         "tippe-top-jump",
+        "tippe-top-stem",
+        "top-on-peg",
     ];
     for entry in std::fs::read_dir(scenarios()).unwrap() {
         let path = entry.unwrap().path();
@@ -366,6 +368,55 @@ fn scenario_tippe_top_jump_hops_while_turning_over() {
     let kinds = event_kinds(&s);
     assert!(kinds.iter().filter(|k| **k == "lift_off").count() >= 5);
     assert!(kinds.contains(&"observed"), "θ passes π/2");
+}
+
+/// The stem touches down after the top passes π/2, the summary names the surfaces, the
+/// top rises on its stem towards θ = π, and later rests on ball and stem at θ*
+/// (docs/physics.md, "Contact spheres").
+#[test]
+fn scenario_tippe_top_stem_rises_on_its_stem_and_rests_on_two_contacts() {
+    let (s, h, rows) = run_scenario("tippe-top-stem", None, "completed");
+    let events = s["events"].as_array().unwrap();
+    let first = events
+        .iter()
+        .find(|e| e["kind"] == "contact_surface")
+        .expect("the stem touches");
+    assert_eq!(
+        (&first["from"], &first["to"]),
+        (&json!("ellipsoid"), &json!("stem"))
+    );
+    let inverted = events.iter().find(|e| e["kind"] == "observed").unwrap();
+    assert!(inverted["t"].as_f64().unwrap() < first["t"].as_f64().unwrap());
+    let (theta, mode) = (
+        h.iter().position(|c| c == "theta").unwrap(),
+        h.iter().position(|c| c == "mode").unwrap(),
+    );
+    let highest = rows
+        .iter()
+        .map(|r| r[theta].parse::<f64>().unwrap())
+        .fold(0.0, f64::max);
+    assert!(highest > 3.1, "θ rose to {highest}");
+    let theta_star = ((0.005_f64 - 0.015) / 0.013).acos();
+    let both: Vec<f64> = rows
+        .iter()
+        .filter(|r| r[mode] == "two_contacts")
+        .map(|r| r[theta].parse().unwrap())
+        .collect();
+    assert!(both.len() > 100);
+    assert!(both.iter().all(|t| (t - theta_star).abs() < 1e-12));
+}
+
+/// The top on its peg spun at 200 rad/s sleeps: its tilt stays within 0.044..0.055 rad
+/// and only the peg touches.
+#[test]
+fn scenario_top_on_peg_sleeps() {
+    let (s, h, rows) = run_scenario("top-on-peg", None, "completed");
+    let theta = h.iter().position(|c| c == "theta").unwrap();
+    for row in &rows {
+        let t: f64 = row[theta].parse().unwrap();
+        assert!((0.044..0.055).contains(&t), "θ = {t}");
+    }
+    assert!(event_kinds(&s).iter().all(|k| *k != "contact_surface"));
 }
 
 #[test]

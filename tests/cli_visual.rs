@@ -77,6 +77,8 @@ fn every_panel_names_its_axes_with_units_and_draws_its_data() {
                 "θ̇ (theta_dot)",
                 "φ̇ (phi_dot)",
                 "ψ̇ (psi_dot)",
+                "Euler rates and the vertical spin",
+                "ω_z, world (omega_world_z)",
             ],
             [0xff, 0x7f, 0x0e],
         ),
@@ -106,7 +108,9 @@ fn every_panel_names_its_axes_with_units_and_draws_its_data() {
             &[
                 "x (m)",
                 "y (m)",
-                "paths on the plane: contact point, G, centre C0",
+                "paths on the plane",
+                "G",
+                "start",
                 "centre C0",
                 "contact point",
             ],
@@ -175,15 +179,17 @@ fn every_panel_names_its_axes_with_units_and_draws_its_data() {
     );
 }
 
-/// The CSV without the columns `names` (a file from before they existed).
+/// The CSV without the columns `names` and without its comment line (a file from before
+/// they existed).
 fn drop_columns(csv: &Path, names: &[&str], out: &Path) {
     let text = std::fs::read_to_string(csv).unwrap();
-    let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let rows = || text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = rows().next().unwrap().split(',').collect();
     let keep: Vec<usize> = (0..header.len())
         .filter(|&k| !names.contains(&header[k]))
         .collect();
     let mut o = String::new();
-    for line in text.lines() {
+    for line in rows() {
         let f: Vec<&str> = line.split(',').collect();
         o.push_str(&keep.iter().map(|&k| f[k]).collect::<Vec<_>>().join(","));
         o.push('\n');
@@ -206,11 +212,25 @@ fn without_a_summary_the_contact_path_comes_from_its_columns_or_g_is_drawn_and_s
             std::fs::read_to_string(dir.path().join("p.svg")).unwrap(),
         )
     };
-    // contact_x, contact_y in the file: the contact path without the body (and no C0).
+    // The CSV's comment line names the body: the contact path and the centre C0, no note,
+    // the scenario's name as the title.
     let (err, text) = plot(csv.to_str().unwrap());
     assert!(!err.contains("note:"), "{err}");
     assert!(
-        text.contains("paths on the plane: contact point, G") && !text.contains("centre C0"),
+        text.contains("paths on the plane")
+            && text.contains("contact point")
+            && text.contains("centre C0")
+            && text.contains("\ntippe-top.toml\n</text>"),
+        "the body and the title from the CSV alone"
+    );
+    // contact_x, contact_y in a file without its comment line: the contact path without
+    // the body (and no C0).
+    let bare = dir.path().join("bare.csv");
+    drop_columns(&csv, &[], &bare);
+    let (err, text) = plot(bare.to_str().unwrap());
+    assert!(!err.contains("note:"), "{err}");
+    assert!(
+        text.contains("contact point") && !text.contains("centre C0"),
         "contact path from its columns, no centre without the body"
     );
     // An older file without them, and no summary: G's path, and the figure says why.
@@ -219,13 +239,55 @@ fn without_a_summary_the_contact_path_comes_from_its_columns_or_g_is_drawn_and_s
     let (err, text) = plot(old.to_str().unwrap());
     assert!(err.contains("note: body unknown"), "{err}");
     assert!(
-        text.contains("path of G on the plane (contact point unknown"),
+        text.contains("paths on the plane (contact point unknown: body unknown")
+            && !text.contains("contact point\n</text>"),
         "the figure says why there is no contact path"
     );
     assert!(
         !text.contains("stroke=\"#8040A0\""),
         "no events without a summary"
     );
+}
+
+/// `-o FIG.pdf`: the figure as one vector PDF page (no raster image), 1100 px wide at
+/// 96 px per inch, its font embedded.
+#[test]
+fn plot_writes_a_vector_pdf_by_its_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, summary) = tippe_top(dir.path());
+    let o = ellipsoid(
+        dir.path(),
+        &[
+            "plot",
+            csv.to_str().unwrap(),
+            "--summary",
+            summary.to_str().unwrap(),
+            "--panels",
+            "theta,forces",
+            "-o",
+            "fig.pdf",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let pdf = std::fs::read(dir.path().join("fig.pdf")).unwrap();
+    let text = String::from_utf8_lossy(&pdf);
+    assert!(pdf.starts_with(b"%PDF-") && text.trim_end().ends_with("%%EOF"));
+    assert_eq!(
+        text.matches("/Type /Page\n").count()
+            + text.matches("/Type /Page ").count()
+            + text.matches("/Type /Page/").count(),
+        1,
+        "one page"
+    );
+    // 1100 x (40 + 2 x 300) px at 96 px per inch = 825 x 480 pt.
+    assert!(text.contains("/MediaBox [0 0 825 480]"), "page size");
+    assert!(text.contains("/FontFile"), "the font is embedded");
+    assert!(!text.contains("/Subtype /Image"), "vector, not a picture");
+    let o = ellipsoid(
+        dir.path(),
+        &["plot", csv.to_str().unwrap(), "-o", "fig.eps"],
+    );
+    assert!(!o.status.success() && stderr(&o).contains("use .svg or .png or .pdf"));
 }
 
 #[test]
@@ -281,12 +343,33 @@ fn hdf5_carries_its_own_events_and_body() {
         a == b,
         "the HDF5 file and the CSV with its summary draw the same figure"
     );
-    let v = ellipsoid(dir.path(), &["view", "tt.h5", "-o", "v.html", "-q"]);
+    let v = ellipsoid(
+        dir.path(),
+        &[
+            "view",
+            "tt.h5",
+            "-o",
+            "v.html",
+            "--columns",
+            "omega_world_z,slip_speed",
+            "-q",
+        ],
+    );
     assert!(v.status.success(), "{}", stderr(&v));
     let page = std::fs::read_to_string(dir.path().join("v.html")).unwrap();
     assert!(
         page.contains("\"semi_axes\":[") && page.contains("sliding → rolling"),
         "body and events in the page"
+    );
+    assert!(
+        page.contains("\"name\":\"omega_world_z\",\"label\":\"omega_world_z (rad/s)\"")
+            && page.contains("\"name\":\"slip_speed\"")
+            && !page.contains("\"name\":\"theta\""),
+        "the side plots asked for, and only those"
+    );
+    assert!(
+        page.contains("<title>tippe-top.toml</title>"),
+        "titled by the scenario's name"
     );
 }
 
@@ -320,6 +403,27 @@ fn view_writes_one_offline_page() {
         std::fs::read_dir(dir.path().join("sub")).unwrap().count(),
         1,
         "no temporary left"
+    );
+    // The side plots asked for are read from the CSV with what they draw from (the
+    // energy's E + W needs `work`).
+    let o = ellipsoid(
+        dir.path(),
+        &[
+            "view",
+            csv.to_str().unwrap(),
+            "-o",
+            "c.html",
+            "--columns",
+            "omega_world_z,energy",
+            "-q",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = std::fs::read_to_string(dir.path().join("c.html")).unwrap();
+    assert!(
+        page.contains("\"name\":\"omega_world_z\",\"label\":\"omega_world_z (rad/s)\"")
+            && page.contains("energy E, E + W (J)"),
+        "both side plots, the energy with E + W"
     );
 }
 
@@ -357,8 +461,8 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
             "unknown panel \"wobble\"; the panels are theta, rates, energy, forces, path",
         ),
         (
-            vec!["plot", csv, "-o", "f.pdf"],
-            "f.pdf: unknown figure format \"pdf\"; use .svg or .png",
+            vec!["plot", csv, "-o", "f.eps"],
+            "f.eps: unknown figure format \"eps\"; use .svg or .png or .pdf",
         ),
         (
             vec!["plot", csv, "-o", csv],
@@ -380,6 +484,17 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
             vec!["view", csv, "-o", "v.svg"],
             "unknown page format \"svg\"; use .html or .htm",
         ),
+        (
+            vec![
+                "view",
+                csv,
+                "-o",
+                "v.html",
+                "--columns",
+                "theta,omega_z_world",
+            ],
+            "--columns: \"omega_z_world\" is not a numeric output column; the columns are x, y",
+        ),
     ];
     let _ = summary;
     for (args, want) in cases {
@@ -392,9 +507,35 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
         );
         assert!(!err.contains("panicked"), "{err}");
     }
-    for f in ["f.svg", "f.pdf", "v.html", "v.svg"] {
+    for f in ["f.svg", "f.eps", "v.html", "v.svg"] {
         assert!(!d.join(f).exists(), "{f} written");
     }
+}
+
+/// `-o ANIM.mp4` needs ffmpeg: without it the error names it and how to get it, exit 1,
+/// nothing written (the GIF needs nothing).
+#[test]
+fn animate_mp4_without_ffmpeg_says_what_is_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, summary) = tippe_top(dir.path());
+    let o = Command::new(BIN)
+        .args(["animate", csv.to_str().unwrap(), "--summary"])
+        .arg(&summary)
+        .args(["-o", "top.mp4"])
+        .env("ELLIPSOID_FFMPEG", dir.path().join("no-such-ffmpeg"))
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with("error: top.mp4: MP4 needs ffmpeg, which could not be run (")
+            && err.contains("no-such-ffmpeg")
+            && err.contains("apt-get install ffmpeg")
+            && err.trim_end().lines().count() == 1,
+        "{err}"
+    );
+    assert!(!dir.path().join("top.mp4").exists());
 }
 
 /// A summary may come from someone else: the page it makes carries neither the content of
@@ -403,7 +544,10 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
 #[test]
 fn a_page_carries_no_local_file_content_or_directories_from_a_summary() {
     let dir = tempfile::tempdir().unwrap();
-    let (csv, json) = tippe_top(dir.path());
+    let (with_comment, json) = tippe_top(dir.path());
+    // Without the comment line, so that the body comes from the summary's scenario alone.
+    let csv = dir.path().join("bare.csv");
+    drop_columns(&with_comment, &[], &csv);
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let secrets = tempfile::tempdir().unwrap();
@@ -453,7 +597,7 @@ fn capped(dir: &Path, bytes: u64, args: &[&str]) -> Output {
 /// with one line, "out of memory", and exit 1, writing nothing; they used to abort
 /// (SIGABRT, "memory allocation of … bytes failed" and a core dump). The limits start
 /// where the command works on a 10-row file and rise by 4 MB steps through the 2·10⁵-row
-/// file's needs. They also read only the columns they draw: view holds 12 of the 27.
+/// file's needs. They also read only the columns they draw: the default view 11 of the 28.
 #[test]
 fn out_of_memory_is_a_clean_error_not_an_abort() {
     if Command::new("prlimit").arg("--version").output().is_err() {

@@ -84,7 +84,11 @@ fn record(name: &str, index: &[usize], dir: &Path) -> Value {
     });
     let summary: Value = serde_json::from_str(&summary).unwrap();
     let text = std::fs::read_to_string(&csv).unwrap();
-    let mut lines = text.trim_end_matches('\n').split('\n');
+    // The comment line (the scenario and its body) is not a row.
+    let mut lines = text
+        .trim_end_matches('\n')
+        .split('\n')
+        .skip_while(|l| l.starts_with('#'));
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let body: Vec<&str> = lines.collect();
     let picked: Vec<Vec<&str>> = index

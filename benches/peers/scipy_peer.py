@@ -58,7 +58,7 @@ def reference_state(binary: Path, scenario: Path, t_end: float, workdir: Path) -
         "--set", "solver.rtol=1e-14", "--set", f"solver.atol={1e-14 * s.atol / s.rtol}",
     )  # fmt: skip
     with open(path) as f:
-        last = list(csv.DictReader(f))[-1]
+        last = list(csv.DictReader(line for line in f if not line.startswith("#")))[-1]  # past the comment line
     return {k: float(v) for k, v in last.items() if k != "mode"}
 
 

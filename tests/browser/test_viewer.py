@@ -167,3 +167,66 @@ def test_a_million_samples_open_in_under_two_seconds(cli: Path, tmp_path: Path, 
     assert ready_ms < 2000, f"the page took {ready_ms:.0f} ms to show the first frame"
     print(f"10^6 samples: {html.stat().st_size / 1e6:.1f} MB page, {frames} poses, ready in {ready_ms:.0f} ms")
     assert page.errors() == []
+
+
+def test_the_side_plots_are_the_columns_asked_for(cli: Path, tmp_path: Path, page) -> None:
+    """`--columns` chooses the side plots (a rattleback wants its vertical spin): one drawn
+    canvas each, in the order asked, with the cursor."""
+    out, summary = tmp_path / "rb.csv", tmp_path / "rb.json"
+    subprocess.run([str(cli), "run", str(REPO / "scenarios/rattleback.toml"), "-o", str(out), "--summary", str(summary),
+                    "--set", "output.t_end=5", "-q"], check=True)
+    html = tmp_path / "rb.html"
+    subprocess.run([str(cli), "view", str(out), "--summary", str(summary), "-o", str(html),
+                    "--columns", "omega_world_z,theta,slip_speed", "-q"], check=True)
+    open_page(page, html)
+    page.pump(0.2)
+    ids = page.eval("[...document.querySelectorAll('#plots canvas')].map((c) => c.id)")
+    assert ids == ["plot-omega_world_z", "plot-theta", "plot-slip_speed"]
+    for name in ("omega_world_z", "theta"):
+        img = page.screenshot(page.rect(f"#plot-{name}"))
+        blue = (abs(img[..., 0] - 0x1f) < 40) & (abs(img[..., 1] - 0x77) < 40) & (abs(img[..., 2] - 0xb4) < 40)
+        assert blue.sum() > 200, f"{name}: no curve drawn"
+        cursor_column(img)  # the cursor is drawn (asserts)
+    assert page.errors() == []
+
+
+def test_a_long_event_list_scrolls(cli: Path, tmp_path: Path, page) -> None:
+    """300 events: the list keeps its height and scrolls, the plots stay in view."""
+    import json
+
+    out, summary = tmp_path / "tt.csv", tmp_path / "tt.json"
+    subprocess.run([str(cli), "run", str(REPO / "scenarios/tippe-top.toml"), "-o", str(out), "--summary", str(summary),
+                    "--set", "output.t_end=1.5", "-q"], check=True)
+    data = json.loads(summary.read_text(encoding="utf-8"))
+    data["events"] = [{"kind": "observed", "name": f"e{k}", "t": 0.005 * k} for k in range(300)]
+    summary.write_text(json.dumps(data), encoding="utf-8")
+    html = tmp_path / "tt.html"
+    subprocess.run([str(cli), "view", str(out), "--summary", str(summary), "-o", str(html), "-q"], check=True)
+    open_page(page, html)
+    box = page.eval("(() => { const e = document.getElementById('events'); e.scrollTop = 1e6;"
+                    " return {n: e.children.length, h: e.clientHeight, full: e.scrollHeight, top: e.scrollTop}; })()")
+    assert box["n"] == 300
+    assert box["h"] < 400 and box["full"] > 3 * box["h"] and box["top"] > 0, box
+    assert page.rect("#plot-energy")["y"] < 800, "the plots above the list stay in view"
+
+
+def test_a_failed_webgl_context_says_so_on_the_page(cli: Path, tmp_path: Path, page) -> None:
+    """A browser that gives no WebGL context (as a GPU-less one may): the page says why
+    there is no 3-D view instead of staying blank."""
+    scene = tmp_path / "egg.toml"
+    scene.write_text(EGG.format(theta=0.0), encoding="utf-8")
+    html = run(cli, tmp_path, scene, "egg")
+    script = page.send("Page.addScriptToEvaluateOnNewDocument", {"source": (
+        "const get = HTMLCanvasElement.prototype.getContext;"
+        "HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {"
+        " return /webgl/.test(kind) ? null : get.call(this, kind, ...rest); };")})
+    try:
+        page.goto(html.as_uri())
+        page.wait("document.getElementById('error') && document.getElementById('error').textContent.length > 0")
+        text = page.eval("document.getElementById('error').textContent")
+        assert "WebGL is not available in this browser" in text and "3-D view cannot be drawn" in text, text
+        shown = page.rect("#error")
+        assert shown["width"] > 100 and shown["height"] > 5, "the message is visible"
+    finally:
+        page.send("Page.removeScriptToEvaluateOnNewDocument", {"identifier": script["identifier"]})
+

@@ -7,7 +7,7 @@
 
 use std::ops::ControlFlow;
 
-use ellipsoid_core::body::{Body, uniform_inertia};
+use ellipsoid_core::body::{Body, Sphere, uniform_inertia};
 use ellipsoid_core::effects::{AirDrag, RollingResistance, SpinFriction};
 use ellipsoid_core::integrate::Method;
 use ellipsoid_core::invariants::Invariant;
@@ -169,6 +169,24 @@ pub fn scene(rng: &mut Rng, method: Method) -> Option<Scene> {
     Some(scene)
 }
 
+/// `scene` with one or two random contact spheres (docs/physics.md, "Contact spheres"):
+/// centres at 0.5–1.1 of the body's size L from C0 in a random direction, radii
+/// 0.1–0.5 L, so that they protrude in most draws; `None` where the start is refused.
+pub fn with_spheres(scene: &Scene, rng: &mut Rng) -> Option<Scene> {
+    let size = scene.body.semi_axes().max();
+    let spheres = (0..1 + rng.below(2))
+        .map(|k| Sphere {
+            name: format!("s{k}"),
+            center: rng.vector(1.0).normalize() * (size * rng.uniform(0.5, 1.1)),
+            radius: size * rng.uniform(0.1, 0.5),
+        })
+        .collect();
+    let mut s = scene.clone();
+    s.body = s.body.with_spheres(spheres).ok()?;
+    s.initial_state().ok()?;
+    Some(s)
+}
+
 /// One run's samples and outcome.
 pub struct Run {
     pub outcome: Outcome,
@@ -197,7 +215,8 @@ pub fn with(scene: &Scene, method: Method, rtol: f64) -> Scene {
 /// Whether a status is allowed to end a campaign run: every outcome of the physics
 /// (completed, lost contact, a slip stop, the two inconsistencies of rigid contact with
 /// friction — Painlevé's for sliding, its analogue for rolling — which are answers of the
-/// model, not failures of the numerics), and never `chattering`, `solver_failure`,
+/// model, not failures of the numerics; and, with contact spheres, a rest on two surfaces,
+/// which is not simulated), and never `chattering`, `solver_failure`,
 /// `non_finite` or `cancelled`.
 pub fn allowed(status: &Status) -> bool {
     matches!(
@@ -208,6 +227,7 @@ pub fn allowed(status: &Status) -> bool {
             | Status::SlipStopped
             | Status::Painleve { .. }
             | Status::InconsistentContact { .. }
+            | Status::SeveralContacts { .. }
     )
 }
 

@@ -1,5 +1,6 @@
 //! `ellipsoid animate RUN.csv|h5 -o top.gif`: the run as an animated GIF, rendered without
-//! a browser (`ellipsoid_io::animate`).
+//! a browser (`ellipsoid_io::animate`), or `-o top.mp4`, the same frames encoded by the
+//! system's ffmpeg.
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -15,8 +16,9 @@ pub struct AnimateArgs {
     /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run`.
     #[arg(value_name = "OUT.csv|OUT.h5")]
     pub input: PathBuf,
-    /// The animation: `.gif` (directories created as needed).
-    #[arg(short, long, value_name = "ANIM.gif")]
+    /// The animation: `.gif`, or `.mp4` (H.264, encoded by the system's ffmpeg: on the
+    /// PATH or named by ELLIPSOID_FFMPEG), by extension (directories created as needed).
+    #[arg(short, long, value_name = "ANIM.gif|ANIM.mp4")]
     pub output: PathBuf,
     /// The run's JSON summary (`ellipsoid run --summary`): the body's shape, through the
     /// scenario it names (needed for a CSV file; an `.h5` file carries its own).
@@ -39,7 +41,7 @@ pub struct AnimateArgs {
 }
 
 pub fn animate(args: &AnimateArgs) -> Result<ExitCode, CliError> {
-    check_output(&args.output, &["gif"], "animation")?;
+    let ext = check_output(&args.output, &["gif", "mp4"], "animation")?;
     let opt = Options {
         width: args.width,
         height: args.height,
@@ -48,8 +50,17 @@ pub fn animate(args: &AnimateArgs) -> Result<ExitCode, CliError> {
     };
     opt.check().map_err(|e| CliError::Usage(format!("--{e}")))?;
     let table = load(&args.input, None, args.summary.as_deref())?;
-    let mut bytes = Vec::new();
-    let frames = animate::gif(&table, &opt, &mut bytes).map_err(CliError::Usage)?;
+    animate::check(&table, &opt).map_err(CliError::Usage)?;
+    let (bytes, frames) = if ext == "mp4" {
+        animate::mp4(&table, &opt).map_err(|e| ellipsoid_io::OutputError::Io {
+            path: args.output.clone(),
+            source: std::io::Error::other(e),
+        })?
+    } else {
+        let mut bytes = Vec::new();
+        let frames = animate::gif(&table, &opt, &mut bytes).map_err(CliError::Usage)?;
+        (bytes, frames)
+    };
     put(&args.output, &bytes)?;
     if !args.quiet {
         eprintln!(

@@ -34,13 +34,13 @@ pub enum Command {
     /// quadrature), otherwise the final-state error against DOP853 at rtol = 1e-14. See
     /// docs/performance.md.
     Precision(PrecisionArgs),
-    /// Draw a trajectory file (CSV or HDF5) as a multi-panel figure (SVG or PNG): θ(t),
+    /// Draw a trajectory file (CSV or HDF5) as a multi-panel figure (SVG, PNG or PDF): θ(t),
     /// Euler rates, energy and relative drift (log axis), normal force and slip speed with
     /// the contact mode shaded, paths on the plane; events marked.
     Plot(PlotArgs),
     /// Write a self-contained 3-D viewer page (HTML, opens offline) of a trajectory file:
     /// the body moving on the plane with its contact trace, play/pause, speed, a time
-    /// slider, θ(t) and energy plots with a linked cursor.
+    /// slider, side plots (θ(t) and energy, or `--columns`) with a linked cursor.
     View(ViewArgs),
     /// Render a trajectory file (CSV or HDF5) as an animated GIF, without a browser: the
     /// body on the plane, its contact trace, the time and θ in a corner.
@@ -172,8 +172,9 @@ pub struct PlotArgs {
     /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run`.
     #[arg(value_name = "OUT.csv|OUT.h5")]
     pub input: PathBuf,
-    /// The figure: `.svg` or `.png` (directories created as needed).
-    #[arg(short, long, value_name = "FIG.svg|FIG.png")]
+    /// The figure: `.svg`, `.png` or `.pdf` (vector, fonts embedded), by extension
+    /// (directories created as needed).
+    #[arg(short, long, value_name = "FIG.svg|FIG.png|FIG.pdf")]
     pub output: PathBuf,
     /// Panels, comma-separated, drawn top to bottom: theta, rates, energy, forces, path.
     #[arg(
@@ -214,6 +215,11 @@ pub struct ViewArgs {
     /// Page title (default: the scenario named by the summary, else the input file name).
     #[arg(long)]
     pub title: Option<String>,
+    /// The side plots against time, comma-separated output columns, at most 6 (e.g.
+    /// `omega_world_z,theta` for a rattleback's spin); `energy` adds E + W when work is
+    /// dissipated.
+    #[arg(long, value_name = "LIST", default_value = "theta,energy")]
+    pub columns: String,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,

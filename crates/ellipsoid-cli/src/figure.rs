@@ -1,6 +1,11 @@
 //! `ellipsoid plot`'s multi-panel figure, in the paper's style, as SVG (plotters' SVG
-//! backend; text sizes estimated, no font read) and PNG (the same SVG rendered by resvg
-//! with a system sans-serif font, e.g. Debian's fonts-dejavu-core).
+//! backend; text sizes estimated, no font read), PNG (the same SVG rendered by resvg
+//! with a system sans-serif font, e.g. Debian's fonts-dejavu-core) and PDF (the same SVG
+//! as vector PDF by svg2pdf, the font's subset embedded).
+//!
+//! The panels — their axes, titles, labels with units, series, colours and shading — are
+//! declared once in `ellipsoid_io::panels` (`assets/panels.json`), which `Trajectory.plot`
+//! (matplotlib) draws from too:
 //!
 //! ```text
 //! panel    draws                                                         needs
@@ -11,7 +16,7 @@
 //!          of the conserved quantity, |ΔE|/|E0| or |Δ(E + W)|/|E0 + W0|
 //!          (the `drift` column when present), on a log axis
 //! forces   normal force N and slip speed, contact mode shaded            normal_force, slip_speed
-//! path     the paths on the plane of the contact point, G and C0                 x, y (contact: contact_x/y,
+//! path     the paths on the plane of the contact point, G and C0         x, y (contact: contact_x/y,
 //!                                                                        or the body's shape)
 //! COLUMN   any numeric output column against time (`--columns`)          COLUMN
 //! ```
@@ -20,13 +25,11 @@
 //! run's 20,000 events draw as a band of lines, not 20,000). Long runs are drawn from the
 //! min/max envelope of each series (`ellipsoid_io::viewer::envelope`), so peaks survive.
 
+use ellipsoid_io::panels;
 use ellipsoid_io::table::Table;
 use ellipsoid_io::viewer::envelope;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-/// Panel names, in drawing order.
-pub const PANELS: [&str; 5] = ["theta", "rates", "energy", "forces", "path"];
 
 /// Points per series after decimation (two per bucket).
 const BUCKETS: usize = 2_000;
@@ -38,25 +41,11 @@ const ROW: u32 = 300;
 /// Drift values below this are drawn at it (an exact zero has no place on a log axis).
 const FLOOR: f64 = 1e-17;
 
-const BLUE: RGBColor = RGBColor(0x1f, 0x77, 0xb4);
-const ORANGE: RGBColor = RGBColor(0xff, 0x7f, 0x0e);
-const GREEN: RGBColor = RGBColor(0x2c, 0xa0, 0x2c);
-const RED: RGBColor = RGBColor(0xd6, 0x27, 0x28);
-const GREY: RGBColor = RGBColor(0x80, 0x80, 0x80);
-const EVENT: RGBColor = RGBColor(0x80, 0x40, 0xa0);
-
-/// Shading per contact mode (light, behind the curves).
-fn mode_color(name: &str) -> RGBColor {
-    match name {
-        "sliding" => RGBColor(0xff, 0xe3, 0xc4),
-        "rolling" => RGBColor(0xd4, 0xf0, 0xd4),
-        "frictionless" => RGBColor(0xee, 0xee, 0xee),
-        _ => RGBColor(0xe0, 0xe0, 0xf8),
-    }
+/// A declared `#rrggbb` colour.
+fn color(hex: &str) -> RGBColor {
+    let (r, g, b) = panels::rgb(hex);
+    RGBColor(r, g, b)
 }
-
-/// Below this |sin θ| the Euler rates φ̇, ψ̇ are not drawn (z-x-z singularity).
-const SIN_SINGULAR: f64 = 0.1;
 
 /// Parses `--columns a,b,c`: numeric output columns other than `t`, no repeats; each is
 /// drawn as a panel of its own against time.
@@ -78,14 +67,15 @@ pub fn parse_columns(spec: &str) -> Result<Vec<&'static str>, String> {
     Ok(out)
 }
 
-/// Parses `--panels a,b,c`: known names, no repeats, at least one.
+/// Parses `--panels a,b,c`: declared names, no repeats, at least one.
 pub fn parse_panels(spec: &str) -> Result<Vec<&'static str>, String> {
+    let known = panels::declaration().names();
     let mut out = Vec::new();
     for name in spec.split(',').map(str::trim) {
-        let Some(p) = PANELS.iter().find(|p| **p == name) else {
+        let Some(p) = known.iter().find(|p| **p == name) else {
             return Err(format!(
                 "--panels: unknown panel {name:?}; the panels are {}",
-                PANELS.join(", ")
+                known.join(", ")
             ));
         };
         if out.contains(p) {
@@ -96,45 +86,61 @@ pub fn parse_panels(spec: &str) -> Result<Vec<&'static str>, String> {
     Ok(out)
 }
 
-/// The columns each panel needs, checked before anything is drawn.
-/// The columns the figure of `panels` draws from (besides `mode`): the panels' own, the
-/// energy's drift and the paths' (a caller reads these alone,
-/// `ellipsoid_io::table::read_columns`).
+/// The columns the figure of `panels` draws from (besides `mode`; a caller reads these
+/// alone, `ellipsoid_io::table::read_columns`): `t`, those every time axis's title needs
+/// (`energy`, `work`, `drift`: the conserved quantity), and per declared panel the columns
+/// of its series, derived ones by what they are computed from; a column's panel: that
+/// column.
 pub fn columns_for<'a>(panels: &[&'a str]) -> Vec<&'a str> {
+    let decl = panels::declaration();
     let mut cols = vec!["t", "energy", "work", "drift"];
     for p in panels {
-        cols.extend_from_slice(match *p {
-            "theta" => &["theta"],
-            "rates" => &["theta", "theta_dot", "phi_dot", "psi_dot", "omega_world_z"],
-            "energy" => &[],
-            "forces" => &["normal_force", "slip_speed"],
-            "path" => &[
-                "x",
-                "y",
-                "z",
-                "theta",
-                "phi",
-                "psi",
-                "contact_x",
-                "contact_y",
-            ],
-            _ => std::slice::from_ref(p),
-        });
+        let Some(panel) = decl.panel(p) else {
+            cols.push(*p);
+            continue;
+        };
+        cols.extend(panel.needs.iter().map(String::as_str));
+        for s in panel.axes.iter().flat_map(|a| &a.series) {
+            if s.euler {
+                cols.push("theta");
+            }
+            let derived: &[&str] = match s.data.as_str() {
+                "energy_plus_work" => &["energy", "work"],
+                "drift" => &["drift", "energy", "work"],
+                "G" | "start" => &["x", "y"],
+                "contact" => &[
+                    "contact_x",
+                    "contact_y",
+                    "x",
+                    "y",
+                    "z",
+                    "theta",
+                    "phi",
+                    "psi",
+                ],
+                "centre" => &["x", "y", "theta", "phi", "psi"],
+                column => {
+                    cols.push(column);
+                    continue;
+                }
+            };
+            cols.extend_from_slice(derived);
+        }
     }
+    cols.sort_unstable();
+    cols.dedup();
     cols
 }
 
+/// The columns each panel needs (a column's panel: that column), checked before anything
+/// is drawn.
 pub fn check_columns(table: &Table, panels: &[&str]) -> Result<(), String> {
     for p in panels {
-        let need: &[&str] = match *p {
-            "theta" => &["theta"],
-            "rates" => &["theta_dot", "phi_dot", "psi_dot"],
-            "energy" => &["energy"],
-            "forces" => &["normal_force", "slip_speed"],
-            "path" => &["x", "y"],
-            _ => std::slice::from_ref(p),
+        let need: Vec<&str> = match panels::declaration().panel(p) {
+            Some(panel) => panel.needs.iter().map(String::as_str).collect(),
+            None => vec![*p],
         };
-        table.require(need, &format!("the {p} panel"))?;
+        table.require(&need, &format!("the {p} panel"))?;
     }
     Ok(())
 }
@@ -238,7 +244,7 @@ fn time_chart(
             chart
                 .draw_series([Rectangle::new(
                     [(a, y0), (b, y1)],
-                    mode_color(&mode).filled(),
+                    color(&panels::declaration().shade(&mode).fill).filled(),
                 )])
                 .map_err(err)?;
         }
@@ -256,7 +262,7 @@ fn time_chart(
     let ylab: &dyn Fn(&f64) -> String = if log { &decade } else { &ylinear };
     chart
         .configure_mesh()
-        .x_desc("time t (s)")
+        .x_desc(&panels::declaration().time_label)
         .y_desc(y_desc)
         .x_label_formatter(&linear)
         .y_label_formatter(ylab)
@@ -273,7 +279,7 @@ fn time_chart(
                 [(t, y0), (t, y1)],
                 5,
                 4,
-                EVENT.stroke_width(1),
+                color(&panels::declaration().events.color).stroke_width(1),
             ))
             .map_err(err)?;
     }
@@ -316,20 +322,6 @@ fn event_lines(table: &Table, t0: f64, t1: f64) -> Vec<f64> {
     lines
 }
 
-fn theta_panel(area: &Area<'_>, table: &Table) -> Res {
-    let t = table.t();
-    let theta = table.column("theta").expect("checked");
-    time_chart(
-        area,
-        table,
-        "tilt of the symmetry axis θ",
-        "θ (rad)",
-        &[series("θ", BLUE, t, theta)],
-        false,
-        false,
-    )
-}
-
 /// Any numeric column against time, labelled with its unit.
 fn column_panel(area: &Area<'_>, table: &Table, name: &str) -> Res {
     let unit = ellipsoid_io::columns::NUMERIC_COLUMNS
@@ -343,7 +335,7 @@ fn column_panel(area: &Area<'_>, table: &Table, name: &str) -> Res {
         &format!("{name} ({unit})"),
         &[series(
             name,
-            BLUE,
+            color(&panels::declaration().column_color),
             table.t(),
             table.column(name).expect("checked"),
         )],
@@ -352,162 +344,127 @@ fn column_panel(area: &Area<'_>, table: &Table, name: &str) -> Res {
     )
 }
 
-fn rates_panel(area: &Area<'_>, table: &Table) -> Res {
+/// A declared series' samples as (times, values): a column, or a derived quantity
+/// (`energy_plus_work` when work is dissipated, `drift`); `euler` series only where
+/// |sin θ| is at least the declared threshold. `None` when the trajectory lacks it.
+fn series_data(table: &Table, s: &panels::Series) -> Option<(Vec<f64>, Vec<f64>)> {
     let t = table.t();
-    // φ̇ and ψ̇ only where the z-x-z angles are regular (|sin θ| ≥ SIN_SINGULAR).
-    let regular = |name: &str| -> (Vec<f64>, Vec<f64>) {
-        let v = table.column(name).expect("checked");
-        match table.column("theta") {
-            Some(theta) => t
-                .iter()
-                .zip(v)
-                .zip(theta)
-                .filter(|(_, th)| th.sin().abs() >= SIN_SINGULAR)
-                .map(|((t, v), _)| (*t, *v))
-                .unzip(),
-            None => (t.to_vec(), v.to_vec()),
+    let values: Vec<f64> = match s.data.as_str() {
+        "energy_plus_work" => {
+            let w = table.column("work")?;
+            if w.iter().all(|v| *v == 0.0) {
+                return None;
+            }
+            let e = table.column("energy")?;
+            e.iter().zip(w).map(|(e, w)| e + w).collect()
         }
+        "drift" => table.drift()?.0,
+        column => table.column(column)?.to_vec(),
     };
-    let (tp, phi_dot) = regular("phi_dot");
-    let (tq, psi_dot) = regular("psi_dot");
-    let mut s = vec![series(
-        "θ̇ (theta_dot)",
-        BLUE,
-        t,
-        table.column("theta_dot").expect("checked"),
-    )];
-    if !tp.is_empty() {
-        s.push(series("φ̇ (phi_dot)", ORANGE, &tp, &phi_dot));
-        s.push(series("ψ̇ (psi_dot)", GREEN, &tq, &psi_dot));
+    let theta = table.column("theta").filter(|_| s.euler);
+    match theta {
+        Some(theta) => {
+            let min = panels::declaration().euler_min_sin_theta;
+            Some(
+                t.iter()
+                    .zip(values)
+                    .zip(theta)
+                    .filter(|(_, th)| th.sin().abs() >= min)
+                    .map(|((t, v), _)| (*t, v))
+                    .unzip(),
+            )
+        }
+        None => Some((t.to_vec(), values)),
     }
-    if let Some(w) = table.column("omega_world_z") {
-        s.push(series("ω_z, world (omega_world_z)", RED, t, w));
+}
+
+/// One declared axis against time: its series, its title with the suffixes of what is
+/// drawn (optional series present, Euler rates left out, the modes shaded).
+fn time_axis(area: &Area<'_>, table: &Table, axis: &panels::Axis) -> Res {
+    let decl = panels::declaration();
+    let conserved = table.drift().map_or("E", |d| d.1);
+    let mut title = axis.title.replace("{conserved}", conserved);
+    let mut drawn = Vec::new();
+    let mut left_out = false;
+    for s in &axis.series {
+        let Some((t, mut v)) = series_data(table, s) else {
+            if s.optional {
+                continue;
+            }
+            return Err(format!("the {} series has no data", s.data));
+        };
+        left_out |= s.euler && t.len() < table.rows();
+        if t.is_empty() {
+            continue;
+        }
+        if axis.log {
+            v.iter_mut().for_each(|x| *x = x.abs().max(FLOOR).log10());
+        }
+        title.push_str(&s.title_suffix);
+        let label = s.label.replace("{conserved}", conserved);
+        drawn.push(series(&label, color(&s.color), &t, &v));
+    }
+    if left_out {
+        title.push_str(&decl.euler_singular_suffix);
+    }
+    if axis.shade {
+        let modes: Vec<&str> = table
+            .mode_names
+            .iter()
+            .filter(|m| !m.is_empty())
+            .map(String::as_str)
+            .collect();
+        title.push_str(&decl.shaded_title(&modes));
     }
     time_chart(
         area,
         table,
-        &format!(
-            "Euler rates{}{}",
-            if table.column("omega_world_z").is_some() {
-                " and the vertical spin"
-            } else {
-                ""
-            },
-            if tp.len() < t.len() {
-                " (φ̇, ψ̇ left out where sin θ < 0.1)"
-            } else {
-                ""
-            }
-        ),
-        "rate (rad/s)",
-        &s,
-        false,
-        false,
-    )
-}
-
-fn energy_panel(area: &Area<'_>, table: &Table) -> Res {
-    let (left, right) = area.split_horizontally(WIDTH / 2);
-    let t = table.t();
-    let e = table.column("energy").expect("checked");
-    let mut s = vec![series("E", BLUE, t, e)];
-    if let Some(w) = table.column("work").filter(|w| w.iter().any(|v| *v != 0.0)) {
-        let ew: Vec<f64> = e.iter().zip(w).map(|(e, w)| e + w).collect();
-        s.push(series("E + W", GREEN, t, &ew));
-    }
-    time_chart(&left, table, "energy", "energy (J)", &s, false, false)?;
-    let (d, name) = table.drift().expect("energy present");
-    let logd: Vec<f64> = d.iter().map(|v| v.abs().max(FLOOR).log10()).collect();
-    let title = format!("relative drift of {name}");
-    time_chart(
-        &right,
-        table,
         &title,
-        "|relative drift| (1, log)",
-        &[series(&format!("|Δ{name}| / |{name}(0)|"), RED, t, &logd)],
-        true,
-        false,
+        &axis.ylabel,
+        &drawn,
+        axis.log,
+        axis.shade,
     )
 }
 
-fn forces_panel(area: &Area<'_>, table: &Table) -> Res {
-    let (left, right) = area.split_horizontally(WIDTH / 2);
-    let t = table.t();
-    let title = |q: &str| {
-        let modes = table
-            .mode_names
-            .iter()
-            .filter(|m| !m.is_empty())
-            .map(|m| m.as_str())
-            .collect::<Vec<_>>();
-        if modes.is_empty() {
-            q.to_owned()
-        } else {
-            format!("{q} (shaded: {})", shading_legend(&modes))
-        }
-    };
-    time_chart(
-        &left,
-        table,
-        &title("normal force"),
-        "normal force N (N)",
-        &[series(
-            "N",
-            BLUE,
-            t,
-            table.column("normal_force").expect("checked"),
-        )],
-        false,
-        true,
-    )?;
-    time_chart(
-        &right,
-        table,
-        &title("slip speed"),
-        "slip speed |v_C| (m/s)",
-        &[series(
-            "slip speed",
-            ORANGE,
-            t,
-            table.column("slip_speed").expect("checked"),
-        )],
-        false,
-        true,
-    )
+/// A declared panel of time axes: one across the row, or two side by side.
+fn time_panel(area: &Area<'_>, table: &Table, panel: &panels::Panel) -> Res {
+    if let [left, right] = panel.axes.as_slice() {
+        let (a, b) = area.split_horizontally(WIDTH / 2);
+        time_axis(&a, table, left)?;
+        time_axis(&b, table, right)
+    } else {
+        time_axis(area, table, &panel.axes[0])
+    }
 }
 
-fn shading_legend(modes: &[&str]) -> String {
-    modes
-        .iter()
-        .map(|m| {
-            let c = match *m {
-                "sliding" => "orange",
-                "rolling" => "green",
-                "frictionless" => "grey",
-                _ => "lilac",
-            };
-            format!("{m} {c}")
-        })
-        .collect::<Vec<_>>()
-        .join(", ")
-}
-
-fn path_panel(area: &Area<'_>, table: &Table) -> Res {
+/// The declared path panel: the paths on the plane of G, the contact point and the
+/// geometric centre (those the trajectory gives), the start marked; equal scales.
+fn path_panel(area: &Area<'_>, table: &Table, axis: &panels::Axis) -> Res {
     let x = table.column("x").expect("checked");
     let y = table.column("y").expect("checked");
     let contact = table.contact_path();
     let centre = table.centre_path();
-    let title = if contact.is_some() {
-        format!(
-            "paths on the plane: contact point, G{}",
-            if centre.is_some() { ", centre C0" } else { "" }
-        )
-    } else {
-        format!(
-            "path of G on the plane (contact point unknown: {})",
-            table.shape_note
-        )
-    };
+    // The declared series present, in legend order, with their colours.
+    let present: Vec<(&str, &str, RGBColor)> = axis
+        .series
+        .iter()
+        .filter(|s| match s.data.as_str() {
+            "contact" => contact.is_some(),
+            "centre" => centre.is_some(),
+            _ => true,
+        })
+        .map(|s| (s.data.as_str(), s.label.as_str(), color(&s.color)))
+        .collect();
+    let color_of = |data: &str| present.iter().find(|p| p.0 == data).map(|p| p.2);
+    let mut title = axis.title.clone();
+    if contact.is_none() {
+        title.push_str(
+            &axis
+                .unknown_contact_suffix
+                .replace("{note}", &table.shape_note),
+        );
+    }
     // Equal scales on both axes: a square plot area in the middle of the row.
     let (w, h) = area.dim_in_pixel();
     let side = h.min(w) as i32;
@@ -526,7 +483,7 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
     let (mx, my) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
     (x0, x1, y0, y1) = (mx - half, mx + half, my - half, my + half);
     let mut chart = ChartBuilder::on(&area)
-        .caption(title, ("sans-serif", 17))
+        .caption(&title, ("sans-serif", 19))
         .margin(10)
         .x_label_area_size(46)
         .y_label_area_size(84)
@@ -536,8 +493,8 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
     let fmt = move |v: &f64| tick(if v.abs() < 1e-9 * scale { 0.0 } else { *v });
     chart
         .configure_mesh()
-        .x_desc("x (m)")
-        .y_desc("y (m)")
+        .x_desc(axis.xlabel.as_deref().unwrap_or("x (m)"))
+        .y_desc(&axis.ylabel)
         .x_label_formatter(&fmt)
         .y_label_formatter(&fmt)
         .x_labels(4)
@@ -559,45 +516,40 @@ fn path_panel(area: &Area<'_>, table: &Table) -> Res {
         p.push((xs[xs.len() - 1], ys[ys.len() - 1]));
         p
     };
-    chart
-        .draw_series(LineSeries::new(decimate(x, y), GREY.stroke_width(2)))
-        .map_err(err)?;
-    if let Some((cx, cy)) = &centre {
+    let paths = [
+        ("G", Some((x, y)), 2),
+        ("centre", centre.as_ref().map(|(a, b)| (&a[..], &b[..])), 1),
+        (
+            "contact",
+            contact.as_ref().map(|(a, b)| (&a[..], &b[..])),
+            1,
+        ),
+    ];
+    for (data, xy, width) in paths {
+        if let (Some((px, py)), Some(c)) = (xy, color_of(data)) {
+            chart
+                .draw_series(LineSeries::new(decimate(px, py), c.stroke_width(width)))
+                .map_err(err)?;
+        }
+    }
+    if let Some(c) = color_of("start") {
         chart
-            .draw_series(LineSeries::new(decimate(cx, cy), ORANGE.stroke_width(1)))
+            .draw_series([Circle::new((x[0], y[0]), 5, c.filled())])
             .map_err(err)?;
     }
-    if let Some((cx, cy)) = &contact {
-        chart
-            .draw_series(LineSeries::new(decimate(cx, cy), BLUE.stroke_width(1)))
-            .map_err(err)?;
-    }
-    chart
-        .draw_series([Circle::new((x[0], y[0]), 5, GREEN.filled())])
-        .map_err(err)?;
     // The legend beside the square, where it hides nothing.
     let (lx, ly) = (pad + side + 10, 60);
-    let mut entries = vec![("G", GREY), ("start", GREEN)];
-    if centre.is_some() {
-        entries.insert(1, ("centre C0", ORANGE));
-    }
-    if contact.is_some() {
-        entries.insert(1, ("contact point", BLUE));
-    }
-    for (k, (name, color)) in entries.into_iter().enumerate() {
+    for (k, (data, label, c)) in present.iter().enumerate() {
         let y = ly + 24 * k as i32;
-        if name == "start" {
-            row.draw(&Circle::new((lx + 11, y), 5, color.filled()))
+        if *data == "start" {
+            row.draw(&Circle::new((lx + 11, y), 5, c.filled()))
                 .map_err(err)?;
         } else {
-            row.draw(&Rectangle::new(
-                [(lx, y - 1), (lx + 22, y + 1)],
-                color.filled(),
-            ))
-            .map_err(err)?;
+            row.draw(&Rectangle::new([(lx, y - 1), (lx + 22, y + 1)], c.filled()))
+                .map_err(err)?;
         }
         row.draw(&Text::new(
-            name,
+            label.to_string(),
             (lx + 30, y - 9),
             ("sans-serif", 15).into_font(),
         ))
@@ -624,13 +576,10 @@ pub fn svg(table: &Table, panels: &[&str], title: &str) -> Result<String, String
         .map_err(err)?;
         let rows = body.split_evenly((panels.len(), 1));
         for (area, p) in rows.iter().zip(panels) {
-            match *p {
-                "theta" => theta_panel(area, table)?,
-                "rates" => rates_panel(area, table)?,
-                "energy" => energy_panel(area, table)?,
-                "forces" => forces_panel(area, table)?,
-                "path" => path_panel(area, table)?,
-                column => column_panel(area, table, column)?,
+            match panels::declaration().panel(p) {
+                Some(panel) if panel.name == "path" => path_panel(area, table, &panel.axes[0])?,
+                Some(panel) => time_panel(area, table, panel)?,
+                None => column_panel(area, table, p)?,
             }
         }
         root.present().map_err(err)?;
@@ -638,11 +587,10 @@ pub fn svg(table: &Table, panels: &[&str], title: &str) -> Result<String, String
     Ok(out)
 }
 
-/// Renders SVG text to PNG bytes with resvg, text in a system sans-serif font (DejaVu Sans
-/// when installed). Fails, saying what to install, when no font is found.
-pub fn png(svg: &str) -> Result<Vec<u8>, String> {
-    use resvg::{tiny_skia, usvg};
-    let mut opt = usvg::Options::default();
+/// The SVG reader's options: text in a system sans-serif font (DejaVu Sans when
+/// installed). Fails, saying what to install, when no font is found.
+fn svg_options() -> Result<resvg::usvg::Options<'static>, String> {
+    let mut opt = resvg::usvg::Options::default();
     let db = opt.fontdb_mut();
     db.load_system_fonts();
     if let Ok(dir) = std::env::var("ELLIPSOID_FONT_DIR") {
@@ -657,7 +605,7 @@ pub fn png(svg: &str) -> Result<Vec<u8>, String> {
     match family {
         Some(f) => db.set_sans_serif_family(f),
         None if db.is_empty() => {
-            return Err("no font found to draw the PNG's text (install one, e.g. `apt-get install -y fonts-dejavu-core`, or set ELLIPSOID_FONT_DIR), or write SVG with -o FIG.svg".into());
+            return Err("no font found to draw the figure's text (install one, e.g. `apt-get install -y fonts-dejavu-core`, or set ELLIPSOID_FONT_DIR), or write SVG with -o FIG.svg".into());
         }
         None => {
             let first = db
@@ -668,7 +616,18 @@ pub fn png(svg: &str) -> Result<Vec<u8>, String> {
             db.set_sans_serif_family(first);
         }
     }
-    let tree = usvg::Tree::from_str(svg, &opt).map_err(|e| format!("cannot read the SVG: {e}"))?;
+    Ok(opt)
+}
+
+fn parse(svg: &str) -> Result<resvg::usvg::Tree, String> {
+    resvg::usvg::Tree::from_str(svg, &svg_options()?)
+        .map_err(|e| format!("cannot read the SVG: {e}"))
+}
+
+/// Renders SVG text to PNG bytes with resvg (fonts as [`svg_options`] finds them).
+pub fn png(svg: &str) -> Result<Vec<u8>, String> {
+    use resvg::tiny_skia;
+    let tree = parse(svg)?;
     let size = tree.size().to_int_size();
     let mut pixmap =
         tiny_skia::Pixmap::new(size.width(), size.height()).ok_or("the figure has no size")?;
@@ -677,6 +636,18 @@ pub fn png(svg: &str) -> Result<Vec<u8>, String> {
     pixmap
         .encode_png()
         .map_err(|e| format!("cannot encode the PNG: {e}"))
+}
+
+/// Converts SVG text to a vector PDF of one page (svg2pdf; the text's font subset
+/// embedded, fonts as [`svg_options`] finds them), 1 px of the SVG = 1/96 inch.
+pub fn pdf(svg: &str) -> Result<Vec<u8>, String> {
+    let tree = parse(svg)?;
+    svg2pdf::to_pdf(
+        &tree,
+        svg2pdf::ConversionOptions::default(),
+        svg2pdf::PageOptions { dpi: 96.0 },
+    )
+    .map_err(|e| format!("cannot write the PDF: {e}"))
 }
 
 #[cfg(test)]
@@ -699,6 +670,7 @@ mod tests {
             "normal_force",
             "slip_speed",
             "work",
+            "omega_world_z",
         ];
         let mut t = Table::from_rows("mem.csv", &names, 500, |i| {
             let t = i as f64 * 1e-3;
@@ -717,6 +689,7 @@ mod tests {
                 0.5,
                 0.1 * (1.0 - t),
                 1e-3 * t * (1.0 + 1e-12),
+                60.0 * (0.2 + 0.1 * (40.0 * t).sin()).cos(),
             ];
             (
                 v,
@@ -735,9 +708,29 @@ mod tests {
         t
     }
 
+    /// Every declared axis is drawn with its title, its labels and its series' labels
+    /// (`Trajectory.plot` is held to the same declaration by the Python tests).
+    #[test]
+    fn every_declared_axis_is_drawn_with_its_labels() {
+        let svg = svg(&table(), &panels::declaration().names(), "test").unwrap();
+        let text = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;");
+        for axis in panels::declaration().panels.iter().flat_map(|p| &p.axes) {
+            let title = axis.title.replace("{conserved}", "E + W");
+            assert!(svg.contains(&text(&title)), "missing title {title}");
+            assert!(svg.contains(&text(&axis.ylabel)), "missing {}", axis.ylabel);
+            for s in &axis.series {
+                let label = s.label.replace("{conserved}", "E + W");
+                assert!(
+                    s.optional || svg.contains(&text(&label)),
+                    "missing series {label}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn every_panel_names_its_axes_with_units() {
-        let svg = svg(&table(), &PANELS, "test").unwrap();
+        let svg = svg(&table(), &panels::declaration().names(), "test").unwrap();
         for label in [
             "time t (s)",
             "θ (rad)",
@@ -776,9 +769,32 @@ mod tests {
         let lines = event_lines(&t, t0, t1);
         assert_eq!(lines[0], lone, "a lone event keeps its line");
         assert!(lines.len() <= 4, "{} lines", lines.len());
-        let svg = svg(&t, &PANELS, "test").unwrap();
+        let svg = svg(&t, &panels::declaration().names(), "test").unwrap();
         assert!(svg.len() < 2_000_000, "{} bytes", svg.len());
         png(&svg).unwrap();
+    }
+
+    /// A table of only the columns `columns_for` names draws each panel as the whole
+    /// table does (what `ellipsoid plot` reads is enough), and leaves others out.
+    #[test]
+    fn the_columns_read_for_a_panel_draw_it_whole() {
+        let full = table();
+        for p in panels::declaration().names().into_iter().chain(["vx"]) {
+            let keep = columns_for(&[p]);
+            let mut part = table();
+            part.columns.retain(|c| keep.contains(&c.0.as_str()));
+            if p == "vx" {
+                assert_eq!(keep, ["drift", "energy", "t", "vx", "work"]);
+                continue;
+            }
+            assert!(part.columns.len() < full.columns.len(), "{p}: {keep:?}");
+            assert_eq!(
+                svg(&part, &[p], "x").unwrap(),
+                svg(&full, &[p], "x").unwrap(),
+                "{p}: {keep:?}"
+            );
+        }
+        assert!(columns_for(&["rates"]).contains(&"omega_world_z"));
     }
 
     #[test]
@@ -814,9 +830,9 @@ mod tests {
         let svg = svg(&table(), &["work", "slip_speed"], "x").unwrap();
         assert!(svg.contains("work (J)") && svg.contains("slip_speed (m/s)"));
         assert!(
-            super::svg(&table(), &["omega_world_z"], "x")
+            super::svg(&table(), &["omega_world_x"], "x")
                 .unwrap_err()
-                .contains("omega_world_z")
+                .contains("omega_world_x")
         );
     }
 

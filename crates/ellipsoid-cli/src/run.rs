@@ -181,7 +181,7 @@ fn simulate_to(
     output: &Path,
     interrupt: &Interrupt,
 ) -> Result<(atomic::Prepared, Summary, bool), CliError> {
-    let mut writer = TrajectoryWriter::create(output)?;
+    let mut writer = TrajectoryWriter::for_scenario(output, scenario)?;
     let mut progress = Progress::new(scenario.scene.t_end);
     let cancel = Some(std::sync::Arc::clone(&interrupt.any));
     let finished = ellipsoid_io::run::run(

@@ -1,5 +1,5 @@
 //! `ellipsoid plot` and `ellipsoid view`: a trajectory file (CSV or HDF5) read back and
-//! drawn as a multi-panel figure (SVG or PNG, [`crate::figure`]) or as the self-contained
+//! drawn as a multi-panel figure (SVG, PNG or PDF, [`crate::figure`]) or as the self-contained
 //! 3-D viewer page (`ellipsoid_io::viewer`). Events and the body come from the summary
 //! (`--summary`, or the one stored in an HDF5 file) and the scenario it names.
 
@@ -27,16 +27,16 @@ pub(crate) fn load(
     Ok(t)
 }
 
-/// The default title: the file name of the scenario the summary names (the run's name;
-/// never its directories, which a page must not carry), else the input file's name.
-fn default_title(table: &Table, summary: Option<&Path>) -> String {
-    summary
-        .and_then(|p| table::read_summary(p).ok())
-        .and_then(|s| {
-            let named = Path::new(s.get("scenario")?.as_str()?).file_name()?;
-            Some(named.to_string_lossy().into_owned())
-        })
-        .unwrap_or_else(|| table.source.clone())
+/// The default title: the file name of the scenario the run's summary names (`--summary`,
+/// or the one an HDF5 file stores; never its directories, which a page must not carry),
+/// else the input's file name.
+fn default_title(table: &Table, input: &Path) -> String {
+    table.scenario.clone().unwrap_or_else(|| {
+        input.file_name().map_or_else(
+            || table.source.clone(),
+            |n| n.to_string_lossy().into_owned(),
+        )
+    })
 }
 
 /// Refuses an output whose extension is not one of `allowed` (so it cannot be the
@@ -81,7 +81,7 @@ pub(crate) fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
 }
 
 pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
-    let ext = check_output(&args.output, &["svg", "png"], "figure")?;
+    let ext = check_output(&args.output, &["svg", "png", "pdf"], "figure")?;
     let panels = match &args.columns {
         Some(columns) => figure::parse_columns(columns),
         None => figure::parse_panels(&args.panels),
@@ -100,12 +100,12 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     let title = args
         .title
         .clone()
-        .unwrap_or_else(|| default_title(&table, args.summary.as_deref()));
+        .unwrap_or_else(|| default_title(&table, &args.input));
     let svg = figure::svg(&table, &panels, &title).map_err(CliError::Plot)?;
-    let bytes = if ext == "png" {
-        figure::png(&svg).map_err(CliError::Plot)?
-    } else {
-        svg.into_bytes()
+    let bytes = match ext.as_str() {
+        "png" => figure::png(&svg).map_err(CliError::Plot)?,
+        "pdf" => figure::pdf(&svg).map_err(CliError::Plot)?,
+        _ => svg.into_bytes(),
     };
     put(&args.output, &bytes)?;
     if !args.quiet {
@@ -123,14 +123,17 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
 
 pub fn view(args: &ViewArgs) -> Result<ExitCode, CliError> {
     check_output(&args.output, &["html", "htm"], "page")?;
-    let keep = ellipsoid_io::viewer::COLUMNS;
+    let plots = ellipsoid_io::viewer::parse_plots(&args.columns)
+        .map_err(|rule| CliError::Usage(format!("--columns: {rule}")))?;
+    let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
+    let keep = ellipsoid_io::viewer::columns(&plots);
     let table = load(&args.input, Some(&keep), args.summary.as_deref())?;
     let title = args
         .title
         .clone()
-        .unwrap_or_else(|| default_title(&table, args.summary.as_deref()));
-    let page =
-        ellipsoid_io::viewer::html(&table, &title).map_err(|e| CliError::Usage(e.to_string()))?;
+        .unwrap_or_else(|| default_title(&table, &args.input));
+    let page = ellipsoid_io::viewer::html(&table, &title, &plots)
+        .map_err(|e| CliError::Usage(e.to_string()))?;
     if table.shape.is_none() && !args.quiet {
         eprintln!("note: {}", table.shape_note);
     }

@@ -2,10 +2,11 @@
 //! test `tests/campaign.rs` runs 200 scenes at seed 24):
 //!
 //! ```text
-//! cargo run --release -p ellipsoid-core --example campaign -- --seed 24 --count 2000 [--show N]
+//! cargo run --release -p ellipsoid-core --example campaign -- --seed 24 --count 2000 [--show N] [--spheres]
 //! ```
 //! prints, per method, how many runs ended with each status and how many broke a check,
-//! then each failing scene; `--show N` prints scene N's two runs in detail.
+//! then each failing scene; `--show N` prints scene N's two runs in detail; `--spheres`
+//! gives each body one or two random contact spheres (`campaign::with_spheres`).
 
 #[path = "../../../tests/common/campaign.rs"]
 mod campaign;
@@ -19,6 +20,7 @@ fn main() {
     let mut seed = 24u64;
     let mut count = 200usize;
     let mut show = None;
+    let mut spheres = false;
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut i = 0;
     while i < args.len() {
@@ -30,12 +32,17 @@ fn main() {
                     std::process::exit(2)
                 })
         };
+        if args[i] == "--spheres" {
+            spheres = true;
+            i += 1;
+            continue;
+        }
         match args[i].as_str() {
             "--seed" => seed = value(i),
             "--count" => count = value(i).min(1_000_000) as usize,
             "--show" => show = Some(value(i) as usize),
             other => {
-                eprintln!("unknown argument {other}: --seed N, --count N, --show N");
+                eprintln!("unknown argument {other}: --seed N, --count N, --show N, --spheres");
                 std::process::exit(2)
             }
         }
@@ -44,7 +51,13 @@ fn main() {
     let mut rng = Rng::new(seed);
     let mut scenes = Vec::new();
     while scenes.len() < count {
-        if let Some(s) = campaign::scene(&mut rng, Method::Dop853) {
+        let scene = campaign::scene(&mut rng, Method::Dop853);
+        let scene = if spheres {
+            scene.and_then(|s| campaign::with_spheres(&s, &mut rng))
+        } else {
+            scene
+        };
+        if let Some(s) = scene {
             scenes.push(s);
         }
     }

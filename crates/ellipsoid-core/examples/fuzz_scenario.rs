@@ -140,6 +140,8 @@ const KEYS: &[&str] = &[
     "mass",
     "com_offset",
     "inertia",
+    "center",
+    "radius",
     "theta",
     "psi_dot",
     "model",

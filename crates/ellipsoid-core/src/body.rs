@@ -1,5 +1,8 @@
 //! The rigid body: an ellipsoid with semi-axes (a, b, c) along its principal body axes,
-//! centre of mass G offset from the geometric centre C0, central inertia about G.
+//! centre of mass G offset from the geometric centre C0, central inertia about G — and up
+//! to [`MAX_SPHERES`] contact spheres fixed in the body (a tippe top's stem, a top's peg;
+//! docs/physics.md, "Contact spheres"), which touch the plane but carry no mass of their
+//! own (the inertia is the whole body's).
 //!
 //! docs/physics.md, "Body, frames, conventions". The paper's body is a = b, c, with
 //! `com_offset = (0, 0, −D2)` (paper eq. 7) and `I_b = diag(I, I, I3)`.
@@ -8,7 +11,31 @@ use nalgebra::{Matrix3, Vector3};
 
 use crate::error::{ModelError, number};
 
-/// A validated rigid ellipsoid. Construct with [`Body::new`].
+/// Most contact spheres a body may have.
+pub const MAX_SPHERES: usize = 8;
+
+/// A contact sphere fixed in the body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sphere {
+    /// Its name (output columns and events name the surface by it).
+    pub name: String,
+    /// Its centre in body axes, from the ellipsoid's centre C0 \[m\].
+    pub center: Vector3<f64>,
+    /// Its radius \[m\].
+    pub radius: f64,
+}
+
+/// A surface of the body that can touch the plane.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Surface {
+    /// The ellipsoid.
+    Ellipsoid,
+    /// Contact sphere number k ([`Body::spheres`]).
+    Sphere(usize),
+}
+
+/// A validated rigid ellipsoid, with its contact spheres. Construct with [`Body::new`]
+/// (and [`Body::with_spheres`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Body {
     /// Semi-axes (a, b, c) along body x, y, z \[m\].
@@ -21,6 +48,11 @@ pub struct Body {
     inertia_inv: Matrix3<f64>,
     /// G − C0 in body axes \[m\].
     com_offset: Vector3<f64>,
+    /// Its contact spheres.
+    spheres: Vec<Sphere>,
+    /// The surface whose contact the geometry describes (`geometry::Contact::new`): the
+    /// one touching the plane; the ellipsoid unless set ([`Body::touching`]).
+    surface: Surface,
 }
 
 impl Body {
@@ -126,7 +158,66 @@ impl Body {
             inertia,
             inertia_inv,
             com_offset,
+            spheres: Vec::new(),
+            surface: Surface::Ellipsoid,
         })
+    }
+
+    /// The body with contact spheres `spheres` (at most [`MAX_SPHERES`], names unique and
+    /// non-empty, centres finite, radii positive lengths whose squares are normal floats,
+    /// as the semi-axes are).
+    pub fn with_spheres(mut self, spheres: Vec<Sphere>) -> Result<Self, ModelError> {
+        if spheres.len() > MAX_SPHERES {
+            return Err(ModelError::invalid(
+                "body.sphere",
+                format!("{} entries", spheres.len()),
+                format!("a body has at most {MAX_SPHERES} contact spheres"),
+            ));
+        }
+        let (min, max) = (f64::MIN_POSITIVE.sqrt(), f64::MAX.sqrt());
+        for (k, sp) in spheres.iter().enumerate() {
+            let field = |key: &str| format!("body.sphere[{k}].{key}");
+            if sp.name.is_empty() || sp.name.len() > 100 {
+                return Err(ModelError::invalid(
+                    field("name"),
+                    format!("{:?}", sp.name),
+                    "a sphere's name is a string of 1 to 100 bytes",
+                ));
+            }
+            if spheres[..k].iter().any(|o| o.name == sp.name) || sp.name == "ellipsoid" {
+                return Err(ModelError::invalid(
+                    field("name"),
+                    format!("{:?}", sp.name),
+                    "sphere names must be unique and not \"ellipsoid\" (the body's own surface)",
+                ));
+            }
+            if !(sp.radius.is_finite() && (min..=max).contains(&sp.radius)) {
+                return Err(ModelError::invalid(
+                    field("radius"),
+                    number(sp.radius),
+                    format!("a sphere's radius must be a length from {min:.1e} to {max:.1e} m"),
+                ));
+            }
+            if sp.center.iter().any(|v| !(v.is_finite() && v.abs() <= max)) {
+                return Err(ModelError::invalid(
+                    field("center"),
+                    fmt_vector(&sp.center),
+                    format!(
+                        "a sphere's centre must be finite, each coordinate at most {max:.1e} m"
+                    ),
+                ));
+            }
+        }
+        self.spheres = spheres;
+        Ok(self)
+    }
+
+    /// The same body, its geometry describing the contact of `surface`.
+    pub fn touching(&self, surface: Surface) -> Body {
+        Body {
+            surface,
+            ..self.clone()
+        }
     }
 
     /// The paper's body: a = b, c, CM a distance `d2` below C0 on the axis, principal
@@ -166,6 +257,25 @@ impl Body {
     /// G − C0 in body axes \[m\].
     pub fn com_offset(&self) -> Vector3<f64> {
         self.com_offset
+    }
+    /// Its contact spheres.
+    pub fn spheres(&self) -> &[Sphere] {
+        &self.spheres
+    }
+    /// The surface whose contact the geometry describes.
+    pub fn surface(&self) -> Surface {
+        self.surface
+    }
+    /// Every surface: the ellipsoid, then the spheres.
+    pub fn surfaces(&self) -> impl Iterator<Item = Surface> + '_ {
+        std::iter::once(Surface::Ellipsoid).chain((0..self.spheres.len()).map(Surface::Sphere))
+    }
+    /// The name of `surface`: "ellipsoid", or its sphere's name.
+    pub fn surface_name(&self, surface: Surface) -> &str {
+        match surface {
+            Surface::Ellipsoid => "ellipsoid",
+            Surface::Sphere(k) => &self.spheres[k].name,
+        }
     }
 }
 

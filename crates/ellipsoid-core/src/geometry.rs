@@ -1,4 +1,5 @@
-//! Exact contact geometry of an ellipsoid touching the plane z = 0, for any semi-axes.
+//! Exact contact geometry of an ellipsoid touching the plane z = 0, for any semi-axes,
+//! and of a contact sphere fixed in the body (docs/physics.md, "Contact spheres").
 //!
 //! docs/physics.md, "Contact geometry". With ζ = Rᵀe3 (world up in body axes) and
 //! A = diag(a, b, c):
@@ -11,14 +12,19 @@
 //!   ζ̇    = ζ × ω_b,   ṙ_b = −H ζ̇             the contact point moves over the body
 //!   u    = r_b × ζ,   κ = r_b·(ζ̇ × ω_b) − ζ̇ᵀHζ̇,   z̈_G = −u·ω̇_b − κ
 //! ```
+//! A sphere of radius ρ centred at c (body axes, from C0) is the ellipsoid A = ρI moved
+//! by c: s = ρ|ζ| − c·ζ, p_c = c − ρζ/|ζ|, H = ρ(I/|ζ| − ζζᵀ/|ζ|³) (= ρ(I − ζζᵀ) on the
+//! unit sphere of ζ); the rest is the same.
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::body::Body;
+use crate::body::{Body, Surface};
 
 /// Contact quantities at one instant, all in body axes.
 #[derive(Debug, Clone, Copy)]
 pub struct Contact {
+    /// The surface touching (or, in flight, nearest to) the plane.
+    pub surface: Surface,
     /// ζ = Rᵀ e3, world up in body axes.
     pub zeta: Vector3<f64>,
     /// Contact point C relative to C0 \[m\].
@@ -38,22 +44,43 @@ pub struct Contact {
 }
 
 impl Contact {
-    /// Evaluates the contact geometry for body orientation `zeta` (unit) and body
-    /// angular velocity `omega` [rad/s].
+    /// Evaluates the contact geometry of the body's surface ([`Body::surface`]) for body
+    /// orientation `zeta` (unit) and body angular velocity `omega` [rad/s].
     #[inline]
     pub fn new(body: &Body, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
-        let a = body.semi_axes();
-        let a2 = a.component_mul(&a);
-        let a2z = a2.component_mul(&zeta);
-        let s = zeta.dot(&a2z).sqrt();
-        let p_c = -a2z / s;
+        Contact::of(body, body.surface(), zeta, omega)
+    }
+
+    /// The contact geometry of `surface`.
+    #[inline]
+    pub fn of(body: &Body, surface: Surface, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
+        let zeta_dot = zeta.cross(&omega);
+        // (s, p_c, H ζ̇), H ζ̇ without forming H.
+        let (s, p_c, h_zd) = match surface {
+            Surface::Ellipsoid => {
+                let a = body.semi_axes();
+                let a2 = a.component_mul(&a);
+                let a2z = a2.component_mul(&zeta);
+                let s = zeta.dot(&a2z).sqrt();
+                // A²ζ̇/s − A²ζ (A²ζ·ζ̇)/s³.
+                let h_zd =
+                    a2.component_mul(&zeta_dot) / s - a2z * (a2z.dot(&zeta_dot) / (s * s * s));
+                (s, -a2z / s, h_zd)
+            }
+            Surface::Sphere(k) => {
+                let sphere = &body.spheres()[k];
+                let (rho, c) = (sphere.radius, sphere.center);
+                let n = zeta.norm();
+                // ρ(ζ̇/|ζ| − ζ (ζ·ζ̇)/|ζ|³).
+                let h_zd = rho * (zeta_dot / n - zeta * (zeta.dot(&zeta_dot) / (n * n * n)));
+                (rho * n - c.dot(&zeta), c - zeta * (rho / n), h_zd)
+            }
+        };
         let g = body.com_offset();
         let r = p_c - g;
-        let zeta_dot = zeta.cross(&omega);
-        // H ζ̇ without forming H: A²ζ̇/s − A²ζ (A²ζ·ζ̇)/s³.
-        let h_zd = a2.component_mul(&zeta_dot) / s - a2z * (a2z.dot(&zeta_dot) / (s * s * s));
         let kappa = r.dot(&zeta_dot.cross(&omega)) - zeta_dot.dot(&h_zd);
         Contact {
+            surface,
             zeta,
             p_c,
             r,
@@ -65,11 +92,45 @@ impl Contact {
         }
     }
 
+    /// The contact geometry of the surface nearest the plane (the one G would stand
+    /// highest on, touching: the body's lowest point; [`height`]), the ellipsoid on a tie.
+    #[inline]
+    pub fn lowest(body: &Body, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
+        if body.spheres().is_empty() {
+            return Contact::of(body, Surface::Ellipsoid, zeta, omega);
+        }
+        let lowest = body
+            .surfaces()
+            .map(|s| (s, height(body, s, zeta)))
+            .fold((Surface::Ellipsoid, f64::NEG_INFINITY), |best, x| {
+                if x.1 > best.1 { x } else { best }
+            })
+            .0;
+        Contact::of(body, lowest, zeta, omega)
+    }
+
     /// Vertical velocity of G while touching, v_Gz = −r·ζ̇ = −e3·(ω × r) [m/s].
     #[inline]
     pub fn vz(&self) -> f64 {
         -self.r.dot(&self.zeta_dot)
     }
+}
+
+/// The height of G when `surface` touches the plane, h(ζ) = s(ζ) + ζ·g \[m\]: the
+/// surface's gap is z_G − h(ζ), and the surface with the largest h is the lowest.
+#[inline]
+pub fn height(body: &Body, surface: Surface, zeta: Vector3<f64>) -> f64 {
+    let s = match surface {
+        Surface::Ellipsoid => {
+            let a = body.semi_axes();
+            zeta.dot(&a.component_mul(&a).component_mul(&zeta)).sqrt()
+        }
+        Surface::Sphere(k) => {
+            let sphere = &body.spheres()[k];
+            sphere.radius * zeta.norm() - sphere.center.dot(&zeta)
+        }
+    };
+    s + zeta.dot(&body.com_offset())
 }
 
 /// The Hessian H = A²/s − (A²ζ)(A²ζ)ᵀ/s³ (used by tests and diagnostics; the

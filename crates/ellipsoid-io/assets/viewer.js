@@ -187,8 +187,12 @@ function apply(t) {
 // ---------------------------------------------------------------- plots
 const CURSOR = 'rgb(220,0,0)';
 const M = { left: 70, right: 10, top: 20, bottom: 34 };
+// One canvas per side plot the page was made with (`--columns`, `columns=`), in order.
 const plots = D.plots.map((p) => {
-  const canvas = $('plot-' + p.name);
+  const canvas = document.createElement('canvas');
+  canvas.id = 'plot-' + p.name; canvas.width = 360; canvas.height = 190;
+  canvas.setAttribute('aria-label', p.name + ' against time');
+  $('plots').appendChild(canvas);
   const s = { name: p.name, label: p.label, canvas, t: f32(p.t), v: f32(p.v), t2: p.t2 ? f32(p.t2) : null, v2: p.v2 ? f32(p.v2) : null };
   let lo = Infinity, hi = -Infinity;
   for (const arr of [s.v, s.v2]) if (arr) for (const v of arr) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
@@ -201,7 +205,6 @@ const plots = D.plots.map((p) => {
   });
   return s;
 });
-for (const name of ['theta', 'energy']) if (!D.plots.some((p) => p.name === name)) $('plot-' + name).style.display = 'none';
 const xOf = (canvas, t) => M.left + (T1 > T0 ? (t - T0) / (T1 - T0) : 0) * (canvas.width - M.left - M.right);
 function ticks(lo, hi, n) {
   const step0 = (hi - lo) / n, mag = Math.pow(10, Math.floor(Math.log10(step0)));

@@ -1,6 +1,7 @@
 //! An animated GIF of a run, rendered without a browser: the body on the plane, its
 //! contact trace, the time and θ in a corner (`ellipsoid animate`,
-//! `Trajectory.animate`).
+//! `Trajectory.animate`); or the same frames as an MP4, encoded by the system's ffmpeg
+//! where one is installed.
 //!
 //! Each frame is ray-cast in an orthographic camera looking down at 30° on the plane: a
 //! ray hits the ellipsoid |S⁻¹ R⁻¹(p − C0)| = 1 (S = diag(a, b, c), R the z-x-z rotation,
@@ -289,17 +290,121 @@ fn segment(buf: &mut [u8], mask: &[bool], width: u32, height: u32, a: (f64, f64)
 /// shape) as an animated GIF written to `out`: frames at t = k·speed/fps from the first
 /// row to the last, at most [`MAX_FRAMES`]. Returns the number of frames.
 pub fn gif(table: &Table, opt: &Options, out: impl Write) -> Result<usize, String> {
+    let (w, h) = (opt.width, opt.height);
+    let mut enc =
+        gif::Encoder::new(out, w as u16, h as u16, &palette()).map_err(|e| e.to_string())?;
+    enc.set_repeat(gif::Repeat::Infinite)
+        .map_err(|e| e.to_string())?;
+    let delay = (100.0 / opt.fps).round().max(1.0) as u16;
+    let mut prev: Option<Vec<u8>> = None;
+    render(table, opt, |buf| {
+        let frame = changed(buf, prev.as_deref(), w, h, delay);
+        enc.write_frame(&frame).map_err(|e| e.to_string())?;
+        prev = Some(buf.to_vec());
+        Ok(())
+    })
+}
+
+/// How to find ffmpeg: `$ELLIPSOID_FFMPEG`, else `ffmpeg` on the PATH.
+fn ffmpeg() -> std::ffi::OsString {
+    std::env::var_os("ELLIPSOID_FFMPEG").unwrap_or_else(|| "ffmpeg".into())
+}
+
+/// Renders the run as an H.264 MP4 (yuv420p, which every player reads; odd sides padded by
+/// a pixel) through the system's ffmpeg, and returns its bytes and the number of frames.
+/// Without ffmpeg it fails, saying what is missing and how to get it (nothing is
+/// downloaded).
+pub fn mp4(table: &Table, opt: &Options) -> Result<(Vec<u8>, usize), String> {
+    use std::process::{Command, Stdio};
+    check(table, opt)?;
+    let dir = tempfile::tempdir().map_err(|e| format!("cannot make a temporary directory: {e}"))?;
+    let out = dir.path().join("animation.mp4");
+    let program = ffmpeg();
+    let mut child = Command::new(&program)
+        .args(["-hide_banner", "-loglevel", "error", "-f", "rawvideo", "-pix_fmt", "rgb24"])
+        .args(["-s", &format!("{}x{}", opt.width, opt.height)])
+        .args(["-r", &opt.fps.to_string(), "-i", "-"])
+        .args(["-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-c:v", "libx264"])
+        .args(["-pix_fmt", "yuv420p", "-movflags", "+faststart", "-y"])
+        .arg(&out)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .map_err(|e| {
+            format!(
+                "MP4 needs ffmpeg, which could not be run ({}: {e}): install it (Debian: `apt-get install ffmpeg`) or name it in ELLIPSOID_FFMPEG, or write a GIF (-o ANIM.gif)",
+                program.to_string_lossy()
+            )
+        })?;
+    let pal = palette();
+    let mut stdin = child.stdin.take().expect("piped");
+    let mut rgb = Vec::new();
+    let rendered = render(table, opt, |buf| {
+        rgb.clear();
+        rgb.extend(buf.iter().flat_map(|&c| {
+            let k = 3 * usize::from(c);
+            [pal[k], pal[k + 1], pal[k + 2]]
+        }));
+        stdin
+            .write_all(&rgb)
+            .map_err(|e| format!("ffmpeg stopped reading frames: {e}"))
+    });
+    drop(stdin);
+    let done = child
+        .wait_with_output()
+        .map_err(|e| format!("ffmpeg: {e}"))?;
+    let frames = rendered.map_err(|e| {
+        if done.status.success() {
+            e
+        } else {
+            format!(
+                "{e}; ffmpeg said: {}",
+                String::from_utf8_lossy(&done.stderr).trim()
+            )
+        }
+    })?;
+    if !done.status.success() {
+        return Err(format!(
+            "ffmpeg failed ({}): {}",
+            done.status,
+            String::from_utf8_lossy(&done.stderr).trim()
+        ));
+    }
+    let bytes = std::fs::read(&out).map_err(|e| format!("cannot read ffmpeg's MP4: {e}"))?;
+    Ok((bytes, frames))
+}
+
+/// The columns an animation needs.
+const COLUMNS: [&str; 7] = ["t", "x", "y", "z", "theta", "phi", "psi"];
+
+/// Checks that the run can be animated with `opt` (the options' bounds, the body's shape
+/// known, the columns present, a row at least), before anything is started; returns the
+/// shape.
+pub fn check(table: &Table, opt: &Options) -> Result<Shape, String> {
     opt.check()?;
     let shape = table
         .shape
         .ok_or_else(|| format!("cannot draw the body: {}", table.shape_note))?;
-    let cols = table.require(&["t", "x", "y", "z", "theta", "phi", "psi"], "an animation")?;
+    let cols = table.require(&COLUMNS, "an animation")?;
+    if cols[0].is_empty() {
+        return Err("the trajectory has no rows".into());
+    }
+    Ok(shape)
+}
+
+/// Renders the frames of the run (see [`gif`]), each handed to `frame` as one palette
+/// index per pixel, row by row; returns their number.
+fn render(
+    table: &Table,
+    opt: &Options,
+    mut frame: impl FnMut(&[u8]) -> Result<(), String>,
+) -> Result<usize, String> {
+    let shape = check(table, opt)?;
+    let cols = table.require(&COLUMNS, "an animation")?;
     let (t, x, y, z, theta, phi, psi) = (
         cols[0], cols[1], cols[2], cols[3], cols[4], cols[5], cols[6],
     );
-    if t.is_empty() {
-        return Err("the trajectory has no rows".into());
-    }
     let (t0, t1) = (t[0], t[t.len() - 1]);
     let step = opt.speed / opt.fps;
     let frames = (((t1 - t0) / step).floor() as usize + 1).min(MAX_FRAMES);
@@ -318,10 +423,7 @@ pub fn gif(table: &Table, opt: &Options, out: impl Write) -> Result<usize, Strin
     let (lo, hi) = (Vector3::new(lo.x, lo.y, 0.0) - grow, hi + grow);
     let (w, h) = (opt.width, opt.height);
     let cam = Camera::fit(Vector3::new(lo.x, lo.y, 0.0), hi, w, h);
-    let (pal, n) = (palette(), (w * h) as usize);
-    let mut enc = gif::Encoder::new(out, w as u16, h as u16, &pal).map_err(|e| e.to_string())?;
-    enc.set_repeat(gif::Repeat::Infinite)
-        .map_err(|e| e.to_string())?;
+    let n = (w * h) as usize;
     let floor: Vec<u8> = (0..n)
         .map(|p| floor_pixel(&cam.origin(p as u32 % w, p as u32 / w), &cam.back, rmax))
         .collect();
@@ -331,9 +433,7 @@ pub fn gif(table: &Table, opt: &Options, out: impl Write) -> Result<usize, Strin
             cam.pixel(&Vector3::new(c[0], c[1], 0.0))
         })
         .collect();
-    let delay = (100.0 / opt.fps).round().max(1.0) as u16;
     let text_scale = (h / 180).max(1);
-    let mut prev: Option<Vec<u8>> = None;
     let mut row = 0;
     for k in 0..frames {
         let tk = t0 + k as f64 * step;
@@ -374,9 +474,7 @@ pub fn gif(table: &Table, opt: &Options, out: impl Write) -> Result<usize, Strin
         }
         let label = format!("t = {tk:.3} s  θ = {:.3} rad", theta[row]);
         text(&mut buf, w, h, 4, 4, text_scale, &label);
-        let frame = changed(&buf, prev.as_deref(), w, h, delay);
-        enc.write_frame(&frame).map_err(|e| e.to_string())?;
-        prev = Some(buf);
+        frame(&buf)?;
     }
     Ok(frames)
 }

@@ -1,12 +1,15 @@
-//! CSV trajectories: a header line of column names, then one row per sample; numbers in
-//! the shortest form that reads back to the same f64 (`zmij`, Schubfach's shortest
-//! round-trip digits: `0.025`, `-1.5e-7`, `60.0`), `mode` by name.
+//! CSV trajectories: a comment line naming the scenario and its body (see [`comment`];
+//! readers skip it: `pandas.read_csv(path, comment="#")`, `numpy.loadtxt`), a header line
+//! of column names, then one row per sample; numbers in the shortest form that reads back
+//! to the same f64 (`zmij`, Schubfach's shortest round-trip digits: `0.025`, `-1.5e-7`,
+//! `60.0`), `mode` by name.
 
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::thread::JoinHandle;
 
+use ellipsoid_core::scenario::Scenario;
 use ellipsoid_core::simulate::{Mode, Sample};
 
 use crate::OutputError;
@@ -25,9 +28,39 @@ pub struct CsvWriter<W: Write> {
     digits: zmij::Buffer,
 }
 
+/// How the comment line of a CSV trajectory starts; JSON follows.
+pub const COMMENT: &str = "# ellipsoid ";
+
+/// The comment line of a run of `scenario` (without its newline): the scenario's file name
+/// (never its directories) and its body's shape, so that `ellipsoid view`, `plot` and
+/// `animate` draw the body from the CSV alone, e.g.
+/// `# ellipsoid {"scenario":"tippe-top.toml","semi_axes":[0.015,0.015,0.015],"com_offset":[0.0,0.0,-0.003]}`.
+pub fn comment(scenario: &Scenario) -> String {
+    let name = Path::new(&scenario.source).file_name().map_or_else(
+        || scenario.source.clone(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let body = &scenario.scene.body;
+    let (a, g) = (body.semi_axes(), body.com_offset());
+    let json = serde_json::json!({
+        "scenario": name,
+        "semi_axes": [a.x, a.y, a.z],
+        "com_offset": [g.x, g.y, g.z],
+    });
+    format!("{COMMENT}{json}")
+}
+
 impl<W: Write> CsvWriter<W> {
     /// Writes the header.
-    pub fn new(mut out: W) -> std::io::Result<Self> {
+    pub fn new(out: W) -> std::io::Result<Self> {
+        Self::with_comment(out, None)
+    }
+
+    /// Writes the comment line, if any (see [`comment`]), then the header.
+    pub fn with_comment(mut out: W, comment: Option<&str>) -> std::io::Result<Self> {
+        if let Some(c) = comment {
+            writeln!(out, "{c}")?;
+        }
         writeln!(out, "{}", columns::names().join(","))?;
         Ok(CsvWriter {
             out,
@@ -98,9 +131,10 @@ pub struct CsvFile {
 }
 
 impl CsvFile {
-    pub fn create(path: &Path) -> Result<Self, OutputError> {
+    /// Starts the file at `path`, its first line `comment` if given (see [`comment`]).
+    pub fn create(path: &Path, comment: Option<&str>) -> Result<Self, OutputError> {
         let file = AtomicFile::create(path)?;
-        let mut writer = CsvWriter::new(BufWriter::with_capacity(1 << 16, file))
+        let mut writer = CsvWriter::with_comment(BufWriter::with_capacity(1 << 16, file), comment)
             .map_err(|e| OutputError::io(path, e))?;
         let (full, batches) = sync_channel::<Vec<Row>>(2);
         let (give_back, empty) = sync_channel::<Vec<Row>>(3);

@@ -12,6 +12,7 @@ pub mod columns;
 pub mod csv;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
+pub mod panels;
 pub mod run;
 pub mod summary;
 pub mod table;
@@ -108,8 +109,22 @@ pub enum TrajectoryWriter {
 impl TrajectoryWriter {
     /// Starts a trajectory file at `path` (its directory must exist), format by extension.
     pub fn create(path: &Path) -> Result<Self, OutputError> {
+        Self::start(path, None)
+    }
+
+    /// Starts the trajectory file of a run of `scenario`: a CSV file begins with the
+    /// comment line naming the scenario and its body ([`csv::comment`]; an HDF5 file
+    /// stores the scenario at the end).
+    pub fn for_scenario(
+        path: &Path,
+        scenario: &ellipsoid_core::scenario::Scenario,
+    ) -> Result<Self, OutputError> {
+        Self::start(path, Some(&csv::comment(scenario)))
+    }
+
+    fn start(path: &Path, comment: Option<&str>) -> Result<Self, OutputError> {
         match Format::from_path(path)? {
-            Format::Csv => Ok(TrajectoryWriter::Csv(csv::CsvFile::create(path)?)),
+            Format::Csv => Ok(TrajectoryWriter::Csv(csv::CsvFile::create(path, comment)?)),
             #[cfg(feature = "hdf5")]
             Format::Hdf5 => Ok(TrajectoryWriter::Hdf5(hdf5::Hdf5File::create(path)?)),
             #[cfg(not(feature = "hdf5"))]

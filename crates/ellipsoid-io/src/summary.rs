@@ -163,7 +163,8 @@ pub fn state_map(s: &Sample) -> Map<String, Value> {
     state
 }
 
-/// An event as the summary lists it: `{kind, t}`, with `from` and `to` for a mode switch,
+/// An event as the summary lists it: `{kind, t}`, with `from` and `to` for a mode switch
+/// (and, by name, for a change of the surface in contact),
 /// `name` and the full `state` for an observable, the approach `speed` (m/s) for a
 /// touchdown, and for an impact its `impulse` (N s, world axes), `energy_loss` (J),
 /// whether the contact `stuck`, the `rebound` speed (m/s) and whether contact became
@@ -201,6 +202,10 @@ pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
             m.insert("stuck".into(), Value::from(hit.stuck));
             m.insert("rebound".into(), finite_or_null(hit.rebound));
             m.insert("persistent".into(), Value::from(hit.persistent));
+        }
+        EventKind::ContactSurface { from, to } => {
+            m.insert("from".into(), Value::from(scene.body.surface_name(*from)));
+            m.insert("to".into(), Value::from(scene.body.surface_name(*to)));
         }
         EventKind::SlipStop | EventKind::LostContact | EventKind::LiftOff | EventKind::Painleve => {
         }
@@ -253,9 +258,13 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
                 "the slip speed reached zero at t = {t} s, where the pure sliding model ends (model = \"coulomb\" goes on rolling)"
             )
         }
-        Status::Painleve { error: None, .. } => format!(
-            "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) reached 0, \
-             so Coulomb sliding has no consistent contact force (reduce contact.friction or use the rolling model)"
+        Status::Painleve {
+            denominator,
+            error: None,
+        } => format!(
+            "Painlevé inconsistency at t = {t} s: the sliding normal-force denominator 1 + m u·I⁻¹(r × d) fell to {denominator:.1e} \
+             on its way to 0, so N grows without bound and Coulomb sliding has no consistent contact force beyond \
+             (reduce contact.friction or use the rolling model)"
         ),
         Status::Painleve {
             denominator,
@@ -290,6 +299,18 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
             number(*normal),
             number(*gap_acceleration),
             mode.name()
+        ),
+        Status::SeveralContacts {
+            touching,
+            pressed,
+            approach,
+        } => format!(
+            "two surfaces on the plane at t = {t} s, the {} and the {} (normal velocity {} m/s), in a way that is \
+             not simulated: an impact needing impulses at both contacts, a slip stopping or a third surface \
+             touching while on two, or two contacts under the rolling model (docs/physics.md, \"Contact spheres\")",
+            scene.body.surface_name(*touching),
+            scene.body.surface_name(*pressed),
+            number(*approach)
         ),
         Status::NonFinite { column, value } => {
             format!(

@@ -120,6 +120,8 @@ pub struct Table {
     pub shape_note: String,
     /// Status of the run, if known (`completed`, `lost_contact`, …).
     pub status: Option<String>,
+    /// The file name (no directories) of the scenario the run's summary names, if known.
+    pub scenario: Option<String>,
 }
 
 impl Table {
@@ -280,10 +282,13 @@ impl Table {
     pub fn apply_summary(&mut self, summary: &Value, scenario_text: Option<&str>) {
         self.apply_events(summary);
         let source = summary.get("scenario").and_then(Value::as_str);
-        let name = source.and_then(|s| Path::new(s).file_name()).map_or_else(
-            || "the scenario".into(),
-            |n| n.to_string_lossy().into_owned(),
-        );
+        self.scenario = source
+            .and_then(|s| Path::new(s).file_name())
+            .map(|n| n.to_string_lossy().into_owned());
+        let name = self
+            .scenario
+            .clone()
+            .unwrap_or_else(|| "the scenario".into());
         let overrides: Vec<String> = summary
             .get("overrides")
             .and_then(Value::as_array)
@@ -300,11 +305,48 @@ impl Table {
         };
         match parsed {
             Ok(s) => self.set_body(&s.scene.body, &name),
-            Err(_) => {
+            Err(_) if self.shape.is_none() => {
                 self.shape_note = format!(
                     "body unknown: the scenario {name} that the summary names could not be read as a scenario (`ellipsoid check` says why)"
                 )
             }
+            Err(_) => {} // the CSV's comment line gave the body
+        }
+    }
+
+    /// Sets the scenario's name and the body's shape from the JSON of a CSV file's comment
+    /// line (`ellipsoid_io::csv::comment`); a comment that does not parse changes nothing
+    /// (a summary can still give them).
+    pub fn apply_comment(&mut self, json: &str) {
+        let Ok(v) = serde_json::from_str::<Value>(json) else {
+            return;
+        };
+        let triple = |key: &str| -> Option<[f64; 3]> {
+            let a = v.get(key)?.as_array()?;
+            let x: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
+            <[f64; 3]>::try_from(x)
+                .ok()
+                .filter(|x| x.iter().all(|c| c.is_finite()))
+        };
+        let name = v
+            .get("scenario")
+            .and_then(Value::as_str)
+            .and_then(|s| Path::new(s).file_name())
+            .map(|n| n.to_string_lossy().into_owned());
+        if let (Some(semi_axes), Some(com_offset)) = (triple("semi_axes"), triple("com_offset"))
+            && semi_axes.iter().all(|a| *a > 0.0)
+        {
+            self.shape = Some(Shape {
+                semi_axes,
+                com_offset,
+            });
+            self.shape_note = format!(
+                "body from the file's comment line ({})",
+                name.as_deref().unwrap_or("its scenario")
+            );
+        }
+        if name.is_some() {
+            self.scenario = name;
         }
     }
 
@@ -434,16 +476,29 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
     let (file, _) = open_bounded(path, MAX_FILE_BYTES)?;
     let mut reader = BufReader::with_capacity(1 << 16, file.take(MAX_FILE_BYTES));
     let mut line = String::new();
-    let n = reader
-        .read_line(&mut line)
-        .map_err(|e| bad_text(path, 1, e))?;
-    if n == 0 {
-        return Err(ReadError::format(
-            path,
-            None,
-            "the file is empty; expected a header line such as `t,x,y,z,theta,…`",
-        ));
+    // Comment lines before the header: ours names the scenario and its body.
+    let (mut lineno, mut comment) = (0u64, None);
+    loop {
+        line.clear();
+        let n = reader
+            .read_line(&mut line)
+            .map_err(|e| bad_text(path, lineno + 1, e))?;
+        if n == 0 {
+            return Err(ReadError::format(
+                path,
+                None,
+                "the file is empty; expected a header line such as `t,x,y,z,theta,…`",
+            ));
+        }
+        lineno += 1;
+        if !line.starts_with('#') {
+            break;
+        }
+        if let Some(json) = line.strip_prefix(crate::csv::COMMENT) {
+            comment = Some(json.trim().to_owned());
+        }
     }
+    let header_line = lineno;
     let header: Vec<String> = line
         .trim_end_matches(['\n', '\r'])
         .split(',')
@@ -454,14 +509,14 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
         if name.is_empty() {
             return Err(ReadError::format(
                 path,
-                Some(1),
+                Some(header_line),
                 format!("column {} of the header has no name", k + 1),
             ));
         }
         if seen.insert(name.as_str(), k).is_some() {
             return Err(ReadError::format(
                 path,
-                Some(1),
+                Some(header_line),
                 format!("the column `{name}` appears twice in the header"),
             ));
         }
@@ -469,7 +524,7 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
     if !seen.contains_key("t") {
         return Err(ReadError::format(
             path,
-            Some(1),
+            Some(header_line),
             format!(
                 "the header has no `t` column (got `{}`); is this a trajectory written by `ellipsoid run`?",
                 truncate(line.trim(), 80)
@@ -490,7 +545,6 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
         .expect("checked above");
     let mut modes = mode_col.map(|_| Vec::new());
     let mut mode_names = Vec::new();
-    let mut lineno = 1u64;
     let mut last_t = f64::NEG_INFINITY;
     loop {
         line.clear();
@@ -578,14 +632,18 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
     for c in &mut columns {
         c.1.shrink_to_fit();
     }
-    Ok(Table {
+    let mut table = Table {
         source: path.display().to_string(),
         columns,
         modes,
         mode_names,
         shape_note: "body unknown: pass the run's --summary FILE.json (or an .h5 file) to draw the body and its contact point".to_owned(),
         ..Default::default()
-    })
+    };
+    if let Some(json) = comment {
+        table.apply_comment(&json);
+    }
+    Ok(table)
 }
 
 fn bad_text(path: &Path, line: u64, e: std::io::Error) -> ReadError {
@@ -781,6 +839,41 @@ mod tests {
                 .unwrap_err()
                 .contains("`x`")
         );
+    }
+
+    /// The comment line `ellipsoid run` writes first gives the body and the scenario's name
+    /// without a summary; other comment lines are skipped; lines are counted from the top.
+    #[test]
+    fn csv_comment_line_gives_the_body_and_is_not_a_row() {
+        let dir = tempfile::tempdir().unwrap();
+        let comment = r#"# ellipsoid {"scenario":"top.toml","semi_axes":[0.02,0.02,0.03],"com_offset":[0.0,0.0,-0.004]}"#;
+        let p = write(
+            dir.path(),
+            "a.csv",
+            &format!("{comment}\n# another comment\nt,x\n0,1\n1,2\n"),
+        );
+        let t = read(&p).unwrap();
+        assert_eq!(t.t(), &[0.0, 1.0]);
+        let shape = t.shape.expect("the body from the comment");
+        assert_eq!(shape.semi_axes, [0.02, 0.02, 0.03]);
+        assert_eq!(shape.com_offset, [0.0, 0.0, -0.004]);
+        assert_eq!(t.scenario.as_deref(), Some("top.toml"));
+        assert!(t.shape_note.contains("top.toml"), "{}", t.shape_note);
+        let bad = write(
+            dir.path(),
+            "b.csv",
+            &format!("{comment}\nt,x\n0,1\n1,abc\n"),
+        );
+        let err = read(&bad).unwrap_err().to_string();
+        assert!(err.contains(":4: column `x`"), "{err}");
+        // A comment that is not ours, or not valid, gives nothing.
+        for c in [
+            "# ellipsoid {\"semi_axes\":[0,1,1],\"com_offset\":[0,0,0]}",
+            "# ellipsoid nope",
+        ] {
+            let p = write(dir.path(), "c.csv", &format!("{c}\nt,x\n0,1\n"));
+            assert!(read(&p).unwrap().shape.is_none(), "{c}");
+        }
     }
 
     #[test]

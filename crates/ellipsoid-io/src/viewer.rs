@@ -135,10 +135,10 @@ pub enum ViewError {
     Missing(String),
 }
 
-/// The viewer page for `table`, titled `title`.
-/// The columns the page draws (with `mode`): what a caller needs to read
-/// ([`crate::table::read_columns`]).
-pub const COLUMNS: [&str; 12] = [
+/// The columns every page draws (with `mode`): the body's frames and the contact path.
+/// A caller reads these and the side plots' alone ([`columns`],
+/// [`crate::table::read_columns`]).
+pub const COLUMNS: [&str; 9] = [
     "t",
     "x",
     "y",
@@ -146,14 +146,93 @@ pub const COLUMNS: [&str; 12] = [
     "theta",
     "phi",
     "psi",
-    "energy",
-    "work",
-    "drift",
     "contact_x",
     "contact_y",
 ];
 
-pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
+/// The columns the page with side plots `plots` draws from: [`COLUMNS`], the plots' own,
+/// and `work` for the energy's E + W.
+pub fn columns<'a>(plots: &[&'a str]) -> Vec<&'a str> {
+    let mut cols: Vec<&str> = COLUMNS.to_vec();
+    cols.extend_from_slice(plots);
+    if plots.contains(&"energy") {
+        cols.push("work");
+    }
+    cols
+}
+
+/// The side plots a page shows unless asked otherwise: θ(t) and the energy.
+pub const DEFAULT_PLOTS: [&str; 2] = ["theta", "energy"];
+
+/// Checks the side plots asked for, comma-separated: numeric output columns other than `t`
+/// (`energy` gets E + W too), no repeats, at most six. The error is the rule broken (the
+/// caller names its flag or argument).
+pub fn parse_plots(spec: &str) -> Result<Vec<String>, String> {
+    let names: Vec<&str> = crate::columns::NUMERIC_COLUMNS[1..]
+        .iter()
+        .map(|c| c.0)
+        .collect();
+    let mut out: Vec<String> = Vec::new();
+    for name in spec.split(',').map(str::trim) {
+        if !names.contains(&name) {
+            return Err(format!(
+                "{name:?} is not a numeric output column; the columns are {}",
+                names.join(", ")
+            ));
+        }
+        if out.iter().any(|o| o == name) {
+            return Err(format!("{name:?} is named twice"));
+        }
+        out.push(name.to_owned());
+    }
+    if out.len() > 6 {
+        return Err(format!("{} columns asked for; at most 6", out.len()));
+    }
+    Ok(out)
+}
+
+/// The energy's side plot: E, and E + W when work is dissipated; a conserving scene's
+/// relative deviation (E − E(0)) / |E(0)| when E is constant to display precision, which
+/// shows the drift instead of a flat line with identical tick labels.
+fn energy_plot(table: &Table, e: &[f64]) -> serde_json::Value {
+    let t = table.t();
+    let work = table.column("work").filter(|w| w.iter().any(|v| *v != 0.0));
+    let (lo, hi) = e
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(*v), hi.max(*v))
+        });
+    let scale = e[0].abs().max(f64::MIN_POSITIVE);
+    let relative: Option<Vec<f64>> = (work.is_none() && hi - lo <= 1e-6 * scale)
+        .then(|| e.iter().map(|v| (v - e[0]) / scale).collect());
+    let shown = relative.as_deref().unwrap_or(e);
+    let label = if relative.is_some() {
+        "energy: (E − E(0)) / |E(0)| (1)"
+    } else {
+        "energy E (J)"
+    };
+    let mut energy = plot_series("energy", label, t, shown);
+    if let Some(w) = work {
+        let ew: Vec<f64> = e.iter().zip(w).map(|(e, w)| e + w).collect();
+        let (ts, vs) = envelope(t, &ew, PLOT_BUCKETS);
+        energy["t2"] = b64_f32(ts.iter().copied()).into();
+        energy["v2"] = b64_f32(vs.into_iter()).into();
+        energy["n2"] = ts.len().into();
+        energy["label"] = "energy E, E + W (J)".into();
+    }
+    energy
+}
+
+/// One side plot: `v` against `t` as its min/max envelope, named and labelled.
+fn plot_series(name: &str, label: &str, t: &[f64], v: &[f64]) -> serde_json::Value {
+    let (ts, vs) = envelope(t, v, PLOT_BUCKETS);
+    serde_json::json!({ "name": name, "label": label, "n": ts.len(), "t": b64_f32(ts.into_iter()), "v": b64_f32(vs.into_iter()) })
+}
+
+/// The viewer page for `table`, titled `title`, with a side plot against time of each of
+/// `plots` (output columns, e.g. [`DEFAULT_PLOTS`]; `energy` with E + W, or its relative
+/// deviation when conserved; a column the table lacks is left out).
+pub fn html(table: &Table, title: &str, plots: &[&str]) -> Result<String, ViewError> {
     let need = ["t", "x", "y", "z", "theta", "phi", "psi"];
     let cols = table
         .require(&need, "the viewer")
@@ -177,48 +256,23 @@ pub fn html(table: &Table, title: &str) -> Result<String, ViewError> {
         );
     }
     let t = table.t();
-    let series = |v: &[f64]| {
-        let (ts, vs) = envelope(t, v, PLOT_BUCKETS);
-        serde_json::json!({ "t": b64_f32(ts.into_iter()), "v": b64_f32(vs.into_iter()), "n": 0 })
-    };
-    let mut plots = Vec::new();
-    let mut theta = series(cols[4]);
-    theta["n"] = envelope(t, cols[4], PLOT_BUCKETS).0.len().into();
-    theta["label"] = "θ (rad)".into();
-    theta["name"] = "theta".into();
-    plots.push(theta);
-    if let Some(e) = table.column("energy") {
-        let work = table.column("work").filter(|w| w.iter().any(|v| *v != 0.0));
-        // E constant to display precision (a conserving scene): its relative deviation,
-        // which shows the drift, instead of a flat line with identical tick labels.
-        let (lo, hi) = e
+    let unit = |name: &str| {
+        crate::columns::NUMERIC_COLUMNS
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-                (lo.min(*v), hi.max(*v))
-            });
-        let scale = e[0].abs().max(f64::MIN_POSITIVE);
-        let relative: Option<Vec<f64>> = (work.is_none() && hi - lo <= 1e-6 * scale)
-            .then(|| e.iter().map(|v| (v - e[0]) / scale).collect());
-        let shown = relative.as_deref().unwrap_or(e);
-        let mut energy = series(shown);
-        energy["n"] = envelope(t, shown, PLOT_BUCKETS).0.len().into();
-        energy["label"] = if relative.is_some() {
-            "energy: (E − E(0)) / |E(0)| (1)"
-        } else {
-            "energy E (J)"
-        }
-        .into();
-        energy["name"] = "energy".into();
-        if let Some(w) = work {
-            let ew: Vec<f64> = e.iter().zip(w).map(|(e, w)| e + w).collect();
-            let (ts, vs) = envelope(t, &ew, PLOT_BUCKETS);
-            energy["t2"] = b64_f32(ts.iter().copied()).into();
-            energy["v2"] = b64_f32(vs.into_iter()).into();
-            energy["n2"] = ts.len().into();
-            energy["label"] = "energy E, E + W (J)".into();
-        }
-        plots.push(energy);
-    }
+            .find(|c| c.0 == name)
+            .map_or("1", |c| c.1)
+    };
+    let plots: Vec<serde_json::Value> = plots
+        .iter()
+        .filter_map(|name| {
+            let v = table.column(name)?;
+            Some(match *name {
+                "energy" => energy_plot(table, v),
+                "theta" => plot_series(name, "θ (rad)", t, v),
+                _ => plot_series(name, &format!("{name} ({})", unit(name)), t, v),
+            })
+        })
+        .collect();
     let shape = table
         .shape
         .map(|s| serde_json::json!({ "semi_axes": s.semi_axes, "com_offset": s.com_offset }));
@@ -358,7 +412,7 @@ mod tests {
 
     #[test]
     fn the_page_is_self_contained_and_escaped() {
-        let page = html(&table(10), "a </script><b> & c <!--").unwrap();
+        let page = html(&table(10), "a </script><b> & c <!--", &DEFAULT_PLOTS).unwrap();
         assert!(!page.contains("c <!--"), "no comment opener in the data");
         assert!(page.contains("a &lt;/script&gt;&lt;b&gt; &amp; c"));
         assert_eq!(
@@ -387,14 +441,78 @@ mod tests {
             assert!(!page.contains(key), "{key} filled");
         }
         assert!(
-            html(&table(10), "{{DATA}}")
+            html(&table(10), "{{DATA}}", &DEFAULT_PLOTS)
                 .unwrap()
                 .contains("<title>{{DATA}}"),
             "values are not filled again"
         );
         let mut t = table(10);
         t.columns.retain(|c| c.0 != "psi");
-        assert!(html(&t, "x").unwrap_err().to_string().contains("`psi`"));
+        assert!(
+            html(&t, "x", &DEFAULT_PLOTS)
+                .unwrap_err()
+                .to_string()
+                .contains("`psi`")
+        );
+    }
+
+    /// The page's embedded data: its side plots' names and labels, in order.
+    fn plot_labels(page: &str) -> Vec<(String, String)> {
+        let start = page
+            .find("<script type=\"application/json\" id=\"data\">")
+            .unwrap();
+        let json = &page[start..];
+        let json = &json[json.find('>').unwrap() + 1..json.find("</script>").unwrap()];
+        let data: serde_json::Value = serde_json::from_str(json).unwrap();
+        data["plots"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| {
+                (
+                    p["name"].as_str().unwrap().to_owned(),
+                    p["label"].as_str().unwrap().to_owned(),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_side_plots_are_the_columns_asked_for() {
+        let t = table(10);
+        let labels = |plots: &[&str]| plot_labels(&html(&t, "x", plots).unwrap());
+        assert_eq!(
+            labels(&DEFAULT_PLOTS),
+            [
+                ("theta".into(), "θ (rad)".into()),
+                ("energy".into(), "energy: (E − E(0)) / |E(0)| (1)".into())
+            ]
+        );
+        assert_eq!(
+            labels(&["z", "theta"]),
+            [
+                ("z".into(), "z (m)".into()),
+                ("theta".into(), "θ (rad)".into())
+            ]
+        );
+        // A column the run lacks is left out, not an error.
+        assert_eq!(labels(&["omega_world_z", "z"]).len(), 1);
+        assert_eq!(
+            parse_plots("omega_world_z, theta").unwrap(),
+            ["omega_world_z", "theta"]
+        );
+        for (spec, rule) in [
+            ("thetaa", "\"thetaa\" is not a numeric output column"),
+            ("t", "\"t\" is not a numeric output column"),
+            ("z,z", "\"z\" is named twice"),
+            (
+                "x,y,z,theta,phi,psi,energy",
+                "7 columns asked for; at most 6",
+            ),
+        ] {
+            let err = parse_plots(spec).unwrap_err();
+            assert!(err.starts_with(rule), "{err}");
+        }
     }
 
     #[test]

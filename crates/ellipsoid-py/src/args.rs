@@ -77,6 +77,34 @@ pub fn opt_string(
         .transpose()
 }
 
+/// Argument `key` of `source` as names: a comma-separated str, or a sequence of str
+/// (joined with commas), None allowed.
+pub fn opt_names(
+    py: Python<'_>,
+    source: &str,
+    key: &str,
+    v: Option<&Bound<'_, PyAny>>,
+) -> PyResult<Option<String>> {
+    v.filter(|v| !v.is_none())
+        .map(|v| {
+            v.extract::<String>()
+                .or_else(|_| v.extract::<Vec<String>>().map(|names| names.join(",")))
+                .map_err(|_| {
+                    errors::type_error(
+                        py,
+                        source,
+                        Some(key),
+                        None,
+                        format!(
+                            "expected a str or a sequence of str, found {}",
+                            type_name(v)
+                        ),
+                    )
+                })
+        })
+        .transpose()
+}
+
 /// Argument `key` of `source` as an integer from 0 to `max` (not a bool), None allowed.
 pub fn opt_count(
     py: Python<'_>,

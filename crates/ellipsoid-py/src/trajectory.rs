@@ -23,7 +23,8 @@ use crate::scenario::PyScenario;
 /// `theta`, `phi`, `psi` [rad] (z-x-z Euler angles); `theta_dot`, `phi_dot`, `psi_dot`
 /// [rad/s]; `omega_x`, `omega_y`, `omega_z` [rad/s] (body axes); `vx`, `vy`, `vz` [m/s]
 /// (velocity of G); `energy` [J]; `normal_force` [N]; `slip_speed` [m/s] (speed of the
-/// contact point); `mode` (str array: "frictionless", "sliding", "rolling" or "flight");
+/// contact point); `mode` (str array: "frictionless", "sliding", "rolling", "flight" or
+/// "two_contacts");
 /// `work` [J]
 /// (dissipated so far); `omega_world_x`, `omega_world_y`, `omega_world_z` [rad/s] (world
 /// axes); `contact_x`, `contact_y` [m] (contact point on the plane); `drift` [1]
@@ -199,14 +200,16 @@ impl Trajectory {
         t
     }
 
-    /// The viewer page (`path` None) or the file written at `path`, as `view` returns them.
+    /// The viewer page (`path` None) or the file written at `path`, as `view` returns them,
+    /// with the side plots `columns` (see [`Trajectory::page`]).
     fn page_or_file<'py>(
         &self,
         py: Python<'py>,
         path: Option<PathBuf>,
         title: Option<String>,
+        columns: Option<String>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let html = self.page(py, title.as_deref())?;
+        let html = self.page(py, title.as_deref(), columns.as_deref())?;
         let display = py.import("ellipsoid._display")?;
         match path {
             None => display.getattr("ViewerPage")?.call1((html,)),
@@ -218,9 +221,24 @@ impl Trajectory {
         }
     }
 
-    fn page(&self, py: Python<'_>, title: Option<&str>) -> PyResult<String> {
-        let title = title.unwrap_or(&self.scenario.inner.source);
-        ellipsoid_io::viewer::html(&self.table(), title)
+    /// The viewer page, titled `title` (default: the scenario's file name, as `ellipsoid
+    /// view` titles it; never its directories), with the side plots `columns` (comma-
+    /// separated column names; default θ and the energy).
+    fn page(&self, py: Python<'_>, title: Option<&str>, columns: Option<&str>) -> PyResult<String> {
+        let source = &self.scenario.inner.source;
+        let name = Path::new(source)
+            .file_name()
+            .map_or_else(|| source.clone(), |n| n.to_string_lossy().into_owned());
+        let plots = match columns {
+            None => ellipsoid_io::viewer::DEFAULT_PLOTS
+                .map(String::from)
+                .to_vec(),
+            Some(spec) => ellipsoid_io::viewer::parse_plots(spec).map_err(|rule| {
+                errors::value_error(py, source, Some("columns"), Some(spec), rule)
+            })?,
+        };
+        let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
+        ellipsoid_io::viewer::html(&self.table(), title.unwrap_or(&name), &plots)
             .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))
     }
 }
@@ -384,8 +402,8 @@ impl Trajectory {
     fn gap<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.column(py, 26)
     }
-    /// Contact regime of each sample: "frictionless", "sliding", "rolling" or "flight"
-    /// (numpy str array).
+    /// Contact regime of each sample: "frictionless", "sliding", "rolling", "flight" or
+    /// "two_contacts" (numpy str array).
     #[getter]
     fn mode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.modes(py)
@@ -435,8 +453,8 @@ impl Trajectory {
 
     /// Event times [s] by name (solve_ivp's `t_events`): one float64 array per observable
     /// of the scenario (by its `name`) and per built-in event kind ("slip_stop",
-    /// "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve"),
-    /// empty when it did not occur.
+    /// "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve",
+    /// "contact_surface"), empty when it did not occur.
     #[getter]
     fn t_events<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
         result_helper(slf, "t_events")
@@ -640,8 +658,10 @@ impl Trajectory {
     }
 
     /// Located events, in time order: dicts `{"kind": ..., "t": [s]}`, kind one of
-    /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "painleve",
-    /// "observed" (with "name" and "state", a dict of every column at the event).
+    /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "lift_off",
+    /// "touchdown", "impact", "painleve", "contact_surface" (with "from" and "to", the
+    /// surfaces by name), "observed" (with "name" and "state", a dict of every column at
+    /// the event).
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let json = serde_json::to_string(&self.summary.events)
@@ -707,11 +727,14 @@ impl Trajectory {
     }
 
     /// Writes the trajectory as CSV, byte for byte what `ellipsoid run -o PATH` writes for
-    /// the same run (the same writer). The file appears only when complete; its directory
-    /// must exist. Raises OutputError.
+    /// the same run (the same writer): a comment line naming the scenario and its body
+    /// (`# ellipsoid {...}`; read it back with `pandas.read_csv(path, comment="#")`), the
+    /// header, the rows. The file appears only when complete; its directory must exist.
+    /// Raises OutputError.
     fn to_csv(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let comment = ellipsoid_io::csv::comment(&self.scenario.inner);
         self.write(py, &path, |p| {
-            Ok(TrajectoryWriter::Csv(CsvFile::create(p)?))
+            Ok(TrajectoryWriter::Csv(CsvFile::create(p, Some(&comment))?))
         })
     }
 
@@ -738,31 +761,37 @@ impl Trajectory {
     }
 
     /// The 3-D viewer page of this run (the same HTML as `ellipsoid view`): the body on the
-    /// plane with its contact trace, play/pause, speed, a time slider, θ(t) and energy
-    /// plots with a linked cursor; self-contained (opens offline). Without `path`, returns
+    /// plane with its contact trace, play/pause, speed, a time slider, side plots with a
+    /// linked cursor — θ(t) and the energy, or the output columns `columns` (a list, or a
+    /// comma-separated string, at most 6: `columns=["omega_world_z", "theta"]`); titled
+    /// `title` (default: the scenario's file name); self-contained (opens offline). Without `path`, returns
     /// the HTML text as an `ellipsoid._display.ViewerPage` (a `str` that Jupyter displays
     /// as the viewer, inline: 0.7–1.4 MB in the notebook). With `path`, writes it there
     /// atomically and returns a `ViewerFile` (an `os.PathLike` that Jupyter displays as an
     /// iframe of the file: a notebook stays small).
-    #[pyo3(signature = (path=None, *, title=None))]
+    #[pyo3(signature = (path=None, *, title=None, columns=None))]
     fn view<'py>(
         &self,
         py: Python<'py>,
         path: Option<&Bound<'py, PyAny>>,
         title: Option<&Bound<'py, PyAny>>,
+        columns: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         let source = &self.scenario.inner.source;
         let path = args::opt_path(py, source, "path", path)?;
         let title = args::opt_string(py, source, "title", title)?;
-        self.page_or_file(py, path, title)
+        let columns = args::opt_names(py, source, "columns", columns)?;
+        self.page_or_file(py, path, title, columns)
     }
 
     /// Writes the run as an animated GIF at `path`, rendered without a browser (the same
     /// renderer as `ellipsoid animate`): the body on the plane, its contact trace, the time
     /// and θ in a corner; `width`×`height` px (16 to 2000), `fps` frames per second (at
-    /// most 100), `speed` simulated seconds per second (0.25: four times slower). Returns
-    /// the number of frames (at most 2000). Raises OutputError if the file cannot be
-    /// written, ScenarioError for a bad option.
+    /// most 100), `speed` simulated seconds per second (0.25: four times slower). A `path`
+    /// ending in `.mp4` writes the same frames as H.264 MP4, encoded by the system's ffmpeg
+    /// (on the PATH, or named by $ELLIPSOID_FFMPEG). Returns the number of frames (at most
+    /// 2000). Raises OutputError if the file cannot be written (or, for MP4, ffmpeg is
+    /// missing or fails: the message says what to install), ScenarioError for a bad option.
     #[pyo3(signature = (path, *, width=None, height=None, fps=None, speed=None))]
     #[pyo3(text_signature = "(self, /, path, *, width=480, height=360, fps=25.0, speed=1.0)")]
     fn animate(
@@ -792,30 +821,45 @@ impl Trajectory {
         };
         opt.check()
             .map_err(|rule| errors::value_error(py, source, Some("animate"), None, rule))?;
-        if !path
+        let ext = path
             .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("gif"))
-        {
+            .map(|e| e.to_string_lossy().to_lowercase())
+            .unwrap_or_default();
+        if ext != "gif" && ext != "mp4" {
             return Err(errors::value_error(
                 py,
                 source,
                 Some("path"),
                 Some(&path.display().to_string()),
-                "an animation is written as .gif",
+                "an animation is written as .gif, or as .mp4 where ffmpeg is installed",
             ));
         }
         let table = self.table();
-        let mut bytes = Vec::new();
-        let frames = py
-            .detach(|| ellipsoid_io::animate::gif(&table, &opt, &mut bytes))
-            .map_err(|e| errors::internal_error(py, &e))?;
+        let (bytes, frames) = if ext == "mp4" {
+            py.detach(|| ellipsoid_io::animate::mp4(&table, &opt))
+                .map_err(|e| {
+                    errors::output_error(
+                        py,
+                        &OutputError::Io {
+                            path: path.clone(),
+                            source: std::io::Error::other(e),
+                        },
+                    )
+                })?
+        } else {
+            let mut bytes = Vec::new();
+            let frames = py
+                .detach(|| ellipsoid_io::animate::gif(&table, &opt, &mut bytes))
+                .map_err(|e| errors::internal_error(py, &e))?;
+            (bytes, frames)
+        };
         ellipsoid_io::atomic::write(&path, &bytes).map_err(|e| errors::output_error(py, &e))?;
         Ok(frames)
     }
 
     /// Jupyter: the viewer inline, in an iframe.
     fn _repr_html_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.page_or_file(py, None, None)?
+        self.page_or_file(py, None, None, None)?
             .call_method0("_repr_html_")
     }
 

@@ -3,6 +3,7 @@ without a browser."""
 
 from __future__ import annotations
 
+import os
 import subprocess
 from pathlib import Path
 
@@ -33,8 +34,35 @@ def test_gif_frames_timing_and_the_body_where_g_is(tmp_path: Path) -> None:
     assert tuple(rgb[-1, -1]) in plane and tuple(rgb[-1, 0]) in plane
     with pytest.raises(ellipsoid.ScenarioError, match="fps = 0"):
         traj.animate(tmp_path / "x.gif", fps=0)
-    with pytest.raises(ellipsoid.ScenarioError, match="written as .gif"):
-        traj.animate(tmp_path / "x.mp4")
+    with pytest.raises(ellipsoid.ScenarioError, match="written as .gif, or as .mp4"):
+        traj.animate(tmp_path / "x.avi")
+
+
+def test_mp4_without_ffmpeg_says_what_is_missing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    traj = ellipsoid.simulate(REPO / "scenarios" / "tippe-top.toml", output={"t_end": 0.2})
+    monkeypatch.setenv("ELLIPSOID_FFMPEG", str(tmp_path / "no-such-ffmpeg"))
+    with pytest.raises(ellipsoid.OutputError, match=r"top.mp4: MP4 needs ffmpeg, .*no-such-ffmpeg.*apt-get install ffmpeg.*write a GIF"):
+        traj.animate(tmp_path / "top.mp4")
+    assert list(tmp_path.iterdir()) == [], "nothing written"
+
+
+def have_ffmpeg() -> bool:
+    try:
+        return subprocess.run(["ffmpeg", "-version"], capture_output=True).returncode == 0
+    except OSError:
+        return False
+
+
+@pytest.mark.skipif(not have_ffmpeg() and os.environ.get("ELLIPSOID_EXPECT_FFMPEG") != "1", reason="no ffmpeg (apt-get install ffmpeg)")
+def test_mp4_where_ffmpeg_exists_has_the_gif_s_frames(tmp_path: Path) -> None:
+    traj = ellipsoid.simulate(REPO / "scenarios" / "tippe-top.toml", output={"t_end": 2.0})
+    frames = traj.animate(tmp_path / "top.mp4", width=241, height=181, fps=20, speed=0.5)
+    data = (tmp_path / "top.mp4").read_bytes()
+    assert frames == 81 and data[4:8] == b"ftyp" and len(data) > 10_000
+    probe = subprocess.run(["ffprobe", "-v", "error", "-count_frames", "-show_entries", "stream=codec_name,width,height,nb_read_frames",
+                            "-of", "csv=p=0", str(tmp_path / "top.mp4")], capture_output=True, text=True)
+    if probe.returncode == 0:  # ffprobe comes with ffmpeg: H.264, the odd sides padded to even
+        assert probe.stdout.strip() == "h264,242,182,81", probe.stdout
 
 
 def test_the_cli_writes_the_same_gif(tmp_path: Path, cli: Path) -> None:

@@ -28,8 +28,9 @@ def run_cli(cli: Path, scenario: str, out: Path, *sets: str) -> dict:
 
 
 def read_csv(path: Path) -> tuple[list[str], list[list[str]]]:
+    """Header and rows of a CSV trajectory, its `#` comment line skipped."""
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        rows = list(csv.reader(line for line in f if not line.startswith("#")))
     return rows[0], rows[1:]
 
 

@@ -231,6 +231,7 @@ def _calls(tmp: Any) -> dict[str, Any]:
         "plot.ax": lambda v: traj.plot("theta", ax=v),
         "view.path": lambda v: traj.view(v if not isinstance(v, str) else os.path.join(tmp, v)),
         "view.title": lambda v: traj.view(title=v),
+        "view.columns": lambda v: traj.view(columns=v),
         "animate.width": lambda v: traj.animate(os.path.join(tmp, "a.gif"), width=v, height=16, fps=1.0),
         "animate.fps": lambda v: traj.animate(os.path.join(tmp, "a.gif"), width=16, height=16, fps=v),
         "sweep.scenarios": lambda v: ellipsoid.sweep(v),
@@ -244,7 +245,7 @@ CALLS = [
     "study.chunk_seconds", "study.out", "Study.run.start", "Study.run.stop", "Study.run.threads",
     "Study.run.journal", "Study.point", "Study.replace.base", "Study.replace.outcomes", "Study.write.path",
     "Study.write.rows", "Study.write_bytes", "Study.from_json", "Study.load", "plot.panels", "plot.columns",
-    "plot.ax", "view.path", "view.title", "animate.width", "animate.fps", "sweep.scenarios", "sweep.workers",
+    "plot.ax", "view.path", "view.title", "view.columns", "animate.width", "animate.fps", "sweep.scenarios", "sweep.workers",
     "sweep.errors",
 ]
 

@@ -37,6 +37,36 @@ def test_keyword_tables_build_the_same_scene_as_the_file() -> None:
     assert len(built.sample_times) == 501 and built.sample_times[-1] == 0.5
 
 
+def test_contact_spheres_from_keyword_tables() -> None:
+    """`[[body.sphere]]` as `body=dict(..., sphere=[dict(name=..., center=..., radius=...)])`:
+    the same run as the bundled file, the stem's touchdown named in the events, and a bad
+    radius an EllipsoidError naming the sphere's key."""
+    stem = REPO / "scenarios" / "tippe-top-stem.toml"
+    body = dict(
+        a=0.015,
+        c=0.015,
+        mass=6e-3,
+        com_offset=0.003,
+        inertia=[8e-7, 8e-7, 7e-7],
+        sphere=[dict(name="stem", center=np.array([0.0, 0.0, 0.013]), radius=0.005)],
+    )
+    built = ellipsoid.Scenario(
+        body=body,
+        initial=dict(theta=0.1, psi_dot=180.0, velocity=[0.0, 0.0]),
+        contact=dict(model="coulomb", friction=0.3, contact_radius=5e-4, contact_law="exact"),
+        solver=dict(method="dop853", rtol=1e-11, atol=1e-13),
+        output=dict(t_end=1.5, dt=1e-3),
+    )
+    a = ellipsoid.simulate(built)
+    b = ellipsoid.simulate(stem, output={"t_end": 1.5})
+    same_run(a, b)
+    changes = [e for e in a.events if e["kind"] == "contact_surface"]
+    assert changes and (changes[0]["from"], changes[0]["to"]) == ("ellipsoid", "stem")
+    bad = dict(body, sphere=[dict(name="stem", center=[0.0, 0.0, 0.013], radius=-1.0)])
+    with pytest.raises(ellipsoid.EllipsoidError, match=r"body\.sphere\[0\]\.radius = -1"):
+        ellipsoid.Scenario(body=bad, contact=dict(model="frictionless"), output=dict(t_end=1.0))
+
+
 def test_replace_merges_tables_and_accepts_dotted_keys() -> None:
     base = ellipsoid.load(NUTATION)
     a = base.replace(contact={"model": "coulomb", "friction": 0.2}, output={"t_end": 0.2})

@@ -40,6 +40,25 @@ def test_view_is_the_command_line_page_byte_for_byte(cli: Path, tmp_path: Path) 
     assert (tmp_path / "py.html").read_text(encoding="utf-8") == page
 
 
+def test_view_side_plots_and_default_title_are_the_command_line_s(cli: Path, tmp_path: Path) -> None:
+    """`columns=` chooses the side plots as `ellipsoid view --columns` does, and both title
+    the page with the scenario's file name (no directories) by default."""
+    scenario = str(SCENARIOS / "tippe-top.toml")
+    run = [str(cli), "run", scenario, "-o", str(tmp_path / "t.csv"), "--summary", str(tmp_path / "t.json"), "--set", "output.t_end=1.5", "-q"]
+    subprocess.run(run, check=True)
+    view = [str(cli), "view", str(tmp_path / "t.csv"), "--summary", str(tmp_path / "t.json"), "-o", str(tmp_path / "cli.html"),
+            "--columns", "omega_world_z,theta", "-q"]
+    subprocess.run(view, check=True)
+    traj = ellipsoid.simulate(scenario, **{"output.t_end": 1.5})
+    page = traj.view(columns=["omega_world_z", "theta"])
+    assert page == (tmp_path / "cli.html").read_text(encoding="utf-8")
+    assert traj.view(columns="omega_world_z, theta") == page
+    assert "<title>tippe-top.toml</title>" in page and str(SCENARIOS) not in page
+    assert '"name":"omega_world_z","label":"omega_world_z (rad/s)"' in page
+    with pytest.raises(ellipsoid.ScenarioError, match='columns = thetaa: "thetaa" is not a numeric output column'):
+        traj.view(columns=["thetaa"])
+
+
 def test_view_page_carries_the_run() -> None:
     page = tippe_top().view()
     assert page.startswith("<!DOCTYPE html>") and "three.js authors" in page
@@ -79,6 +98,55 @@ def test_plot_draws_every_panel_with_units() -> None:
     assert len(one.axes) == 2
     with pytest.raises(ValueError, match="unknown panel 'wobble'"):
         tippe_top().plot(["theta", "wobble"])
+
+
+def svg_texts(path: Path) -> set[str]:
+    """Every text of an SVG figure, stripped."""
+    import xml.etree.ElementTree as ET
+
+    return {(el.text or "").strip() for el in ET.parse(path).iter() if el.tag.endswith("}text") or el.tag == "text"}
+
+
+def test_both_renderers_draw_the_declared_panels_alike(cli: Path, tmp_path: Path) -> None:
+    """`ellipsoid plot` (plotters) and `Trajectory.plot` (matplotlib) draw from one
+    declaration: the same axes with the same titles (suffixes included: the vertical spin,
+    the Euler rates left out near θ = 0, the modes shaded), labels and legend entries."""
+    pytest.importorskip("matplotlib")
+    scene = str(SCENARIOS / "tippe-top.toml")
+    run = [str(cli), "run", scene, "--set", "output.t_end=1.5", "-o", str(tmp_path / "run.csv"),
+           "--summary", str(tmp_path / "run.json"), "-q"]
+    subprocess.run(run, check=True)
+    subprocess.run([str(cli), "plot", str(tmp_path / "run.csv"), "--summary", str(tmp_path / "run.json"),
+                    "-o", str(tmp_path / "fig.svg"), "-q"], check=True)
+    texts = svg_texts(tmp_path / "fig.svg")
+    fig = tippe_top().plot()
+    from ellipsoid._plot import DECLARATION
+
+    assert len(fig.axes) == sum(len(p["axes"]) for p in DECLARATION["panels"])
+    assert fig.get_suptitle() == "tippe-top.toml" and "tippe-top.toml" in texts
+    titles = [ax.get_title() for ax in fig.axes]
+    assert "Euler rates and the vertical spin (φ̇, ψ̇ left out where sin θ < 0.1)" in titles
+    assert "normal force (shaded: sliding orange, rolling green)" in titles
+    for ax in fig.axes:
+        drawn = [ax.get_title(), ax.get_ylabel(), ax.get_xlabel()]
+        drawn += [t.get_text() for t in ax.get_legend().get_texts()] if ax.get_legend() else []
+        for text in drawn:
+            assert text in texts, f"matplotlib draws {text!r}, ellipsoid plot does not"
+    # and the other way: every caption of the SVG (its largest text but the figure's title)
+    # is a matplotlib title
+    import xml.etree.ElementTree as ET
+
+    captions = {(el.text or "").strip() for el in ET.parse(tmp_path / "fig.svg").iter()
+                if el.tag.endswith("text") and float(el.get("font-size", "0")) > 15}
+    assert captions == set(titles), captions ^ set(titles)
+
+
+def test_plot_writes_pdf(tmp_path: Path) -> None:
+    pytest.importorskip("matplotlib")
+    fig = tippe_top().plot("theta,forces")
+    fig.savefig(tmp_path / "fig.pdf")
+    data = (tmp_path / "fig.pdf").read_bytes()
+    assert data.startswith(b"%PDF-") and data.rstrip().endswith(b"%%EOF") and len(data) > 10_000
 
 
 def test_plot_without_matplotlib_says_how_to_get_it() -> None:

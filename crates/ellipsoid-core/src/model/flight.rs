@@ -36,6 +36,8 @@ impl ContactLaw for Flight {
             normal: 0.0,
             omega_dot: body.inertia_inv() * free,
             painleve: f64::INFINITY,
+            second_normal: 0.0,
+            contact_power: None,
         }
     }
 }

@@ -18,16 +18,18 @@ pub mod flight;
 mod frictionless;
 mod rolling;
 pub mod sliding;
+mod two_contacts;
 
 pub use contensou::ContactDisc;
 pub use flight::Flight;
 pub use frictionless::Frictionless;
 pub use rolling::Rolling;
 pub use sliding::{Sliding, SlipBand};
+pub use two_contacts::TwoContacts;
 
 use nalgebra::{Matrix3, Vector2, Vector3};
 
-use crate::body::Body;
+use crate::body::{Body, Surface};
 use crate::effects::{Effect, Wrench};
 use crate::geometry::Contact;
 use crate::integrate::OdeSystem;
@@ -77,14 +79,28 @@ impl Kinematics {
 
     /// Kinematics of a state in flight (docs/physics.md, "Flight"): z_G and v_Gz are
     /// states, the gap is g = z_G − h(ζ) with h(ζ) the height G would have touching
-    /// (`geometry`), and `contact` describes the body's lowest point; `slip` is that
-    /// point's horizontal velocity.
+    /// (`geometry`), and `contact` describes the body's lowest point, on whichever
+    /// surface it is (`Contact::lowest`); `slip` is that point's horizontal velocity.
     #[inline]
     pub fn flying(body: &Body, y: &State) -> Self {
         let rot = state::rotation(y);
         let omega = state::omega(y);
         let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
-        let contact = Contact::new(body, zeta, omega);
+        Kinematics::flying_with(Contact::lowest(body, zeta, omega), rot, omega, y)
+    }
+
+    /// [`Kinematics::flying`] with `contact` describing the lowest point of `surface`
+    /// (its gap may be above another surface's).
+    #[inline]
+    pub fn flying_at(body: &Body, surface: Surface, y: &State) -> Self {
+        let rot = state::rotation(y);
+        let omega = state::omega(y);
+        let zeta = Vector3::new(rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]);
+        Kinematics::flying_with(Contact::of(body, surface, zeta, omega), rot, omega, y)
+    }
+
+    #[inline(always)]
+    fn flying_with(contact: Contact, rot: Matrix3<f64>, omega: Vector3<f64>, y: &State) -> Self {
         let spin_lever = rot * omega.cross(&contact.r);
         let v_h = state::velocity(y);
         Kinematics {
@@ -116,6 +132,12 @@ pub struct Response {
     /// The factor multiplying N in the unilateral contact equation; ≤ 0 means a
     /// Painlevé inconsistency (sliding). Infinite where it does not apply.
     pub painleve: f64,
+    /// With two surfaces in contact ([`TwoContacts`]), the normal force at the second
+    /// \[N\] (`normal` is then the sum); 0 otherwise.
+    pub second_normal: f64,
+    /// The power the contact forces dissipate, where the law computes it (two contacts)
+    /// \[W\]; `None`: −F·v_C − N τ_N·ω of the one contact ([`Evaluation::dissipation`]).
+    pub contact_power: Option<f64>,
 }
 
 /// A contact law: how the plane pushes on the body.
@@ -179,10 +201,16 @@ impl Evaluation {
         (self.response.force + self.load.force) / body.mass() - Vector3::new(0.0, 0.0, gravity)
     }
 
-    /// Dissipated power Ẇ = −F·v_C − f·v_G − (τ + N τ_N)·ω \[W\].
+    /// Dissipated power Ẇ = −F·v_C − f·v_G − (τ + N τ_N)·ω \[W\] (with two contacts the
+    /// law's own sum over them, [`Response::contact_power`], replaces −F·v_C − N τ_N·ω).
     #[inline]
     pub fn dissipation(&self) -> f64 {
         let r = &self.response;
+        if let Some(contact) = r.contact_power {
+            return contact
+                - self.load.force.dot(&self.kin.v_g)
+                - self.load.torque.dot(&self.kin.omega);
+        }
         let torque = self.load.torque + r.normal * self.load.torque_per_normal;
         -(r.force.xy().dot(&self.kin.slip))
             - self.load.force.dot(&self.kin.v_g)
@@ -279,5 +307,7 @@ pub(crate) fn unilateral(
         normal,
         omega_dot: i_inv * (normal * lever + free),
         painleve,
+        second_normal: 0.0,
+        contact_power: None,
     }
 }

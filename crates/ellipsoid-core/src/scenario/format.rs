@@ -90,7 +90,92 @@ pub(super) fn read_body(ctx: &Ctx<'_>, tree: &Node, root: &Sec<'_>) -> Result<Bo
     };
     let axes = Vector3::new(a, b, c);
     let inertia = read_inertia(ctx, &sec, axes, mass, com)?;
-    Body::new(axes, mass, inertia, com).map_err(|e| ctx.model(tree, &e))
+    let spheres = read_spheres(ctx, &sec)?;
+    Body::new(axes, mass, inertia, com)
+        .and_then(|body| body.with_spheres(spheres))
+        .map_err(|e| ctx.model(tree, &e))
+}
+
+/// The `[[body.sphere]]` array of tables: contact spheres fixed in the body
+/// (docs/scenarios.md, "Contact spheres").
+fn read_spheres(ctx: &Ctx<'_>, body: &Sec<'_>) -> Result<Vec<Sphere>> {
+    let Some(got) = body.get("sphere") else {
+        return Ok(Vec::new());
+    };
+    let Value::Array(items) = &got.node().value else {
+        return Err(ctx.wrong_type(body, got, "an array of tables ([[body.sphere]] entries)"));
+    };
+    if items.len() > MAX_SPHERES {
+        return Err(ctx.bad(
+            ErrorKind::Invalid,
+            body,
+            got,
+            format!(
+                "{} entries; a body has at most {MAX_SPHERES} contact spheres",
+                items.len()
+            ),
+        ));
+    }
+    let mut out: Vec<Sphere> = Vec::with_capacity(items.len());
+    for (k, item) in items.iter().enumerate() {
+        let sec = ctx.table_of(
+            &format!("body.sphere[{k}]"),
+            item,
+            &item.origin,
+            &SPHERE_KEYS,
+            "a contact sphere: name, center, radius",
+        )?;
+        let name = match sec.get("name") {
+            None => {
+                return Err(ctx.missing(
+                    &sec,
+                    "name",
+                    "give the sphere a name (a string, e.g. \"stem\")",
+                ));
+            }
+            Some(g) => match &g.node().value {
+                Value::Str(s) if !s.is_empty() && s.len() <= 100 => {
+                    if s == "ellipsoid" || out.iter().any(|o| &o.name == s) {
+                        return Err(ctx.bad(
+                            ErrorKind::Invalid,
+                            &sec,
+                            g,
+                            "sphere names must be unique and not \"ellipsoid\" (the body's own surface)",
+                        ));
+                    }
+                    s.clone()
+                }
+                Value::Str(_) => {
+                    return Err(ctx.bad(ErrorKind::Invalid, &sec, g, "a name of 1 to 100 bytes"));
+                }
+                _ => return Err(ctx.wrong_type(&sec, g, "a string: the sphere's name")),
+            },
+        };
+        let center = ctx
+            .numbers::<3>(&sec, "center", "the sphere's centre in body axes, from the ellipsoid's centre (m)")?
+            .ok_or_else(|| {
+                ctx.missing(
+                    &sec,
+                    "center",
+                    "give the sphere's centre [x, y, z] in body axes, from the ellipsoid's centre (m)",
+                )
+            })?;
+        let radius = ctx
+            .checked(
+                &sec,
+                "radius",
+                "the sphere's radius (m)",
+                |v| v > 0.0,
+                "a radius must be positive and finite (m)",
+            )?
+            .ok_or_else(|| ctx.missing(&sec, "radius", "give the sphere's radius (m)"))?;
+        out.push(Sphere {
+            name,
+            center: Vector3::from(center),
+            radius,
+        });
+    }
+    Ok(out)
 }
 
 pub(super) fn read_inertia(

@@ -27,7 +27,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector2, Vector3};
 use serde::Serialize;
 use toml::de::{DeTable, DeValue};
 
-use crate::body::{Body, uniform_inertia};
+use crate::body::{Body, MAX_SPHERES, Sphere, uniform_inertia};
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
 use crate::integrate::{Direction, Method};
@@ -70,14 +70,14 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 /// The invariants a `[check]` table may bound (declared in `invariants::Invariant`).
 pub const DRIFT_NAMES: [&str; 6] = crate::invariants::Invariant::NAMES;
 /// The run statuses a `[check]` table may expect (declared in `simulate::Status`).
-pub const STATUS_NAMES: [&str; 10] = crate::simulate::Status::NAMES;
+pub const STATUS_NAMES: [&str; 11] = crate::simulate::Status::NAMES;
 const OBSERVE_KEYS: [&str; 5] = ["name", "column", "crosses", "direction", "terminal"];
 const DIRECTIONS: [&str; 3] = ["up", "down", "either"];
 
 const TOP_KEYS: [&str; 8] = [
     "body", "initial", "contact", "effects", "solver", "output", "check", "observe",
 ];
-const BODY_KEYS: [&str; 7] = [
+const BODY_KEYS: [&str; 8] = [
     "a",
     "b",
     "c",
@@ -85,7 +85,9 @@ const BODY_KEYS: [&str; 7] = [
     "com_offset",
     "com_offset_vector",
     "inertia",
+    "sphere",
 ];
+const SPHERE_KEYS: [&str; 3] = ["name", "center", "radius"];
 const INITIAL_KEYS: [&str; 18] = [
     "theta",
     "theta_deg",

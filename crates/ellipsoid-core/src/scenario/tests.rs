@@ -785,3 +785,66 @@ fn a_spin_beyond_double_precision_is_rejected() {
     let weightless = format!("{}[effects]\ngravity = 0\n", spin(1e12));
     assert!(start(&weightless).is_none_or(|e| !e.contains("√(g/L)")));
 }
+
+/// `[[body.sphere]]`: contact spheres, and each error located at its line and column with
+/// the field, the value and the rule.
+#[test]
+fn contact_sphere_keys_and_their_errors() {
+    let with = |spheres: &str| format!("{PAPER}\n{spheres}");
+    let stem = "[[body.sphere]]\nname = \"stem\"\ncenter = [0.0, 0.0, 0.013]\nradius = 0.005\n";
+    let s = ok(&with(stem), &[]);
+    let spheres = s.scene.body.spheres();
+    assert_eq!(spheres.len(), 1);
+    assert_eq!(spheres[0].name, "stem");
+    assert_eq!(spheres[0].center, Vector3::new(0.0, 0.0, 0.013));
+    assert_eq!(spheres[0].radius, 0.005);
+    // The same as an inline array of tables (what Python's dicts become).
+    let inline = PAPER.replace(
+        "inertia = [3.8e-6, 3.8e-6, 6.25e-6]",
+        "inertia = [3.8e-6, 3.8e-6, 6.25e-6]\nsphere = [{ name = \"stem\", center = [0.0, 0.0, 0.013], radius = 0.005 }]",
+    );
+    assert_eq!(ok(&inline, &[]).scene.body, s.scene.body);
+    let line = PAPER.lines().count() + 2;
+    let cases = [
+        (
+            with(&stem.replace("radius = 0.005", "radius = -0.005")),
+            format!(
+                "x.toml:{}:1: body.sphere[0].radius = -0.005: a radius must be positive and finite (m)",
+                line + 3
+            ),
+        ),
+        (
+            with(&stem.replace("radius = 0.005\n", "")),
+            format!(
+                "x.toml:{line}:1: body.sphere[0].radius is missing: give the sphere's radius (m)"
+            ),
+        ),
+        (
+            with(&format!("{stem}{stem}")),
+            format!(
+                "x.toml:{}:1: body.sphere[1].name = \"stem\": sphere names must be unique and not \"ellipsoid\" (the body's own surface)",
+                line + 5
+            ),
+        ),
+        (
+            with(&stem.replace("radius", "radiu")),
+            format!(
+                "x.toml:{}:1: body.sphere[0].radiu = 0.005: unknown key in [body.sphere[0]]; did you mean `radius`?",
+                line + 3
+            ),
+        ),
+        (
+            with(&stem.repeat(9).replace("\"stem\"", "\"s\"")),
+            "body.sphere".to_owned(),
+        ),
+    ];
+    for (text, expected) in cases {
+        let e = err(&text, &[]);
+        assert!(
+            e.starts_with(&expected) || e.contains(&expected),
+            "{e}\nexpected: {expected}"
+        );
+    }
+    let nine = err(&with(&stem.repeat(9)), &[]);
+    assert!(nine.contains("at most 8 contact spheres"), "{nine}");
+}

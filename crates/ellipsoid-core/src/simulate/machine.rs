@@ -5,10 +5,6 @@
 
 use std::cell::{Cell, RefCell};
 use std::ops::ControlFlow;
-use std::sync::Arc;
-use std::sync::atomic::AtomicBool;
-
-use nalgebra::Vector3;
 
 use crate::columns;
 use crate::effects::Effect;
@@ -17,26 +13,18 @@ use crate::integrate::{
     self, Action, Direction, Event, OdeSystem, Options, Stats, StopReason, Warning,
 };
 use crate::invariants::{Conservation, Invariant, Invariants};
-use crate::model::{ContactLaw, Evaluation, Flight, Frictionless, Rolling, Sliding, System};
+use nalgebra::Vector3;
+
+use crate::model::{ContactLaw, Evaluation, Kinematics, System};
 use crate::state::{self, EulerAngles, State};
 
-use super::numerics::{MAX_SWITCHES, Numerics};
+use super::context::Context;
+use super::numerics::MAX_SWITCHES;
 use super::outcome::{Chatter, EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
 use super::phase::{Next, Phase, Slot, phase};
 use super::recorder::Recorder;
-use super::scene::{ContactModel, LiftOff, Scene};
+use super::scene::{ContactModel, LiftOff};
 use super::start::Start;
-
-/// The three contact laws over one set of effects, and the scene they run.
-pub(super) struct Machine<'s, E> {
-    pub(super) scene: &'s Scene,
-    pub(super) cancel: Option<Arc<AtomicBool>>,
-    pub(super) numerics: Numerics,
-    pub(super) free: System<Frictionless, E>,
-    pub(super) slide: System<Sliding, E>,
-    pub(super) roll: System<Rolling, E>,
-    pub(super) fly: System<Flight, E>,
-}
 
 /// Where a segment ended, with the watch list it used.
 pub(super) struct Segment {
@@ -44,47 +32,7 @@ pub(super) struct Segment {
     pub(super) watches: Vec<Slot>,
 }
 
-impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
-    pub(super) fn new(scene: &'s Scene, effects: E, cancel: Option<Arc<AtomicBool>>) -> Self {
-        let body = scene.body.clone();
-        let g = scene.gravity;
-        let friction = scene.contact.friction().unwrap_or(0.0);
-        let numerics = Numerics::new(scene);
-        Machine {
-            scene,
-            cancel,
-            numerics,
-            free: System {
-                body: body.clone(),
-                gravity: g,
-                contact: Frictionless,
-                effects,
-            },
-            slide: System {
-                body: body.clone(),
-                gravity: g,
-                contact: Sliding {
-                    friction,
-                    disc: scene.disc,
-                    band: numerics.band,
-                },
-                effects,
-            },
-            roll: System {
-                body: body.clone(),
-                gravity: g,
-                contact: Rolling,
-                effects,
-            },
-            fly: System {
-                body,
-                gravity: g,
-                contact: Flight,
-                effects,
-            },
-        }
-    }
-
+impl<E: Effect + Copy + 'static> Context<'_, E> {
     /// Runs the scene from its initial state, handing every sample to `observer`.
     pub(super) fn run(
         &self,
@@ -211,7 +159,11 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
         let conservative = !scene.effects.any();
         let axisymmetric_inertia =
             i[(0, 1)] == 0.0 && i[(0, 2)] == 0.0 && i[(1, 2)] == 0.0 && i[(0, 0)] == i[(1, 1)];
-        let revolution = a.x == a.y && g.x == 0.0 && g.y == 0.0 && axisymmetric_inertia;
+        let on_axis = |v: Vector3<f64>| v.x == 0.0 && v.y == 0.0;
+        let revolution = a.x == a.y
+            && on_axis(g)
+            && axisymmetric_inertia
+            && body.spheres().iter().all(|s| on_axis(s.center));
         Conservation {
             conservative,
             frictionless: conservative && scene.contact == ContactModel::Frictionless,
@@ -221,8 +173,9 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
                     ContactModel::Frictionless | ContactModel::Rolling
                 ),
             revolution,
-            // The drilling torque of a contact disc changes Jellett's J = L_G·(G − C).
-            sphere: revolution && a.x == a.z && scene.disc.is_none(),
+            // The drilling torque of a contact disc changes Jellett's J = L_G·(G − C), and
+            // so does a change of the contacting surface (contact spheres).
+            sphere: revolution && a.x == a.z && scene.disc.is_none() && body.spheres().is_empty(),
             elastic_impacts: scene.landing.lift_off == LiftOff::Stop
                 || (scene.contact == ContactModel::Frictionless
                     && scene.landing.restitution == 1.0),
@@ -231,151 +184,107 @@ impl<'s, E: Effect + Copy + 'static> Machine<'s, E> {
 
     /// Each invariant's drift scale at the initial state `y` (see [`Invariant::scale`]).
     fn scales(&self, y: &State, inv: &Invariants) -> [f64; 6] {
-        let kin = self.slide.evaluate(y).kin;
+        let kin = Kinematics::new(&self.body(), y, false);
         Invariant::ALL.map(|which| which.scale(&self.scene.body, &kin, inv))
     }
+}
 
-    /// Integrates phase `P` from (t0, y0) until t_end or a terminal event.
-    pub(super) fn segment<P: Phase>(
-        &self,
-        t0: f64,
-        y0: State,
-        rec: &mut Recorder<'_>,
-    ) -> Result<Segment, ModelError> {
-        let scene = self.scene;
-        let law = P::system(self);
-        // The driver evaluates every event function at the same (t, y) in turn, at t0 and
-        // at each step end right after DOP853's f there: evaluate the model once per state.
-        let sys = &Watched {
-            sys: law,
-            last: Memo::default(),
-        };
-        let phase_watches = P::watches(self);
-        let watches: Vec<Slot> = (0..phase_watches.len())
-            .map(Slot::Phase)
-            .chain((0..scene.observe.len()).map(Slot::Observe))
-            .collect();
-        // Observables unwrap φ and ψ against the last emitted row; they share one output
-        // row per state.
-        let angles = Cell::new(rec.angles);
-        let gauge = rec.gauge();
-        let observed: Memo<(Key, EulerAngles), [f64; columns::NUMERIC]> = Memo::default();
-        let (angles_ref, observed) = (&angles, &observed);
-        let events: Vec<Event<'_, { state::DIM }>> = watches
-            .iter()
-            .map(|&w| match w {
-                Slot::Observe(k) => {
-                    let o = &scene.observe[k];
-                    Event {
-                        g: Box::new(move |t, y: &State| {
-                            let prev = angles_ref.get();
-                            let row = || {
-                                sys.with(t, y, |ev| {
-                                    let (mut sample, inv) =
-                                        self.sample_of(law, P::MODE, t, y, ev, Some(&prev));
-                                    sample.drift = gauge.of(&inv);
-                                    columns::values(&sample)
-                                })
-                            };
-                            observed.with(((t, (*y).into()), prev), row, |row| row[o.column])
-                                - o.crosses
-                        }),
-                        direction: o.direction,
-                        action: if o.terminal {
-                            Action::Stop
-                        } else {
-                            Action::Continue
-                        },
-                    }
+/// Integrates phase `P` from (t0, y0) until t_end or a terminal event.
+pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    t0: f64,
+    y0: State,
+    rec: &mut Recorder<'_>,
+) -> Result<Segment, ModelError> {
+    let scene = ctx.scene;
+    let law = &ctx.system::<P>();
+    // The driver evaluates every event function at the same (t, y) in turn, at t0 and
+    // at each step end right after DOP853's f there: evaluate the model once per state.
+    let sys = &Watched {
+        sys: law,
+        last: Memo::default(),
+    };
+    let phase_watches = P::watches(ctx);
+    let watches: Vec<Slot> = (0..phase_watches.len())
+        .map(Slot::Phase)
+        .chain((0..scene.observe.len()).map(Slot::Observe))
+        .collect();
+    // Observables unwrap φ and ψ against the last emitted row; they share one output
+    // row per state.
+    let angles = Cell::new(rec.angles);
+    let gauge = rec.gauge();
+    let observed: Memo<(Key, EulerAngles), [f64; columns::NUMERIC]> = Memo::default();
+    let (angles_ref, observed) = (&angles, &observed);
+    let events: Vec<Event<'_, { state::DIM }>> = watches
+        .iter()
+        .map(|&w| match w {
+            Slot::Observe(k) => {
+                let o = &scene.observe[k];
+                Event {
+                    g: Box::new(move |t, y: &State| {
+                        let prev = angles_ref.get();
+                        let row = || {
+                            sys.with(t, y, |ev| {
+                                let (mut sample, inv) =
+                                    ctx.sample(law, P::MODE, t, y, ev, Some(&prev));
+                                sample.drift = gauge.of(&inv);
+                                columns::values(&sample)
+                            })
+                        };
+                        observed.with(((t, (*y).into()), prev), row, |row| row[o.column])
+                            - o.crosses
+                    }),
+                    direction: o.direction,
+                    action: if o.terminal {
+                        Action::Stop
+                    } else {
+                        Action::Continue
+                    },
                 }
-                Slot::Phase(i) => {
-                    let w = phase_watches[i];
-                    Event {
-                        g: Box::new(move |t, y: &State| {
-                            sys.with(t, y, |ev| P::watch(self, w, ev, y))
-                        }),
-                        direction: Direction::Falling,
-                        action: Action::Stop,
-                    }
+            }
+            Slot::Phase(i) => {
+                let w = phase_watches[i];
+                Event {
+                    g: Box::new(move |t, y: &State| {
+                        sys.with(t, y, |ev| P::watch(ctx, law, w, ev, y))
+                    }),
+                    direction: Direction::Falling,
+                    action: Action::Stop,
                 }
-            })
-            .collect();
-        let mut options = Options::new(scene.solver.rtol, scene.solver.atol);
-        options.h0 = scene.solver.initial_step;
-        options.max_steps = scene.solver.max_steps;
-        options.time_scale = scene.gravity_time();
-        options.cancel = self.cancel.clone();
-        let samples = &scene.sample_times[rec.next_sample..];
-        let solution = integrate::integrate(
-            scene.solver.method,
-            sys,
-            t0,
-            y0,
-            scene.t_end,
-            &options,
-            &events,
-            samples,
-            &mut |t, y| {
-                let (sample, inv) = self.sample_with(law, P::MODE, t, y, Some(&rec.angles));
-                rec.next_sample += 1;
-                let flow = rec.emit(sample, inv);
-                angles.set(rec.angles);
-                flow
-            },
+            }
+        })
+        .collect();
+    let mut options = Options::new(scene.solver.rtol, scene.solver.atol);
+    options.h0 = scene.solver.initial_step;
+    options.max_steps = scene.solver.max_steps;
+    options.time_scale = scene.gravity_time();
+    options.cancel = ctx.cancel.clone();
+    let samples = &scene.sample_times[rec.next_sample..];
+    let solution = integrate::integrate(
+        scene.solver.method,
+        sys,
+        t0,
+        y0,
+        scene.t_end,
+        &options,
+        &events,
+        samples,
+        &mut |t, y| {
+            let (sample, inv) = ctx.sample(law, P::MODE, t, y, &law.evaluate(y), Some(&rec.angles));
+            rec.next_sample += 1;
+            let flow = rec.emit(sample, inv);
+            angles.set(rec.angles);
+            flow
+        },
+    )
+    .map_err(|e| {
+        ModelError::invalid(
+            "solver",
+            e.to_string(),
+            "the integrator rejected these settings",
         )
-        .map_err(|e| {
-            ModelError::invalid(
-                "solver",
-                e.to_string(),
-                "the integrator rejected these settings",
-            )
-        })?;
-        Ok(Segment { solution, watches })
-    }
-
-    /// The output row and invariants of state `y` under `sys` (the `drift` column is
-    /// filled in by the recorder).
-    pub(super) fn sample_with<C: ContactLaw>(
-        &self,
-        sys: &System<C, E>,
-        mode: Mode,
-        t: f64,
-        y: &State,
-        prev: Option<&EulerAngles>,
-    ) -> (Sample, Invariants) {
-        self.sample_of(sys, mode, t, y, &sys.evaluate(y), prev)
-    }
-
-    fn sample_of<C: ContactLaw>(
-        &self,
-        sys: &System<C, E>,
-        mode: Mode,
-        t: f64,
-        y: &State,
-        ev: &Evaluation,
-        prev: Option<&EulerAngles>,
-    ) -> (Sample, Invariants) {
-        let kin = &ev.kin;
-        let inv = Invariants::from_kinematics(&sys.body, sys.gravity, kin, y[state::WORK]);
-        let position = Vector3::new(y[state::POS], y[state::POS + 1], kin.z_g());
-        let sample = Sample {
-            t,
-            position,
-            angles: EulerAngles::from_rotation(&kin.rot, &kin.omega, prev),
-            omega: kin.omega,
-            omega_world: kin.rot * kin.omega,
-            velocity: kin.v_g,
-            contact: position.xy() + (kin.rot * kin.contact.r).xy(),
-            energy: inv.energy,
-            work: y[state::WORK],
-            normal_force: self.numerics.reported_normal(&sys.body, sys.gravity, ev),
-            slip_speed: kin.slip.norm(),
-            drift: 0.0,
-            gap: kin.gap,
-            mode,
-        };
-        (sample, inv)
-    }
+    })?;
+    Ok(Segment { solution, watches })
 }
 
 /// The last value of a function and its argument, so that calls in turn with the same

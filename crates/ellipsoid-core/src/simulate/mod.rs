@@ -3,8 +3,8 @@
 //! invariant bookkeeping.
 //!
 //! Layout, one job each: [`scene`] (what to simulate, validated), `start` (the initial
-//! state and its checks), `phase` (the contact phases: ODE system, watches, transitions),
-//! `machine` (runs the phases), `recorder` (samples and drift), [`outcome`] (what a run
+//! state and its checks), `context` (what phases and transitions read), `phase` (the contact phases: law, watches),
+//! `transition` (every switch between phases), `machine` (runs the phases), `recorder` (samples and drift), [`outcome`] (what a run
 //! reports, as data).
 //!
 //! Each phase's system is monomorphised over exactly the scene's effects: an absent
@@ -17,6 +17,7 @@ use std::sync::atomic::AtomicBool;
 use crate::effects::Effect;
 use crate::error::ModelError;
 
+mod context;
 mod machine;
 mod numerics;
 pub mod outcome;
@@ -35,7 +36,7 @@ pub use scene::{
     SolverSettings,
 };
 
-use machine::Machine;
+use context::Context;
 
 /// Simulates `scene`, handing every sample to `observer` (return `Break` to cancel).
 pub fn simulate(
@@ -98,7 +99,7 @@ fn dispatch_spin<E: Effect + Copy + 'static>(
     acc: E,
 ) -> Result<Outcome, ModelError> {
     match call.scene.effects.spin_friction {
-        Some(s) => Machine::new(call.scene, (acc, s), call.cancel).run(call.observer),
-        None => Machine::new(call.scene, acc, call.cancel).run(call.observer),
+        Some(s) => Context::new(call.scene, (acc, s), call.cancel).run(call.observer),
+        None => Context::new(call.scene, acc, call.cancel).run(call.observer),
     }
 }

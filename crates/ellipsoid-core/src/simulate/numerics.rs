@@ -17,7 +17,12 @@ use super::scene::Scene;
 pub(super) const MAX_SWITCHES: usize = 10_000;
 
 /// Below this the sliding normal-force denominator (≥ 1 without friction) has collapsed:
-/// a solver failure there is the Painlevé singularity, N → ∞, and is reported as such.
+/// N = numerator/denominator is a thousand times its frictionless size and goes to
+/// infinity with the denominator (the Painlevé singularity). The sliding phase stops where
+/// the denominator falls through this value — a state whose N is still determined (to
+/// ~1e-13 relative), where a stop located at the zero itself would report N from a
+/// denominator of round-off size and either sign — and a solver failure below it is
+/// reported as that singularity.
 pub(super) const PAINLEVE_COLLAPSE: f64 = 1e-3;
 
 /// A fixed-step method cannot resolve a slip smaller than friction removes in a few
@@ -99,7 +104,8 @@ pub(super) struct Numerics {
     gravity_speed: f64,
     /// The slip band of the sliding law.
     pub(super) band: SlipBand,
-    /// The largest semi-axis L \[m\].
+    /// The body's size L \[m\]: its largest semi-axis, or a contact sphere's reach
+    /// |c| + ρ from C0 where that is larger.
     size: f64,
     /// The scene's tolerances and method.
     rtol: f64,
@@ -117,7 +123,10 @@ impl Numerics {
             (Method::Rk4 { h }, Some(friction)) => RK4_SLIP_STEPS * friction * scene.gravity * h,
             _ => 0.0,
         };
-        let size = scene.body.semi_axes().max();
+        // The body's extent from C0: its largest semi-axis, or a contact sphere's reach.
+        let size = (scene.body.spheres().iter())
+            .map(|s| s.center.norm() + s.radius)
+            .fold(scene.body.semi_axes().max(), f64::max);
         // The band: SLIP_BAND_FLOORS slip floors or as many absolute tolerances (the error
         // allowed in v_G alone, which dominates a slow motion's), whichever is wider, and at
         // most SLIP_BAND_CAP of the speed scale; none for fixed-step RK4, whose absolute

@@ -3,39 +3,13 @@
 //! declared here once; sentences are made by the callers (`ellipsoid-io`, the CLI, Python).
 
 use nalgebra::{Vector2, Vector3};
-use serde::Serialize;
 
+use crate::body::Surface;
 use crate::integrate::{IntegrateError, Stats};
 use crate::invariants::{Drift, Invariants};
 use crate::state::{EulerAngles, State};
 
-/// The contact phase in force (docs/physics.md, models 1–5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Mode {
-    Frictionless,
-    Sliding,
-    Rolling,
-    /// Off the plane (docs/physics.md, "Flight").
-    Flight,
-}
-
-impl Mode {
-    /// Every mode, in [`Mode::NAMES`] order.
-    pub const ALL: [Mode; 4] = [
-        Mode::Frictionless,
-        Mode::Sliding,
-        Mode::Rolling,
-        Mode::Flight,
-    ];
-    /// Their names in output files.
-    pub const NAMES: [&'static str; 4] = ["frictionless", "sliding", "rolling", "flight"];
-
-    /// Its name in output files.
-    pub fn name(self) -> &'static str {
-        Mode::NAMES[self as usize]
-    }
-}
+pub use super::phase::Mode;
 
 /// One output row (SI units; see `columns` for every column).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -80,11 +54,13 @@ pub enum EventKind {
     Touchdown { speed: f64 },
     /// The impact at a touchdown (docs/physics.md, "Impact at touchdown").
     Impact(ImpactReport),
-    /// The sliding normal-force denominator reached zero.
+    /// The sliding normal-force denominator collapsed (to 10⁻³, on its way to zero).
     Painleve,
     /// Observable `index` of the scene (`Scene::observe`) crossed its value; `sample` is
     /// the full state there.
     Observed { index: usize, sample: Box<Sample> },
+    /// The body's surface in contact changed (bodies with contact spheres).
+    ContactSurface { from: Surface, to: Surface },
 }
 
 impl EventKind {
@@ -98,6 +74,7 @@ impl EventKind {
             EventKind::Touchdown { .. } => "touchdown",
             EventKind::Impact(_) => "impact",
             EventKind::Painleve => "painleve",
+            EventKind::ContactSurface { .. } => "contact_surface",
             EventKind::Observed { .. } => "observed",
         }
     }
@@ -139,7 +116,8 @@ pub enum Status {
     /// The pure sliding model's slip reached zero (an outcome).
     SlipStopped,
     /// The sliding normal force has no consistent value (an error): its denominator
-    /// 1 + m u·I⁻¹(r × d) fell to `denominator` (0 at a located event; small when the
+    /// 1 + m u·I⁻¹(r × d) fell to `denominator` (10⁻³ at a located event, where N is a
+    /// thousand times its frictionless size and still determined; below it when the
     /// integrator failed first, with `error`).
     Painleve {
         denominator: f64,
@@ -159,6 +137,17 @@ pub enum Status {
         normal: f64,
         gap_acceleration: f64,
     },
+    /// Two surfaces on the plane in a way that is not simulated (an error; docs/physics.md,
+    /// "Contact spheres"): surface `touching` reached the plane while `pressed` was in
+    /// contact and the impact would need impulses at both (`pressed` approaching at
+    /// `approach` < 0 \[m/s\] after it), or the two-contact phase cannot take them (the
+    /// rolling model, a normal force ≤ 0), or, on two surfaces, a slip stopped or a third
+    /// surface (`touching`) touched (`approach` = 0).
+    SeveralContacts {
+        touching: Surface,
+        pressed: Surface,
+        approach: f64,
+    },
     /// A sample held NaN or infinity: `column` = `value` (an error; never reported as a result).
     NonFinite { column: &'static str, value: f64 },
     /// The caller asked to stop.
@@ -167,7 +156,7 @@ pub enum Status {
 
 impl Status {
     /// The names of every status, as summaries and `[check]` tables spell them.
-    pub const NAMES: [&'static str; 10] = [
+    pub const NAMES: [&'static str; 11] = [
         "completed",
         "observed",
         "lost_contact",
@@ -178,6 +167,7 @@ impl Status {
         "non_finite",
         "cancelled",
         "inconsistent_contact",
+        "several_contacts",
     ];
 
     /// Its name in summaries (`status` field).
@@ -193,6 +183,7 @@ impl Status {
             Status::NonFinite { .. } => 7,
             Status::Cancelled => 8,
             Status::InconsistentContact { .. } => 9,
+            Status::SeveralContacts { .. } => 10,
         }]
     }
 
@@ -216,6 +207,7 @@ impl Status {
                 | Status::Chattering { .. }
                 | Status::NonFinite { .. }
                 | Status::InconsistentContact { .. }
+                | Status::SeveralContacts { .. }
         )
     }
 }

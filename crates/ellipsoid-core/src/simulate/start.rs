@@ -8,7 +8,7 @@ use crate::error::{ModelError, number};
 use crate::model::Kinematics;
 use crate::state::{self, State};
 
-use super::machine::Machine;
+use super::context::Context;
 use super::outcome::{EventKind, EventRecord, Mode, Status};
 use super::phase::phase;
 use super::scene::{ContactModel, LiftOff, Scene};
@@ -26,7 +26,7 @@ pub(super) struct Start {
     pub(super) stopped: Option<Status>,
 }
 
-impl<E: Effect + Copy + 'static> Machine<'_, E> {
+impl<E: Effect + Copy + 'static> Context<'_, E> {
     /// The initial phase and state, checked: a start above the plane flies; one on it
     /// enters the phase `transition::on_plane` gives, and flies where the plane cannot
     /// hold it (N ≤ 0) with `on_lift_off = "fly"`.
@@ -52,9 +52,11 @@ impl<E: Effect + Copy + 'static> Machine<'_, E> {
             events: Vec::new(),
             stopped: None,
         };
+        // The surface that touches (or is nearest to) the plane: the lowest.
+        let lowest = Kinematics::flying(&scene.body, &y).contact;
+        self.surface.set(lowest.surface);
         if flying {
-            let kin = Kinematics::new(&scene.body, &y, false);
-            y[state::HEIGHT] = kin.contact.height + init.height;
+            y[state::HEIGHT] = lowest.height + init.height;
             y[state::VEL_Z] = init.velocity_z.unwrap_or(0.0);
             self.check_finite(Mode::Flight, &y)?;
             return Ok(go(Mode::Flight, y));
@@ -164,7 +166,7 @@ impl Scene {
     /// effects do not enter the initial state).
     pub fn initial_state(&self) -> Result<(Mode, State), ModelError> {
         self.validate()?;
-        let start = Machine::new(self, (), None).start()?;
+        let start = Context::new(self, (), None).start()?;
         Ok((start.mode, start.y))
     }
 }

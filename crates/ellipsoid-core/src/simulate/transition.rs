@@ -11,9 +11,16 @@
 //! | flight | touchdown | rebound ≤ v_settle, N > 0 there | [`on_plane`] | back to gap = 0, plastic impact, z_G and v_Gz from the contact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the impact | as a touchdown | flight form, impact at the new surface |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v⁺\| ≤ v_settle), the new one persistent, both N > 0, both slipping | two contacts | impact at the new surface; contact form; second constraint restored |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | the previous phase | impact at the new surface; contact form |
+//! | any contact | another surface's gap ↓ −δz | otherwise (the pressed one approaches; rolling; two contacts inconsistent) | stop `several_contacts` | |
+//! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
+//! | two contacts | a slip ↓ floor, or a third surface's gap ↓ −δz | | stop `several_contacts` | |
+//! | two contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
 //! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
 //! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
-//! | sliding | Painlevé denominator ↓ 0 | | stop `painleve` | |
+//! | sliding | Painlevé denominator ↓ 10⁻³ (N → ∞ beyond) | | stop `painleve` | |
 //! | rolling | cone left (μN − \|F_h\| ↓ 0) | | sliding | s_ref ← −F̂_h, seed slip |
 //! | any contact | N ↓ 0 | `on_lift_off = "stop"` | stop `lost_contact` | |
 //! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact |
@@ -24,6 +31,7 @@
 
 use nalgebra::Vector2;
 
+use crate::body::Surface;
 use crate::effects::Effect;
 use crate::impact::{self, Approach, Tangential};
 use crate::integrate::{OdeSystem, rk4_step};
@@ -31,10 +39,13 @@ use crate::invariants::Invariants;
 use crate::model::{Kinematics, Rolling, Sliding};
 use crate::state::{self, State};
 
-use super::machine::Machine;
-use super::numerics::{BACK_STEPS, GAP_ACCEL_ROUNDOFF, SLIP_SEED};
+use super::context::Context;
+use super::numerics::{BACK_STEPS, GAP_ACCEL_ROUNDOFF, PAINLEVE_COLLAPSE, SLIP_SEED};
 use super::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
-use super::phase::{Next, phase, set_reference, slip_has_stopped, slip_is_zero};
+use super::phase::{
+    FlightPhase, FrictionlessPhase, Next, RollingPhase, TwoContactsPhase, phase, set_reference,
+    slip_has_stopped, slip_is_zero,
+};
 use super::scene::{ContactModel, LiftOff};
 
 /// How a state came onto the plane.
@@ -71,40 +82,44 @@ pub(super) enum Placed {
 ///   rolling needed ([`start_sliding_from_rest`]); else sliding.
 ///
 /// Sliding starts with s_ref along the slip.
-pub(super) fn on_plane<E: Effect>(m: &Machine<'_, E>, arrival: Arrival, y: &mut State) -> Placed {
+pub(super) fn on_plane<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    arrival: Arrival,
+    y: &mut State,
+) -> Placed {
     let stuck = match arrival {
         Arrival::Start => false,
         Arrival::Landing { stuck } => stuck,
         Arrival::SlipStop => true,
     };
-    match m.scene.contact {
+    match ctx.scene.contact {
         ContactModel::Frictionless => Placed::In(Mode::Frictionless),
         ContactModel::Rolling => {
             if arrival != Arrival::Start {
-                Rolling::stick(&m.scene.body, y);
+                Rolling::stick(&ctx.body(), y);
             }
-            m.roll.project(y);
+            ctx.system::<RollingPhase>().project(y);
             Placed::In(Mode::Rolling)
         }
-        ContactModel::Sliding { .. } | ContactModel::Coulomb { .. } if m.scene.disc.is_some() => {
-            if arrival == Arrival::SlipStop || slip_has_stopped(m, y) {
+        ContactModel::Sliding { .. } | ContactModel::Coulomb { .. } if ctx.scene.disc.is_some() => {
+            if arrival == Arrival::SlipStop || slip_has_stopped(ctx, y) {
                 Placed::SlipStopped
             } else {
-                renew_reference(m, y);
+                renew_reference(ctx, y);
                 Placed::In(Mode::Sliding)
             }
         }
-        ContactModel::Sliding { .. } if stuck || slip_is_zero(m, y) => Placed::SlipStopped,
-        ContactModel::Coulomb { friction } if stuck || slip_is_zero(m, y) => {
-            if rolls_once_stuck(m, friction, y) {
+        ContactModel::Sliding { .. } if stuck || slip_is_zero(ctx, y) => Placed::SlipStopped,
+        ContactModel::Coulomb { .. } if stuck || slip_is_zero(ctx, y) => {
+            if rolls_once_stuck(ctx, y) {
                 Placed::In(Mode::Rolling)
             } else {
-                start_sliding_from_rest(m, y);
+                start_sliding_from_rest(ctx, y);
                 Placed::In(Mode::Sliding)
             }
         }
         ContactModel::Sliding { .. } | ContactModel::Coulomb { .. } => {
-            renew_reference(m, y);
+            renew_reference(ctx, y);
             Placed::In(Mode::Sliding)
         }
     }
@@ -112,32 +127,32 @@ pub(super) fn on_plane<E: Effect>(m: &Machine<'_, E>, arrival: Arrival, y: &mut 
 
 /// Whether the plane pushes on the body in `mode` at `y` (N > 0).
 pub(super) fn pushes<E: Effect + Copy + 'static>(
-    m: &Machine<'_, E>,
+    ctx: &Context<'_, E>,
     mode: Mode,
     y: &State,
 ) -> bool {
-    phase::<E>(mode).response(m, y).normal > 0.0
+    phase::<E>(mode).response(ctx, y).normal > 0.0
 }
 
 /// The slip stop located by the sliding phase at (t, y): a confirmed stop goes on the
 /// plane ([`on_plane`]); one not confirmed is a turn of the slip by more than 90° within
 /// a step, and sliding goes on with s_ref renewed.
-pub(super) fn slip_stop<E: Effect>(
-    m: &Machine<'_, E>,
+pub(super) fn slip_stop<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
     confirmed: bool,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
     if !confirmed {
-        renew_reference(m, y);
+        renew_reference(ctx, y);
         return Next::Go(Mode::Sliding);
     }
     events.push(EventRecord {
         kind: EventKind::SlipStop,
         t,
     });
-    match on_plane(m, Arrival::SlipStop, y) {
+    match on_plane(ctx, Arrival::SlipStop, y) {
         Placed::SlipStopped => Next::Stop(Status::SlipStopped, Mode::Sliding),
         Placed::In(mode) => {
             if mode != Mode::Sliding {
@@ -148,30 +163,37 @@ pub(super) fn slip_stop<E: Effect>(
     }
 }
 
-/// The sliding normal force's denominator reached zero at t: no consistent contact force.
-pub(super) fn painleve(t: f64, events: &mut Vec<EventRecord>) -> Next {
+/// The sliding normal force's denominator collapsed to `denominator`
+/// (`numerics::PAINLEVE_COLLAPSE`) at t: N grows without bound, and Coulomb sliding has no
+/// consistent contact force beyond.
+pub(super) fn painleve(
+    mode: Mode,
+    denominator: f64,
+    t: f64,
+    events: &mut Vec<EventRecord>,
+) -> Next {
     events.push(EventRecord {
         kind: EventKind::Painleve,
         t,
     });
     Next::Stop(
         Status::Painleve {
-            denominator: 0.0,
+            denominator,
             error: None,
         },
-        Mode::Sliding,
+        mode,
     )
 }
 
 /// Rolling left the friction cone at (t, y): sliding from rest
 /// ([`start_sliding_from_rest`]).
-pub(super) fn cone_left<E: Effect>(
-    m: &Machine<'_, E>,
+pub(super) fn cone_left<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    start_sliding_from_rest(m, y);
+    start_sliding_from_rest(ctx, y);
     switch(events, t, Mode::Rolling, Mode::Sliding);
     Next::Go(Mode::Sliding)
 }
@@ -180,24 +202,24 @@ pub(super) fn cone_left<E: Effect>(
 /// `on_lift_off = "stop"`; else the body flies where flight is consistent, its state
 /// taking z_G = h(ζ), v_Gz and (rolling) v_G from the contact, so that E, L_G and the
 /// position are continuous; else the run stops with `inconsistent_contact`.
-pub(super) fn lift_off<E: Effect>(
-    m: &Machine<'_, E>,
+pub(super) fn lift_off<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
     from: Mode,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    if m.scene.landing.lift_off == LiftOff::Stop {
+    if ctx.scene.landing.lift_off == LiftOff::Stop {
         events.push(EventRecord {
             kind: EventKind::LostContact,
             t,
         });
         return Next::Stop(Status::LostContact, from);
     }
-    if let Err(status) = flight_is_consistent(m, from, y) {
+    if let Err(status) = flight_is_consistent(ctx, from, y) {
         return Next::Stop(status, from);
     }
-    to_flight(m, from, y);
+    to_flight(ctx, from, y);
     events.push(EventRecord {
         kind: EventKind::LiftOff,
         t,
@@ -208,8 +230,8 @@ pub(super) fn lift_off<E: Effect>(
 
 /// The state map of leaving the plane from contact mode `from`: z_G and v_Gz (and,
 /// rolling, v_G) become flight states with the values the contact gave them.
-pub(super) fn to_flight<E>(m: &Machine<'_, E>, from: Mode, y: &mut State) {
-    let kin = Kinematics::new(&m.scene.body, y, from == Mode::Rolling);
+pub(super) fn to_flight<E>(ctx: &Context<'_, E>, from: Mode, y: &mut State) {
+    let kin = Kinematics::new(&ctx.body(), y, from == Mode::Rolling);
     y[state::VEL] = kin.v_g.x;
     y[state::VEL + 1] = kin.v_g.y;
     y[state::HEIGHT] = kin.contact.height;
@@ -228,49 +250,204 @@ pub(super) fn to_flight<E>(m: &Machine<'_, E>, from: Mode, y: &mut State) {
 /// with g̈_free < 0: the plane would have to pull, and without it the body falls into
 /// the plane — the rolling model's analogue of Painlevé's paradox (docs/physics.md,
 /// "The hybrid machine"), reported as `Err` with the numbers.
-pub(super) fn flight_is_consistent<E: Effect>(
-    m: &Machine<'_, E>,
+pub(super) fn flight_is_consistent<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
     from: Mode,
     y: &State,
 ) -> Result<(), Status> {
-    let free = m.free.evaluate(y);
-    let mass = m.scene.body.mass();
+    let free = ctx.system::<FrictionlessPhase>().evaluate(y);
+    let mass = ctx.scene.body.mass();
     let accel = -free.response.normal * free.response.painleve / mass;
-    let scale = m.scene.gravity
-        + free.kin.omega.norm_squared() * m.scene.body.semi_axes().max()
+    let scale = ctx.scene.gravity
+        + free.kin.omega.norm_squared() * ctx.scene.body.semi_axes().max()
         + free.load.force.norm() / mass;
     if accel >= -GAP_ACCEL_ROUNDOFF * scale {
         return Ok(());
     }
     Err(Status::InconsistentContact {
         mode: from,
-        normal: phase_normal(m, from, y),
+        normal: phase_normal(ctx, from, y),
         gap_acceleration: accel,
     })
 }
 
 /// N of contact mode `mode` at `y` \[N\].
-fn phase_normal<E: Effect>(m: &Machine<'_, E>, mode: Mode, y: &State) -> f64 {
+fn phase_normal<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, mode: Mode, y: &State) -> f64 {
     match mode {
-        Mode::Rolling => m.roll.evaluate(y).response.normal,
-        Mode::Sliding => m.slide.evaluate(y).response.normal,
-        Mode::Frictionless | Mode::Flight => m.free.evaluate(y).response.normal,
+        Mode::Flight => {
+            ctx.system::<FrictionlessPhase>()
+                .evaluate(y)
+                .response
+                .normal
+        }
+        mode => phase::<E>(mode).response(ctx, y).normal,
     }
 }
 
 /// Touchdown, located at gap = −δz on the flight's dense output at (t, y): the impact
-/// is taken where the gap is zero ([`back_to_contact`], which moves `t` back), its loss
-/// booked in W; the body flies on, or, for a rebound below the settling speed
-/// ([`settling_speed`]), the impact is taken plastic and the state goes on the plane.
+/// is taken where the gap is zero ([`back_to_contact`], which moves `t` back), at the
+/// body's lowest point, on whichever surface it is; its loss booked in W; the body flies
+/// on, or, for a rebound below the settling speed ([`settling_speed`]), the impact is
+/// taken plastic and the state goes on the plane, the touching surface in contact.
 pub(super) fn touchdown<E: Effect + Copy + 'static>(
-    m: &Machine<'_, E>,
+    ctx: &Context<'_, E>,
     t: &mut f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let body = &m.scene.body;
-    (*t, *y) = back_to_contact(m, *t, y);
-    let kin = Kinematics::flying(body, y);
+    let lowest = Kinematics::flying(&ctx.scene.body, y).contact.surface;
+    let (next, _) = land(ctx, lowest, t, y, events);
+    next
+}
+
+/// Surface `touching` reached the plane (its gap located at −δz) at (t, y) while the body
+/// was in contact on another surface in mode `from`. Its impact is taken as a touchdown
+/// from flight — the state in flight form, the contact's impulse zero — which is the
+/// solution of the two-contact impact where the contact that was pressed separates after
+/// it (its normal velocity > 0; docs/physics.md, "Contact spheres"): then the run goes on
+/// as after any touchdown. Where it would not separate — its normal velocity after the
+/// impact not above the settling speed, the smallest a flight can resolve — both surfaces
+/// stay on the plane: the run stops at the located state with status `several_contacts`
+/// (contact on two surfaces at once is not simulated).
+pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    from: Mode,
+    touching: Surface,
+    t: &mut f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    let pressed = ctx.surface.get();
+    let (t0, y0, before) = (*t, *y, events.len());
+    to_flight(ctx, from, y);
+    let (next, y_after) = land(ctx, touching, t, y, events);
+    let kin = Kinematics::flying_at(&ctx.scene.body, pressed, &y_after);
+    let approach = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
+    let settle = settling_speed(ctx, &y_after, &kin);
+    if approach > settle {
+        return next;
+    }
+    // The pressed surface stays on the plane (it neither leaves nor, beyond the settling
+    // speed, approaches it, which would need an impulse there too): the body goes on
+    // touching with it, and with the new surface too where that one stays.
+    let stays = approach >= -settle && from != Mode::Rolling;
+    let rebounds = matches!(next, Next::Go(Mode::Flight));
+    if stays {
+        let mut on = y_after;
+        ctx.surface.set(pressed);
+        clear_flight_slots(ctx, &mut on);
+        let kept =
+            |e: &EventRecord| matches!(e.kind, EventKind::Touchdown { .. } | EventKind::Impact(_));
+        if rebounds {
+            renew_reference(ctx, &mut on);
+            retain_from(events, before, kept);
+            *y = on;
+            return Next::Go(from);
+        }
+        ctx.second.set(touching);
+        if let Some(on) = onto_two_contacts(ctx, on) {
+            retain_from(events, before, kept);
+            switch(events, *t, from, Mode::TwoContacts);
+            *y = on;
+            return Next::Go(Mode::TwoContacts);
+        }
+    }
+    events.truncate(before);
+    ctx.surface.set(pressed);
+    (*t, *y) = (t0, y0);
+    Next::Stop(
+        Status::SeveralContacts {
+            touching,
+            pressed,
+            approach,
+        },
+        from,
+    )
+}
+
+/// Keeps of `events[from..]` those that pass `keep`.
+fn retain_from(events: &mut Vec<EventRecord>, from: usize, keep: impl Fn(&EventRecord) -> bool) {
+    let tail: Vec<EventRecord> = events.drain(from..).filter(|e| keep(e)).collect();
+    events.extend(tail);
+}
+
+/// The contact-form state `y` (on `Context::surface`) on both surfaces: the second
+/// contact's constraint restored (`TwoContacts::project`), where both normal forces are
+/// positive, the law consistent and, with friction, both contacts slipping (sticking at
+/// one of two contacts is not simulated); else `None`.
+fn onto_two_contacts<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    mut y: State,
+) -> Option<State> {
+    let sys = ctx.system::<TwoContactsPhase>();
+    sys.project(&mut y);
+    let ev = sys.evaluate(&y);
+    let r = &ev.response;
+    let pressed = r.second_normal > 0.0 && r.normal - r.second_normal > 0.0;
+    let slipping = ctx.scene.contact.friction().is_none_or(|mu| mu == 0.0) || {
+        let n = &ctx.numerics;
+        let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
+        let second = Kinematics {
+            contact,
+            slip,
+            ..ev.kin
+        };
+        Sliding::slip_above_floor(&ev.kin, n.slip_floor, n.v_min) > 0.0
+            && Sliding::slip_above_floor(&second, n.slip_floor, n.v_min) > 0.0
+    };
+    (pressed && r.painleve > PAINLEVE_COLLAPSE && slipping).then_some(y)
+}
+
+/// One of the two surfaces in contact leaves the plane (its normal force reached zero:
+/// the first, `Context::surface`, with `first_leaves`, else the second) at (t, y): the
+/// body goes on touching with the other alone, which enters the phase the rule "on the
+/// plane" gives ([`on_plane`]), or leaves the plane as well where it does not push
+/// ([`lift_off`]).
+pub(super) fn leave_second<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    first_leaves: bool,
+    t: f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    if first_leaves {
+        touch(ctx, ctx.second.get(), t, events);
+    }
+    let mut placed = *y;
+    match on_plane(ctx, Arrival::Landing { stuck: false }, &mut placed) {
+        Placed::SlipStopped => {
+            *y = placed;
+            events.push(EventRecord {
+                kind: EventKind::SlipStop,
+                t,
+            });
+            Next::Stop(Status::SlipStopped, Mode::Sliding)
+        }
+        Placed::In(mode) => {
+            *y = placed;
+            if pushes(ctx, mode, y) {
+                switch(events, t, Mode::TwoContacts, mode);
+                Next::Go(mode)
+            } else {
+                lift_off(ctx, mode, t, y, events)
+            }
+        }
+    }
+}
+
+/// The touchdown of `surface` ([`touchdown`]), also returning the state right after the
+/// impact (in flight form).
+fn land<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    surface: Surface,
+    t: &mut f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> (Next, State) {
+    let body = &ctx.scene.body;
+    (*t, *y) = back_to_contact(ctx, surface, *t, y);
+    let kin = Kinematics::flying_at(body, surface, y);
+    touch(ctx, surface, *t, events);
     let rot = kin.rot;
     let approach = Approach {
         mass: body.mass(),
@@ -279,7 +456,7 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         v_g: kin.v_g,
         omega: rot * kin.omega,
     };
-    let law = tangential(m.scene.contact);
+    let law = tangential(ctx.scene.contact);
     let pre = *y;
     // The state after an impact: its velocities, the loss in W, and no gap (it is zero to
     // round-off at the located contact).
@@ -294,14 +471,15 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         y[state::HEIGHT] = kin.contact.height;
         y
     };
-    let mut hit = impact::resolve(&approach, law, m.scene.landing.restitution);
+    let mut hit = impact::resolve(&approach, law, ctx.scene.landing.restitution);
     *y = after(&hit);
     // The settling speed after the impact: its rates decide what presses the body down.
-    let settles = hit.normal_velocity.1 <= settling_speed(m, y, &kin);
+    let settles = hit.normal_velocity.1 <= settling_speed(ctx, y, &kin);
     if settles && hit.normal_velocity.1 > 0.0 {
         hit = impact::resolve(&approach, law, 0.0);
         *y = after(&hit);
     }
+    let after_impact = *y;
     events.push(EventRecord {
         kind: EventKind::Touchdown {
             speed: -hit.normal_velocity.0,
@@ -325,11 +503,11 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
     };
     if !settles {
         impact(events, false);
-        return Next::Go(Mode::Flight);
+        return (Next::Go(Mode::Flight), after_impact);
     }
     let mut landed = *y;
-    clear_flight_slots(m, &mut landed);
-    match on_plane(m, Arrival::Landing { stuck: hit.stuck }, &mut landed) {
+    clear_flight_slots(ctx, &mut landed);
+    let next = match on_plane(ctx, Arrival::Landing { stuck: hit.stuck }, &mut landed) {
         Placed::SlipStopped => {
             impact(events, true);
             *y = landed;
@@ -339,7 +517,7 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
             });
             Next::Stop(Status::SlipStopped, Mode::Sliding)
         }
-        Placed::In(mode) if pushes(m, mode, &landed) => {
+        Placed::In(mode) if pushes(ctx, mode, &landed) => {
             impact(events, true);
             *y = landed;
             switch(events, *t, Mode::Flight, mode);
@@ -349,11 +527,11 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         // unless flight is inconsistent there too.
         // The state it flies from is the one on the plane (for rolling, stuck): the
         // consistency of flight was decided there.
-        Placed::In(mode) => match flight_is_consistent(m, mode, &landed) {
+        Placed::In(mode) => match flight_is_consistent(ctx, mode, &landed) {
             Ok(()) => {
                 impact(events, false);
                 *y = landed;
-                to_flight(m, mode, y);
+                to_flight(ctx, mode, y);
                 Next::Go(Mode::Flight)
             }
             Err(status) => {
@@ -362,23 +540,48 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
                 Next::Stop(status, mode)
             }
         },
+    };
+    (next, after_impact)
+}
+
+/// Makes `surface` the one in contact from t on, recording the change of surface (bodies
+/// with contact spheres only).
+pub(super) fn touch<E>(
+    ctx: &Context<'_, E>,
+    surface: Surface,
+    t: f64,
+    events: &mut Vec<EventRecord>,
+) {
+    let from = ctx.surface.replace(surface);
+    if from != surface {
+        events.push(EventRecord {
+            kind: EventKind::ContactSurface { from, to: surface },
+            t,
+        });
     }
 }
 
-/// The state on the flight's trajectory through (t, y) where the gap is zero: touchdown
+/// The state on the flight's trajectory through (t, y) where the gap of `surface` is
+/// zero: touchdown
 /// is located at gap = −δz (`phase::flight`), and an impact taken there, with the
 /// penetration then removed, would add 2 a δz to v_n² at every bounce (a: the gap's
 /// free deceleration) — enough to stall a Zeno sequence above the settling speed
 /// whenever a e²/(1 − e²) > g (docs/physics.md, "Settling"). Newton's iteration on s,
-/// gap(t + s) = 0 with d gap/dt = v_n, the lowest point's normal velocity, each y(t + s)
+/// gap(t + s) = 0 with d gap/dt = v_n, that surface's lowest point's normal velocity, each y(t + s)
 /// one RK4 step of the flight system from (t, y); |s| ≈ δz/|v_n| is at most a few ns.
-fn back_to_contact<E: Effect>(m: &Machine<'_, E>, t: f64, y: &State) -> (f64, State) {
-    let body = &m.scene.body;
+fn back_to_contact<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    surface: Surface,
+    t: f64,
+    y: &State,
+) -> (f64, State) {
+    let body = &ctx.scene.body;
     let gap_and_rate = |y: &State| {
-        let kin = Kinematics::flying(body, y);
+        let kin = Kinematics::flying_at(body, surface, y);
         let v_n = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
         (kin.gap, v_n)
     };
+    let fly = ctx.system::<FlightPhase>();
     let mut k = [State::zeros(); 4];
     let (mut s, mut ys) = (0.0, *y);
     for _ in 0..BACK_STEPS {
@@ -387,7 +590,7 @@ fn back_to_contact<E: Effect>(m: &Machine<'_, E>, t: f64, y: &State) -> (f64, St
             break;
         }
         s -= gap / v_n;
-        ys = rk4_step(&m.fly, t, y, s, &mut k);
+        ys = rk4_step(&fly, t, y, s, &mut k);
     }
     (t + s, ys)
 }
@@ -395,10 +598,14 @@ fn back_to_contact<E: Effect>(m: &Machine<'_, E>, t: f64, y: &State) -> (f64, St
 /// The settling speed at the touchdown state `y` (`Numerics::settling_speed`), with the
 /// gap's deceleration with no contact force a = (m g − f_z − m u·I⁻¹T − m κ)/m
 /// (see [`flight_is_consistent`]).
-fn settling_speed<E: Effect>(m: &Machine<'_, E>, y: &State, kin: &Kinematics) -> f64 {
-    let free = m.free.evaluate(y);
-    let decel = free.response.normal * free.response.painleve / m.scene.body.mass();
-    m.numerics.settling_speed(decel, kin)
+fn settling_speed<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    y: &State,
+    kin: &Kinematics,
+) -> f64 {
+    let free = ctx.system::<FrictionlessPhase>().evaluate(y);
+    let decel = free.response.normal * free.response.painleve / ctx.scene.body.mass();
+    ctx.numerics.settling_speed(decel, kin)
 }
 
 /// The impact law of the scene's contact model: frictionless, Coulomb (sliding and
@@ -422,11 +629,14 @@ fn switch(events: &mut Vec<EventRecord>, t: f64, from: Mode, to: Mode) {
 }
 
 /// Removes the slip of `y` (`Rolling::stick`, onto the rolling constraint) and tells
-/// whether rolling holds there: the friction it needs within the cone, μN − |F_h| ≥ 0.
-pub(super) fn rolls_once_stuck<E: Effect>(m: &Machine<'_, E>, mu: f64, y: &mut State) -> bool {
-    Rolling::stick(&m.scene.body, y);
-    m.roll.project(y);
-    Rolling::cone_margin(&m.roll.evaluate(y).response, mu) >= 0.0
+/// whether rolling holds there: the friction it needs within the scene's cone,
+/// μN − |F_h| ≥ 0.
+pub(super) fn rolls_once_stuck<E: Effect + Copy>(ctx: &Context<'_, E>, y: &mut State) -> bool {
+    let roll = ctx.system::<RollingPhase>();
+    Rolling::stick(&ctx.body(), y);
+    roll.project(y);
+    let mu = ctx.scene.contact.friction().unwrap_or(0.0);
+    Rolling::cone_margin(&roll.evaluate(y).response, mu) >= 0.0
 }
 
 /// Sets the slip reference to −F_h/|F_h| of the rolling contact force: the slip that
@@ -435,26 +645,26 @@ pub(super) fn rolls_once_stuck<E: Effect>(m: &Machine<'_, E>, mu: f64, y: &mut S
 /// watch g = v_C·s_ref then starts positive, so a slip that round-off turns against s_ref
 /// is a located crossing (a stop), never a run on with friction along the slip
 /// (docs/physics.md, "Friction along the slip, and the onset's seed").
-fn start_sliding_from_rest<E: Effect>(m: &Machine<'_, E>, y: &mut State) {
-    let f_h = m.roll.evaluate(y).response.force.xy();
+fn start_sliding_from_rest<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut State) {
+    let f_h = ctx.system::<RollingPhase>().evaluate(y).response.force.xy();
     let s = if f_h.norm() > 0.0 {
         -f_h.normalize()
     } else {
         Vector2::x()
     };
     set_reference(y, s);
-    let seed = s * (SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&m.scene.body, y, false)));
+    let seed = s * (SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&ctx.body(), y, false)));
     // E + W stays exact: the seed's kinetic energy m (v_G·δv + |δv|²/2) is booked in W.
     let v = state::velocity(y);
-    y[state::WORK] -= m.scene.body.mass() * (v.dot(&seed) + 0.5 * seed.norm_squared());
+    y[state::WORK] -= ctx.scene.body.mass() * (v.dot(&seed) + 0.5 * seed.norm_squared());
     y[state::VEL] += seed.x;
     y[state::VEL + 1] += seed.y;
 }
 
 /// Sets s_ref to the slip's direction (kept where the slip is zero): the sliding law's
 /// friction opposes the slip from the segment's start, where v_C·s_ref > 0.
-pub(super) fn renew_reference<E: Effect>(m: &Machine<'_, E>, y: &mut State) {
-    let slip = m.slide.evaluate(y).kin.slip;
+pub(super) fn renew_reference<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut State) {
+    let slip = Kinematics::new(&ctx.body(), y, false).slip;
     if slip != Vector2::zeros() {
         set_reference(y, slip.normalize());
     }
@@ -463,10 +673,10 @@ pub(super) fn renew_reference<E: Effect>(m: &Machine<'_, E>, y: &mut State) {
 /// A persistent landing's state with z_G and v_Gz given by the contact from now on
 /// (their slots cleared for the slip reference): the kinetic energy of the rebound this
 /// removes (below the settling speed) is booked in W, so E + W stays exact.
-fn clear_flight_slots<E>(m: &Machine<'_, E>, y: &mut State) {
-    let body = &m.scene.body;
+fn clear_flight_slots<E>(ctx: &Context<'_, E>, y: &mut State) {
+    let body = &ctx.body();
     let energy =
-        |kin: &Kinematics| Invariants::from_kinematics(body, m.scene.gravity, kin, 0.0).energy;
+        |kin: &Kinematics| Invariants::from_kinematics(body, ctx.scene.gravity, kin, 0.0).energy;
     let flying = energy(&Kinematics::flying(body, y));
     y[state::HEIGHT] = 0.0;
     y[state::VEL_Z] = 0.0;

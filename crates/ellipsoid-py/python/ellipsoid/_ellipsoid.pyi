@@ -25,6 +25,7 @@ __all__ = [
     "SimulationError",
     "Trajectory",
     "__version__",
+    "_PANELS",
     "_argument_error",
     "_hdf5_plugins",
     "_study_workers",
@@ -43,6 +44,8 @@ __version__: Final[str]
 HDF5: Final[bool]
 #: Column names of a trajectory, in the CSV file's order.
 COLUMNS: Final[list[str]]
+#: The figure's panels as JSON, declared once for `ellipsoid plot` and `Trajectory.plot`.
+_PANELS: Final[str]
 
 def _study_workers(workers: Any = None) -> int:
     """`study`'s workers checked as `sweep`'s: 0 (one per CPU) or 1 to 4 per CPU (at least 8)."""
@@ -83,7 +86,7 @@ class SimulationError(EllipsoidError, RuntimeError):
     From `precision`: the reference run did not finish cleanly; `trajectory` holds its
     summary (no samples)."""
 
-    status: Literal["painleve", "inconsistent_contact", "solver_failure", "chattering", "non_finite", "cancelled"]
+    status: Literal["painleve", "inconsistent_contact", "several_contacts", "solver_failure", "chattering", "non_finite", "cancelled"]
     trajectory: Trajectory
 
 class OutputError(EllipsoidError, OSError):
@@ -228,12 +231,12 @@ class Trajectory:
         """Height of the body's lowest point above the plane [m] (0 in contact)."""
     @property
     def mode(self) -> npt.NDArray[np.str_]:
-        """Contact regime per sample: "frictionless", "sliding", "rolling" or "flight"."""
+        """Contact regime per sample: "frictionless", "sliding", "rolling", "flight" or "two_contacts"."""
     @property
     def summary(self) -> dict[str, Any]:
         """The command-line tool's summary dict (a fresh copy)."""
     @property
-    def status(self) -> Literal["completed", "observed", "lost_contact", "slip_stopped", "painleve", "inconsistent_contact", "solver_failure", "chattering", "non_finite", "cancelled"]: ...
+    def status(self) -> Literal["completed", "observed", "lost_contact", "slip_stopped", "painleve", "inconsistent_contact", "several_contacts", "solver_failure", "chattering", "non_finite", "cancelled"]: ...
     @property
     def message(self) -> str: ...
     @property
@@ -279,14 +282,14 @@ class Trajectory:
     def to_hdf5(self, path: _Path) -> None: ...
     def save(self, path: _Path) -> None: ...
     @overload
-    def view(self, path: None = None, *, title: str | None = None) -> str:
+    def view(self, path: None = None, *, title: str | None = None, columns: str | Sequence[str] | None = None) -> str:
         """The 3-D viewer page (the HTML of `ellipsoid view`), as text that Jupyter displays."""
     @overload
-    def view(self, path: _Path, *, title: str | None = None) -> os.PathLike[str]:
+    def view(self, path: _Path, *, title: str | None = None, columns: str | Sequence[str] | None = None) -> os.PathLike[str]:
         """Writes the 3-D viewer page to `path`; Jupyter displays the file."""
     def _repr_html_(self) -> str: ...
     def animate(self, path: _Path, *, width: int = 480, height: int = 360, fps: float = 25.0, speed: float = 1.0) -> int:
-        """Writes the run as an animated GIF (no browser needed); returns the frame count."""
+        """Writes the run as an animated GIF (no browser needed), or MP4 for a `.mp4` path (needs ffmpeg); returns the frame count."""
     def plot(self, panels: str | Sequence[str] | None = None, *, columns: str | Sequence[str] | None = None, ax: Any = None) -> Any:
         """The panels of `ellipsoid plot`, or any columns, as a matplotlib Figure (needs matplotlib)."""
 

@@ -1,14 +1,17 @@
 """`Trajectory.plot`: the panels of `ellipsoid plot` drawn with matplotlib (an optional
 dependency, imported only here).
 
-Panels, top to bottom: theta (θ(t)), rates (θ̇, φ̇, ψ̇, and the world-frame vertical spin
-when the trajectory has it; φ̇ and ψ̇ are left out where sin θ < 0.1, near the z-x-z
-singularity at θ = 0 where they diverge as 1/sin θ), energy (E, E + W when work is dissipated, and the relative
-drift of the conserved quantity on a log axis), forces (normal force and slip speed with
-the contact mode shaded), path (the paths on the plane of the contact point, G and the geometric centre C0). Events
-are dashed vertical lines, labelled by kind in the first time panel. SI units on every
-axis. Or any output columns, one panel each (`columns=`), or drawn into an existing
-matplotlib Axes (`ax=`), so figures compose.
+The panels are declared once for both renderers (the extension's `_PANELS`, the JSON of
+`crates/ellipsoid-io/assets/panels.json`): each a row of one or two axes with their titles,
+labels with units, series, colours and the contact-mode shading. Top to bottom: theta
+(θ(t)), rates (θ̇, φ̇, ψ̇, and the world-frame vertical spin when the trajectory has it;
+φ̇ and ψ̇ are left out where sin θ < 0.1, near the z-x-z singularity at θ = 0 where they
+diverge as 1/sin θ), energy (E, E + W when work is dissipated, and the relative drift of
+the conserved quantity on a log axis), forces (normal force and slip speed with the
+contact mode shaded), path (the paths on the plane of G, the contact point and the
+geometric centre C0). Events are dashed vertical lines, labelled by kind in the first time
+panel. SI units on every axis. Or any output columns, one panel each (`columns=`), or
+drawn into an existing matplotlib Axes (`ax=`), so figures compose.
 
 In a Jupyter notebook the Figure displays itself (PNG, no `%matplotlib inline` needed);
 in a script it is a pyplot figure, so `plt.show()` shows it and `fig.savefig("x.pdf")`
@@ -21,15 +24,20 @@ from collections.abc import Sequence
 from typing import Any
 
 import io
+import json
+import os
 import sys
 
 import numpy as np
 
-PANELS = ("theta", "rates", "energy", "forces", "path")
-_MODE_COLORS = {"sliding": "#ffe3c4", "rolling": "#d4f0d4", "frictionless": "#eeeeee"}
-_EVENT = "#8040a0"
-#: Below this sin θ the Euler rates φ̇, ψ̇ are not drawn (they diverge as 1/sin θ).
-_SIN_SINGULAR = 0.1
+from ellipsoid._ellipsoid import _PANELS
+
+#: The declaration of the panels, shared with `ellipsoid plot`.
+DECLARATION: dict[str, Any] = json.loads(_PANELS)
+PANELS = tuple(p["name"] for p in DECLARATION["panels"])
+_BY_NAME = {p["name"]: p for p in DECLARATION["panels"]}
+#: Drift values below this are drawn at it (an exact zero has no place on a log axis).
+_FLOOR = 1e-17
 #: At most this many events are labelled (all are drawn).
 _EVENT_LABELS = 12
 
@@ -108,23 +116,39 @@ def _drift(traj: Any) -> tuple[np.ndarray, str]:
     return (total - total[0]) / scale, ("E + W" if dissipative else "E")
 
 
-def _time_axis(ax: Any, traj: Any, shade: bool = False, labels: bool = False) -> None:
-    ax.set_xlabel("time t (s)")
-    events = traj.events
-    for i, e in enumerate(events):
-        ax.axvline(e["t"], color=_EVENT, ls="--", lw=0.9)
+def _shade(ax: Any, traj: Any) -> None:
+    """The contact mode shaded behind the data, in the declared fills."""
+    fills = {m["mode"]: m["fill"] for m in DECLARATION["modes"]}
+    t, mode = traj.t, traj.mode
+    start = 0
+    for i in range(1, len(t) + 1):
+        if i == len(t) or mode[i] != mode[start]:
+            end = t[i - 1] if i == len(t) else t[i]
+            fill = fills.get(str(mode[start]), DECLARATION["modes"][-1]["fill"])
+            ax.axvspan(t[start], end, color=fill, lw=0, zorder=0)
+            start = i
+
+
+def _shaded_title(traj: Any) -> str:
+    """The suffix of a shaded axis's title for the modes present, in order of appearance."""
+    names = {m["mode"]: m["name"] for m in DECLARATION["modes"]}
+    modes = [str(m) for m in dict.fromkeys(traj.mode.tolist()) if m]
+    if not modes:
+        return ""
+    listed = ", ".join(f"{m} {names.get(m, DECLARATION['modes'][-1]['name'])}" for m in modes)
+    return str(DECLARATION["shaded_suffix"]).replace("{modes}", listed)
+
+
+def _time_axis(ax: Any, traj: Any, labels: bool = False) -> None:
+    """The time label, the events (dashed; the first ones named when `labels`), the grid."""
+    ax.set_xlabel(DECLARATION["time_label"])
+    color = DECLARATION["events"]["color"]
+    for i, e in enumerate(traj.events):
+        ax.axvline(e["t"], color=color, ls="--", lw=0.9)
         if labels and i < _EVENT_LABELS:
             name = e.get("name", e["kind"])
             ax.annotate(name, (e["t"], 1.0), xycoords=("data", "axes fraction"), xytext=(2, -2),
-                        textcoords="offset points", rotation=90, va="top", fontsize=7, color=_EVENT)
-    if shade and len(traj):
-        t, mode = traj.t, traj.mode
-        start = 0
-        for i in range(1, len(t) + 1):
-            if i == len(t) or mode[i] != mode[start]:
-                end = t[i - 1] if i == len(t) else t[i]
-                ax.axvspan(t[start], end, color=_MODE_COLORS.get(str(mode[start]), "#e0e0f8"), lw=0, zorder=0)
-                start = i
+                        textcoords="offset points", rotation=90, va="top", fontsize=7, color=color)
     ax.grid(alpha=0.3)
 
 
@@ -143,59 +167,110 @@ def _columns(traj: Any, columns: str | Sequence[str]) -> list[str]:
     return names
 
 
-def _draw_column(ax: Any, traj: Any, name: str, labels: bool) -> None:
+def _draw_column(ax: Any, traj: Any, name: str, labels: bool, alone: bool = True) -> None:
+    """One output column against time; `alone` on its axes: titled by its name, in the
+    declared colour (else in matplotlib's colour cycle, beside the others)."""
     unit = traj.units[name]
-    ax.plot(traj.t, getattr(traj, name), label=f"{name} ({unit})")
+    color = DECLARATION["column_color"] if alone else None
+    ax.plot(traj.t, getattr(traj, name), color=color, label=f"{name} ({unit})")
     ax.set_ylabel(f"{name} ({unit})")
+    if alone:
+        ax.set_title(name)
     _time_axis(ax, traj, labels=labels)
 
 
-def _draw_rates(ax: Any, traj: Any) -> None:
-    t = traj.t
-    singular = np.abs(np.sin(traj.theta)) < _SIN_SINGULAR
-    ax.plot(t, traj.theta_dot, label="θ̇ (theta_dot)")
-    for data, label in ((traj.phi_dot, "φ̇ (phi_dot)"), (traj.psi_dot, "ψ̇ (psi_dot)")):
-        ax.plot(t, np.where(singular, np.nan, data), label=label)
-    wz = getattr(traj, "omega_world_z", None)
-    if wz is not None:
-        ax.plot(t, wz, label="ω_z, world (omega_world_z)")
-    ax.set_ylabel("rate (rad/s)")
-    title = "Euler rates" + (" and the vertical spin" if wz is not None else "")
-    if singular.any():
-        title += f" (φ̇, ψ̇ hidden where sin θ < {_SIN_SINGULAR}: singular there)"
-    ax.set_title(title)
-    _legend(ax)
-    _time_axis(ax, traj)
+def _suptitle(traj: Any) -> str:
+    """The figure's title, as `ellipsoid plot` makes it: the scenario's file name."""
+    return os.path.basename(traj.scenario.source)
 
 
-def _draw_path(ax: Any, traj: Any) -> None:
-    ax.plot(traj.x, traj.y, color="#808080", lw=2, label="G")
-    contact = traj._contact_path()
-    centre = traj._centre_path()
-    if contact is not None:
-        ax.plot(contact[0], contact[1], color="#1f77b4", lw=0.8, label="contact point")
-        ax.set_title("paths on the plane: contact point, G" + (", centre C0" if centre is not None else ""))
-    if centre is not None:
-        ax.plot(centre[0], centre[1], color="#ff7f0e", lw=0.8, label="centre C0")
+def _series_data(traj: Any, series: dict[str, Any]) -> tuple[np.ndarray, bool] | None:
+    """A declared series' values against `traj.t` (NaN where left out) and whether some were
+    left out: a column, or `energy_plus_work` (when work is dissipated) or `drift`; an
+    `euler` series only where |sin θ| is at least the declared threshold. None when the
+    trajectory lacks it."""
+    data = series["data"]
+    if data == "energy_plus_work":
+        work = np.asarray(traj.work)
+        if not np.any(work != 0):
+            return None
+        values = np.asarray(traj.energy) + work
+    elif data == "drift":
+        values = _drift(traj)[0]
     else:
-        ax.set_title("path of G on the plane")
-    ax.plot([traj.x[0]], [traj.y[0]], "o", color="#2ca02c", label="start")
+        values = getattr(traj, data, None)
+        if not isinstance(values, np.ndarray):
+            return None
+    if series.get("euler"):
+        singular = np.abs(np.sin(traj.theta)) < DECLARATION["euler_min_sin_theta"]
+        return np.where(singular, np.nan, values), bool(singular.any())
+    return np.asarray(values), False
+
+
+def _draw_axis(ax: Any, traj: Any, axis: dict[str, Any], labels: bool = False) -> None:
+    """One declared axis against time: its series, its title with the suffixes of what is
+    drawn (optional series present, Euler rates left out, the modes shaded)."""
+    conserved = _drift(traj)[1]
+    title = axis["title"].replace("{conserved}", conserved)
+    left_out, drawn = False, 0
+    for series in axis["series"]:
+        found = _series_data(traj, series)
+        if found is None:
+            if series.get("optional"):
+                continue
+            raise ValueError(f"the {series['data']} series has no data")
+        values, some_out = found
+        left_out |= some_out
+        if np.all(np.isnan(values)):
+            continue
+        label = series["label"].replace("{conserved}", conserved)
+        if axis.get("log"):
+            ax.semilogy(traj.t, np.maximum(np.abs(values), _FLOOR), color=series["color"], label=label)
+        else:
+            ax.plot(traj.t, values, color=series["color"], label=label)
+        title += series.get("title_suffix", "")
+        drawn += 1
+    if left_out:
+        title += DECLARATION["euler_singular_suffix"]
+    if axis.get("shade") and len(traj):
+        _shade(ax, traj)
+        title += _shaded_title(traj)
+    ax.set_title(title)
+    ax.set_ylabel(axis["ylabel"])
+    _time_axis(ax, traj, labels=labels)
+    if drawn > 1 or traj.events:
+        _legend(ax)
+
+
+def _draw_path(ax: Any, traj: Any, axis: dict[str, Any]) -> None:
+    """The declared path panel: the paths on the plane of G, the contact point and the
+    geometric centre (those the trajectory gives), the start marked; equal scales."""
+    paths = {"G": (traj.x, traj.y), "contact": traj._contact_path(), "centre": traj._centre_path()}
+    widths = {"G": 2.0}
+    for series in axis["series"]:
+        data, color, label = series["data"], series["color"], series["label"]
+        if data == "start":
+            ax.plot([traj.x[0]], [traj.y[0]], "o", color=color, label=label)
+        elif paths.get(data) is not None:
+            x, y = paths[data]
+            ax.plot(x, y, color=color, lw=widths.get(data, 0.8), label=label)
+    unknown = axis["unknown_contact_suffix"].replace("{note}", "body unknown") if paths["contact"] is None else ""
+    ax.set_title(axis["title"] + unknown)
     ax.set_aspect("equal", adjustable="datalim")
-    ax.set_xlabel("x (m)")
-    ax.set_ylabel("y (m)")
+    ax.set_xlabel(axis.get("xlabel", "x (m)"))
+    ax.set_ylabel(axis["ylabel"])
     _legend(ax)
     ax.grid(alpha=0.3)
 
 
-def _draw_theta(ax: Any, traj: Any) -> None:
-    ax.plot(traj.t, traj.theta, color="#1f77b4", label="θ")
-    ax.set_ylabel("θ (rad)")
-    ax.set_title("tilt of the symmetry axis θ")
-    _time_axis(ax, traj, labels=True)
-
-
-#: The panels drawn on one Axes (the others take two).
-_SINGLE = {"theta": _draw_theta, "rates": _draw_rates, "path": _draw_path}
+def _draw_panel(axes: Sequence[Any], traj: Any, name: str, labels: bool) -> None:
+    """A declared panel into its axes (one per declared axis)."""
+    declared = _BY_NAME[name]["axes"]
+    if name == "path":
+        _draw_path(axes[0], traj, declared[0])
+        return
+    for i, (ax, axis) in enumerate(zip(axes, declared)):
+        _draw_axis(ax, traj, axis, labels=labels and i == 0)
 
 
 def plot(traj: Any, panels: str | Sequence[str] | None = None, columns: str | Sequence[str] | None = None, ax: Any = None) -> Any:
@@ -207,52 +282,32 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None, columns: str | Se
         names = _columns(traj, columns)
         if ax is not None:
             for i, c in enumerate(names):
-                _draw_column(ax, traj, c, labels=i == 0)
+                _draw_column(ax, traj, c, labels=i == 0, alone=len(names) == 1)
             if len(names) > 1:
                 ax.set_ylabel(", ".join(f"{c} ({traj.units[c]})" for c in names))
             _legend(ax)
             return ax.figure
         fig = _figure(figsize=(11, 2.6 * len(names)), layout="constrained")
-        fig.suptitle(traj.scenario.source)
+        fig.suptitle(_suptitle(traj))
         axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
         for i, (a, c) in enumerate(zip(axes, names)):
             _draw_column(a, traj, c, labels=i == 0)
         return fig
     names = _panels(panels)
     if ax is not None:
-        if len(names) != 1 or names[0] not in _SINGLE:
-            raise _bad("panels", panels, f"ax= takes one panel of {', '.join(_SINGLE)} (or columns=); energy and forces draw two axes")
-        _SINGLE[names[0]](ax, traj)
+        if len(names) != 1 or len(_BY_NAME[names[0]]["axes"]) != 1:
+            single = ", ".join(n for n in PANELS if len(_BY_NAME[n]["axes"]) == 1)
+            raise _bad("panels", panels, f"ax= takes one panel of {single} (or columns=); the others draw two axes")
+        _draw_panel([ax], traj, names[0], labels=True)
         return ax.figure
     fig = _figure(figsize=(11, 3.0 * len(names)), layout="constrained")
     grid = fig.add_gridspec(len(names), 2)
-    t = traj.t
-    fig.suptitle(traj.scenario.source)
+    fig.suptitle(_suptitle(traj))
+    first_time = next((n for n in names if n != "path"), None)
     for row, name in enumerate(names):
-        if name in _SINGLE:
-            _SINGLE[name](fig.add_subplot(grid[row, :]), traj)
-        elif name == "energy":
-            ax = fig.add_subplot(grid[row, 0])
-            ax.plot(t, traj.energy, label="E")
-            d, what = _drift(traj)
-            if what == "E + W":
-                ax.plot(t, traj.energy + traj.work, color="#2ca02c", label="E + W")
-                _legend(ax)
-            ax.set_ylabel("energy (J)")
-            ax.set_title("energy")
-            _time_axis(ax, traj)
-            ax = fig.add_subplot(grid[row, 1])
-            ax.semilogy(t, np.maximum(np.abs(d), 1e-17), color="#d62728")
-            ax.set_ylabel("|relative drift| (1, log)")
-            ax.set_title(f"relative drift of {what}")
-            _time_axis(ax, traj)
+        if len(_BY_NAME[name]["axes"]) == 1:
+            axes = [fig.add_subplot(grid[row, :])]
         else:
-            for col, (data, label, title) in enumerate(
-                ((traj.normal_force, "normal force N (N)", "normal force"), (traj.slip_speed, "slip speed |v_C| (m/s)", "slip speed"))
-            ):
-                ax = fig.add_subplot(grid[row, col])
-                ax.plot(t, data, color="#1f77b4" if col == 0 else "#ff7f0e")
-                ax.set_ylabel(label)
-                ax.set_title(f"{title} (shaded: contact mode)")
-                _time_axis(ax, traj, shade=True)
+            axes = [fig.add_subplot(grid[row, 0]), fig.add_subplot(grid[row, 1])]
+        _draw_panel(axes, traj, name, labels=name == first_time)
     return fig

@@ -395,7 +395,7 @@ pub fn key_unit(key: &str) -> Option<&'static str> {
     Some(match (table, last) {
         (_, l) if l.ends_with("_deg") && l.contains("_dot") => "deg/s",
         (_, l) if l.ends_with("_deg") => "deg",
-        ("body", "a" | "b" | "c" | "com_offset" | "com_offset_vector") => "m",
+        ("body", "a" | "b" | "c" | "com_offset" | "com_offset_vector" | "center" | "radius") => "m",
         ("body", "mass") => "kg",
         ("body", "inertia") => "kg m^2",
         ("initial", "theta" | "phi" | "psi" | "angle") => "rad",

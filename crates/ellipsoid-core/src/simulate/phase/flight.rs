@@ -9,7 +9,7 @@ use crate::model::{Evaluation, Flight, System};
 use crate::state::State;
 
 use super::{Next, Phase};
-use crate::simulate::machine::Machine;
+use crate::simulate::context::Context;
 use crate::simulate::outcome::{EventRecord, Mode};
 use crate::simulate::transition::touchdown;
 
@@ -27,34 +27,35 @@ impl Phase for FlightPhase {
     type Law = Flight;
     type Watch = FlightWatch;
 
-    fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Flight, E> {
-        &m.fly
+    fn law<E>(_ctx: &Context<'_, E>) -> Flight {
+        Flight
     }
 
-    fn watches<E: Effect + Copy>(_m: &Machine<'_, E>) -> Vec<FlightWatch> {
+    fn watches<E>(_ctx: &Context<'_, E>) -> Vec<FlightWatch> {
         vec![FlightWatch::Gap]
     }
 
-    fn watch<E: Effect + Copy>(
-        m: &Machine<'_, E>,
+    fn watch<E: Effect>(
+        ctx: &Context<'_, E>,
+        _sys: &System<Flight, E>,
         watch: FlightWatch,
         ev: &Evaluation,
         _y: &State,
     ) -> f64 {
         match watch {
-            FlightWatch::Gap => ev.kin.gap + m.numerics.gap_resolution(&ev.kin),
+            FlightWatch::Gap => ev.kin.gap + ctx.numerics.gap_resolution(&ev.kin),
         }
     }
 
     fn on_event<E: Effect + Copy + 'static>(
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         watch: FlightWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            FlightWatch::Gap => touchdown(m, t, y, events),
+            FlightWatch::Gap => touchdown(ctx, t, y, events),
         }
     }
 }

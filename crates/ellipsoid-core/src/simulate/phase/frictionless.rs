@@ -5,10 +5,11 @@ use crate::effects::Effect;
 use crate::model::{Evaluation, Frictionless, System};
 use crate::state::State;
 
-use super::{Next, Phase};
-use crate::simulate::machine::Machine;
+use super::{Next, Phase, other_surfaces, touch_gap};
+use crate::body::Surface;
+use crate::simulate::context::Context;
 use crate::simulate::outcome::{EventRecord, Mode};
-use crate::simulate::transition::lift_off;
+use crate::simulate::transition::{lift_off, second_touchdown};
 
 pub(in crate::simulate) struct FrictionlessPhase;
 
@@ -17,6 +18,8 @@ pub(in crate::simulate) struct FrictionlessPhase;
 pub(in crate::simulate) enum FrictionlessWatch {
     /// g = N (loss of contact).
     Normal,
+    /// Another surface's gap ([`touch_gap`]).
+    Touch(Surface),
 }
 
 impl Phase for FrictionlessPhase {
@@ -24,34 +27,42 @@ impl Phase for FrictionlessPhase {
     type Law = Frictionless;
     type Watch = FrictionlessWatch;
 
-    fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Frictionless, E> {
-        &m.free
+    fn law<E>(_ctx: &Context<'_, E>) -> Frictionless {
+        Frictionless
     }
 
-    fn watches<E: Effect + Copy>(_m: &Machine<'_, E>) -> Vec<FrictionlessWatch> {
-        vec![FrictionlessWatch::Normal]
+    fn watches<E>(ctx: &Context<'_, E>) -> Vec<FrictionlessWatch> {
+        let touches = other_surfaces(ctx).map(FrictionlessWatch::Touch);
+        std::iter::once(FrictionlessWatch::Normal)
+            .chain(touches)
+            .collect()
     }
 
-    fn watch<E: Effect + Copy>(
-        _m: &Machine<'_, E>,
+    fn watch<E: Effect>(
+        ctx: &Context<'_, E>,
+        _sys: &System<Frictionless, E>,
         watch: FrictionlessWatch,
         ev: &Evaluation,
         _y: &State,
     ) -> f64 {
         match watch {
             FrictionlessWatch::Normal => ev.response.normal,
+            FrictionlessWatch::Touch(surface) => touch_gap(ctx, ev, surface),
         }
     }
 
     fn on_event<E: Effect + Copy + 'static>(
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         watch: FrictionlessWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            FrictionlessWatch::Normal => lift_off(m, Mode::Frictionless, *t, y, events),
+            FrictionlessWatch::Normal => lift_off(ctx, Mode::Frictionless, *t, y, events),
+            FrictionlessWatch::Touch(surface) => {
+                second_touchdown(ctx, Mode::Frictionless, surface, t, y, events)
+            }
         }
     }
 }

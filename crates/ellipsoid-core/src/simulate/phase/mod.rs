@@ -1,20 +1,29 @@
-//! Contact phases: each declares its ODE system (a contact law over the scene's effects;
+//! Contact phases: each declares its contact law as built from the scene (`Phase::law`;
 //! the law's `ContactLaw::ROLLING` is its kinematics kind — whether v_G is a state or
 //! follows from the no-slip constraint; z_G and v_Gz follow from the contact constraint in
 //! every phase but flight, where they are states), its watch functions (an enum of its
 //! own, matched exhaustively), and for each watch the transition it leads to
-//! (`transition`, where every transition is written). The hybrid machine (`machine`)
-//! runs any of them. A new phase touches six files today: its module here, a line in
-//! [`phase`] (the registry), its `Mode` (`outcome`), its transitions (`transition`), its
-//! contact law (`model`) and the machine's system for it (`machine`); the compiler lists
-//! every match that must learn the new mode and watches.
+//! (`transition`, where every transition is written). A phase reads only its
+//! [`Context`] — the scene, its numerics and effects — and the system it integrates; the
+//! hybrid machine (`machine`) runs any of them through the registry [`phase`].
+//!
+//! A new phase touches four files: its module here; this file (its `mod` line, its
+//! [`Mode`] and its arm of the registry [`phase`]); its transitions (`transition`); its
+//! contact law (a module of `model`, named in `model/mod.rs`). The compiler lists every
+//! match that must learn the new mode and watches. (The two-contact phase, the first added
+//! this way, also needed a second normal force and the law's own dissipated power in
+//! `model::Response`, and its second surface in the [`Context`].)
 //!
 //! | phase | law | watches (g falling through 0) | on the event |
 //! |---|---|---|---|
 //! | frictionless | F = N e3 | N | lift-off |
 //! | sliding | Coulomb, F = N(e3 − μ ŝ) | N, v_C·s_ref, \|v_C\| − floor, Painlevé denominator | slip stop, Painlevé, lift-off |
 //! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left, lift-off |
-//! | flight | F = 0 | gap z_G − h(ζ) + δz | touchdown |
+//! | flight | F = 0 | gap z_G − h(ζ) + δz of the lowest surface | touchdown |
+//! | two contacts | sliding at two surfaces (`model::TwoContacts`) | N_1, N_2, each slip − floor, Painlevé denominator, a third surface's gap | one surface leaves; stop `several_contacts` or `painleve` |
+//!
+//! With contact spheres every contact phase also watches each other surface's gap
+//! ([`touch_gap`]), whose touchdown is `transition::second_touchdown`.
 //!
 //! With a contact disc (`Scene::disc`) the sliding law is Coulomb–Contensou's and the
 //! sliding phase watches N, √(\|v_C\|² + (R ω_n)²) − floor and the Painlevé denominator;
@@ -24,24 +33,97 @@ mod flight;
 mod frictionless;
 mod rolling;
 mod sliding;
+mod two_contacts;
 
 use std::marker::PhantomData;
 
+use serde::Serialize;
+
+use crate::body::Surface;
 use crate::effects::Effect;
 use crate::error::ModelError;
+use crate::geometry;
 use crate::integrate::IntegrateError;
 use crate::invariants::Invariants;
 use crate::model::{ContactLaw, Evaluation, Response, System};
 use crate::state::{EulerAngles, State};
 
-use super::machine::{Machine, Segment};
-use super::outcome::{EventRecord, Mode, Sample, Status};
+use super::context::Context;
+use super::machine::{Segment, segment};
+use super::outcome::{EventRecord, Sample, Status};
 use super::recorder::Recorder;
 
 pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
 pub(super) use sliding::{SlidingPhase, set_reference, slip_has_stopped, slip_is_zero};
+pub(super) use two_contacts::TwoContactsPhase;
+
+/// The contact phase in force (docs/physics.md, models 1–5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    Frictionless,
+    Sliding,
+    Rolling,
+    /// Off the plane (docs/physics.md, "Flight").
+    Flight,
+    /// Two surfaces on the plane at once, both sliding (docs/physics.md, "Contact
+    /// spheres").
+    TwoContacts,
+}
+
+impl Mode {
+    /// Every mode, in [`Mode::NAMES`] order.
+    pub const ALL: [Mode; 5] = [
+        Mode::Frictionless,
+        Mode::Sliding,
+        Mode::Rolling,
+        Mode::Flight,
+        Mode::TwoContacts,
+    ];
+    /// Their names in output files.
+    pub const NAMES: [&'static str; 5] = [
+        "frictionless",
+        "sliding",
+        "rolling",
+        "flight",
+        "two_contacts",
+    ];
+
+    /// Its name in output files.
+    pub fn name(self) -> &'static str {
+        Mode::NAMES[self as usize]
+    }
+}
+
+/// The registry: the phase of each mode.
+pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyPhase<E> {
+    match mode {
+        Mode::Frictionless => &Registered::<FrictionlessPhase>(PhantomData),
+        Mode::Sliding => &Registered::<SlidingPhase>(PhantomData),
+        Mode::Rolling => &Registered::<RollingPhase>(PhantomData),
+        Mode::Flight => &Registered::<FlightPhase>(PhantomData),
+        Mode::TwoContacts => &Registered::<TwoContactsPhase>(PhantomData),
+    }
+}
+
+/// The other surfaces a contact phase watches (bodies with contact spheres): every
+/// surface but the one in contact.
+pub(super) fn other_surfaces<'c, E>(ctx: &'c Context<'_, E>) -> impl Iterator<Item = Surface> + 'c {
+    let touching = ctx.surface.get();
+    ctx.scene.body.surfaces().filter(move |&s| s != touching)
+}
+
+/// The gap of `surface` while the body touches the plane with another, `ev` the contact
+/// phase's evaluation, plus the gap's round-off: h_k(ζ) − h_j(ζ) + δz
+/// (`geometry::height`; z_G = h_k in contact). Falling through zero, `surface` touches
+/// down (`transition::second_touchdown`).
+pub(super) fn touch_gap<E>(ctx: &Context<'_, E>, ev: &Evaluation, surface: Surface) -> f64 {
+    let kin = &ev.kin;
+    kin.contact.height - geometry::height(&ctx.scene.body, surface, kin.contact.zeta)
+        + ctx.numerics.gap_resolution(kin)
+}
 
 /// An event function of a segment: one of its phase's watches (by its index in
 /// [`Phase::watches`]), or an observable of the scene.
@@ -65,13 +147,14 @@ pub(super) trait Phase {
     type Law: ContactLaw;
     /// Its watch functions.
     type Watch: Copy;
-    /// Its ODE system.
-    fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Self::Law, E>;
+    /// Its contact law, as the scene gives it.
+    fn law<E>(ctx: &Context<'_, E>) -> Self::Law;
     /// Its watch functions (each falling through zero is an event).
-    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<Self::Watch>;
-    /// The value of one of its watches at a state.
-    fn watch<E: Effect + Copy>(
-        m: &Machine<'_, E>,
+    fn watches<E>(ctx: &Context<'_, E>) -> Vec<Self::Watch>;
+    /// The value of one of its watches at a state, `ev` its evaluation under `sys`.
+    fn watch<E: Effect>(
+        ctx: &Context<'_, E>,
+        sys: &System<Self::Law, E>,
         watch: Self::Watch,
         ev: &Evaluation,
         y: &State,
@@ -80,7 +163,7 @@ pub(super) trait Phase {
     /// state map at the switch) and `t` (a touchdown taken back to gap = 0), and records
     /// what happened in `events`.
     fn on_event<E: Effect + Copy + 'static>(
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         watch: Self::Watch,
         t: &mut f64,
         y: &mut State,
@@ -89,7 +172,7 @@ pub(super) trait Phase {
     /// The status when the integrator fails in this phase at (t, y), recording in
     /// `events` what that failure means physically, if anything.
     fn on_failure<E: Effect + Copy>(
-        _m: &Machine<'_, E>,
+        _ctx: &Context<'_, E>,
         _t: f64,
         _y: &State,
         error: IntegrateError,
@@ -102,27 +185,27 @@ pub(super) trait Phase {
     }
 }
 
-/// A phase seen through the machine's scene effects `E` (object-safe, for the registry).
+/// A phase seen through the scene's effects `E` (object-safe, for the registry).
 pub(super) trait AnyPhase<E> {
     fn segment(
         &self,
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         t0: f64,
         y0: State,
         rec: &mut Recorder<'_>,
     ) -> Result<Segment, ModelError>;
     fn sample(
         &self,
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         t: f64,
         y: &State,
         prev: Option<&EulerAngles>,
     ) -> (Sample, Invariants);
-    fn response(&self, m: &Machine<'_, E>, y: &State) -> Response;
+    fn response(&self, ctx: &Context<'_, E>, y: &State) -> Response;
     /// [`Phase::on_event`] of its watch number `watch`.
     fn on_event(
         &self,
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         watch: usize,
         t: &mut f64,
         y: &mut State,
@@ -130,7 +213,7 @@ pub(super) trait AnyPhase<E> {
     ) -> Next;
     fn on_failure(
         &self,
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         t: f64,
         y: &State,
         error: IntegrateError,
@@ -143,53 +226,44 @@ struct Registered<P>(PhantomData<P>);
 impl<P: Phase, E: Effect + Copy + 'static> AnyPhase<E> for Registered<P> {
     fn segment(
         &self,
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         t0: f64,
         y0: State,
         rec: &mut Recorder<'_>,
     ) -> Result<Segment, ModelError> {
-        m.segment::<P>(t0, y0, rec)
+        segment::<P, E>(ctx, t0, y0, rec)
     }
     fn sample(
         &self,
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         t: f64,
         y: &State,
         prev: Option<&EulerAngles>,
     ) -> (Sample, Invariants) {
-        m.sample_with(P::system(m), P::MODE, t, y, prev)
+        let sys = ctx.system::<P>();
+        ctx.sample(&sys, P::MODE, t, y, &sys.evaluate(y), prev)
     }
-    fn response(&self, m: &Machine<'_, E>, y: &State) -> Response {
-        P::system(m).evaluate(y).response
+    fn response(&self, ctx: &Context<'_, E>, y: &State) -> Response {
+        ctx.system::<P>().evaluate(y).response
     }
     fn on_event(
         &self,
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         watch: usize,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
-        P::on_event(m, P::watches(m)[watch], t, y, events)
+        P::on_event(ctx, P::watches(ctx)[watch], t, y, events)
     }
     fn on_failure(
         &self,
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         t: f64,
         y: &State,
         error: IntegrateError,
         events: &mut Vec<EventRecord>,
     ) -> Status {
-        P::on_failure(m, t, y, error, events)
-    }
-}
-
-/// The registry: the phase of each mode.
-pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyPhase<E> {
-    match mode {
-        Mode::Frictionless => &Registered::<FrictionlessPhase>(PhantomData),
-        Mode::Sliding => &Registered::<SlidingPhase>(PhantomData),
-        Mode::Rolling => &Registered::<RollingPhase>(PhantomData),
-        Mode::Flight => &Registered::<FlightPhase>(PhantomData),
+        P::on_failure(ctx, t, y, error, events)
     }
 }

@@ -6,11 +6,12 @@ use crate::effects::Effect;
 use crate::model::{Evaluation, Rolling, System};
 use crate::state::State;
 
-use super::{Next, Phase};
-use crate::simulate::machine::Machine;
+use super::{Next, Phase, other_surfaces, touch_gap};
+use crate::body::Surface;
+use crate::simulate::context::Context;
 use crate::simulate::outcome::{EventRecord, Mode};
 use crate::simulate::scene::ContactModel;
-use crate::simulate::transition::{cone_left, lift_off};
+use crate::simulate::transition::{cone_left, lift_off, second_touchdown};
 
 pub(in crate::simulate) struct RollingPhase;
 
@@ -19,8 +20,10 @@ pub(in crate::simulate) struct RollingPhase;
 pub(in crate::simulate) enum RollingWatch {
     /// g = N (loss of contact).
     Normal,
-    /// g = μN − |F_h| (rolling leaves the friction cone), with μ.
-    Cone(f64),
+    /// g = μN − |F_h| (rolling leaves the friction cone), μ the scene's.
+    Cone { friction: f64 },
+    /// Another surface's gap ([`touch_gap`]).
+    Touch(Surface),
 }
 
 impl Phase for RollingPhase {
@@ -28,40 +31,48 @@ impl Phase for RollingPhase {
     type Law = Rolling;
     type Watch = RollingWatch;
 
-    fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Rolling, E> {
-        &m.roll
+    fn law<E>(_ctx: &Context<'_, E>) -> Rolling {
+        Rolling
     }
 
-    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<RollingWatch> {
-        let mut w = vec![RollingWatch::Normal];
-        if let ContactModel::Coulomb { friction } = m.scene.contact {
-            w.push(RollingWatch::Cone(friction));
-        }
-        w
+    fn watches<E>(ctx: &Context<'_, E>) -> Vec<RollingWatch> {
+        let cone = match ctx.scene.contact {
+            ContactModel::Coulomb { friction } => Some(RollingWatch::Cone { friction }),
+            _ => None,
+        };
+        std::iter::once(RollingWatch::Normal)
+            .chain(cone)
+            .chain(other_surfaces(ctx).map(RollingWatch::Touch))
+            .collect()
     }
 
-    fn watch<E: Effect + Copy>(
-        _m: &Machine<'_, E>,
+    fn watch<E: Effect>(
+        ctx: &Context<'_, E>,
+        _sys: &System<Rolling, E>,
         watch: RollingWatch,
         ev: &Evaluation,
         _y: &State,
     ) -> f64 {
         match watch {
             RollingWatch::Normal => ev.response.normal,
-            RollingWatch::Cone(mu) => Rolling::cone_margin(&ev.response, mu),
+            RollingWatch::Cone { friction } => Rolling::cone_margin(&ev.response, friction),
+            RollingWatch::Touch(surface) => touch_gap(ctx, ev, surface),
         }
     }
 
     fn on_event<E: Effect + Copy + 'static>(
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         watch: RollingWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            RollingWatch::Normal => lift_off(m, Mode::Rolling, *t, y, events),
-            RollingWatch::Cone(_) => cone_left(m, *t, y, events),
+            RollingWatch::Normal => lift_off(ctx, Mode::Rolling, *t, y, events),
+            RollingWatch::Cone { .. } => cone_left(ctx, *t, y, events),
+            RollingWatch::Touch(surface) => {
+                second_touchdown(ctx, Mode::Rolling, surface, t, y, events)
+            }
         }
     }
 }

@@ -2,8 +2,8 @@
 //! the contact point slips. Watches: loss of contact (g = N), the slip stop, watched by
 //! two functions — the sign change of v_C·s_ref and, for a slip that grazes zero, |v_C|
 //! falling to a floor far below the tolerance (see `model::sliding`) — and a Painlevé
-//! inconsistency (g = 1 + m u·I⁻¹(r × d_b), or a solver failure where that denominator
-//! has collapsed). At a slip stop the pure sliding model ends; the Coulomb model sticks
+//! inconsistency (the denominator 1 + m u·I⁻¹(r × d_b) collapsing to `PAINLEVE_COLLAPSE`,
+//! or a solver failure below it). At a slip stop the pure sliding model ends; the Coulomb model sticks
 //! (`rolling::after_slip_stop`).
 //!
 //! With a contact disc (Coulomb–Contensou friction, `model::contensou`) the law is smooth
@@ -22,15 +22,16 @@ use crate::effects::Effect;
 use crate::integrate::{
     self, Action, Direction, Event, EventFn, IntegrateError, Method, StopReason,
 };
-use crate::model::{Evaluation, Sliding, System};
+use crate::model::{Evaluation, Kinematics, Sliding, System};
 use crate::state::{self, State};
 
-use super::{Next, Phase};
-use crate::simulate::machine::Machine;
+use super::{Next, Phase, other_surfaces, touch_gap};
+use crate::body::Surface;
+use crate::simulate::context::Context;
 use crate::simulate::numerics::{CONFIRM_GROWTH, CONFIRM_HORIZON, PAINLEVE_COLLAPSE};
 use crate::simulate::outcome::{EventKind, EventRecord, Mode, Status};
 use crate::simulate::transition::{
-    lift_off, painleve, renew_reference, rolls_once_stuck, slip_stop,
+    lift_off, painleve, renew_reference, rolls_once_stuck, second_touchdown, slip_stop,
 };
 
 pub(in crate::simulate) struct SlidingPhase;
@@ -45,8 +46,10 @@ pub(in crate::simulate) enum SlidingWatch {
     /// g = |v_C| − max(ε·scale, v_min), or with a contact disc the stop speed less its
     /// threshold (a grazing slip stop; see [`slip_floor`]).
     SlipFloor,
-    /// g = Painlevé denominator.
+    /// g = Painlevé denominator − [`PAINLEVE_COLLAPSE`].
     Painleve,
+    /// Another surface's gap ([`touch_gap`]).
+    Touch(Surface),
 }
 
 impl Phase for SlidingPhase {
@@ -54,28 +57,29 @@ impl Phase for SlidingPhase {
     type Law = Sliding;
     type Watch = SlidingWatch;
 
-    fn system<'m, E: Effect>(m: &'m Machine<'_, E>) -> &'m System<Sliding, E> {
-        &m.slide
-    }
-
-    fn watches<E: Effect + Copy>(m: &Machine<'_, E>) -> Vec<SlidingWatch> {
-        if m.slide.contact.disc.is_some() {
-            return vec![
-                SlidingWatch::Normal,
-                SlidingWatch::SlipFloor,
-                SlidingWatch::Painleve,
-            ];
+    /// Coulomb's law with the scene's μ (Coulomb–Contensou's with a contact disc) and
+    /// the numerics' slip band.
+    fn law<E>(ctx: &Context<'_, E>) -> Sliding {
+        Sliding {
+            friction: ctx.scene.contact.friction().unwrap_or(0.0),
+            disc: ctx.scene.disc,
+            band: ctx.numerics.band,
         }
-        vec![
-            SlidingWatch::Normal,
-            SlidingWatch::Slip,
-            SlidingWatch::SlipFloor,
-            SlidingWatch::Painleve,
-        ]
     }
 
-    fn watch<E: Effect + Copy>(
-        m: &Machine<'_, E>,
+    fn watches<E>(ctx: &Context<'_, E>) -> Vec<SlidingWatch> {
+        // A contact disc has no sign change of v_C·s_ref to watch (see the module docs).
+        let slip = ctx.scene.disc.is_none().then_some(SlidingWatch::Slip);
+        std::iter::once(SlidingWatch::Normal)
+            .chain(slip)
+            .chain([SlidingWatch::SlipFloor, SlidingWatch::Painleve])
+            .chain(other_surfaces(ctx).map(SlidingWatch::Touch))
+            .collect()
+    }
+
+    fn watch<E: Effect>(
+        ctx: &Context<'_, E>,
+        sys: &System<Sliding, E>,
         watch: SlidingWatch,
         ev: &Evaluation,
         y: &State,
@@ -84,49 +88,59 @@ impl Phase for SlidingPhase {
             SlidingWatch::Normal => ev.response.normal,
             SlidingWatch::Slip => Sliding::slip_along_reference(&ev.kin, y),
             SlidingWatch::SlipFloor => {
-                if m.slide.contact.disc.is_some() {
-                    m.slide.contact.stop_speed(&ev.kin) - m.numerics.stop_threshold(&ev.kin, true)
+                if sys.contact.disc.is_some() {
+                    sys.contact.stop_speed(&ev.kin) - ctx.numerics.stop_threshold(&ev.kin, true)
                 } else {
-                    let n = &m.numerics;
+                    let n = &ctx.numerics;
                     Sliding::slip_above_floor(&ev.kin, n.slip_floor, n.v_min)
                 }
             }
-            SlidingWatch::Painleve => ev.response.painleve,
+            SlidingWatch::Painleve => ev.response.painleve - PAINLEVE_COLLAPSE,
+            SlidingWatch::Touch(surface) => touch_gap(ctx, ev, surface),
         }
     }
 
     fn on_event<E: Effect + Copy + 'static>(
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         watch: SlidingWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            SlidingWatch::Normal => lift_off(m, Mode::Sliding, *t, y, events),
-            SlidingWatch::Painleve => painleve(*t, events),
+            SlidingWatch::Normal => lift_off(ctx, Mode::Sliding, *t, y, events),
+            SlidingWatch::Painleve => painleve(
+                Mode::Sliding,
+                ctx.system::<Self>().evaluate(y).response.painleve,
+                *t,
+                events,
+            ),
+            SlidingWatch::Touch(surface) => {
+                second_touchdown(ctx, Mode::Sliding, surface, t, y, events)
+            }
             // Taken at once within the floor, else confirmed by a tight solve; one not
             // confirmed is a turn of the slip by more than 90° within a loose step.
             SlidingWatch::Slip | SlidingWatch::SlipFloor => {
-                let kin = m.slide.evaluate(y).kin;
-                let speed = m.slide.contact.stop_speed(&kin);
-                let disc = m.slide.contact.disc.is_some();
-                let confirmed = m.numerics.has_stopped(speed, &kin, disc)
-                    || (m.numerics.may_confirm(speed, &kin, disc)
-                        && confirmed_by_tight_solve(m, *t, y));
-                slip_stop(m, confirmed, *t, y, events)
+                let sys = ctx.system::<Self>();
+                let kin = sys.evaluate(y).kin;
+                let speed = sys.contact.stop_speed(&kin);
+                let disc = sys.contact.disc.is_some();
+                let confirmed = ctx.numerics.has_stopped(speed, &kin, disc)
+                    || (ctx.numerics.may_confirm(speed, &kin, disc)
+                        && confirmed_by_tight_solve(ctx, &sys, *t, y));
+                slip_stop(ctx, confirmed, *t, y, events)
             }
         }
     }
 
     fn on_failure<E: Effect + Copy>(
-        m: &Machine<'_, E>,
+        ctx: &Context<'_, E>,
         t: f64,
         y: &State,
         error: IntegrateError,
         events: &mut Vec<EventRecord>,
     ) -> Status {
-        let denominator = m.slide.evaluate(y).response.painleve;
+        let denominator = ctx.system::<Self>().evaluate(y).response.painleve;
         if denominator < PAINLEVE_COLLAPSE {
             events.push(EventRecord {
                 kind: EventKind::Painleve,
@@ -147,11 +161,15 @@ impl Phase for SlidingPhase {
 
 /// Whether the slip (and a contact disc's spin) at `y` has stopped
 /// (`Numerics::has_stopped`).
-pub(in crate::simulate) fn slip_has_stopped<E: Effect>(m: &Machine<'_, E>, y: &State) -> bool {
-    let kin = m.slide.evaluate(y).kin;
-    let disc = m.slide.contact.disc.is_some();
-    m.numerics
-        .has_stopped(m.slide.contact.stop_speed(&kin), &kin, disc)
+pub(in crate::simulate) fn slip_has_stopped<E: Effect + Copy>(
+    ctx: &Context<'_, E>,
+    y: &State,
+) -> bool {
+    let sys = ctx.system::<SlidingPhase>();
+    let kin = sys.evaluate(y).kin;
+    let disc = sys.contact.disc.is_some();
+    ctx.numerics
+        .has_stopped(sys.contact.stop_speed(&kin), &kin, disc)
 }
 
 /// Whether a located slip stop whose stop speed s is above the accepted floor is one all
@@ -178,31 +196,36 @@ pub(in crate::simulate) fn slip_has_stopped<E: Effect>(m: &Machine<'_, E>, y: &S
 /// 1e-7 s, refused 10 000 times in a row; docs/hard-cases.md row 2g): that is a stop too,
 /// and `transition::on_plane` decides between rolling and a new slip. A confirmed stop is
 /// taken at the located time and state, as one within the floor is.
-fn confirmed_by_tight_solve<E: Effect + Copy>(m: &Machine<'_, E>, t: f64, y: &State) -> bool {
-    let scene = m.scene;
-    let decel = m.slide.contact.friction * scene.gravity;
-    let speed = |y: &State| m.slide.contact.stop_speed(&m.slide.evaluate(y).kin);
-    let kin = m.slide.evaluate(y).kin;
-    let s0 = m.slide.contact.stop_speed(&kin);
-    let disc = m.slide.contact.disc.is_some();
+fn confirmed_by_tight_solve<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    sys: &System<Sliding, E>,
+    t: f64,
+    y: &State,
+) -> bool {
+    let law = &sys.contact;
+    let decel = law.friction * ctx.scene.gravity;
+    let speed = |y: &State| law.stop_speed(&sys.evaluate(y).kin);
+    let kin = sys.evaluate(y).kin;
+    let s0 = law.stop_speed(&kin);
+    let disc = law.disc.is_some();
     if !(decel > 0.0) {
         return false;
     }
-    let within_band = s0 <= m.slide.contact.band_width(&kin);
+    let within_band = s0 <= law.band_width(&kin);
     let mut y0 = *y;
-    renew_reference(m, &mut y0);
-    let mut options = m.numerics.confirm_options();
-    options.cancel = m.cancel.clone();
+    renew_reference(ctx, &mut y0);
+    let mut options = ctx.numerics.confirm_options();
+    options.cancel = ctx.cancel.clone();
     let events = [
         stop_when_falling(Box::new(|_, y: &State| {
-            SlidingPhase::watch(m, SlidingWatch::SlipFloor, &m.slide.evaluate(y), y)
+            SlidingPhase::watch(ctx, sys, SlidingWatch::SlipFloor, &sys.evaluate(y), y)
         })),
         stop_when_falling(Box::new(|_, y: &State| CONFIRM_GROWTH * s0 - speed(y))),
     ];
     let t_end = t + CONFIRM_HORIZON * s0 / decel;
     integrate::integrate(
         Method::Dop853,
-        &m.slide,
+        sys,
         t,
         y0,
         t_end,
@@ -214,7 +237,7 @@ fn confirmed_by_tight_solve<E: Effect + Copy>(m: &Machine<'_, E>, t: f64, y: &St
     .is_ok_and(|sol| match sol.stop {
         StopReason::Event { index: 0 } => true,
         StopReason::Event { index: 1 } => {
-            within_band && !disc && rolls_once_stuck(m, m.slide.contact.friction, &mut { *y })
+            within_band && !disc && rolls_once_stuck(ctx, &mut { *y })
         }
         _ => false,
     })
@@ -230,8 +253,8 @@ fn stop_when_falling(g: EventFn<'_, { state::DIM }>) -> Event<'_, { state::DIM }
 }
 
 /// Whether the material contact point's slip is zero to round-off.
-pub(in crate::simulate) fn slip_is_zero<E: Effect>(m: &Machine<'_, E>, y: &State) -> bool {
-    let kin = m.slide.evaluate(y).kin;
+pub(in crate::simulate) fn slip_is_zero<E>(ctx: &Context<'_, E>, y: &State) -> bool {
+    let kin = Kinematics::new(&ctx.body(), y, false);
     Sliding::direction(&kin, Vector2::zeros()) == Vector2::zeros()
 }
 

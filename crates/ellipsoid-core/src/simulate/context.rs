@@ -1,0 +1,98 @@
+//! What every phase and transition reads: the scene, its numerics, its effects — and the
+//! two things made from them, a phase's ODE system and an output row.
+
+use std::cell::Cell;
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
+use nalgebra::Vector3;
+
+use crate::body::{Body, Surface};
+use crate::invariants::Invariants;
+use crate::model::{ContactLaw, Evaluation, System};
+use crate::state::{self, EulerAngles, State};
+
+use super::numerics::Numerics;
+use super::outcome::{Mode, Sample};
+use super::phase::Phase;
+use super::scene::Scene;
+
+/// A run's inputs, shared by its phases (`phase`) and transitions (`transition`).
+pub(super) struct Context<'s, E> {
+    pub(super) scene: &'s Scene,
+    pub(super) numerics: Numerics,
+    /// The scene's effects, monomorphised (an absent effect is `()`).
+    pub(super) effects: E,
+    /// Set by another thread to stop the run at its next step.
+    pub(super) cancel: Option<Arc<AtomicBool>>,
+    /// The body's surface in contact with the plane (the last one that touched it while
+    /// in flight): the contact phases' geometry is this surface's. Changed only by the
+    /// transitions (`transition::touch`).
+    pub(super) surface: Cell<Surface>,
+    /// The second surface in contact in the two-contact phase (`phase::two_contacts`).
+    pub(super) second: Cell<Surface>,
+}
+
+impl<E> Context<'_, E> {
+    /// The body, its geometry that of the surface in contact.
+    pub(super) fn body(&self) -> Body {
+        self.scene.body.touching(self.surface.get())
+    }
+}
+
+impl<'s, E: Copy> Context<'s, E> {
+    pub(super) fn new(scene: &'s Scene, effects: E, cancel: Option<Arc<AtomicBool>>) -> Self {
+        Context {
+            scene,
+            numerics: Numerics::new(scene),
+            effects,
+            cancel,
+            surface: Cell::new(Surface::Ellipsoid),
+            second: Cell::new(Surface::Ellipsoid),
+        }
+    }
+
+    /// The ODE system of phase `P`: the body under gravity and the effects, with the
+    /// phase's contact law.
+    pub(super) fn system<P: Phase>(&self) -> System<P::Law, E> {
+        System {
+            body: self.body(),
+            gravity: self.scene.gravity,
+            contact: P::law(self),
+            effects: self.effects,
+        }
+    }
+
+    /// The output row and invariants of state `y` in `mode`, `ev` its evaluation under
+    /// `sys` (the `drift` column is filled in by the recorder).
+    pub(super) fn sample<C: ContactLaw>(
+        &self,
+        sys: &System<C, E>,
+        mode: Mode,
+        t: f64,
+        y: &State,
+        ev: &Evaluation,
+        prev: Option<&EulerAngles>,
+    ) -> (Sample, Invariants) {
+        let kin = &ev.kin;
+        let inv = Invariants::from_kinematics(&sys.body, sys.gravity, kin, y[state::WORK]);
+        let position = Vector3::new(y[state::POS], y[state::POS + 1], kin.z_g());
+        let sample = Sample {
+            t,
+            position,
+            angles: EulerAngles::from_rotation(&kin.rot, &kin.omega, prev),
+            omega: kin.omega,
+            omega_world: kin.rot * kin.omega,
+            velocity: kin.v_g,
+            contact: position.xy() + (kin.rot * kin.contact.r).xy(),
+            energy: inv.energy,
+            work: y[state::WORK],
+            normal_force: self.numerics.reported_normal(&sys.body, sys.gravity, ev),
+            slip_speed: kin.slip.norm(),
+            drift: 0.0,
+            gap: kin.gap,
+            mode,
+        };
+        (sample, inv)
+    }
+}

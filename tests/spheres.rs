@@ -1,0 +1,350 @@
+//! Contact spheres (docs/physics.md, "Contact spheres"): exact geometry of a sphere fixed
+//! in the body, a sphere that never touches changes nothing, the classic top on its peg
+//! sleeps above the critical spin and falls below it, Jellett's quantity on a sphere,
+//! and the tippe top's stem touching down at the angle the geometry gives.
+
+mod common;
+
+use std::path::Path;
+
+use common::{G, run};
+use ellipsoid_core::body::{Body, Sphere, Surface};
+use ellipsoid_core::geometry::{self, Contact};
+use ellipsoid_core::model::{System, TwoContacts};
+use ellipsoid_core::simulate::{EventKind, Mode, Outcome, Sample, Status};
+use nalgebra::{Matrix3, Vector3};
+
+fn root() -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn load(file: &str, set: &[&str]) -> (Outcome, Vec<Sample>) {
+    let sc = ellipsoid_core::scenario::load(&root().join(file), set)
+        .unwrap_or_else(|e| panic!("{file}: {e}"));
+    run(&sc.scene)
+}
+
+/// The Leine–Glocker tippe top with its stem: ball r1 = 15 mm, G 3 mm below its centre,
+/// stem sphere r2 = 5 mm centred 13 mm above the ball's centre (16 mm above G).
+fn tippe_top_with_stem() -> Body {
+    Body::of_revolution(0.015, 0.015, 6e-3, 8e-7, 7e-7, 0.003)
+        .unwrap()
+        .with_spheres(vec![Sphere {
+            name: "stem".into(),
+            center: Vector3::new(0.0, 0.0, 0.013),
+            radius: 0.005,
+        }])
+        .unwrap()
+}
+
+/// ζ = Rᵀe3 of a body of revolution tilted by θ (ψ = 0).
+fn zeta(theta: f64) -> Vector3<f64> {
+    Vector3::new(0.0, theta.sin(), theta.cos())
+}
+
+#[test]
+fn geo_the_stem_touches_where_both_gaps_vanish_and_g_stands_r2_plus_16_mm_on_it() {
+    let body = tippe_top_with_stem();
+    let stem = Surface::Sphere(0);
+    // Ball touching: the ball's centre is r1 above the plane; the stem's lowest point is
+    // then r1 + 13 mm cos θ − r2 above it, zero at cos θ* = (r2 − r1)/13 mm.
+    let theta_star = ((0.005_f64 - 0.015) / 0.013).acos();
+    let (hb, hs) = (
+        geometry::height(&body, Surface::Ellipsoid, zeta(theta_star)),
+        geometry::height(&body, stem, zeta(theta_star)),
+    );
+    assert!(
+        (hb - hs).abs() <= 1e-12 * hb,
+        "at θ* = {theta_star}: ball {hb}, stem {hs}"
+    );
+    // Below θ* the ball is the lowest surface, above it the stem.
+    for (theta, lowest) in [
+        (theta_star - 1e-6, Surface::Ellipsoid),
+        (theta_star + 1e-6, stem),
+    ] {
+        let c = Contact::lowest(&body, zeta(theta), Vector3::zeros());
+        assert_eq!(c.surface, lowest, "θ = {theta}");
+    }
+    // Upright on the stem (θ = π): G stands r2 + 16 mm above the plane.
+    let h = geometry::height(&body, stem, zeta(std::f64::consts::PI));
+    assert!((h - 0.021).abs() <= 1e-15, "{h}");
+}
+
+/// The sphere's contact geometry is the support map of the sphere: ∇h = −r (finite
+/// differences of `geometry::height`), the contact point on the sphere with its outward
+/// normal along −ζ, and ṙ_b = −ρ ζ̇.
+#[test]
+fn geo_sphere_contact_is_its_support_point_and_height_gradient() {
+    let body = Body::new(
+        Vector3::new(0.03, 0.02, 0.01),
+        1.0,
+        Matrix3::from_diagonal(&Vector3::new(1e-4, 2e-4, 2.5e-4)),
+        Vector3::new(0.001, -0.002, -0.003),
+    )
+    .unwrap()
+    .with_spheres(vec![Sphere {
+        name: "knob".into(),
+        center: Vector3::new(0.01, -0.02, 0.03),
+        radius: 0.004,
+    }])
+    .unwrap();
+    let s = Surface::Sphere(0);
+    let z = Vector3::new(0.3, -0.5, 0.8).normalize();
+    let omega = Vector3::new(3.0, -1.0, 7.0);
+    let c = Contact::of(&body, s, z, omega);
+    let sphere = &body.spheres()[0];
+    assert!(((c.p_c - sphere.center).norm() - sphere.radius).abs() < 1e-15);
+    assert!((c.p_c - sphere.center).normalize().dot(&-z) > 1.0 - 1e-14);
+    let eps = 1e-6;
+    for k in 0..3 {
+        let mut dz = Vector3::zeros();
+        dz[k] = eps;
+        let grad =
+            (geometry::height(&body, s, z + dz) - geometry::height(&body, s, z - dz)) / (2.0 * eps);
+        assert!(
+            (grad + c.r[k]).abs() < 1e-10,
+            "gradient {k}: {grad} vs {}",
+            -c.r[k]
+        );
+    }
+    let zeta_dot = z.cross(&omega);
+    assert!((c.r_dot_surface + sphere.radius * zeta_dot).norm() < 1e-15 * zeta_dot.norm());
+}
+
+/// A sphere inside the ball never touches: the run is bit-identical to the ball alone
+/// (each phase watches the sphere's gap, which never falls through zero; nothing else
+/// changes).
+#[test]
+fn a_sphere_that_never_touches_changes_nothing_bit_for_bit() {
+    let file = "scenarios/tippe-top-disc.toml";
+    let set = ["output.t_end=1.5"];
+    let (plain, a) = load(file, &set);
+    let text = std::fs::read_to_string(root().join(file)).unwrap()
+        + "\n[[body.sphere]]\nname = \"inside\"\ncenter = [0.0, 0.0, 0.005]\nradius = 0.004\n";
+    let sc = ellipsoid_core::scenario::parse(&text, "inside.toml", &set).unwrap();
+    let (with, b) = run(&sc.scene);
+    assert_eq!(plain.status, with.status);
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(x, y, "at t = {}", x.t);
+    }
+}
+
+/// The tippe top with its stem runs exactly as the ball alone until the stem touches;
+/// the stem touches at θ* (both gaps zero, geometry above); no impact raises the energy;
+/// E + W balances throughout. On its stem the top rises towards θ = π (Leine & Glocker's
+/// spinning on the stem); as its spin decays it falls back, and rests on ball and stem at
+/// θ* — there θ stays θ* and, G's height being fixed, the two normal forces sum to m g —
+/// until the stem's normal force reaches zero and the top goes on on its ball.
+#[test]
+fn the_tippe_top_on_its_stem_rises_falls_back_and_rests_on_two_contacts() {
+    let (ball, a) = load("scenarios/tippe-top-disc.toml", &["output.t_end=6"]);
+    let (stem, b) = load("scenarios/tippe-top-stem.toml", &["output.t_end=6"]);
+    assert_eq!(ball.status, Status::Completed);
+    assert_eq!(stem.status, Status::Completed, "{:?}", stem.status);
+    let touch = stem
+        .events
+        .iter()
+        .find(|e| {
+            matches!(
+                e.kind,
+                EventKind::ContactSurface {
+                    to: Surface::Sphere(0),
+                    ..
+                }
+            )
+        })
+        .expect("the stem touches")
+        .t;
+    let before: Vec<_> = b.iter().take_while(|s| s.t < touch).collect();
+    assert!(before.len() > 1000);
+    for (x, y) in a.iter().zip(&before) {
+        assert_eq!(x, *y, "at t = {}", x.t);
+    }
+    // The ball-only run passes θ* (where it would go through the table) at the touch.
+    let theta_star = ((0.005_f64 - 0.015) / 0.013).acos();
+    let crossing = a
+        .windows(2)
+        .find(|w| w[0].angles.theta < theta_star && w[1].angles.theta >= theta_star)
+        .expect("the ball-only run passes θ*");
+    assert!(
+        crossing[0].t <= touch && touch <= crossing[1].t,
+        "the stem touches at t = {touch}, the ball-only run passes θ* between {} and {}",
+        crossing[0].t,
+        crossing[1].t
+    );
+    for e in &stem.events {
+        if let EventKind::Impact(hit) = &e.kind {
+            assert!(
+                hit.energy_loss >= 0.0,
+                "an impact at t = {} gained energy",
+                e.t
+            );
+        }
+    }
+    let drift = stem
+        .drift
+        .get(ellipsoid_core::invariants::Invariant::EnergyPlusWork)
+        .unwrap();
+    assert!(drift.abs() < 1e-9, "E + W drift {drift:e}");
+    let highest = b.iter().map(|s| s.angles.theta).fold(0.0, f64::max);
+    assert!(highest > 3.1, "on its stem θ rose only to {highest}");
+    let both: Vec<&Sample> = b.iter().filter(|s| s.mode == Mode::TwoContacts).collect();
+    assert!(both.len() > 100, "{} samples on two contacts", both.len());
+    let mg = 6e-3 * G;
+    for s in &both {
+        assert!(
+            (s.angles.theta - theta_star).abs() < 1e-12,
+            "θ = {}",
+            s.angles.theta
+        );
+        assert!(
+            (s.normal_force - mg).abs() < 1e-9 * mg,
+            "N = {}",
+            s.normal_force
+        );
+    }
+    let last_on_both = both.last().unwrap().t;
+    assert!(
+        stem.events.iter().any(|e| e.t > last_on_both
+            && e.kind
+                == EventKind::ModeSwitch {
+                    from: Mode::TwoContacts,
+                    to: Mode::Sliding
+                }),
+        "the stem leaves again"
+    );
+}
+
+/// A top lying at rest on its rim and its peg on a frictionless table (the angle where
+/// both touch; G between the contacts) settles on both within nanoseconds and stays: the
+/// two normal forces of the two-contact law equal the statics — N_1 + N_2 = m g and no
+/// moment about G, Σ N_i (R r_i) × e3 = 0 — to 1e-12, and E is conserved.
+#[test]
+fn val_two_contacts_at_rest_carry_the_statics_normal_forces() {
+    let (out, samples) = load("tests/data/spheres/top-lying.toml", &[]);
+    assert!(out.status.completed(), "{:?}", out.status);
+    assert!(samples[1..].iter().all(|s| s.mode == Mode::TwoContacts));
+    let body = out_body();
+    let y = out.final_state;
+    let system = System {
+        body: body.touching(Surface::Ellipsoid),
+        gravity: G,
+        contact: TwoContacts {
+            friction: 0.0,
+            disc: None,
+            other: Surface::Sphere(0),
+        },
+        effects: (),
+    };
+    let ev = system.evaluate(&y);
+    let (n_rim, n_peg) = (
+        ev.response.normal - ev.response.second_normal,
+        ev.response.second_normal,
+    );
+    // The statics: the horizontal levers (world) of the two contacts about G.
+    let rot = ev.kin.rot;
+    let zeta = ev.kin.contact.zeta;
+    let lever = |s: Surface| rot * Contact::of(&body, s, zeta, Vector3::zeros()).r;
+    let (l1, l2) = (lever(Surface::Ellipsoid), lever(Surface::Sphere(0)));
+    let along = (l2 - l1).xy().normalize();
+    let (x1, x2) = (l1.xy().dot(&along), l2.xy().dot(&along));
+    let mg = 0.1 * G;
+    let (s1, s2) = (mg * x2 / (x2 - x1), -mg * x1 / (x2 - x1));
+    eprintln!(
+        "MEASURED two contacts at rest: rim {n_rim} N (statics {s1}), peg {n_peg} N (statics {s2})"
+    );
+    assert!(s1 > 0.0 && s2 > 0.0, "G lies between the contacts");
+    assert!((n_rim - s1).abs() <= 1e-12 * mg, "rim {n_rim} vs {s1}");
+    assert!((n_peg - s2).abs() <= 1e-12 * mg, "peg {n_peg} vs {s2}");
+    let drift = out
+        .drift
+        .get(ellipsoid_core::invariants::Invariant::Energy)
+        .unwrap();
+    assert!(drift.abs() < 1e-12, "E drift {drift:e}");
+}
+
+/// The top of tests/data/spheres/top-lying.toml.
+fn out_body() -> Body {
+    ellipsoid_core::scenario::load(
+        &root().join("tests/data/spheres/top-lying.toml"),
+        &[] as &[&str],
+    )
+    .unwrap()
+    .scene
+    .body
+}
+
+/// Jellett's J = L_G·(G − C) is conserved on a single sphere in contact with a point
+/// contact and Coulomb friction (the contact force acts at C, and for a sphere G − C
+/// turns with the body's axis of revolution): the tippe top spinning on its stem.
+#[test]
+fn inv_jellett_is_conserved_on_the_stem() {
+    let (out, samples) = load(
+        "scenarios/tippe-top-stem.toml",
+        &[
+            "initial.theta=2.8",
+            "contact.contact_radius=0",
+            "output.t_end=1",
+        ],
+    );
+    assert!(out.status.completed(), "{:?}", out.status);
+    let body = tippe_top_with_stem();
+    let jellett = |s: &Sample| {
+        let rot = s.angles.rotation();
+        let l = rot * (body.inertia() * s.omega);
+        let g_minus_c = s.position - Vector3::new(s.contact.x, s.contact.y, 0.0);
+        l.dot(&g_minus_c)
+    };
+    let j0 = jellett(&samples[0]);
+    let worst = samples
+        .iter()
+        .map(|s| ((jellett(s) - j0) / j0).abs())
+        .fold(0.0, f64::max);
+    eprintln!("MEASURED Jellett on the stem: {worst:e} of J(0) = {j0:e}");
+    assert!(worst < 1e-9, "J drifted by {worst:e} of J(0) = {j0}");
+    assert!(
+        out.events
+            .iter()
+            .all(|e| !matches!(e.kind, EventKind::ContactSurface { .. })),
+        "it stays on its stem"
+    );
+}
+
+/// A classic top on a frictionless table (peg sphere, G at height d above the peg's
+/// centre, A and C about G) sleeps above n_c = √(4 A m g d)/C and falls below it
+/// (docs/physics.md, "Contact spheres"): from θ0 = 1e-4 the tilt stays below 1e-3 rad
+/// over 3 s at 1.01 n_c and grows past 0.1 rad at 0.99 n_c.
+#[test]
+fn val_classic_top_sleeps_above_the_critical_spin_and_falls_below() {
+    let (a, c, m, d) = (0.03_f64, 0.005_f64, 0.1_f64, 0.04_f64);
+    let big_a = m * (a * a + c * c) / 5.0;
+    let big_c = 2.0 * m * a * a / 5.0;
+    let n_c = (4.0 * big_a * m * G * d).sqrt() / big_c;
+    for (factor, sleeps) in [(1.01, true), (0.99, false)] {
+        let n = format!("initial.psi_dot={}", factor * n_c);
+        let text = std::fs::read_to_string(root().join("scenarios/top-on-peg.toml"))
+            .unwrap()
+            .replace(
+                "model = \"coulomb\"\nfriction = 0.3",
+                "model = \"frictionless\"",
+            );
+        let sc = ellipsoid_core::scenario::parse(&text, "top.toml", &["initial.theta=1e-4", &n])
+            .unwrap();
+        let (out, samples) = run(&sc.scene);
+        let max_tilt = samples.iter().map(|s| s.angles.theta).fold(0.0, f64::max);
+        eprintln!(
+            "MEASURED classic top at {factor} n_c = {}: max tilt {max_tilt:e}",
+            factor * n_c
+        );
+        if sleeps {
+            assert!(out.status.completed(), "{:?}", out.status);
+            assert!(max_tilt < 1e-3, "at 1.01 n_c the tilt reached {max_tilt}");
+        } else {
+            assert!(
+                max_tilt > 0.1,
+                "at 0.99 n_c the tilt only reached {max_tilt}"
+            );
+        }
+    }
+}
