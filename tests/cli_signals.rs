@@ -301,3 +301,78 @@ fn pipes_and_endless_devices_are_refused_as_inputs_at_once() {
     }
     assert!(!d.join("o.csv").exists() && !d.join("t.csv").exists());
 }
+
+/// Waits (at most `limit`) for `child` to exit; its exit code, or a panic naming `what`.
+fn exits_within(child: &mut Child, limit: Duration, what: &str) -> Option<i32> {
+    let start = Instant::now();
+    loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            return status.code();
+        }
+        if start.elapsed() > limit {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{what}: still running {limit:?} after the signal");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// A rerun of a 10⁷-point study whose journal holds finished rows first computes every
+/// point's key to find what is done (a minute of CPU for 10⁷ points); SIGTERM then used
+/// to wait for all of it. Now the prepare loop reads the cancel flag between chunks:
+/// SIGTERM one second into the rerun exits 143 at once, the journal kept.
+#[test]
+fn sigterm_while_a_resumed_study_prepares_exits_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(
+        d.join("big.toml"),
+        format!(
+            "base = {:?}\n[set]\n\"output.t_end\" = 0.01\n\
+             [[axis]]\nkey = \"initial.theta_deg\"\nlinspace = [5.0, 20.0, 1000]\n\
+             [[axis]]\nkey = \"initial.psi_dot\"\nlinspace = [20.0, 80.0, 10000]\n",
+            nutation()
+        ),
+    )
+    .unwrap();
+    let start = || {
+        Command::new(BIN)
+            .args(["study", "big.toml", "-o", "big.csv", "-q", "-j", "2"])
+            .current_dir(d)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("the binary runs")
+    };
+    // A first run, interrupted once the journal holds rows.
+    let journal = d.join("big.csv.journal");
+    let mut first = start();
+    let begun = Instant::now();
+    while std::fs::read_to_string(&journal).map_or(0, |t| t.lines().count()) < 3 {
+        assert!(
+            begun.elapsed() < Duration::from_secs(60),
+            "no rows journaled"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    signal(&first, "INT");
+    assert_eq!(
+        exits_within(&mut first, Duration::from_secs(10), "the first run"),
+        Some(130)
+    );
+    let rows = std::fs::read_to_string(&journal).unwrap().lines().count() - 1;
+    assert!(rows >= 2);
+
+    let mut rerun = start();
+    std::thread::sleep(Duration::from_secs(1));
+    signal(&rerun, "TERM");
+    let code = exits_within(&mut rerun, Duration::from_secs(5), "the resumed study");
+    let out = rerun.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(code, Some(143), "{stderr}");
+    assert!(stderr.contains("interrupted by SIGTERM"), "{stderr}");
+    assert!(!d.join("big.csv").exists());
+    let kept = std::fs::read_to_string(&journal).unwrap().lines().count() - 1;
+    assert_eq!(kept, rows, "the journal's rows are kept as they were");
+}

@@ -77,6 +77,8 @@ fn every_panel_names_its_axes_with_units_and_draws_its_data() {
                 "θ̇ (theta_dot)",
                 "φ̇ (phi_dot)",
                 "ψ̇ (psi_dot)",
+                "Euler rates and the vertical spin",
+                "ω_z, world (omega_world_z)",
             ],
             [0xff, 0x7f, 0x0e],
         ),
@@ -402,6 +404,27 @@ fn view_writes_one_offline_page() {
         1,
         "no temporary left"
     );
+    // The side plots asked for are read from the CSV with what they draw from (the
+    // energy's E + W needs `work`).
+    let o = ellipsoid(
+        dir.path(),
+        &[
+            "view",
+            csv.to_str().unwrap(),
+            "-o",
+            "c.html",
+            "--columns",
+            "omega_world_z,energy",
+            "-q",
+        ],
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let page = std::fs::read_to_string(dir.path().join("c.html")).unwrap();
+    assert!(
+        page.contains("\"name\":\"omega_world_z\",\"label\":\"omega_world_z (rad/s)\"")
+            && page.contains("energy E, E + W (J)"),
+        "both side plots, the energy with E + W"
+    );
 }
 
 #[test]
@@ -556,5 +579,78 @@ fn a_page_carries_no_local_file_content_or_directories_from_a_summary() {
         assert!(!page.contains("hunter2") && !page.contains("password"));
         let parent = named.parent().unwrap().to_str().unwrap();
         assert!(!page.contains(parent), "the page names {parent}");
+    }
+}
+
+/// `ellipsoid ARGS` in `dir` with its address space limited to `bytes` (`prlimit --as`).
+fn capped(dir: &Path, bytes: u64, args: &[&str]) -> Output {
+    Command::new("prlimit")
+        .arg(format!("--as={bytes}"))
+        .arg(BIN)
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("prlimit runs")
+}
+
+/// Under a memory limit (`prlimit --as`) too small for the file, `view` and `plot` end
+/// with one line, "out of memory", and exit 1, writing nothing; they used to abort
+/// (SIGABRT, "memory allocation of … bytes failed" and a core dump). The limits start
+/// where the command works on a 10-row file and rise by 4 MB steps through the 2·10⁵-row
+/// file's needs. They also read only the columns they draw: the default view 11 of the 28.
+#[test]
+fn out_of_memory_is_a_clean_error_not_an_abort() {
+    if Command::new("prlimit").arg("--version").output().is_err() {
+        eprintln!("skipped: no prlimit");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let nutation = scenarios().join("nutation.toml");
+    let nutation = nutation.to_str().unwrap();
+    for (name, t_end) in [("small.csv", "0.009"), ("big.csv", "200")] {
+        let out = ellipsoid(
+            d,
+            &[
+                "run",
+                nutation,
+                "-o",
+                name,
+                "-q",
+                "--set",
+                &format!("output.t_end={t_end}"),
+            ],
+        );
+        assert!(out.status.success(), "{}", stderr(&out));
+    }
+    for (cmd, page) in [("view", "p.html"), ("plot", "p.png")] {
+        // The smallest limit (in 4 MB steps) under which the command draws a tiny file.
+        let base = (4..200u64)
+            .map(|m| m << 22)
+            .find(|&b| {
+                capped(d, b, &[cmd, "small.csv", "-o", page, "-q"])
+                    .status
+                    .success()
+            })
+            .expect("a limit under 800 MB suffices for 10 rows");
+        let mut failed = 0;
+        for step in 1..=20u64 {
+            let _ = std::fs::remove_file(d.join(page));
+            let out = capped(d, base + (step << 22), &[cmd, "big.csv", "-o", page, "-q"]);
+            let err = stderr(&out);
+            match out.status.code() {
+                Some(0) => break,
+                Some(1) => {
+                    assert!(
+                        err.starts_with("error: out of memory") && err.lines().count() == 1,
+                        "{cmd}: {err}"
+                    );
+                    assert!(!d.join(page).exists());
+                    failed += 1;
+                }
+                other => panic!("{cmd} at {} MB: {other:?} {err}", (base >> 20) + 4 * step),
+            }
+        }
+        assert!(failed > 0, "{cmd}: the big file never ran out of memory");
     }
 }

@@ -1288,3 +1288,71 @@ fn hard_11b_run_out_of_budget_fails_after_1e5_steps() {
         ),
     );
 }
+
+/// Scenes whose steps are held by a rate of the system far faster than the time asked
+/// for, which ground through max_steps = 1e7 steps (12–31 s) to `MaxSteps`: each now
+/// ends after at most 1e5 steps, or is refused before any step, with the cause and the
+/// remedy named. The tippe-top disc spun at ψ̇0 = 1e6 rad/s resolves its spin (h·ρ ≈
+/// 0.26; ~1.5e7 steps to t_end); drop.toml under air drag k = 1e3 kg/s, k_ω = 1e3
+/// kg m²/s, and air-drag.toml's body at 1e-13 kg, are stiff (decay rates k_ω/I ≈ 6e7 and
+/// k/m = 1e10 1/s hold the steps at DOP853's stability boundary: 3e7 and 1.6e10 steps);
+/// the tippe top widened to a = 1e7 m (gram-scale mass) spans more semi-axis ratio than
+/// double precision resolves, and is refused.
+#[test]
+fn hard_11c_steps_held_by_a_fast_rate_end_within_1e5_steps() {
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenarios/");
+    let load = |file: &str, set: &[&str]| {
+        ellipsoid_core::scenario::load(std::path::Path::new(&format!("{dir}{file}")), set)
+            .map_err(|e| e.to_string())
+    };
+    let cases: [(&str, &[&str], bool); 3] = [
+        ("tippe-top-disc.toml", &["initial.psi_dot=1e6"], false),
+        (
+            "drop.toml",
+            &["effects.air_drag={ linear = 1e3, angular = 1e3 }"],
+            true,
+        ),
+        ("air-drag.toml", &["body.mass=1e-13"], true),
+    ];
+    for (file, set, stiff) in cases {
+        let scenario = load(file, set).unwrap();
+        let (out, _) = run(&scenario.scene);
+        let steps = out.stats.accepted + out.stats.rejected;
+        let Status::SolverFailure {
+            error:
+                ref e @ integrate::IntegrateError::FastRate {
+                    stiff: found,
+                    projected,
+                    ..
+                },
+            ..
+        } = out.status
+        else {
+            panic!("{file} {set:?}: {:?} after {steps} steps", out.status)
+        };
+        assert!(steps <= 100_000, "{file}: {steps} steps");
+        assert_eq!(found, stiff, "{file}: {e}");
+        assert!(projected > 1.2e7, "{file}: {e}");
+        let msg = e.to_string();
+        let (cause, remedy) = if stiff {
+            ("stiff", "damping")
+        } else {
+            ("rotation", "spin")
+        };
+        assert!(
+            msg.contains(cause)
+                && msg.contains(remedy)
+                && msg.contains("max_steps above the projection"),
+            "{file}: {msg}"
+        );
+        measured(
+            "11c fast rate",
+            format!("{file} {set:?}: stopped after {steps} steps, projected {projected:.1e}"),
+        );
+    }
+    let refused = load("tippe-top.toml", &["body.a=1e7", "body.mass=1e-3"]).unwrap_err();
+    assert!(
+        refused.contains("body.a") && refused.contains("1/√ε") && refused.contains("body.c"),
+        "{refused}"
+    );
+}

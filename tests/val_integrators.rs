@@ -9,7 +9,7 @@ use std::f64::consts::{FRAC_PI_2, FRAC_PI_4, PI};
 use std::ops::ControlFlow;
 
 use ellipsoid_core::integrate::problems::{
-    Arenstorf, ExpSinSquared, HarmonicOscillator, VanDerPol,
+    Arenstorf, Decay, ExpSinSquared, HarmonicOscillator, VanDerPol,
 };
 use ellipsoid_core::integrate::{
     Action, Direction, Event, IntegrateError, Method, OdeSystem, Options, Solution, StopReason,
@@ -770,7 +770,9 @@ fn val_stiff_van_der_pol_warns_and_stops_at_max_steps() {
 /// `OverBudget`, naming the projection, max_steps and the remedy: the harmonic oscillator
 /// (period 2π s) over 1e7 s, ~5e7 steps, against max_steps = 2e5. Without a time scale,
 /// or with one so long that the steps are a transient's (mean step below `MOTION_PACE`
-/// of it), the run goes on to `MaxSteps` as before.
+/// of it), DOP853's steps still follow its own rate ρ = ω (h·ρ ≈ 0.2 ≥ `FAST_PACE`), so
+/// it fails after 1e5 steps with `FastRate` instead; DOPRI5's, at h·ρ ≈ 0.04, resolve it
+/// more finely than `FAST_PACE`, and it goes on to `MaxSteps`.
 #[test]
 fn inv_run_out_of_budget_at_the_motions_pace_fails_early() {
     use ellipsoid_core::integrate::{MOTION_PACE, OVER_BUDGET_FACTOR};
@@ -822,16 +824,106 @@ fn inv_run_out_of_budget_at_the_motions_pace_fails_early() {
         );
         for time_scale in [None, Some(1e5)] {
             let sol = run(time_scale);
-            assert!(
-                matches!(
-                    sol.stop,
-                    StopReason::Failed(IntegrateError::MaxSteps { steps: 200_000, .. })
-                ),
-                "{} with time_scale {time_scale:?}: {:?}",
-                method.name(),
-                sol.stop
-            );
+            if method == Method::Dopri5 {
+                assert!(
+                    matches!(
+                        sol.stop,
+                        StopReason::Failed(IntegrateError::MaxSteps { steps: 200_000, .. })
+                    ),
+                    "dopri5 with time_scale {time_scale:?}: {:?}",
+                    sol.stop
+                );
+                continue;
+            }
+            let StopReason::Failed(IntegrateError::FastRate {
+                stiff: false,
+                steps: 100_000,
+                rate,
+                ..
+            }) = sol.stop
+            else {
+                panic!(
+                    "{} with time_scale {time_scale:?}: {:?}",
+                    method.name(),
+                    sol.stop
+                );
+            };
+            assert!((0.5..2.0).contains(&rate), "{}: ρ = {rate}", method.name());
         }
+    }
+}
+
+/// y' = cos t: the steps follow the motion's time scale, but f does not depend on y, so
+/// the system has no rate ρ (the stiffness test's estimate is 0).
+struct Quadrature;
+
+impl OdeSystem<1> for Quadrature {
+    fn rhs(&self, t: f64, _y: &SVector<f64, 1>) -> SVector<f64, 1> {
+        SVector::from([t.cos()])
+    }
+}
+
+/// A decay far faster than the time asked for (y' = −λy, λ = 1e6 1/s, to t_end = 1e3 s):
+/// once y has died out the explicit steps are held at the stability boundary
+/// (h ≈ 3.3/λ, 6.1/λ), 2e8–3e8 of them to t_end against max_steps = 1e7. It fails after
+/// 1e5 steps (a tenth of a second) with `FastRate`, stiff, naming ρ, the projection and
+/// the remedies, instead of grinding through max_steps. The same decay to t_end = 1 s
+/// (1.6e5–3e5 steps, within max_steps) completes; a run whose steps do not follow a rate
+/// of the system (quadrature of cos t, ρ = 0) goes on to `MaxSteps`.
+#[test]
+fn inv_stiff_decay_out_of_reach_fails_after_1e5_steps() {
+    use ellipsoid_core::integrate::FAST_BUDGET_FACTOR;
+    let decay = Decay { lambda: 1e6 };
+    let y0 = SVector::from([1.0]);
+    for method in ADAPTIVE {
+        let options = Options::new(1e-10, 1e-12);
+        let sol = solve(method, &decay, y0, 1e3, &options);
+        let StopReason::Failed(
+            e @ IntegrateError::FastRate {
+                stiff: true,
+                steps: 100_000,
+                rate,
+                projected,
+                max_steps: 10_000_000,
+                ..
+            },
+        ) = &sol.stop
+        else {
+            panic!("{}: {:?}", method.name(), sol.stop);
+        };
+        assert_eq!(sol.stats.accepted + sol.stats.rejected, 100_000);
+        assert!(
+            (0.8e6..1.25e6).contains(rate),
+            "{}: ρ = {rate:e}",
+            method.name()
+        );
+        assert!(*projected > FAST_BUDGET_FACTOR * 1e7, "{projected:e}");
+        let msg = e.to_string();
+        assert!(
+            msg.contains("stiff")
+                && msg.contains(&format!("~{projected:.1e} steps"))
+                && msg.contains("max_steps (10000000)")
+                && msg.contains("damping")
+                && msg.contains("shorten t_end"),
+            "{msg}"
+        );
+
+        let sol = solve(method, &decay, y0, 1.0, &options);
+        assert_eq!(sol.stop, StopReason::Reached, "{}", method.name());
+        assert!(sol.stats.accepted > 100_000, "{}", method.name());
+
+        let mut options = Options::new(1e-12, 1e-12);
+        options.max_steps = 200_000;
+        let sol = solve(method, &Quadrature, y0, 1e7, &options);
+        assert!(
+            matches!(
+                sol.stop,
+                StopReason::Failed(IntegrateError::MaxSteps { steps: 200_000, .. })
+            ),
+            "{}: {:?}",
+            method.name(),
+            sol.stop
+        );
     }
 }
 

@@ -49,7 +49,7 @@ pub fn animate(args: &AnimateArgs) -> Result<ExitCode, CliError> {
         speed: args.speed,
     };
     opt.check().map_err(|e| CliError::Usage(format!("--{e}")))?;
-    let table = load(&args.input, args.summary.as_deref())?;
+    let table = load(&args.input, None, args.summary.as_deref())?;
     animate::check(&table, &opt).map_err(CliError::Usage)?;
     let (bytes, frames) = if ext == "mp4" {
         animate::mp4(&table, &opt).map_err(|e| ellipsoid_io::OutputError::Io {

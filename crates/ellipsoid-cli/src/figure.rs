@@ -86,6 +86,52 @@ pub fn parse_panels(spec: &str) -> Result<Vec<&'static str>, String> {
     Ok(out)
 }
 
+/// The columns the figure of `panels` draws from (besides `mode`; a caller reads these
+/// alone, `ellipsoid_io::table::read_columns`): `t`, those every time axis's title needs
+/// (`energy`, `work`, `drift`: the conserved quantity), and per declared panel the columns
+/// of its series, derived ones by what they are computed from; a column's panel: that
+/// column.
+pub fn columns_for<'a>(panels: &[&'a str]) -> Vec<&'a str> {
+    let decl = panels::declaration();
+    let mut cols = vec!["t", "energy", "work", "drift"];
+    for p in panels {
+        let Some(panel) = decl.panel(p) else {
+            cols.push(*p);
+            continue;
+        };
+        cols.extend(panel.needs.iter().map(String::as_str));
+        for s in panel.axes.iter().flat_map(|a| &a.series) {
+            if s.euler {
+                cols.push("theta");
+            }
+            let derived: &[&str] = match s.data.as_str() {
+                "energy_plus_work" => &["energy", "work"],
+                "drift" => &["drift", "energy", "work"],
+                "G" | "start" => &["x", "y"],
+                "contact" => &[
+                    "contact_x",
+                    "contact_y",
+                    "x",
+                    "y",
+                    "z",
+                    "theta",
+                    "phi",
+                    "psi",
+                ],
+                "centre" => &["x", "y", "theta", "phi", "psi"],
+                column => {
+                    cols.push(column);
+                    continue;
+                }
+            };
+            cols.extend_from_slice(derived);
+        }
+    }
+    cols.sort_unstable();
+    cols.dedup();
+    cols
+}
+
 /// The columns each panel needs (a column's panel: that column), checked before anything
 /// is drawn.
 pub fn check_columns(table: &Table, panels: &[&str]) -> Result<(), String> {
@@ -624,6 +670,7 @@ mod tests {
             "normal_force",
             "slip_speed",
             "work",
+            "omega_world_z",
         ];
         let mut t = Table::from_rows("mem.csv", &names, 500, |i| {
             let t = i as f64 * 1e-3;
@@ -642,6 +689,7 @@ mod tests {
                 0.5,
                 0.1 * (1.0 - t),
                 1e-3 * t * (1.0 + 1e-12),
+                60.0 * (0.2 + 0.1 * (40.0 * t).sin()).cos(),
             ];
             (
                 v,
@@ -726,6 +774,29 @@ mod tests {
         png(&svg).unwrap();
     }
 
+    /// A table of only the columns `columns_for` names draws each panel as the whole
+    /// table does (what `ellipsoid plot` reads is enough), and leaves others out.
+    #[test]
+    fn the_columns_read_for_a_panel_draw_it_whole() {
+        let full = table();
+        for p in panels::declaration().names().into_iter().chain(["vx"]) {
+            let keep = columns_for(&[p]);
+            let mut part = table();
+            part.columns.retain(|c| keep.contains(&c.0.as_str()));
+            if p == "vx" {
+                assert_eq!(keep, ["drift", "energy", "t", "vx", "work"]);
+                continue;
+            }
+            assert!(part.columns.len() < full.columns.len(), "{p}: {keep:?}");
+            assert_eq!(
+                svg(&part, &[p], "x").unwrap(),
+                svg(&full, &[p], "x").unwrap(),
+                "{p}: {keep:?}"
+            );
+        }
+        assert!(columns_for(&["rates"]).contains(&"omega_world_z"));
+    }
+
     #[test]
     fn panels_are_parsed_strictly() {
         assert_eq!(parse_panels("theta, path").unwrap(), ["theta", "path"]);
@@ -759,9 +830,9 @@ mod tests {
         let svg = svg(&table(), &["work", "slip_speed"], "x").unwrap();
         assert!(svg.contains("work (J)") && svg.contains("slip_speed (m/s)"));
         assert!(
-            super::svg(&table(), &["omega_world_z"], "x")
+            super::svg(&table(), &["omega_world_x"], "x")
                 .unwrap_err()
-                .contains("omega_world_z")
+                .contains("omega_world_x")
         );
     }
 

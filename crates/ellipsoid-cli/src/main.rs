@@ -10,6 +10,7 @@ mod cli;
 mod error;
 mod figure;
 mod interrupt;
+mod oom;
 mod precision;
 mod progress;
 mod run;
@@ -20,6 +21,9 @@ mod visual;
 use std::process::ExitCode;
 
 use clap::Parser;
+
+#[global_allocator]
+static ALLOCATOR: oom::CleanOom = oom::CleanOom;
 
 fn main() -> ExitCode {
     // A bug must still end in one readable line, never a panic dump.

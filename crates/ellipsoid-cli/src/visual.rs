@@ -13,9 +13,13 @@ use crate::cli::{PlotArgs, ViewArgs};
 use crate::error::CliError;
 use crate::figure;
 
-/// Reads the trajectory and, if given, the summary.
-pub(crate) fn load(input: &Path, summary: Option<&Path>) -> Result<Table, CliError> {
-    let mut t = table::read(input).map_err(|e| CliError::Usage(e.to_string()))?;
+/// Reads the trajectory's columns `keep` (all if None) and, if given, the summary.
+pub(crate) fn load(
+    input: &Path,
+    keep: Option<&[&str]>,
+    summary: Option<&Path>,
+) -> Result<Table, CliError> {
+    let mut t = table::read_columns(input, keep).map_err(|e| CliError::Usage(e.to_string()))?;
     if let Some(p) = summary {
         let s = table::read_summary(p).map_err(|e| CliError::Usage(e.to_string()))?;
         t.apply_summary(&s, None);
@@ -83,7 +87,8 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
         None => figure::parse_panels(&args.panels),
     }
     .map_err(CliError::Usage)?;
-    let table = load(&args.input, args.summary.as_deref())?;
+    let keep = figure::columns_for(&panels);
+    let table = load(&args.input, Some(&keep), args.summary.as_deref())?;
     figure::check_columns(&table, &panels).map_err(CliError::Usage)?;
     if table.shape.is_none()
         && table.contact_path().is_none()
@@ -121,7 +126,8 @@ pub fn view(args: &ViewArgs) -> Result<ExitCode, CliError> {
     let plots = ellipsoid_io::viewer::parse_plots(&args.columns)
         .map_err(|rule| CliError::Usage(format!("--columns: {rule}")))?;
     let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
-    let table = load(&args.input, args.summary.as_deref())?;
+    let keep = ellipsoid_io::viewer::columns(&plots);
+    let table = load(&args.input, Some(&keep), args.summary.as_deref())?;
     let title = args
         .title
         .clone()

@@ -135,6 +135,32 @@ pub enum ViewError {
     Missing(String),
 }
 
+/// The columns every page draws (with `mode`): the body's frames and the contact path.
+/// A caller reads these and the side plots' alone ([`columns`],
+/// [`crate::table::read_columns`]).
+pub const COLUMNS: [&str; 9] = [
+    "t",
+    "x",
+    "y",
+    "z",
+    "theta",
+    "phi",
+    "psi",
+    "contact_x",
+    "contact_y",
+];
+
+/// The columns the page with side plots `plots` draws from: [`COLUMNS`], the plots' own,
+/// and `work` for the energy's E + W.
+pub fn columns<'a>(plots: &[&'a str]) -> Vec<&'a str> {
+    let mut cols: Vec<&str> = COLUMNS.to_vec();
+    cols.extend_from_slice(plots);
+    if plots.contains(&"energy") {
+        cols.push("work");
+    }
+    cols
+}
+
 /// The side plots a page shows unless asked otherwise: θ(t) and the energy.
 pub const DEFAULT_PLOTS: [&str; 2] = ["theta", "energy"];
 

@@ -14,6 +14,7 @@
 //! The Python sources (`python/ellipsoid/`) re-export these names and carry the stubs.
 
 mod api;
+mod args;
 mod convert;
 mod errors;
 mod parameter_study;

@@ -13,9 +13,9 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 
 use crate::convert::Conv;
-use crate::errors;
 use crate::run;
 use crate::scenario::PyScenario;
+use crate::{args, errors};
 
 /// Where Python-made studies say they come from, in messages.
 const SOURCE: &str = "ellipsoid.study";
@@ -265,7 +265,8 @@ pub fn make_study(
 impl PyStudy {
     /// Reads a study file (docs/studies.md); its `base` path is relative to the file.
     #[staticmethod]
-    fn load(py: Python<'_>, path: PathBuf) -> PyResult<PyStudy> {
+    fn load(py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<PyStudy> {
+        let path = args::path(py, SOURCE, "path", path)?;
         errors::guard(py, || {
             let plan = spec::load(&path).map_err(|e| errors::scenario_errors(py, &e))?;
             new_study(py, plan)
@@ -280,8 +281,9 @@ impl PyStudy {
 
     /// A study from `to_json()`'s text.
     #[staticmethod]
-    fn from_json(py: Python<'_>, text: &str) -> PyResult<PyStudy> {
-        let plan: st::Plan = serde_json::from_str(text).map_err(|e| {
+    fn from_json(py: Python<'_>, text: &Bound<'_, PyAny>) -> PyResult<PyStudy> {
+        let text = args::opt_string(py, SOURCE, "text", Some(text))?.unwrap_or_default();
+        let plan: st::Plan = serde_json::from_str(&text).map_err(|e| {
             errors::value_error(
                 py,
                 SOURCE,
@@ -379,7 +381,12 @@ impl PyStudy {
     }
 
     /// The `key=value` overrides and key of point `index` (what it runs).
-    fn point<'py>(&self, py: Python<'py>, index: usize) -> PyResult<(Vec<String>, String)> {
+    fn point<'py>(
+        &self,
+        py: Python<'py>,
+        index: &Bound<'py, PyAny>,
+    ) -> PyResult<(Vec<String>, String)> {
+        let index = args::opt_count(py, SOURCE, "index", Some(index), usize::MAX)?.unwrap_or(0);
         if index >= self.inner.len() {
             return Err(errors::value_error(
                 py,
@@ -401,17 +408,22 @@ impl PyStudy {
     /// there is no value), in point order. With `journal` (a path), rows already in it are
     /// not run again, and each finished row is appended (a killed study resumes). Ctrl-C
     /// stops the runs at their next step and raises KeyboardInterrupt.
-    #[pyo3(signature = (start = 0, stop = None, threads = None, journal = None))]
+    #[pyo3(signature = (start = None, stop = None, threads = None, journal = None))]
+    #[pyo3(text_signature = "(self, /, start=0, stop=None, threads=None, journal=None)")]
     fn run<'py>(
         &self,
         py: Python<'py>,
-        start: usize,
-        stop: Option<usize>,
-        threads: Option<usize>,
-        journal: Option<PathBuf>,
+        start: Option<&Bound<'py, PyAny>>,
+        stop: Option<&Bound<'py, PyAny>>,
+        threads: Option<&Bound<'py, PyAny>>,
+        journal: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyList>> {
         let n = self.inner.len();
-        let stop = stop.unwrap_or(n).min(n);
+        let start = args::opt_count(py, SOURCE, "start", start, usize::MAX)?.unwrap_or(0);
+        let stop = args::opt_count(py, SOURCE, "stop", stop, usize::MAX)?
+            .unwrap_or(n)
+            .min(n);
+        let journal = args::opt_path(py, SOURCE, "journal", journal)?;
         if start > stop {
             return Err(errors::value_error(
                 py,
@@ -422,16 +434,7 @@ impl PyStudy {
             ));
         }
         let max = crate::api::max_workers();
-        let threads = threads.unwrap_or(0);
-        if threads > max {
-            return Err(errors::value_error(
-                py,
-                SOURCE,
-                Some("threads"),
-                Some(&threads.to_string()),
-                format!("give 1 to {max} threads, or 0 / None for one per CPU"),
-            ));
-        }
+        let threads = args::opt_count(py, SOURCE, "threads", threads, max)?.unwrap_or(0);
         let study = Arc::clone(&self.inner);
         let (result, interrupt) = run::detached(py, move |cancel| {
             if journal.is_none() && start == 0 && stop == n {
@@ -484,11 +487,27 @@ impl PyStudy {
 
     /// Writes `rows` (from `run`) as the table at `path`: .csv, .parquet (if built in) or
     /// .h5, atomically — the files `ellipsoid study -o` writes.
-    fn write(&self, py: Python<'_>, path: PathBuf, rows: &Bound<'_, PyList>) -> PyResult<()> {
+    fn write(
+        &self,
+        py: Python<'_>,
+        path: &Bound<'_, PyAny>,
+        rows: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let path = args::path(py, SOURCE, "path", path)?;
         let cols = &self.inner.columns;
+        let not_rows = || {
+            errors::type_error(
+                py,
+                SOURCE,
+                Some("rows"),
+                None,
+                "expected the list of tuples that run() returns",
+            )
+        };
+        let rows = rows.cast::<PyList>().map_err(|_| not_rows())?;
         let mut table = Vec::with_capacity(rows.len());
         for r in rows.iter() {
-            let t = r.cast::<PyTuple>()?;
+            let t = r.cast::<PyTuple>().map_err(|_| not_rows())?;
             if t.len() != cols.len() {
                 return Err(errors::value_error(
                     py,
@@ -504,9 +523,9 @@ impl PyStudy {
                     Cell::Null
                 } else {
                     match c.ty {
-                        Type::Int => Cell::Int(v.extract()?),
-                        Type::Float => Cell::Float(v.extract()?),
-                        Type::Text => Cell::Text(v.extract()?),
+                        Type::Int => Cell::Int(v.extract().map_err(|_| not_rows())?),
+                        Type::Float => Cell::Float(v.extract().map_err(|_| not_rows())?),
+                        Type::Text => Cell::Text(v.extract().map_err(|_| not_rows())?),
                     }
                 });
             }
@@ -521,8 +540,19 @@ impl PyStudy {
     /// Writes `data`, a table another library made (pandas' Parquet), at `path` as the
     /// study's own tables are written: atomically (a temporary beside it, renamed into
     /// place), refusing a symbolic link, directory or device there.
-    fn write_bytes(&self, py: Python<'_>, path: PathBuf, data: &[u8]) -> PyResult<()> {
-        py.detach(|| ellipsoid_io::atomic::write(&path, data))
+    fn write_bytes(
+        &self,
+        py: Python<'_>,
+        path: &Bound<'_, PyAny>,
+        data: &Bound<'_, PyAny>,
+    ) -> PyResult<()> {
+        let path = args::path(py, SOURCE, "path", path)?;
+        let data: Vec<u8> = data
+            .cast::<pyo3::types::PyBytes>()
+            .map_err(|_| errors::type_error(py, SOURCE, Some("data"), None, "expected bytes"))?
+            .as_bytes()
+            .to_vec();
+        py.detach(|| ellipsoid_io::atomic::write(&path, &data))
             .map_err(|e| errors::output_error(py, &e))
     }
 }
@@ -535,24 +565,25 @@ pub fn study_workers(py: Python<'_>, workers: Option<&Bound<'_, PyAny>>) -> PyRe
     Ok(crate::api::worker_count(py, "study", workers)?.unwrap_or(0))
 }
 
-/// The exception for a bad `ellipsoid.study` argument checked in Python: a ScenarioError
-/// (a ScenarioTypeError if `wrong_type`) naming `key`, `value` and `rule`, as every input
-/// error of the package is.
+/// The exception for a bad argument checked in Python (of `ellipsoid.study`, or of the
+/// function `source` names): a ScenarioError (a ScenarioTypeError if `wrong_type`) naming
+/// `key`, `value` and `rule`, as every input error of the package is.
 #[pyfunction]
-#[pyo3(name = "_argument_error", signature = (key, value, rule, wrong_type = false))]
+#[pyo3(name = "_argument_error", signature = (key, value, rule, wrong_type = false, source = "study"))]
 pub fn argument_error(
     py: Python<'_>,
     key: &str,
     value: Option<&str>,
     rule: &str,
     wrong_type: bool,
+    source: &str,
 ) -> Py<PyAny> {
     let make = if wrong_type {
         errors::type_error
     } else {
         errors::value_error
     };
-    make(py, "study", Some(key), value, rule)
+    make(py, source, Some(key), value, rule)
         .into_value(py)
         .into_any()
 }

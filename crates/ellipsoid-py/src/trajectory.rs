@@ -11,6 +11,7 @@ use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyDict;
 
+use crate::args;
 use crate::errors::{self, Class};
 use crate::run::{self, Run};
 use crate::scenario::PyScenario;
@@ -199,15 +200,31 @@ impl Trajectory {
         t
     }
 
-    /// The viewer page, titled `title` (default: the scenario's file name, as `ellipsoid
-    /// view` titles it; never its directories), with the side plots `columns` (a comma-
-    /// separated string or a sequence of column names; default θ and the energy).
-    fn page(
+    /// The viewer page (`path` None) or the file written at `path`, as `view` returns them,
+    /// with the side plots `columns` (see [`Trajectory::page`]).
+    fn page_or_file<'py>(
         &self,
-        py: Python<'_>,
-        title: Option<&str>,
-        columns: Option<&Bound<'_, PyAny>>,
-    ) -> PyResult<String> {
+        py: Python<'py>,
+        path: Option<PathBuf>,
+        title: Option<String>,
+        columns: Option<String>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let html = self.page(py, title.as_deref(), columns.as_deref())?;
+        let display = py.import("ellipsoid._display")?;
+        match path {
+            None => display.getattr("ViewerPage")?.call1((html,)),
+            Some(p) => {
+                ellipsoid_io::atomic::write(&p, html.as_bytes())
+                    .map_err(|e| errors::output_error(py, &e))?;
+                display.getattr("ViewerFile")?.call1((p,))
+            }
+        }
+    }
+
+    /// The viewer page, titled `title` (default: the scenario's file name, as `ellipsoid
+    /// view` titles it; never its directories), with the side plots `columns` (comma-
+    /// separated column names; default θ and the energy).
+    fn page(&self, py: Python<'_>, title: Option<&str>, columns: Option<&str>) -> PyResult<String> {
         let source = &self.scenario.inner.source;
         let name = Path::new(source)
             .file_name()
@@ -216,15 +233,9 @@ impl Trajectory {
             None => ellipsoid_io::viewer::DEFAULT_PLOTS
                 .map(String::from)
                 .to_vec(),
-            Some(c) => {
-                let spec = match c.extract::<String>() {
-                    Ok(s) => s,
-                    Err(_) => c.extract::<Vec<String>>()?.join(","),
-                };
-                ellipsoid_io::viewer::parse_plots(&spec).map_err(|rule| {
-                    errors::value_error(py, source, Some("columns"), Some(&spec), rule)
-                })?
-            }
+            Some(spec) => ellipsoid_io::viewer::parse_plots(spec).map_err(|rule| {
+                errors::value_error(py, source, Some("columns"), Some(spec), rule)
+            })?,
         };
         let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
         ellipsoid_io::viewer::html(&self.table(), title.unwrap_or(&name), &plots)
@@ -762,20 +773,15 @@ impl Trajectory {
     fn view<'py>(
         &self,
         py: Python<'py>,
-        path: Option<PathBuf>,
-        title: Option<String>,
+        path: Option<&Bound<'py, PyAny>>,
+        title: Option<&Bound<'py, PyAny>>,
         columns: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
-        let html = self.page(py, title.as_deref(), columns)?;
-        let display = py.import("ellipsoid._display")?;
-        match path {
-            None => display.getattr("ViewerPage")?.call1((html,)),
-            Some(p) => {
-                ellipsoid_io::atomic::write(&p, html.as_bytes())
-                    .map_err(|e| errors::output_error(py, &e))?;
-                display.getattr("ViewerFile")?.call1((p,))
-            }
-        }
+        let source = &self.scenario.inner.source;
+        let path = args::opt_path(py, source, "path", path)?;
+        let title = args::opt_string(py, source, "title", title)?;
+        let columns = args::opt_names(py, source, "columns", columns)?;
+        self.page_or_file(py, path, title, columns)
     }
 
     /// Writes the run as an animated GIF at `path`, rendered without a browser (the same
@@ -786,23 +792,33 @@ impl Trajectory {
     /// (on the PATH, or named by $ELLIPSOID_FFMPEG). Returns the number of frames (at most
     /// 2000). Raises OutputError if the file cannot be written (or, for MP4, ffmpeg is
     /// missing or fails: the message says what to install), ScenarioError for a bad option.
-    #[pyo3(signature = (path, *, width=480, height=360, fps=25.0, speed=1.0))]
+    #[pyo3(signature = (path, *, width=None, height=None, fps=None, speed=None))]
+    #[pyo3(text_signature = "(self, /, path, *, width=480, height=360, fps=25.0, speed=1.0)")]
     fn animate(
         &self,
         py: Python<'_>,
-        path: PathBuf,
-        width: u32,
-        height: u32,
-        fps: f64,
-        speed: f64,
+        path: &Bound<'_, PyAny>,
+        width: Option<&Bound<'_, PyAny>>,
+        height: Option<&Bound<'_, PyAny>>,
+        fps: Option<&Bound<'_, PyAny>>,
+        speed: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<usize> {
-        let opt = ellipsoid_io::animate::Options {
-            width,
-            height,
-            fps,
-            speed,
-        };
         let source = &self.scenario.inner.source;
+        let path = args::path(py, source, "path", path)?;
+        let pixels = |key, v, default| {
+            args::opt_count(py, source, key, v, u32::MAX as usize)
+                .map(|n| n.map_or(default, |n| n as u32))
+        };
+        let number = |key, v: Option<&Bound<'_, PyAny>>, default| {
+            v.filter(|v| !v.is_none())
+                .map_or(Ok(default), |v| args::number(py, source, key, v))
+        };
+        let opt = ellipsoid_io::animate::Options {
+            width: pixels("width", width, 480)?,
+            height: pixels("height", height, 360)?,
+            fps: number("fps", fps, 25.0)?,
+            speed: number("speed", speed, 1.0)?,
+        };
         opt.check()
             .map_err(|rule| errors::value_error(py, source, Some("animate"), None, rule))?;
         let ext = path
@@ -843,7 +859,8 @@ impl Trajectory {
 
     /// Jupyter: the viewer inline, in an iframe.
     fn _repr_html_<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        self.view(py, None, None, None)?.call_method0("_repr_html_")
+        self.page_or_file(py, None, None, None)?
+            .call_method0("_repr_html_")
     }
 
     /// The geometric centre C0's path on the plane, (x, y) [m] (used by `plot`); None

@@ -52,6 +52,19 @@ pub const OVER_BUDGET_FACTOR: f64 = 10.0;
 /// (docs/hard-cases.md row 11b): a DOP853 stick–slip onset 2e-8 to 9e-6 (over at 1.4e4
 /// steps), DOPRI5's onset trap 7e-8 to 1.1e-6 (at rtol 1e-9 and 1e-8, up to 3.7e5 steps).
 pub const MOTION_PACE: f64 = 1e-4;
+/// The smallest h·ρ (the step times the system's fastest rate ρ, from the stiffness
+/// test) at which the steps follow that rate: a stiff decay holds h·ρ at the method's
+/// stability boundary (3.25, 6.1), a fast rotation resolved at a tenth of a radian or
+/// more per step is above it; the step-size collapses of transients such as stick–slip
+/// onsets are set by the accuracy of a short episode, not by ρ.
+pub const FAST_PACE: f64 = 0.1;
+/// A run whose steps follow its fastest rate (h·ρ ≥ [`FAST_PACE`]) and whose pace over
+/// the last [`PACE_CHECK_STEPS`] steps projects more than this many times `max_steps` to
+/// reach t_end, judged from [`BUDGET_CHECK_STEPS`] steps on, fails at once
+/// ([`IntegrateError::FastRate`]): such a pace is held by the system itself (a decay or a
+/// spin does not slow down), and the margin covers the 1.16× by which steady runs'
+/// projections were measured to exceed what they take (docs/hard-cases.md row 11b).
+pub const FAST_BUDGET_FACTOR: f64 = 1.2;
 /// How many steps a run takes before [`OVER_BUDGET_FACTOR`] is applied (then at every
 /// pace check): enough for the mean step to average over many periods of the motion.
 const BUDGET_CHECK_STEPS: u64 = 100_000;
@@ -183,6 +196,8 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
             .map(StiffnessDetector::new);
         let mut nonfinite_streak = 0u32;
         let mut since_nonfinite = u64::MAX;
+        // (steps, t) at the last pace check: the start of the current window
+        let mut window = (0u64, t0);
 
         loop {
             if self
@@ -236,6 +251,30 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                             max_steps,
                         }),
                     );
+                }
+                let pace = (t - window.1) / (steps - window.0) as f64;
+                window = (steps, t);
+                if steps >= BUDGET_CHECK_STEPS
+                    && let Some(detector) = stiffness.as_ref()
+                    && let (h_rho, rate) = detector.last()
+                    && h_rho >= FAST_PACE
+                {
+                    let projected = steps as f64 + (t_end - t) / pace;
+                    if !(projected <= FAST_BUDGET_FACTOR * max_steps as f64) {
+                        return self.finish(
+                            t,
+                            y,
+                            StopReason::Failed(IntegrateError::FastRate {
+                                t,
+                                h: pace,
+                                rate,
+                                stiff: detector.is_stiff(),
+                                steps,
+                                projected,
+                                max_steps,
+                            }),
+                        );
+                    }
                 }
             }
             // Hairer: 0.1·|h| ≤ |t|·uround means t + h no longer resolves the stages.
@@ -307,7 +346,7 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
             self.system.project(&mut y_new);
             stepper.accept(self.system, t_new, &y_new, stats);
             if let Some(detector) = stiffness.as_mut()
-                && detector.update(stats.accepted, || stepper.stiffness_estimate())
+                && detector.update(stats.accepted, h_step, || stepper.stiffness_estimate())
             {
                 self.sol.warnings.push(Warning::Stiff { t });
             }

@@ -60,6 +60,35 @@ pub enum IntegrateError {
         projected: f64,
         max_steps: u64,
     },
+    /// The steps follow the system's fastest rate `rate` = ρ (h·ρ ≥
+    /// [`FAST_PACE`](super::FAST_PACE): held at the stability boundary of a stiff decay
+    /// when `stiff`, resolving a fast oscillation or rotation otherwise), and at the pace
+    /// `h` of the last steps reaching t_end would take `projected` steps, more than
+    /// [`FAST_BUDGET_FACTOR`](super::FAST_BUDGET_FACTOR) times `max_steps`.
+    #[error(
+        "t_end is out of reach at the pace of the fastest rate in the motion: {cause} (rate ρ ≈ {rate:.1e} 1/s, time scale 1/ρ ≈ {tau:.1e} s, steps of {h:.1e} s); \
+         after {steps} steps the integration reached t = {t} s, so t_end would take ~{projected:.1e} steps, more than max_steps ({max_steps}). {remedy}",
+        tau = 1.0 / .rate,
+        cause = if *.stiff {
+            "the problem is stiff, an explicit method's steps are held at the stability boundary of a decay far faster than the motion"
+        } else {
+            "the steps resolve an oscillation or rotation far faster than the rest of the motion"
+        },
+        remedy = if *.stiff {
+            "Such a decay usually comes from a strong damping of a light or small body (air drag: rates k/m and k_ω/I): lower the damping, make the body heavier, or shorten t_end; raising max_steps above the projection also works, at that cost"
+        } else {
+            "Such a pace usually comes from a fast spin: if the run is wanted, raise max_steps above the projection or shorten t_end; otherwise check the spin's value and units (rad/s)"
+        }
+    )]
+    FastRate {
+        t: f64,
+        h: f64,
+        rate: f64,
+        stiff: bool,
+        steps: u64,
+        projected: f64,
+        max_steps: u64,
+    },
     /// The right-hand side kept returning NaN or infinity although the step was reduced.
     #[error(
         "the right-hand side returned a non-finite value (NaN or infinity) just after t = {t} s, and reducing the step did not help"

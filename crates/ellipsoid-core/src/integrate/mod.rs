@@ -27,7 +27,9 @@ mod stepper;
 mod stiffness;
 pub mod tableau;
 
-pub use driver::{HOPELESS_FACTOR, MOTION_PACE, OVER_BUDGET_FACTOR, integrate};
+pub use driver::{
+    FAST_BUDGET_FACTOR, FAST_PACE, HOPELESS_FACTOR, MOTION_PACE, OVER_BUDGET_FACTOR, integrate,
+};
 pub use error::IntegrateError;
 pub use options::{Method, Options};
 pub(crate) use rk4::{RK4_LAST_STRETCH, step as rk4_step};

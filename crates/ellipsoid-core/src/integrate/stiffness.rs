@@ -20,6 +20,8 @@ pub(crate) const DOP853_LIMIT: f64 = 6.1;
 pub(crate) struct StiffnessDetector {
     limit: f64,
     hlamb: f64,
+    /// ρ from the last estimate \[1/s\] (0 before any).
+    rate: f64,
     positives: u32,
     negatives: u32,
 }
@@ -29,20 +31,27 @@ impl StiffnessDetector {
         StiffnessDetector {
             limit,
             hlamb: 0.0,
+            rate: 0.0,
             positives: 0,
             negatives: 0,
         }
     }
 
-    /// Called after each accepted step; `estimate` gives h·ρ for it. Returns true when
-    /// the problem has just been found stiff.
-    pub(crate) fn update(&mut self, accepted: u64, estimate: impl FnOnce() -> Option<f64>) -> bool {
+    /// Called after each accepted step of size `h`; `estimate` gives h·ρ for it. Returns
+    /// true when the problem has just been found stiff.
+    pub(crate) fn update(
+        &mut self,
+        accepted: u64,
+        h: f64,
+        estimate: impl FnOnce() -> Option<f64>,
+    ) -> bool {
         if !accepted.is_multiple_of(NSTIFF) && self.positives == 0 {
             return false;
         }
         // HLAMB keeps its previous value when the denominator vanishes
         if let Some(hl) = estimate() {
             self.hlamb = hl;
+            self.rate = hl / h;
         }
         if self.hlamb > self.limit {
             self.negatives = 0;
@@ -55,5 +64,17 @@ impl StiffnessDetector {
             }
             false
         }
+    }
+
+    /// The last estimate of h·ρ and of ρ \[1/s\], the dominant eigenvalue's magnitude:
+    /// the fastest rate of the system (a decay or an oscillation) near the solution.
+    pub(crate) fn last(&self) -> (f64, f64) {
+        (self.hlamb, self.rate)
+    }
+
+    /// Whether the last tested step had h·ρ above the stability boundary: the steps are
+    /// held by stability, not by accuracy.
+    pub(crate) fn is_stiff(&self) -> bool {
+        self.positives > 0 && self.hlamb > self.limit
     }
 }

@@ -49,8 +49,8 @@ _PANELS: Final[str]
 
 def _study_workers(workers: Any = None) -> int:
     """`study`'s workers checked as `sweep`'s: 0 (one per CPU) or 1 to 4 per CPU (at least 8)."""
-def _argument_error(key: str, value: str | None, rule: str, wrong_type: bool = False) -> ScenarioError:
-    """The ScenarioError (ScenarioTypeError if `wrong_type`) for a bad `study` argument."""
+def _argument_error(key: str, value: str | None, rule: str, wrong_type: bool = False, source: str = "study") -> ScenarioError:
+    """The ScenarioError (ScenarioTypeError if `wrong_type`) for a bad argument of `source`."""
 def _hdf5_plugins() -> tuple[bool, int]:
     """Whether HDF5 may load plugins, and how many plugin directories it searches: (False, 0)."""
 

@@ -74,17 +74,34 @@ def _figure(**kw: Any) -> Any:
     return cls(**kw)
 
 
+def _bad(key: str, value: Any, rule: str, wrong_type: bool = False) -> Exception:
+    """The ScenarioError (ScenarioTypeError if `wrong_type`) for a bad argument of `plot`."""
+    from ellipsoid._ellipsoid import _argument_error
+
+    shown = None if wrong_type else repr(value)[:60]
+    return _argument_error(key, shown, rule, wrong_type, "plot")
+
+
+def _names(key: str, value: Any) -> list[str]:
+    """`value` as a list of names: a comma-separated str, or a list or tuple of str."""
+    if isinstance(value, str):
+        return [p.strip() for p in value.split(",")]
+    if isinstance(value, (list, tuple)) and all(isinstance(p, str) for p in value):
+        return list(value)
+    raise _bad(key, value, f"expected a comma-separated str or a list of str, found {type(value).__name__}", True)
+
+
 def _panels(panels: str | Sequence[str] | None) -> list[str]:
     if panels is None:
         return list(PANELS)
-    names = [p.strip() for p in panels.split(",")] if isinstance(panels, str) else list(panels)
+    names = _names("panels", panels)
     if not names:
-        raise ValueError(f"panels: give at least one of {', '.join(PANELS)}")
+        raise _bad("panels", panels, f"give at least one of {', '.join(PANELS)}")
     for i, p in enumerate(names):
         if p not in PANELS:
-            raise ValueError(f"panels: unknown panel {p!r}; the panels are {', '.join(PANELS)}")
+            raise _bad("panels", p, f"unknown panel {p!r}; the panels are {', '.join(PANELS)}")
         if p in names[:i]:
-            raise ValueError(f"panels: {p!r} is named twice")
+            raise _bad("panels", p, "a panel is named twice")
     return names
 
 
@@ -141,12 +158,12 @@ def _legend(ax: Any) -> None:
 
 
 def _columns(traj: Any, columns: str | Sequence[str]) -> list[str]:
-    names = [c.strip() for c in columns.split(",")] if isinstance(columns, str) else list(columns)
+    names = _names("columns", columns)
     if not names:
-        raise ValueError("columns: give at least one output column")
+        raise _bad("columns", columns, "give at least one output column")
     for c in names:
         if c not in traj.columns or c in ("t", "mode"):
-            raise ValueError(f"columns: {c!r} is not a numeric output column; the columns are {', '.join(traj.columns[1:])}")
+            raise _bad("columns", c, f"not a numeric output column; the columns are {', '.join(traj.columns[1:])}")
     return names
 
 
@@ -257,9 +274,11 @@ def _draw_panel(axes: Sequence[Any], traj: Any, name: str, labels: bool) -> None
 
 
 def plot(traj: Any, panels: str | Sequence[str] | None = None, columns: str | Sequence[str] | None = None, ax: Any = None) -> Any:
+    if ax is not None and not (callable(getattr(ax, "plot", None)) and hasattr(ax, "figure")):
+        raise _bad("ax", ax, f"expected a matplotlib Axes, found {type(ax).__name__}", True)
     if columns is not None:
         if panels is not None:
-            raise ValueError("give panels or columns, not both")
+            raise _bad("columns", columns, "give panels or columns, not both")
         names = _columns(traj, columns)
         if ax is not None:
             for i, c in enumerate(names):
@@ -278,7 +297,7 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None, columns: str | Se
     if ax is not None:
         if len(names) != 1 or len(_BY_NAME[names[0]]["axes"]) != 1:
             single = ", ".join(n for n in PANELS if len(_BY_NAME[n]["axes"]) == 1)
-            raise ValueError(f"ax= takes one panel of {single} (or columns=); the others draw two axes")
+            raise _bad("panels", panels, f"ax= takes one panel of {single} (or columns=); the others draw two axes")
         _draw_panel([ax], traj, names[0], labels=True)
         return ax.figure
     fig = _figure(figsize=(11, 3.0 * len(names)), layout="constrained")

@@ -135,6 +135,8 @@ def study(
     for key, path in (("journal", journal), ("out", out)):
         if path is not None and not isinstance(path, (str, os.PathLike)):
             raise _argument_error(key, None, f"expected a path (str or os.PathLike), found {type(path).__name__}", True)
+    if executor is not None and not callable(getattr(executor, "submit", None)):
+        raise _argument_error("executor", None, f"expected a concurrent.futures.Executor or a dask.distributed.Client, found {type(executor).__name__}", True)
     if isinstance(axes, Study):
         if combine is not None:
             raise _argument_error("combine", repr(combine), "combine belongs to the study file when axes is an ellipsoid.Study")

@@ -16,7 +16,7 @@
 
 use std::collections::HashMap;
 use std::fs::{File, OpenOptions};
-use std::io::{Read, Seek, SeekFrom, Write};
+use std::io::{BufRead, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -93,20 +93,18 @@ impl Journal {
             .truncate(false)
             .open(path)
             .map_err(io)?;
-        let mut bytes = Vec::new();
-        file.read_to_end(&mut bytes).map_err(io)?;
         let header = format!("{MAGIC} {fingerprint}\n");
+        let len = file.metadata().map_err(io)?.len();
         let mut done = Done::new();
-        let mut good = 0usize;
-        if bytes.is_empty() {
+        if len == 0 {
             file.write_all(header.as_bytes()).map_err(io)?;
             file.sync_all().map_err(io)?;
         } else {
-            let first_end = bytes
-                .iter()
-                .position(|&b| b == b'\n')
-                .map_or(bytes.len(), |i| i + 1);
-            let first = String::from_utf8_lossy(&bytes[..first_end]);
+            // Line by line: a journal of millions of rows is never held whole.
+            let mut reader = std::io::BufReader::new(&mut file);
+            let mut line = Vec::new();
+            reader.read_until(b'\n', &mut line).map_err(io)?;
+            let first = String::from_utf8_lossy(&line);
             let Some(found) = first.trim_end().strip_prefix(MAGIC).map(str::trim) else {
                 return Err(JournalError::NotAJournal {
                     path: path.to_owned(),
@@ -119,29 +117,29 @@ impl Journal {
                     expected: fingerprint.to_owned(),
                 });
             }
-            good = first_end;
-            while good < bytes.len() {
-                let Some(len) = bytes[good..].iter().position(|&b| b == b'\n') else {
-                    break; // torn last line
-                };
-                let Some((key, row)) = std::str::from_utf8(&bytes[good..good + len])
-                    .ok()
+            let mut good = line.len() as u64;
+            loop {
+                line.clear();
+                if reader.read_until(b'\n', &mut line).map_err(io)? == 0 {
+                    break;
+                }
+                let Some((key, row)) = line
+                    .strip_suffix(b"\n") // none: a torn last line
+                    .and_then(|l| std::str::from_utf8(l).ok())
                     .and_then(|l| decode(l, cells))
                 else {
                     break;
                 };
                 done.insert(key, row);
-                good += len + 1;
+                good += line.len() as u64;
             }
-            if good < bytes.len() {
-                file.set_len(good as u64).map_err(io)?;
+            drop(reader);
+            if good < len {
+                file.set_len(good).map_err(io)?;
                 file.sync_all().map_err(io)?;
             }
+            file.seek(SeekFrom::Start(good)).map_err(io)?;
         }
-        file.seek(SeekFrom::Start(
-            if bytes.is_empty() { header.len() } else { good } as u64,
-        ))
-        .map_err(io)?;
         Ok((
             Journal {
                 file,

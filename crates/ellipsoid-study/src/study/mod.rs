@@ -136,34 +136,10 @@ pub fn execute_with(
         });
     }
     let mut results: Vec<PointResult> = Vec::with_capacity(n);
-    let pending: Vec<usize> = if done.is_empty() {
+    let pending = if done.is_empty() {
         (0..n).collect()
     } else {
-        // Keys of every point, in parallel (a resolve is tens of microseconds).
-        let keys: Vec<Option<String>> = (0..n)
-            .into_par_iter()
-            .map(|i| study.resolve(i).ok().map(|r| r.key))
-            .collect();
-        let mut pending = Vec::new();
-        for (i, key) in keys.into_iter().enumerate() {
-            match key.and_then(|k| done.get(&k).map(|c| (k, c))) {
-                Some((key, c)) => {
-                    tally.done += 1;
-                    tally.resumed += 1;
-                    if matches!(c.first(), Some(Cell::Text(s)) if is_failure(s)) {
-                        tally.failed += 1;
-                    }
-                    results.push(PointResult {
-                        index: i,
-                        key,
-                        cells: c.clone(),
-                        trajectory: None,
-                    });
-                }
-                None => pending.push(i),
-            }
-        }
-        pending
+        resume(study, done, cancel, &mut tally, &mut results)?
     };
     progress(&tally);
     let mut journal_error = None;
@@ -212,5 +188,69 @@ pub fn execute_with(
     }
     Ok(results)
 }
+/// Points whose keys are computed together while resuming: the cancel flag is read
+/// between such chunks, and only one chunk's keys are held.
+const RESUME_CHUNK: usize = 1 << 14;
+
+/// Splits the points into those whose rows the journal holds (`done`, moved into
+/// `results` and counted in `tally`) and the rest, returned in order. Keys are computed
+/// in parallel, a chunk at a time (a resolve is tens of microseconds: 10⁷ points take
+/// a minute of CPU); [`ExecError::Interrupted`] as soon as `cancel` is set.
+fn resume(
+    study: &Study,
+    mut done: journal::Done,
+    cancel: &AtomicBool,
+    tally: &mut Tally,
+    results: &mut Vec<PointResult>,
+) -> Result<Vec<usize>, ExecError> {
+    let n = study.len();
+    // Rows already moved into `results`, by key (32 hexadecimal digits), for points that
+    // run the same scenario: 24 bytes a row, not a second copy of the key and cells.
+    let id = |k: &str| u128::from_str_radix(k, 16).ok();
+    let mut taken: std::collections::HashMap<u128, usize> = Default::default();
+    let mut pending = Vec::new();
+    for start in (0..n).step_by(RESUME_CHUNK) {
+        if cancel.load(Ordering::Relaxed) {
+            return Err(ExecError::Interrupted {
+                done: tally.done,
+                total: n,
+            });
+        }
+        let keys: Vec<Option<String>> = (start..n.min(start + RESUME_CHUNK))
+            .into_par_iter()
+            .map(|i| study.resolve(i).ok().map(|r| r.key))
+            .collect();
+        for (i, key) in (start..).zip(keys) {
+            let cells = key.as_deref().and_then(|k| match done.remove(k) {
+                Some(cells) => {
+                    if let Some(id) = id(k) {
+                        taken.insert(id, results.len());
+                    }
+                    Some(cells)
+                }
+                None => id(k)
+                    .and_then(|id| taken.get(&id))
+                    .map(|&r| results[r].cells.clone()),
+            });
+            let (Some(key), Some(cells)) = (key, cells) else {
+                pending.push(i);
+                continue;
+            };
+            tally.done += 1;
+            tally.resumed += 1;
+            if matches!(cells.first(), Some(Cell::Text(s)) if is_failure(s)) {
+                tally.failed += 1;
+            }
+            results.push(PointResult {
+                index: i,
+                key,
+                cells,
+                trajectory: None,
+            });
+        }
+    }
+    Ok(pending)
+}
+
 #[cfg(test)]
 mod tests;

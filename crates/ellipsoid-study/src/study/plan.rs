@@ -156,6 +156,40 @@ pub struct Plan {
     pub axes: Vec<Axis>,
     pub combine: Combine,
     pub outcomes: Outcomes,
+    /// Where the parts were written in the study file, for messages (empty for a study
+    /// made otherwise; not sent to workers).
+    #[serde(skip)]
+    pub places: Places,
+}
+
+/// (line, column) in the study file of its parts, by label: `base`, `combine` (or the
+/// axis array, for the grid), `set.KEY`, `axis[I]`, `axis[I].key` (`key` or `keys`),
+/// `axis[I].also`, `outcomes.NAME`.
+#[derive(Debug, Clone, Default)]
+pub struct Places(pub std::collections::HashMap<String, (usize, usize)>);
+
+/// Any two compare equal: where a study was written is not part of what it runs (a plan
+/// sent to a worker as JSON, without its places, is the same plan).
+impl PartialEq for Places {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl Places {
+    /// `e` placed at the part `label`, if it was written in the file: the study file's
+    /// name, line and column.
+    fn locate(&self, source: &str, label: &str, mut e: ScenarioError) -> ScenarioError {
+        if let Some(&(line, column)) = self.0.get(label) {
+            e.location = Location {
+                source: source.to_owned(),
+                line: Some(line),
+                column: Some(column),
+                set: None,
+            };
+        }
+        e
+    }
 }
 
 /// The type of a table column.
@@ -492,8 +526,14 @@ impl Study {
     /// point must not name an unknown key.
     pub fn new(plan: Plan) -> Result<Study, ScenarioErrors> {
         let src = plan.source.clone();
+        let places = plan.places.clone();
+        // An error of the part `label` of the study, placed where it was written.
+        let err_at = |label: &str, key: Option<String>, value: Option<String>, rule: String| {
+            ScenarioErrors::from(places.locate(&src, label, study_error(&src, key, value, rule)))
+        };
         let err = |key: Option<String>, value: Option<String>, rule: String| {
-            ScenarioErrors::from(study_error(&src, key, value, rule))
+            let label = key.clone().unwrap_or_default();
+            err_at(&label, key, value, rule)
         };
         if plan.axes.len() > MAX_AXES {
             return Err(err(
@@ -506,11 +546,33 @@ impl Study {
         for (k, v) in &plan.set {
             base_overrides.push(format!("{k}={}", value_text(v)));
         }
-        // The base as the study changes it must be a valid scenario.
+        // The base as the study changes it must be a valid scenario; an error of a `set`
+        // change is placed at that change in the study file.
         let base_scenario =
-            scenario::parse_all(&plan.base.text, &plan.base.source, &base_overrides)?;
+            scenario::parse_all(&plan.base.text, &plan.base.source, &base_overrides).map_err(
+                |errs| {
+                    let own = &base_overrides[plan.base.overrides.len()..];
+                    ScenarioErrors(
+                        errs.0
+                            .into_iter()
+                            .map(|mut e| {
+                                let Some(j) =
+                                    own.iter().position(|o| e.location.set.as_ref() == Some(o))
+                                else {
+                                    return e;
+                                };
+                                let label = format!("set.{}", plan.set[j].0);
+                                if places.0.contains_key(&label) {
+                                    e.key = e.key.map(|k| format!("set.{k}"));
+                                }
+                                places.locate(&src, &label, e)
+                            })
+                            .collect(),
+                    )
+                },
+            )?;
         let mut base_table = base_document(&plan.base, &|rule| {
-            ScenarioErrors::from(study_error(&src, Some("base".into()), None, rule)).first()
+            err_at("base", Some("base".into()), None, rule).first()
         })?;
         for (k, v) in &plan.set {
             let path = parse_path(k).map_err(|r| err(Some(format!("set.{k}")), None, r))?;
@@ -519,10 +581,11 @@ impl Study {
         }
         let mut paths = Vec::new();
         let mut lens = Vec::new();
-        for axis in &plan.axes {
+        for (i, axis) in plan.axes.iter().enumerate() {
             let n = axis.len();
             if axis.dims.is_empty() || n == 0 {
-                return Err(err(
+                return Err(err_at(
+                    &format!("axis[{i}]"),
                     Some("axis".into()),
                     None,
                     "every axis needs at least one key and one value".into(),
@@ -531,7 +594,8 @@ impl Study {
             let mut dims = Vec::new();
             for d in &axis.dims {
                 if d.values.len() != n {
-                    return Err(err(
+                    return Err(err_at(
+                        &format!("axis[{i}]"),
                         Some(format!("axis[{}]", d.key)),
                         None,
                         "every key of a Latin hypercube has n values".into(),
@@ -542,7 +606,8 @@ impl Study {
                     std::iter::once((&d.key, "key")).chain(d.also.iter().map(|k| (k, "also")));
                 for (k, field) in named {
                     let fail = |r| {
-                        err(
+                        err_at(
+                            &format!("axis[{i}].{field}"),
                             Some(format!("axis[{}].{field}", d.key)),
                             Some(format!("{k:?}")),
                             r,
@@ -620,15 +685,40 @@ impl Study {
                     )
                 })
             {
-                return Err(err(
-                    e.key.clone().map(|k| format!("axis key {k}")),
-                    e.value.clone(),
-                    format!(
-                        "{} (the first point, {})",
-                        e.rule,
-                        r.overrides[study.base_overrides.len()..].join(", ")
+                let rule = format!(
+                    "{} (the first point, {})",
+                    e.rule,
+                    r.overrides[study.base_overrides.len()..].join(", ")
+                );
+                // The axis (and whether its key or an `also` key) that names it.
+                let named = e.key.as_deref().and_then(|k| {
+                    study.plan.axes.iter().enumerate().find_map(|(i, a)| {
+                        a.dims.iter().find_map(|d| {
+                            let field = if d.key == k {
+                                "key"
+                            } else if d.also.iter().any(|x| x == k) {
+                                "also"
+                            } else {
+                                return None;
+                            };
+                            Some((
+                                format!("axis[{i}].{field}"),
+                                format!("axis[{}].{field}", d.key),
+                                k,
+                            ))
+                        })
+                    })
+                });
+                return Err(match named {
+                    Some((label, key, k)) => {
+                        err_at(&label, Some(key), Some(format!("{k:?}")), rule)
+                    }
+                    None => err(
+                        e.key.clone().map(|k| format!("axis key {k}")),
+                        e.value.clone(),
+                        rule,
                     ),
-                ));
+                });
             }
         }
         Ok(study)

@@ -20,7 +20,8 @@ use toml::de::{DeTable, DeValue};
 
 use super::axes;
 use super::plan::{
-    Axis, Base, Combine, Dim, MAX_AXES, MAX_KEYS, MAX_POINTS, Outcomes, Plan, Values, parse_path,
+    Axis, Base, Combine, Dim, MAX_AXES, MAX_KEYS, MAX_POINTS, Outcomes, Places, Plan, Values,
+    parse_path,
 };
 
 /// Largest study file read [bytes].
@@ -69,6 +70,8 @@ struct Doc<'a> {
     source: &'a str,
     text: &'a str,
     naming: Naming,
+    /// Where the parts were written, by the labels of [`Places`].
+    places: std::cell::RefCell<Places>,
 }
 
 type Res<T> = Result<T, ScenarioError>;
@@ -87,20 +90,7 @@ impl Doc<'_> {
         value: Option<String>,
         rule: impl Into<String>,
     ) -> ScenarioError {
-        let (line, column) = match self.naming {
-            Naming::File => {
-                let mut offset = span.start.min(self.text.len());
-                while !self.text.is_char_boundary(offset) {
-                    offset -= 1;
-                }
-                let before = &self.text[..offset];
-                (
-                    Some(before.matches('\n').count() + 1),
-                    Some(before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1),
-                )
-            }
-            Naming::Python => (None, None),
-        };
+        let (line, column) = self.place(span).unzip();
         ScenarioError {
             kind,
             location: Location {
@@ -112,6 +102,30 @@ impl Doc<'_> {
             key: (!key.is_empty()).then(|| key.to_owned()),
             value,
             rule: rule.into(),
+        }
+    }
+
+    /// Line and column (1-based, in characters) of `span`'s start; None for a document
+    /// made from Python arguments.
+    fn place(&self, span: &Range<usize>) -> Option<(usize, usize)> {
+        if self.naming == Naming::Python {
+            return None;
+        }
+        let mut offset = span.start.min(self.text.len());
+        while !self.text.is_char_boundary(offset) {
+            offset -= 1;
+        }
+        let before = &self.text[..offset];
+        Some((
+            before.matches('\n').count() + 1,
+            before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1,
+        ))
+    }
+
+    /// Records where the part `label` was written.
+    fn mark(&self, label: String, span: &Range<usize>) {
+        if let Some(p) = self.place(span) {
+            self.places.borrow_mut().0.insert(label, p);
         }
     }
 
@@ -337,6 +351,7 @@ impl Doc<'_> {
                     self.flatten(sub, &key, out)?
                 }
                 _ => {
+                    self.mark(format!("set.{key}"), &e.span());
                     parse_path(&key).map_err(|r| self.invalid(e, &format!("set.{key}"), r))?;
                     out.push((key.clone(), self.value(e, &format!("set.{key}"))?));
                 }
@@ -387,6 +402,7 @@ pub fn parse(
         source,
         text,
         naming,
+        places: Default::default(),
     };
     parse_doc(&doc, dir, base).map_err(ScenarioErrors::from)
 }
@@ -422,6 +438,11 @@ fn parse_doc(doc: &Doc<'_>, dir: Option<&Path>, given: Option<Base>) -> Res<Plan
             .find(|(k, _)| k.get_ref() == name)
             .map(|(_, v)| *v)
     };
+    for name in ["base", "combine"] {
+        if let Some(v) = get(name) {
+            doc.mark(name.into(), &v.span());
+        }
+    }
 
     let base = match (get("base"), given) {
         (Some(v), Some(_)) => return Err(doc.invalid(v, "base", "the base scenario is given twice (as an argument and in the study)")),
@@ -461,6 +482,9 @@ fn parse_doc(doc: &Doc<'_>, dir: Option<&Path>, given: Option<Base>) -> Res<Plan
 
     let mut axes_out = Vec::new();
     if let Some(v) = get("axis") {
+        if get("combine").is_none() {
+            doc.mark("combine".into(), &v.span());
+        }
         let list = doc.array(v, "axis", MAX_AXES)?;
         // The grid's size, from the counts the axes declare, before any value is made.
         if combine == Combine::Grid {
@@ -497,6 +521,7 @@ fn parse_doc(doc: &Doc<'_>, dir: Option<&Path>, given: Option<Base>) -> Res<Plan
         axes: axes_out,
         combine,
         outcomes,
+        places: doc.places.take(),
     })
 }
 
@@ -560,6 +585,12 @@ fn read_axis(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, i: usize) -> Res<Axis> {
             .find(|(k, _)| k.get_ref() == name)
             .map(|(_, v)| *v)
     };
+    doc.mark(format!("axis[{i}]"), &v.span());
+    for (name, field) in [("key", "key"), ("keys", "key"), ("also", "also")] {
+        if let Some(x) = get(name) {
+            doc.mark(format!("axis[{i}].{field}"), &x.span());
+        }
+    }
     let gens: Vec<&str> = GENERATORS
         .iter()
         .copied()
@@ -751,6 +782,7 @@ fn read_outcomes(doc: &Doc<'_>, t: &DeTable<'_>) -> Res<Outcomes> {
     let mut o = Outcomes::default();
     for (k, v) in doc.entries(t, "outcomes", &OUTCOME_KEYS)? {
         let key = format!("outcomes.{}", k.get_ref());
+        doc.mark(key.clone(), &v.span());
         match k.get_ref().as_ref() {
             "observables" => o.observables = doc.boolean(v, &key)?,
             "drift" => o.drift = doc.boolean(v, &key)?,

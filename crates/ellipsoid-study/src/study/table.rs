@@ -88,7 +88,12 @@ pub fn write(
     match TableFormat::from_path(path) {
         Ok(TableFormat::Csv) => {
             let mut f = AtomicFile::create(path)?;
-            f.file().write_all(&csv(columns, rows)).map_err(io)?;
+            // Streamed: the table's text is never held whole.
+            let mut out = std::io::BufWriter::new(f.file());
+            write_csv(&mut out, columns, rows)
+                .and_then(|()| out.flush())
+                .map_err(io)?;
+            drop(out);
             f.commit()
         }
         #[cfg(feature = "parquet")]
@@ -123,32 +128,29 @@ pub fn write(
     }
 }
 
-/// The table as CSV text.
-pub fn csv(columns: &[Column], rows: &[Vec<Cell>]) -> Vec<u8> {
-    use std::fmt::Write as _;
-    let mut out = String::new();
+/// Writes the table as CSV text to `out`, row by row.
+pub fn write_csv(
+    out: &mut impl Write,
+    columns: &[Column],
+    rows: &[Vec<Cell>],
+) -> std::io::Result<()> {
     let header: Vec<String> = columns.iter().map(|c| quote(&c.header())).collect();
-    out.push_str(&header.join(","));
-    out.push('\n');
+    writeln!(out, "{}", header.join(","))?;
     for row in rows {
         for (i, c) in row.iter().enumerate() {
             if i > 0 {
-                out.push(',');
+                out.write_all(b",")?;
             }
             match c {
                 Cell::Null => {}
-                Cell::Int(v) => {
-                    let _ = write!(out, "{v}");
-                }
-                Cell::Float(v) => {
-                    let _ = write!(out, "{v:e}");
-                }
-                Cell::Text(s) => out.push_str(&quote(s)),
+                Cell::Int(v) => write!(out, "{v}")?,
+                Cell::Float(v) => write!(out, "{v:e}")?,
+                Cell::Text(s) => out.write_all(quote(s).as_bytes())?,
             }
         }
-        out.push('\n');
+        out.write_all(b"\n")?;
     }
-    out.into_bytes()
+    Ok(())
 }
 
 /// A CSV field, quoted when it must be (RFC 4180).

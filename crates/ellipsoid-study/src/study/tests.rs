@@ -344,3 +344,94 @@ fn study_file_messages_name_the_field_and_place() {
     let e = spec::load(&path).unwrap_err().to_string();
     assert!(e.contains("s.toml:2:8: ") && e.contains("byte 0xff"), "{e}");
 }
+
+/// Points that run the same scenario (a repeated axis value) all resume from its one
+/// journal row; a cancel flag already set when a resumed study prepares stops it before
+/// any run, with nothing appended.
+#[test]
+fn repeated_points_resume_from_one_row_and_a_cancelled_prepare_runs_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = study("[[axis]]\nkey = \"contact.friction\"\nvalues = [0.2, 0.3, 0.2, 0.2]\n").unwrap();
+    let j = dir.path().join("j");
+    let (mut journal, _) =
+        Journal::open(&j, &s.outcome_fingerprint(), s.outcome_columns().len()).unwrap();
+    journal.append(&s.run_point(0, None).unwrap()).unwrap();
+    drop(journal);
+    let before = std::fs::read(&j).unwrap();
+    let cancelled = execute(&s, Some(&j), 1, &Arc::new(AtomicBool::new(true)), |_| {});
+    assert!(
+        matches!(cancelled, Err(ExecError::Interrupted { done: 0, total: 4 })),
+        "{cancelled:?}"
+    );
+    assert_eq!(std::fs::read(&j).unwrap(), before);
+    let mut seen = Tally::default();
+    let r = execute(&s, Some(&j), 1, &Arc::new(AtomicBool::new(false)), |t| {
+        seen = *t
+    })
+    .unwrap();
+    assert_eq!((seen.done, seen.resumed), (4, 3));
+    let rows = s.rows(r);
+    assert_eq!(rows[0][2..], rows[2][2..]);
+    assert_eq!(rows[0][2..], rows[3][2..]);
+}
+
+/// Every rejection of a hand-written study file is placed at its line and column in the
+/// study file: errors found when the study is prepared (a `[set]` value the scenario
+/// refuses, a key that does not reach into the base, a misspelt `also` key, zipped axes
+/// of different lengths, an outcome column that does not exist) as well as those of
+/// reading it. A `[set]` error used to be reported against the base scenario's
+/// `--set`, a misspelt `also` key as an "axis key", and the rest without a place.
+#[test]
+fn every_rejected_study_file_names_its_line_and_column() {
+    let axis = "[[axis]]\nkey = \"initial.phi_dot\"\nvalues = [100.0]\n";
+    let cases = [
+        (
+            format!("[set]\n\"contact.friction\" = -1\n{axis}"),
+            "s.toml:2:22: set.contact.friction = -1: the Coulomb coefficient",
+        ),
+        (
+            format!("[set]\nbody = {{ mass = \"heavy\" }}\n{axis}"),
+            "s.toml:2:17: set.body.mass = \"heavy\": expected a number",
+        ),
+        (
+            format!("[set]\n\"body.bogus\" = 1\n{axis}"),
+            "s.toml:2:16: set.body.bogus = 1: unknown key in [body]",
+        ),
+        (
+            "[[axis]]\nkey = \"initial.phi_dot\"\nalso = [\"initial.psi_dott\"]\nvalues = [1.0]\n"
+                .into(),
+            "s.toml:3:8: axis[initial.phi_dot].also = \"initial.psi_dott\": unknown key in [initial]",
+        ),
+        (
+            "[[axis]]\nkey = \"initial.phi_dot\"\nalso = [\"body.inertia[7]\"]\nvalues = [1.0]\n"
+                .into(),
+            "s.toml:3:8: axis[initial.phi_dot].also = \"body.inertia[7]\": inertia has 3 elements",
+        ),
+        (
+            "[[axis]]\nkey = \"initial.phi_dott\"\nvalues = [1.0]\n".into(),
+            "s.toml:2:7: axis[initial.phi_dott].key = \"initial.phi_dott\": unknown key in [initial]",
+        ),
+        (
+            "[[axis]]\nkey = \"initial.phi_dot.x\"\nvalues = [1.0]\n".into(),
+            "s.toml:2:7: axis[initial.phi_dot.x].key",
+        ),
+        (
+            format!(
+                "combine = \"zip\"\n{axis}[[axis]]\nkey = \"initial.theta\"\nvalues = [0.1, 0.2]\n"
+            ),
+            "s.toml:1:11: combine = \"zip\": zipped axes must all have the same number of values",
+        ),
+        (
+            format!("{axis}[outcomes]\nfinal = [\"thetaa\"]\n"),
+            "s.toml:5:9: outcomes.final = \"thetaa\"",
+        ),
+        (
+            format!("{axis}[outcomes]\nmin = [\"mode\"]\n"),
+            "s.toml:5:7: outcomes.min = \"mode\"",
+        ),
+    ];
+    for (doc, expected) in cases {
+        let e = study(&doc).unwrap_err();
+        assert!(e.contains(expected), "expected {expected:?} in {e:?}");
+    }
+}
