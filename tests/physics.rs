@@ -874,6 +874,10 @@ fn a_cancel_flag_stops_a_run_between_sparse_samples() {
         TOL,
     );
     s.sample_times = vec![0.0, 1e6];
+    // Budget for the whole run (about 4e8 steps), so that the early exit for a run out of
+    // reach of its max_steps (`IntegrateError::FastRate`, after 1e5 steps) cannot end it
+    // before the cancel flag does, however fast the machine.
+    s.solver.max_steps = 1_000_000_000;
     let cancel = Arc::new(AtomicBool::new(false));
     let setter = {
         let cancel = Arc::clone(&cancel);

@@ -46,36 +46,77 @@ pub struct Contact {
 impl Contact {
     /// Evaluates the contact geometry of the body's surface ([`Body::surface`]) for body
     /// orientation `zeta` (unit) and body angular velocity `omega` [rad/s].
-    #[inline]
+    #[inline(always)]
     pub fn new(body: &Body, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
         Contact::of(body, body.surface(), zeta, omega)
     }
 
     /// The contact geometry of `surface`.
-    #[inline]
+    #[inline(always)]
     pub fn of(body: &Body, surface: Surface, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
+        match surface {
+            Surface::Ellipsoid => Contact::ellipsoid(body, zeta, omega),
+            Surface::Sphere(k) => Contact::sphere(body, k, zeta, omega),
+        }
+    }
+
+    /// The ellipsoid's contact geometry (the right-hand side's path: kept inline).
+    #[inline(always)]
+    fn ellipsoid(body: &Body, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
+        let a = body.semi_axes();
+        let a2 = a.component_mul(&a);
+        let a2z = a2.component_mul(&zeta);
+        let s = zeta.dot(&a2z).sqrt();
         let zeta_dot = zeta.cross(&omega);
-        // (s, p_c, H ζ̇), H ζ̇ without forming H.
-        let (s, p_c, h_zd) = match surface {
-            Surface::Ellipsoid => {
-                let a = body.semi_axes();
-                let a2 = a.component_mul(&a);
-                let a2z = a2.component_mul(&zeta);
-                let s = zeta.dot(&a2z).sqrt();
-                // A²ζ̇/s − A²ζ (A²ζ·ζ̇)/s³.
-                let h_zd =
-                    a2.component_mul(&zeta_dot) / s - a2z * (a2z.dot(&zeta_dot) / (s * s * s));
-                (s, -a2z / s, h_zd)
-            }
-            Surface::Sphere(k) => {
-                let sphere = &body.spheres()[k];
-                let (rho, c) = (sphere.radius, sphere.center);
-                let n = zeta.norm();
-                // ρ(ζ̇/|ζ| − ζ (ζ·ζ̇)/|ζ|³).
-                let h_zd = rho * (zeta_dot / n - zeta * (zeta.dot(&zeta_dot) / (n * n * n)));
-                (rho * n - c.dot(&zeta), c - zeta * (rho / n), h_zd)
-            }
-        };
+        // H ζ̇ without forming H: A²ζ̇/s − A²ζ (A²ζ·ζ̇)/s³.
+        let h_zd = a2.component_mul(&zeta_dot) / s - a2z * (a2z.dot(&zeta_dot) / (s * s * s));
+        Contact::complete(
+            body,
+            Surface::Ellipsoid,
+            zeta,
+            omega,
+            zeta_dot,
+            s,
+            -a2z / s,
+            h_zd,
+        )
+    }
+
+    /// Contact sphere `k`'s contact geometry.
+    #[inline(never)]
+    fn sphere(body: &Body, k: usize, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
+        let sphere = &body.spheres()[k];
+        let (rho, c) = (sphere.radius, sphere.center);
+        let n = zeta.norm();
+        let zeta_dot = zeta.cross(&omega);
+        // ρ(ζ̇/|ζ| − ζ (ζ·ζ̇)/|ζ|³).
+        let h_zd = rho * (zeta_dot / n - zeta * (zeta.dot(&zeta_dot) / (n * n * n)));
+        let s = rho * n - c.dot(&zeta);
+        Contact::complete(
+            body,
+            Surface::Sphere(k),
+            zeta,
+            omega,
+            zeta_dot,
+            s,
+            c - zeta * (rho / n),
+            h_zd,
+        )
+    }
+
+    /// The rest of the geometry from the support height s, the contact point p_c and H ζ̇.
+    #[allow(clippy::too_many_arguments)] // the support map's pieces, each from its surface
+    #[inline(always)]
+    fn complete(
+        body: &Body,
+        surface: Surface,
+        zeta: Vector3<f64>,
+        omega: Vector3<f64>,
+        zeta_dot: Vector3<f64>,
+        s: f64,
+        p_c: Vector3<f64>,
+        h_zd: Vector3<f64>,
+    ) -> Self {
         let g = body.com_offset();
         let r = p_c - g;
         let kappa = r.dot(&zeta_dot.cross(&omega)) - zeta_dot.dot(&h_zd);
