@@ -62,6 +62,12 @@ fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
     (header, rows)
 }
 
+/// The text column `name`.
+fn column_text<'r>(header: &[String], rows: &'r [Vec<String>], name: &str) -> Vec<&'r str> {
+    let i = header.iter().position(|h| h == name).unwrap();
+    rows.iter().map(|r| r[i].as_str()).collect()
+}
+
 fn column(header: &[String], rows: &[Vec<String>], name: &str) -> Vec<f64> {
     let i = header
         .iter()
@@ -116,7 +122,26 @@ fn run_scenario(
         }
     }
     let (header, rows) = read_csv(&csv);
-    assert_eq!(header.join(","), HEADER, "{name}: header");
+    // The fixed columns, then five per surface of a body with contact spheres.
+    assert_eq!(
+        header[..HEADER.split(',').count()].join(","),
+        HEADER,
+        "{name}: header"
+    );
+    for group in header[HEADER.split(',').count()..].chunks(5) {
+        let surface = group[0]
+            .strip_prefix("normal_force_")
+            .expect("a surface's columns");
+        let expected = [
+            "normal_force",
+            "slip_speed",
+            "gap",
+            "contact_x",
+            "contact_y",
+        ]
+        .map(|q| format!("{q}_{surface}"));
+        assert_eq!(group, expected, "{name}: header");
+    }
     assert_eq!(
         rows.len() as u64,
         summary["samples"].as_u64().unwrap(),
@@ -399,11 +424,53 @@ fn scenario_tippe_top_stem_rises_on_its_stem_and_rests_on_two_contacts() {
     let theta_star = ((0.005_f64 - 0.015) / 0.013).acos();
     let both: Vec<f64> = rows
         .iter()
-        .filter(|r| r[mode] == "two_contacts")
+        .filter(|r| r[mode] == "two_contacts@ellipsoid+stem")
         .map(|r| r[theta].parse().unwrap())
         .collect();
     assert!(both.len() > 100);
     assert!(both.iter().all(|t| (t - theta_star).abs() < 1e-12));
+
+    // The per-surface columns: the surface the mode names is on the plane and carries the
+    // normal force; the other is open, carries none, and its gap is its support height.
+    let col = |n: &str| h.iter().position(|c| c == n).unwrap();
+    let v = |r: &Vec<String>, n: &str| r[col(n)].parse::<f64>().unwrap();
+    let mut seen = [0; 3];
+    for r in &rows {
+        let (n, slip, cx) = (v(r, "normal_force"), v(r, "slip_speed"), v(r, "contact_x"));
+        match r[mode].as_str() {
+            "sliding@ellipsoid" => {
+                seen[0] += 1;
+                assert_eq!(v(r, "normal_force_ellipsoid"), n);
+                assert_eq!(
+                    (v(r, "gap_ellipsoid"), v(r, "normal_force_stem")),
+                    (0.0, 0.0)
+                );
+                assert!(v(r, "gap_stem") > 0.0);
+                assert!((v(r, "slip_speed_ellipsoid") - slip).abs() <= 1e-12 * (1.0 + slip));
+                assert!((v(r, "contact_x_ellipsoid") - cx).abs() <= 1e-12);
+            }
+            "sliding@stem" => {
+                seen[1] += 1;
+                assert_eq!(v(r, "normal_force_stem"), n);
+                assert_eq!(
+                    (v(r, "gap_stem"), v(r, "normal_force_ellipsoid")),
+                    (0.0, 0.0)
+                );
+                assert!(v(r, "gap_ellipsoid") > 0.0);
+                assert!((v(r, "slip_speed_stem") - slip).abs() <= 1e-12 * (1.0 + slip));
+                assert!((v(r, "contact_x_stem") - cx).abs() <= 1e-12);
+            }
+            "two_contacts@ellipsoid+stem" => {
+                seen[2] += 1;
+                let (n1, n2) = (v(r, "normal_force_ellipsoid"), v(r, "normal_force_stem"));
+                assert!(n1 > 0.0 && n2 > 0.0, "{n1} {n2}");
+                assert!((n1 + n2 - n).abs() <= 1e-12 * n);
+                assert_eq!((v(r, "gap_ellipsoid"), v(r, "gap_stem")), (0.0, 0.0));
+            }
+            other => panic!("mode {other}"),
+        }
+    }
+    assert!(seen.iter().all(|&k| k > 100), "{seen:?}");
 }
 
 /// The top on its peg spun at 200 rad/s sleeps: its tilt stays within 0.044..0.055 rad
@@ -417,6 +484,22 @@ fn scenario_top_on_peg_sleeps() {
         assert!((0.044..0.055).contains(&t), "θ = {t}");
     }
     assert!(event_kinds(&s).iter().all(|k| *k != "contact_surface"));
+    // It stands on its peg throughout: the disc (the ellipsoid) is open and unloaded.
+    let mode = column_text(&h, &rows, "mode");
+    assert!(
+        mode.iter().all(|m| m.ends_with("@peg")),
+        "{:?}",
+        mode.first()
+    );
+    let n = column(&h, &rows, "normal_force");
+    assert_eq!(column(&h, &rows, "normal_force_peg"), n);
+    assert!(
+        column(&h, &rows, "normal_force_ellipsoid")
+            .iter()
+            .all(|v| *v == 0.0)
+    );
+    assert!(column(&h, &rows, "gap_ellipsoid").iter().all(|v| *v > 0.01));
+    assert!(column(&h, &rows, "gap_peg").iter().all(|v| *v == 0.0));
 }
 
 #[test]

@@ -14,6 +14,10 @@ use crate::error::{ModelError, number};
 /// Most contact spheres a body may have.
 pub const MAX_SPHERES: usize = 8;
 
+/// The longest contact sphere name \[bytes\]: a name is a word that names output columns
+/// (`normal_force_stem`) and, with another, a mode (`two_contacts@ellipsoid+stem`).
+pub const MAX_NAME: usize = 24;
+
 /// A contact sphere fixed in the body.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sphere {
@@ -163,8 +167,8 @@ impl Body {
         })
     }
 
-    /// The body with contact spheres `spheres` (at most [`MAX_SPHERES`], names unique and
-    /// non-empty, centres finite, radii positive lengths whose squares are normal floats,
+    /// The body with contact spheres `spheres` (at most [`MAX_SPHERES`], names unique
+    /// words of at most [`MAX_NAME`] bytes, centres finite, radii positive lengths whose squares are normal floats,
     /// as the semi-axes are).
     pub fn with_spheres(mut self, spheres: Vec<Sphere>) -> Result<Self, ModelError> {
         if spheres.len() > MAX_SPHERES {
@@ -177,11 +181,15 @@ impl Body {
         let (min, max) = (f64::MIN_POSITIVE.sqrt(), f64::MAX.sqrt());
         for (k, sp) in spheres.iter().enumerate() {
             let field = |key: &str| format!("body.sphere[{k}].{key}");
-            if sp.name.is_empty() || sp.name.len() > 100 {
+            let word = |c: char| c.is_ascii_alphanumeric() || c == '_';
+            if sp.name.is_empty() || sp.name.len() > MAX_NAME || !sp.name.chars().all(word) {
                 return Err(ModelError::invalid(
                     field("name"),
                     format!("{:?}", sp.name),
-                    "a sphere's name is a string of 1 to 100 bytes",
+                    format!(
+                        "a sphere's name is 1 to {MAX_NAME} ASCII letters, digits or underscores \
+                         (it names output columns, e.g. normal_force_stem)"
+                    ),
                 ));
             }
             if spheres[..k].iter().any(|o| o.name == sp.name) || sp.name == "ellipsoid" {

@@ -20,8 +20,21 @@
 //! gap           m       height of the body's lowest point above the plane (0 in contact)
 //! ```
 //! Observables (`[[observe]]`) name these columns too.
+//!
+//! A body with contact spheres ([`Layout`]) adds five columns per surface after these,
+//! the ellipsoid first, then the spheres in their order, each named after its surface
+//! (`normal_force_stem`, …; [`SURFACE_COLUMNS`]), and its `mode` names the surfaces in
+//! contact (`sliding@stem`, `two_contacts@ellipsoid+stem`; docs/physics.md, "Contact
+//! spheres").
 
-use crate::simulate::Sample;
+use std::borrow::Cow;
+use std::sync::Arc;
+
+use nalgebra::Vector3;
+
+use crate::body::{Body, Surface};
+use crate::geometry::{self, Contact};
+use crate::simulate::{Mode, Sample};
 
 /// Number of numeric columns.
 pub const NUMERIC: usize = 27;
@@ -111,6 +124,158 @@ pub fn values(s: &Sample) -> [f64; NUMERIC] {
     ]
 }
 
+/// The columns of each surface of a body with contact spheres, named
+/// `{quantity}_{surface}`, with units:
+/// ```text
+/// normal_force_S  N    normal force of the plane on surface S (0 when S is open)
+/// slip_speed_S    m/s  horizontal speed of S's lowest material point (its slip in contact)
+/// gap_S           m    height of S's lowest point above the plane (0 in contact)
+/// contact_x_S, _y m    S's lowest point on the plane (its contact point in contact)
+/// ```
+pub const SURFACE_COLUMNS: [(&str, &str); 5] = [
+    ("normal_force", "N"),
+    ("slip_speed", "m/s"),
+    ("gap", "m"),
+    ("contact_x", "m"),
+    ("contact_y", "m"),
+];
+
+/// The columns of a run: the [`NUMERIC_COLUMNS`] and `mode` of every run, and for a body
+/// with contact spheres the [`SURFACE_COLUMNS`] of each surface after them. A one-surface
+/// body's layout is exactly the fixed columns.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    /// The body, when it has contact spheres (shared by the writers of a run).
+    body: Option<Arc<Body>>,
+}
+
+impl Layout {
+    /// The layout of a run of `body`.
+    pub fn of(body: &Body) -> Layout {
+        Layout {
+            body: (!body.spheres().is_empty()).then(|| Arc::new(body.clone())),
+        }
+    }
+
+    /// The fixed columns only (a one-surface body's layout).
+    pub fn fixed() -> Layout {
+        Layout { body: None }
+    }
+
+    /// Number of numeric columns.
+    pub fn numeric(&self) -> usize {
+        NUMERIC + self.extra()
+    }
+
+    /// Number of per-surface columns.
+    pub fn extra(&self) -> usize {
+        self.body
+            .as_ref()
+            .map_or(0, |b| SURFACE_COLUMNS.len() * (1 + b.spheres().len()))
+    }
+
+    /// Numeric columns in file order (`mode` not among them), with units.
+    pub fn numeric_columns(&self) -> Vec<(Cow<'static, str>, &'static str)> {
+        let mut v: Vec<(Cow<'static, str>, &'static str)> = NUMERIC_COLUMNS
+            .iter()
+            .map(|&(n, u)| (Cow::Borrowed(n), u))
+            .collect();
+        if let Some(body) = &self.body {
+            for surface in body.surfaces() {
+                let name = body.surface_name(surface);
+                for (q, u) in SURFACE_COLUMNS {
+                    v.push((Cow::Owned(format!("{q}_{name}")), u));
+                }
+            }
+        }
+        v
+    }
+
+    /// Column → unit, every column in file order (`mode` has the unit "1").
+    pub fn units(&self) -> Vec<(Cow<'static, str>, &'static str)> {
+        let mut v = self.numeric_columns();
+        v.insert(MODE_POSITION, (Cow::Borrowed(MODE), "1"));
+        v
+    }
+
+    /// All column names in file order.
+    pub fn names(&self) -> Vec<Cow<'static, str>> {
+        self.units().into_iter().map(|c| c.0).collect()
+    }
+
+    /// The index among [`Layout::numeric_columns`] of the column called `name`.
+    pub fn index(&self, name: &str) -> Option<usize> {
+        index(name).or_else(|| {
+            self.numeric_columns()[NUMERIC..]
+                .iter()
+                .position(|c| c.0 == name)
+                .map(|k| NUMERIC + k)
+        })
+    }
+
+    /// Appends the per-surface values of `s` to `out` ([`SURFACE_COLUMNS`] of each
+    /// surface; nothing for a one-surface body). The geometry is the surface's support
+    /// point at the sample's attitude (docs/physics.md, "Contact spheres"); a surface in
+    /// contact has gap 0 and its normal force from the contact law.
+    pub fn surface_values(&self, s: &Sample, out: &mut Vec<f64>) {
+        let Some(body) = &self.body else { return };
+        let rot = s.angles.rotation();
+        let zeta = rot.inverse_transform_vector(&Vector3::z());
+        for surface in body.surfaces() {
+            let normal = s.touching.iter().flatten().find(|t| t.0 == surface);
+            let c = Contact::of(body, surface, zeta, s.omega);
+            let arm = rot * c.r;
+            let point = s.position + arm;
+            let slip = s.velocity + rot * s.omega.cross(&c.r);
+            let gap = if normal.is_some() {
+                0.0
+            } else {
+                s.position.z - geometry::height(body, surface, zeta)
+            };
+            out.extend([
+                normal.map_or(0.0, |t| t.1),
+                slip.xy().norm(),
+                gap,
+                point.x,
+                point.y,
+            ]);
+        }
+    }
+
+    /// The `mode` column of `s`: the contact phase's name, and for a body with contact
+    /// spheres the surfaces in contact after `@`, joined by `+` (`flight` alone).
+    pub fn mode(&self, s: &Sample) -> Cow<'static, str> {
+        match &self.body {
+            Some(body) if s.mode != Mode::Flight => {
+                let names: Vec<&str> = s
+                    .touching
+                    .iter()
+                    .flatten()
+                    .map(|t| body.surface_name(t.0))
+                    .collect();
+                Cow::Owned(format!("{}@{}", s.mode.name(), names.join("+")))
+            }
+            _ => Cow::Borrowed(s.mode.name()),
+        }
+    }
+
+    /// The sample a mode label names (the inverse of [`Layout::mode`]): its phase and the
+    /// surfaces in contact, or `None` for a label this layout cannot write.
+    pub fn parse_mode(&self, label: &str) -> Option<(Mode, Vec<Surface>)> {
+        let (phase, surfaces) = match (&self.body, label.split_once('@')) {
+            (Some(body), Some((phase, list))) => {
+                let named = |n: &str| body.surfaces().find(|&s| body.surface_name(s) == n);
+                let surfaces: Option<Vec<Surface>> = list.split('+').map(named).collect();
+                (phase, surfaces?)
+            }
+            (_, None) => (label, Vec::new()),
+            (None, Some(_)) => return None,
+        };
+        let mode = Mode::ALL.into_iter().find(|m| m.name() == phase)?;
+        Some((mode, surfaces))
+    }
+}
+
 /// The index in [`NUMERIC_COLUMNS`] of the numeric column called `name`.
 pub fn index(name: &str) -> Option<usize> {
     NUMERIC_COLUMNS.iter().position(|c| c.0 == name)
@@ -163,6 +328,7 @@ mod tests {
             drift: v,
             gap: v,
             mode: Mode::Sliding,
+            touching: [None, None],
         }
     }
 

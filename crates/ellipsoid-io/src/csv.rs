@@ -10,21 +10,20 @@ use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
 use std::thread::JoinHandle;
 
 use ellipsoid_core::scenario::Scenario;
-use ellipsoid_core::simulate::{Mode, Sample};
+use ellipsoid_core::simulate::Sample;
 
 use crate::OutputError;
 use crate::atomic::{AtomicFile, Prepared};
-use crate::columns::{self, MODE_POSITION};
-
-/// A row as the writer takes it: the numeric values in [`columns::NUMERIC_COLUMNS`]
-/// order and the contact mode.
-type Row = ([f64; columns::NUMERIC], Mode);
+use crate::columns::{self, Layout, MODE_POSITION};
 
 /// Formats samples as CSV rows onto any writer.
 pub struct CsvWriter<W: Write> {
     out: W,
+    layout: Layout,
     rows: u64,
     line: Vec<u8>,
+    /// The per-surface values of the row being written.
+    extra: Vec<f64>,
     digits: zmij::Buffer,
 }
 
@@ -51,47 +50,47 @@ pub fn comment(scenario: &Scenario) -> String {
 }
 
 impl<W: Write> CsvWriter<W> {
-    /// Writes the header.
+    /// Writes the header of the fixed columns (a one-surface body's).
     pub fn new(out: W) -> std::io::Result<Self> {
-        Self::with_comment(out, None)
+        Self::with_comment(out, None, Layout::fixed())
     }
 
-    /// Writes the comment line, if any (see [`comment`]), then the header.
-    pub fn with_comment(mut out: W, comment: Option<&str>) -> std::io::Result<Self> {
+    /// Writes the comment line, if any (see [`comment`]), then the header of `layout`.
+    pub fn with_comment(
+        mut out: W,
+        comment: Option<&str>,
+        layout: Layout,
+    ) -> std::io::Result<Self> {
         if let Some(c) = comment {
             writeln!(out, "{c}")?;
         }
-        writeln!(out, "{}", columns::names().join(","))?;
+        writeln!(out, "{}", layout.names().join(","))?;
         Ok(CsvWriter {
             out,
+            extra: Vec::with_capacity(layout.extra()),
+            layout,
             rows: 0,
             line: Vec::with_capacity(1024),
             digits: zmij::Buffer::new(),
         })
     }
 
-    /// Writes one row.
-    pub fn write(&mut self, s: &Sample) -> std::io::Result<()> {
-        self.write_row(&(columns::values(s), s.mode))
-    }
-
     /// Writes one row: each number in its shortest round-trip form (the recorder hands
     /// on finite samples only), assembled in one buffer and written at once.
-    fn write_row(&mut self, (values, mode): &Row) -> std::io::Result<()> {
+    pub fn write(&mut self, s: &Sample) -> std::io::Result<()> {
         self.line.clear();
-        for (i, v) in values.iter().enumerate() {
+        self.extra.clear();
+        self.layout.surface_values(s, &mut self.extra);
+        for (i, v) in columns::values(s).iter().chain(&self.extra).enumerate() {
             if i == MODE_POSITION {
-                self.line.extend_from_slice(mode.name().as_bytes());
+                self.line.extend_from_slice(self.layout.mode(s).as_bytes());
                 self.line.push(b',');
             }
             self.line
                 .extend_from_slice(self.digits.format(*v).as_bytes());
-            self.line.push(if i + 1 == columns::NUMERIC {
-                b'\n'
-            } else {
-                b','
-            });
+            self.line.push(b',');
         }
+        *self.line.last_mut().expect("a row has columns") = b'\n';
         self.rows += 1;
         self.out.write_all(&self.line)
     }
@@ -122,28 +121,30 @@ type Formatter = JoinHandle<std::io::Result<CsvWriter<BufWriter<AtomicFile>>>>;
 pub struct CsvFile {
     path: PathBuf,
     rows: u64,
-    batch: Vec<Row>,
+    batch: Vec<Sample>,
     /// Full batches to the formatter (`None` once the file is being completed).
-    full: Option<SyncSender<Vec<Row>>>,
+    full: Option<SyncSender<Vec<Sample>>>,
     /// Emptied batches back from it.
-    empty: Receiver<Vec<Row>>,
+    empty: Receiver<Vec<Sample>>,
     formatter: Option<Formatter>,
 }
 
 impl CsvFile {
-    /// Starts the file at `path`, its first line `comment` if given (see [`comment`]).
-    pub fn create(path: &Path, comment: Option<&str>) -> Result<Self, OutputError> {
+    /// Starts the file at `path` with the columns of `layout`, its first line `comment`
+    /// if given (see [`comment`]).
+    pub fn create(path: &Path, comment: Option<&str>, layout: Layout) -> Result<Self, OutputError> {
         let file = AtomicFile::create(path)?;
-        let mut writer = CsvWriter::with_comment(BufWriter::with_capacity(1 << 16, file), comment)
-            .map_err(|e| OutputError::io(path, e))?;
-        let (full, batches) = sync_channel::<Vec<Row>>(2);
-        let (give_back, empty) = sync_channel::<Vec<Row>>(3);
+        let mut writer =
+            CsvWriter::with_comment(BufWriter::with_capacity(1 << 16, file), comment, layout)
+                .map_err(|e| OutputError::io(path, e))?;
+        let (full, batches) = sync_channel::<Vec<Sample>>(2);
+        let (give_back, empty) = sync_channel::<Vec<Sample>>(3);
         let formatter = std::thread::Builder::new()
             .name("csv".into())
             .spawn(move || {
                 for mut batch in batches {
                     for row in &batch {
-                        writer.write_row(row)?;
+                        writer.write(row)?;
                     }
                     batch.clear();
                     let _ = give_back.try_send(batch);
@@ -162,7 +163,7 @@ impl CsvFile {
     }
 
     pub fn write(&mut self, s: &Sample) -> Result<(), OutputError> {
-        self.batch.push((columns::values(s), s.mode));
+        self.batch.push(*s);
         self.rows += 1;
         if self.batch.len() == BATCH {
             let next = self

@@ -4,14 +4,17 @@
 //! Layout, readable by h5py without special knowledge:
 //! ```text
 //! /t, /x, …, /work      float64 datasets, one per numeric column, attribute `units`
-//! /mode                 fixed-length ASCII strings (h5py: numpy bytes, e.g. b"sliding")
+//!                       (a body with contact spheres adds its per-surface columns)
+//! /mode                 fixed-length ASCII strings (h5py: numpy bytes, e.g. b"sliding";
+//!                       12 bytes, 64 for a body with contact spheres)
 //! root attributes       version, scenario (the TOML text), scenario_path, status,
 //!                       message, columns (comma-separated, file order), summary (JSON),
 //!                       stats_accepted, stats_rejected, stats_rhs_evals, stats_events,
 //!                       drift_<invariant> (only for the invariants that are conserved)
 //! ```
-//! Samples are buffered in memory, a row of 27 f64 each (one copy per sample), and written
-//! column by column when the run ends, to a temporary file renamed into place.
+//! Samples are buffered in memory, a row of f64 each (27, plus five per surface of a body
+//! with contact spheres) and a byte for the mode, and written column by column when the
+//! run ends, to a temporary file renamed into place.
 
 use std::borrow::Cow;
 use std::path::{Path, PathBuf};
@@ -22,7 +25,7 @@ use hdf5_metno as h5;
 use tempfile::TempPath;
 
 use crate::atomic;
-use crate::columns::{self, NUMERIC, NUMERIC_COLUMNS};
+use crate::columns::{self, Layout, NUMERIC_COLUMNS};
 use crate::{Metadata, OutputError};
 
 /// Turns off HDF5's plugin loading for the whole process, before any file is opened: with
@@ -117,35 +120,85 @@ fn create(path: &Path) -> h5::Result<h5::File> {
 /// Longest mode name ("frictionless").
 const MODE_LEN: usize = 12;
 
+/// Longest mode label of a body with contact spheres ("two_contacts@" and two names of
+/// at most `body::MAX_NAME` bytes joined by "+").
+const LABEL_LEN: usize = 64;
+
+/// A `mode` column: a code per row into the labels met, in order of first appearance.
+#[derive(Default)]
+struct Modes {
+    codes: Vec<u8>,
+    labels: Vec<String>,
+}
+
+impl Modes {
+    fn push(&mut self, label: &str) {
+        let code = match self.labels.iter().position(|l| l == label) {
+            Some(k) => k,
+            None => {
+                self.labels.push(label.to_owned());
+                self.labels.len() - 1
+            }
+        };
+        self.codes
+            .push(u8::try_from(code).expect("fewer than 256 mode labels"));
+    }
+
+    /// Writes the column as the dataset `mode`: fixed-length ASCII strings of
+    /// [`MODE_LEN`] bytes, or [`LABEL_LEN`] when a label is longer.
+    fn write(&self, loc: &h5::Group) -> h5::Result<h5::Dataset> {
+        fn fixed<const N: usize>(m: &Modes, loc: &h5::Group) -> h5::Result<h5::Dataset> {
+            let labels: Vec<FixedAscii<N>> = m
+                .labels
+                .iter()
+                .map(|l| FixedAscii::from_ascii(l.as_bytes()).expect("mode labels are ASCII"))
+                .collect();
+            let rows: Vec<FixedAscii<N>> =
+                m.codes.iter().map(|&c| labels[usize::from(c)]).collect();
+            loc.new_dataset_builder()
+                .with_data(&rows)
+                .create(columns::MODE)
+        }
+        if self.labels.iter().all(|l| l.len() <= MODE_LEN) {
+            fixed::<MODE_LEN>(self, loc)
+        } else {
+            fixed::<LABEL_LEN>(self, loc)
+        }
+    }
+}
+
 /// An HDF5 trajectory being collected.
 pub struct Hdf5File {
     path: PathBuf,
     tmp: TempPath,
-    rows: Vec<[f64; NUMERIC]>,
-    modes: Vec<FixedAscii<MODE_LEN>>,
+    layout: Layout,
+    /// The numeric values, a row of `layout.numeric()` per sample.
+    rows: Vec<f64>,
+    modes: Modes,
 }
 
 impl Hdf5File {
-    /// Reserves a temporary file beside `path` (so an unwritable directory fails early).
-    pub fn create(path: &Path) -> Result<Self, OutputError> {
+    /// Reserves a temporary file beside `path` (so an unwritable directory fails early),
+    /// for the columns of `layout`.
+    pub fn create(path: &Path, layout: Layout) -> Result<Self, OutputError> {
         let tmp = atomic::temporary(path)?.into_temp_path();
         Ok(Hdf5File {
             path: path.to_owned(),
             tmp,
+            layout,
             rows: Vec::new(),
-            modes: Vec::new(),
+            modes: Modes::default(),
         })
     }
 
     pub fn write(&mut self, s: &Sample) {
-        self.rows.push(columns::values(s));
-        let mode =
-            FixedAscii::from_ascii(s.mode.name().as_bytes()).expect("mode names are short ASCII");
-        self.modes.push(mode);
+        self.rows.extend(columns::values(s));
+        self.layout.surface_values(s, &mut self.rows);
+        self.modes.push(&self.layout.mode(s));
     }
 
     pub fn rows(&self) -> u64 {
-        self.modes.len() as u64
+        self.modes.codes.len() as u64
     }
 
     /// Writes the datasets and attributes, without putting the file in place.
@@ -156,8 +209,10 @@ impl Hdf5File {
         };
         {
             let file = create(&self.tmp).map_err(fail)?;
-            let column = |k: usize| Cow::Owned(self.rows.iter().map(|r| r[k]).collect());
-            write_columns(&file, column, &self.modes).map_err(fail)?;
+            let width = self.layout.numeric();
+            let column =
+                |k: usize| Cow::Owned(self.rows.iter().skip(k).step_by(width).copied().collect());
+            write_columns(&file, &self.layout, column, &self.modes).map_err(fail)?;
 
             let summary = meta.summary;
             str_attr(&file, "version", &summary.version).map_err(fail)?;
@@ -165,7 +220,7 @@ impl Hdf5File {
             str_attr(&file, "scenario_path", &summary.scenario).map_err(fail)?;
             str_attr(&file, "status", summary.status).map_err(fail)?;
             str_attr(&file, "message", &summary.message).map_err(fail)?;
-            str_attr(&file, "columns", &columns::names().join(",")).map_err(fail)?;
+            str_attr(&file, "columns", &self.layout.names().join(",")).map_err(fail)?;
             str_attr(&file, "summary", &summary.to_json()).map_err(fail)?;
             let st = &summary.stats;
             for (name, v) in [
@@ -198,24 +253,23 @@ impl Hdf5File {
 }
 
 /// The numeric datasets (attribute `units`) and `mode` of one trajectory in `loc`;
-/// `column(k)` is the data of [`NUMERIC_COLUMNS`]`[k]` (made one at a time, so a
-/// row-major buffer needs one column's worth of memory more, not a copy of itself).
+/// `column(k)` is the data of the `k`-th of `layout`'s numeric columns (made one at a
+/// time, so a row-major buffer needs one column's worth of memory more, not a copy of
+/// itself).
 fn write_columns<'c>(
     loc: &h5::Group,
+    layout: &Layout,
     column: impl Fn(usize) -> Cow<'c, [f64]>,
-    modes: &[FixedAscii<MODE_LEN>],
+    modes: &Modes,
 ) -> h5::Result<()> {
-    for (k, (name, unit)) in NUMERIC_COLUMNS.iter().enumerate() {
+    for (k, (name, unit)) in layout.numeric_columns().iter().enumerate() {
         let ds = loc
             .new_dataset_builder()
             .with_data(&*column(k))
-            .create(*name)?;
+            .create(&**name)?;
         str_attr(&ds, "units", unit)?;
     }
-    let ds = loc
-        .new_dataset_builder()
-        .with_data(modes)
-        .create(columns::MODE)?;
+    let ds = modes.write(loc)?;
     str_attr(&ds, "units", "1")?;
     let names: Vec<&str> = Mode::ALL.iter().map(|m| m.name()).collect();
     str_attr(&ds, "values", &names.join(", "))
@@ -272,12 +326,13 @@ impl Hdf5Groups {
             message: format!("group {name}: {e}"),
         };
         let file = self.file.as_ref().expect("open until committed");
-        let modes: Vec<FixedAscii<MODE_LEN>> = modes
-            .iter()
-            .map(|m| FixedAscii::from_ascii(m.as_bytes()).expect("mode names are short ASCII"))
-            .collect();
+        let mut codes = Modes::default();
+        for m in modes {
+            codes.push(m);
+        }
         let g = file.create_group(name).map_err(fail)?;
-        write_columns(&g, |k| Cow::Borrowed(&columns[k]), &modes).map_err(fail)?;
+        write_columns(&g, &Layout::fixed(), |k| Cow::Borrowed(&columns[k]), &codes)
+            .map_err(fail)?;
         for (k, v) in text {
             str_attr(&g, &k.replace('/', "∕"), v).map_err(fail)?;
         }
@@ -387,8 +442,21 @@ fn read_in(path: &Path, group: Option<&str>) -> Result<Hdf5Trajectory, OutputErr
         Some(g) => file.group(g).map_err(fail)?,
         None => file.group("/").map_err(fail)?,
     };
+    // A trajectory file's `columns` attribute lists its columns (a study's groups hold
+    // the fixed ones).
+    let listed: Option<VarLenUnicode> = loc.attr("columns").and_then(|a| a.read_scalar()).ok();
+    let names: Vec<String> = match &listed {
+        Some(list) => list
+            .as_str()
+            .split(',')
+            .filter(|n| *n != columns::MODE)
+            .map(str::to_owned)
+            .collect(),
+        None => NUMERIC_COLUMNS.iter().map(|c| c.0.to_owned()).collect(),
+    };
     let mut columns = Vec::new();
-    for (name, _) in NUMERIC_COLUMNS {
+    for name in &names {
+        let name = name.as_str();
         let ds = loc.dataset(name).map_err(fail)?;
         check_filters(&ds, name)
             .map_err(h5::Error::from)
@@ -407,7 +475,7 @@ fn read_in(path: &Path, group: Option<&str>) -> Result<Hdf5Trajectory, OutputErr
     check_filters(&modes, columns::MODE)
         .map_err(h5::Error::from)
         .map_err(fail)?;
-    let modes = modes.read_raw::<FixedAscii<MODE_LEN>>().map_err(fail)?;
+    let modes = modes.read_raw::<FixedAscii<LABEL_LEN>>().map_err(fail)?;
     let mut attributes = std::collections::BTreeMap::new();
     let mut numbers = std::collections::BTreeMap::new();
     for name in loc.attr_names().map_err(fail)? {

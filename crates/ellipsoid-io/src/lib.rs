@@ -107,26 +107,36 @@ pub enum TrajectoryWriter {
 }
 
 impl TrajectoryWriter {
-    /// Starts a trajectory file at `path` (its directory must exist), format by extension.
+    /// Starts a trajectory file at `path` (its directory must exist), format by extension,
+    /// with the fixed columns (a one-surface body's).
     pub fn create(path: &Path) -> Result<Self, OutputError> {
-        Self::start(path, None)
+        Self::start(path, None, columns::Layout::fixed())
     }
 
-    /// Starts the trajectory file of a run of `scenario`: a CSV file begins with the
-    /// comment line naming the scenario and its body ([`csv::comment`]; an HDF5 file
-    /// stores the scenario at the end).
+    /// Starts the trajectory file of a run of `scenario`, with its body's columns
+    /// ([`columns::Layout`]): a CSV file begins with the comment line naming the scenario
+    /// and its body ([`csv::comment`]; an HDF5 file stores the scenario at the end).
     pub fn for_scenario(
         path: &Path,
         scenario: &ellipsoid_core::scenario::Scenario,
     ) -> Result<Self, OutputError> {
-        Self::start(path, Some(&csv::comment(scenario)))
+        let layout = columns::Layout::of(&scenario.scene.body);
+        Self::start(path, Some(&csv::comment(scenario)), layout)
     }
 
-    fn start(path: &Path, comment: Option<&str>) -> Result<Self, OutputError> {
+    fn start(
+        path: &Path,
+        comment: Option<&str>,
+        layout: columns::Layout,
+    ) -> Result<Self, OutputError> {
         match Format::from_path(path)? {
-            Format::Csv => Ok(TrajectoryWriter::Csv(csv::CsvFile::create(path, comment)?)),
+            Format::Csv => Ok(TrajectoryWriter::Csv(csv::CsvFile::create(
+                path, comment, layout,
+            )?)),
             #[cfg(feature = "hdf5")]
-            Format::Hdf5 => Ok(TrajectoryWriter::Hdf5(hdf5::Hdf5File::create(path)?)),
+            Format::Hdf5 => Ok(TrajectoryWriter::Hdf5(hdf5::Hdf5File::create(
+                path, layout,
+            )?)),
             #[cfg(not(feature = "hdf5"))]
             Format::Hdf5 => unreachable!("Format::from_path refuses HDF5 without the feature"),
         }
@@ -197,6 +207,7 @@ mod tests {
             slip_speed: 0.0,
             gap: 0.0,
             mode: Mode::Sliding,
+            touching: [None, None],
         }
     }
 

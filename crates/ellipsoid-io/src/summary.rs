@@ -75,7 +75,8 @@ impl Summary {
     ) -> Summary {
         let status = outcome.status.name();
         let s = &outcome.final_sample;
-        let final_state = state_map(s);
+        let layout = columns::Layout::of(&scenario.scene.body);
+        let final_state = state_map(&layout, s);
         let drift_map = match serde_json::to_value(outcome.drift) {
             Ok(Value::Object(m)) => m,
             _ => Map::new(),
@@ -120,9 +121,10 @@ impl Summary {
             final_invariants: outcome.final_invariants,
             warnings: warning_messages(&outcome.warnings),
             checks,
-            units: columns::units()
+            units: layout
+                .units()
                 .into_iter()
-                .map(|(c, u)| (c.to_owned(), Value::from(u)))
+                .map(|(c, u)| (c.into_owned(), Value::from(u)))
                 .collect(),
             scenario: scenario.source.clone(),
             overrides: scenario.overrides.clone(),
@@ -153,13 +155,16 @@ fn finite_or_null(v: f64) -> Value {
     serde_json::Number::from_f64(v).map_or(Value::Null, Value::Number)
 }
 
-/// A sample as a map from column name to value (null where not finite).
-pub fn state_map(s: &Sample) -> Map<String, Value> {
+/// A sample as a map from column name to value (null where not finite), with the
+/// columns of `layout`.
+pub fn state_map(layout: &columns::Layout, s: &Sample) -> Map<String, Value> {
+    let mut values = columns::values(s).to_vec();
+    layout.surface_values(s, &mut values);
     let mut state = Map::new();
-    for ((name, _), v) in columns::NUMERIC_COLUMNS.iter().zip(columns::values(s)) {
-        state.insert((*name).to_owned(), finite_or_null(v));
+    for ((name, _), v) in layout.numeric_columns().into_iter().zip(values) {
+        state.insert(name.into_owned(), finite_or_null(v));
     }
-    state.insert(columns::MODE.to_owned(), Value::from(s.mode.name()));
+    state.insert(columns::MODE.to_owned(), Value::from(layout.mode(s)));
     state
 }
 
@@ -183,7 +188,8 @@ pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
                 "name".into(),
                 Value::from(scene.observe[*index].name.as_str()),
             );
-            m.insert("state".into(), Value::Object(state_map(sample)));
+            let layout = columns::Layout::of(&scene.body);
+            m.insert("state".into(), Value::Object(state_map(&layout, sample)));
         }
         EventKind::Touchdown { speed } => {
             m.insert("speed".into(), finite_or_null(*speed));

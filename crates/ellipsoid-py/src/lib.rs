@@ -37,6 +37,9 @@ fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", run::VERSION)?;
     m.add("HDF5", cfg!(feature = "hdf5"))?;
     m.add("COLUMNS", ellipsoid_io::columns::names())?;
+    let units: std::collections::BTreeMap<&str, &str> =
+        ellipsoid_io::columns::units().into_iter().collect();
+    m.add("UNITS", units)?;
     // The figure's panels, declared once for `ellipsoid plot` and `Trajectory.plot`.
     m.add("_PANELS", ellipsoid_io::panels::JSON)?;
     for class in errors::Class::ALL {

@@ -3,7 +3,8 @@
 //! the summary JSON; both are read back here into the very values the run produced, so an
 //! unpickled trajectory writes the same files and shows the same columns.
 
-use ellipsoid_core::columns::NUMERIC;
+use ellipsoid_core::body::Surface;
+use ellipsoid_core::columns::{Layout, NUMERIC, SURFACE_COLUMNS};
 use ellipsoid_core::integrate::Stats;
 use ellipsoid_core::invariants::{Drift, Invariant, Invariants};
 use ellipsoid_core::simulate::{Mode, Sample, Status};
@@ -13,10 +14,25 @@ use ellipsoid_io::summary::CheckResult;
 use nalgebra::{Vector2, Vector3};
 use serde_json::{Map, Value};
 
-/// The sample whose numeric columns (`columns::values` order) are `v`, in `mode`: the
-/// inverse of `columns::values`.
-pub fn sample(v: &[f64; NUMERIC], mode: Mode) -> Sample {
-    Sample {
+/// The sample whose numeric columns (`layout`'s order) are `v`, its mode label `label`:
+/// the inverse of `columns::values` and `Layout::{surface_values, mode}` (`None` for a
+/// label the layout cannot write).
+pub fn sample(layout: &Layout, v: &[f64], label: &str) -> Option<Sample> {
+    let (mode, surfaces) = layout.parse_mode(label)?;
+    // The normal force of a surface in contact: its column (a body with contact
+    // spheres), or the one contact's.
+    let normal = |surface: Surface| match surface {
+        _ if layout.extra() == 0 => v[17],
+        Surface::Ellipsoid => v[NUMERIC],
+        Surface::Sphere(k) => v[NUMERIC + SURFACE_COLUMNS.len() * (k + 1)],
+    };
+    let touching = match (mode, surfaces.as_slice()) {
+        (Mode::Flight, _) => [None, None],
+        (_, []) => [Some((Surface::Ellipsoid, v[17])), None],
+        (_, [a]) => [Some((*a, normal(*a))), None],
+        (_, [a, b, ..]) => [Some((*a, normal(*a))), Some((*b, normal(*b)))],
+    };
+    Some(Sample {
         t: v[0],
         position: Vector3::new(v[1], v[2], v[3]),
         angles: EulerAngles {
@@ -38,15 +54,8 @@ pub fn sample(v: &[f64; NUMERIC], mode: Mode) -> Sample {
         drift: v[25],
         gap: v[26],
         mode,
-    }
-}
-
-/// The mode called `name` (`Mode::NAMES`).
-pub fn mode(name: &str) -> Option<Mode> {
-    Mode::NAMES
-        .iter()
-        .position(|n| *n == name)
-        .map(|i| Mode::ALL[i])
+        touching,
+    })
 }
 
 /// The summary whose JSON (`Summary::to_json`) is `json`: every field read back.

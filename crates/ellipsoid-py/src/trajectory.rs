@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use ellipsoid_core::simulate::{Mode, Sample, Status};
-use ellipsoid_io::columns::{self, NUMERIC, NUMERIC_COLUMNS};
+use ellipsoid_io::columns::{self, Layout};
 use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, csv::CsvFile};
 use numpy::PyArray1;
 use pyo3::prelude::*;
@@ -29,8 +29,10 @@ use crate::scenario::PyScenario;
 /// (dissipated so far); `omega_world_x`, `omega_world_y`, `omega_world_z` [rad/s] (world
 /// axes); `contact_x`, `contact_y` [m] (contact point on the plane); `drift` [1]
 /// (relative drift of E, or of E + W where E is not conserved); `gap` [m] (lowest point
-/// above the plane, 0 in contact). The arrays are read-only
-/// views of the run (copy to modify).
+/// above the plane, 0 in contact). A body with contact spheres adds five columns per
+/// surface (`normal_force_stem`, `slip_speed_stem`, `gap_stem`, `contact_x_stem`,
+/// `contact_y_stem`; the ellipsoid's named `ellipsoid`), read as `traj["gap_stem"]`
+/// (`columns` lists them). The arrays are read-only views of the run (copy to modify).
 ///
 /// `len(traj)` is the number of samples. A run that ends early (loss of contact, the pure
 /// sliding model's slip stop) is still a Trajectory: `status` and `events` say why.
@@ -41,6 +43,8 @@ pub struct Trajectory {
     scenario: PyScenario,
     /// Whether the run ended as a run may ([`succeeded`]).
     success: bool,
+    /// The columns of a run of the scenario's body.
+    layout: Layout,
     numeric: PyOnceLock<Vec<Py<PyArray1<f64>>>>,
     mode: PyOnceLock<Py<PyAny>>,
 }
@@ -65,6 +69,7 @@ impl Trajectory {
         success: bool,
     ) -> Self {
         Trajectory {
+            layout: Layout::of(&scenario.inner.scene.body),
             samples,
             summary,
             scenario,
@@ -85,17 +90,20 @@ impl Trajectory {
             .unwrap_or(0.0)
     }
 
-    /// Numeric column `index` (`NUMERIC_COLUMNS` order). Every column is made on the first
+    /// Numeric column `index` (the layout's order). Every column is made on the first
     /// access of any, in one pass over the samples (a column at a time would read each
     /// sample 27 times).
     fn column<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let all = self.numeric.get_or_try_init(py, || -> PyResult<_> {
-            let mut data: Vec<Vec<f64>> = (0..NUMERIC)
+            let mut data: Vec<Vec<f64>> = (0..self.layout.numeric())
                 .map(|_| Vec::with_capacity(self.samples.len()))
                 .collect();
+            let mut extra = Vec::with_capacity(self.layout.extra());
             for s in &self.samples {
-                for (col, v) in data.iter_mut().zip(columns::values(s)) {
-                    col.push(v);
+                extra.clear();
+                self.layout.surface_values(s, &mut extra);
+                for (col, v) in data.iter_mut().zip(columns::values(s).iter().chain(&extra)) {
+                    col.push(*v);
                 }
             }
             data.into_iter()
@@ -109,16 +117,41 @@ impl Trajectory {
         Ok(all[index].bind(py).clone())
     }
 
+    /// The numeric column called `name` (one of the fixed columns).
+    fn named<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let index = columns::index(name)
+            .ok_or_else(|| Class::Internal.error(py, &format!("no column {name:?}"), &[]))?;
+        self.column(py, index)
+    }
+
     /// The `mode` column: a numpy str array, made from one byte per sample (the mode's
-    /// index in `Mode::NAMES`).
+    /// index in `Mode::NAMES`, or for a body with contact spheres in the labels met).
     fn modes<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let arr = self.mode.get_or_try_init(py, || -> PyResult<_> {
-            let codes: Vec<u8> = self.samples.iter().map(|s| s.mode as u8).collect();
+            let (codes, labels, dtype) = if self.layout.extra() == 0 {
+                let codes: Vec<u8> = self.samples.iter().map(|s| s.mode as u8).collect();
+                let labels: Vec<String> = Mode::NAMES.map(String::from).to_vec();
+                (codes, labels, "U12")
+            } else {
+                let mut labels: Vec<String> = Vec::new();
+                let codes = self
+                    .samples
+                    .iter()
+                    .map(|s| {
+                        let label = self.layout.mode(s);
+                        let k = labels.iter().position(|l| *l == label).unwrap_or_else(|| {
+                            labels.push(label.into_owned());
+                            labels.len() - 1
+                        });
+                        u8::try_from(k).expect("fewer than 256 mode labels")
+                    })
+                    .collect();
+                (codes, labels, "U64")
+            };
             let numpy = py.import("numpy")?;
-            let names = numpy.getattr("array")?.call(
-                (Mode::NAMES.to_vec(),),
-                Some(&[("dtype", "U12")].into_py_dict(py)?),
-            )?;
+            let names = numpy
+                .getattr("array")?
+                .call((labels,), Some(&[("dtype", dtype)].into_py_dict(py)?))?;
             let arr = names.get_item(PyArray1::from_vec(py, codes))?;
             readonly(&arr)?;
             Ok(arr.unbind())
@@ -183,14 +216,17 @@ impl Trajectory {
     /// The run as a table for the viewer: the same columns, events and body as
     /// `ellipsoid view OUT.csv --summary S.json` reads back, so the pages are identical.
     fn table(&self) -> ellipsoid_io::table::Table {
-        let names = NUMERIC_COLUMNS.map(|c| c.0);
+        let numeric = self.layout.numeric_columns();
+        let names: Vec<&str> = numeric.iter().map(|c| &*c.0).collect();
         let mut t = ellipsoid_io::table::Table::from_rows(
             &self.scenario.inner.source,
             &names,
             self.samples.len(),
             |i| {
                 let s = &self.samples[i];
-                (columns::values(s).to_vec(), s.mode.name().to_owned())
+                let mut v = columns::values(s).to_vec();
+                self.layout.surface_values(s, &mut v);
+                (v, self.layout.mode(s).into_owned())
             },
         );
         if let Ok(v) = serde_json::from_str::<serde_json::Value>(&self.summary.to_json()) {
@@ -270,140 +306,141 @@ impl Trajectory {
     /// Time [s].
     #[getter]
     fn t<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 0)
+        self.named(py, "t")
     }
     /// x of the centre of mass G [m].
     #[getter]
     fn x<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 1)
+        self.named(py, "x")
     }
     /// y of the centre of mass G [m].
     #[getter]
     fn y<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 2)
+        self.named(py, "y")
     }
     /// Height of the centre of mass G above the plane [m] (from the contact constraint).
     #[getter]
     fn z<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 3)
+        self.named(py, "z")
     }
     /// θ, tilt of the symmetry axis from the vertical [rad].
     #[getter]
     fn theta<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 4)
+        self.named(py, "theta")
     }
     /// φ, precession angle [rad] (unwrapped).
     #[getter]
     fn phi<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 5)
+        self.named(py, "phi")
     }
     /// ψ, spin angle [rad] (unwrapped).
     #[getter]
     fn psi<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 6)
+        self.named(py, "psi")
     }
     /// θ̇ [rad/s].
     #[getter]
     fn theta_dot<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 7)
+        self.named(py, "theta_dot")
     }
     /// φ̇ [rad/s].
     #[getter]
     fn phi_dot<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 8)
+        self.named(py, "phi_dot")
     }
     /// ψ̇ [rad/s].
     #[getter]
     fn psi_dot<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 9)
+        self.named(py, "psi_dot")
     }
     /// Angular velocity, body x component [rad/s].
     #[getter]
     fn omega_x<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 10)
+        self.named(py, "omega_x")
     }
     /// Angular velocity, body y component [rad/s].
     #[getter]
     fn omega_y<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 11)
+        self.named(py, "omega_y")
     }
     /// Angular velocity, body z component [rad/s].
     #[getter]
     fn omega_z<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 12)
+        self.named(py, "omega_z")
     }
     /// Velocity of G, x [m/s].
     #[getter]
     fn vx<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 13)
+        self.named(py, "vx")
     }
     /// Velocity of G, y [m/s].
     #[getter]
     fn vy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 14)
+        self.named(py, "vy")
     }
     /// Velocity of G, z [m/s].
     #[getter]
     fn vz<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 15)
+        self.named(py, "vz")
     }
     /// Mechanical energy E = ½m|v_G|² + ½ωᵀIω + m g z_G [J].
     #[getter]
     fn energy<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 16)
+        self.named(py, "energy")
     }
     /// Normal force N of the plane on the body [N].
     #[getter]
     fn normal_force<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 17)
+        self.named(py, "normal_force")
     }
     /// |v_C|, speed of the material contact point [m/s].
     #[getter]
     fn slip_speed<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 18)
+        self.named(py, "slip_speed")
     }
     /// Work dissipated so far by friction and the effects [J].
     #[getter]
     fn work<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 19)
+        self.named(py, "work")
     }
     /// Angular velocity about world x [rad/s].
     #[getter]
     fn omega_world_x<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 20)
+        self.named(py, "omega_world_x")
     }
     /// Angular velocity about world y [rad/s].
     #[getter]
     fn omega_world_y<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 21)
+        self.named(py, "omega_world_y")
     }
     /// Angular velocity about the vertical, world z [rad/s] (the vertical spin).
     #[getter]
     fn omega_world_z<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 22)
+        self.named(py, "omega_world_z")
     }
     /// x of the contact point on the plane [m].
     #[getter]
     fn contact_x<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 23)
+        self.named(py, "contact_x")
     }
     /// y of the contact point on the plane [m].
     #[getter]
     fn contact_y<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 24)
+        self.named(py, "contact_y")
     }
     /// Relative drift of the scene's conserved quantity (E, or E + W) since t = 0 [1].
     #[getter]
     fn drift<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 25)
+        self.named(py, "drift")
     }
     /// Height of the body's lowest point above the plane [m] (0 in contact).
     #[getter]
     fn gap<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-        self.column(py, 26)
+        self.named(py, "gap")
     }
     /// Contact regime of each sample: "frictionless", "sliding", "rolling", "flight" or
-    /// "two_contacts" (numpy str array).
+    /// "two_contacts" (numpy str array); for a body with contact spheres, the surfaces in
+    /// contact after `@` ("sliding@stem", "two_contacts@ellipsoid+stem").
     #[getter]
     fn mode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         self.modes(py)
@@ -556,12 +593,19 @@ impl Trajectory {
     /// summary JSON and the scenario; unpickled, the trajectory is the same in every column
     /// and writes the same files.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let values: Vec<u8> = self
+        let mut row = Vec::with_capacity(self.layout.numeric());
+        let mut values: Vec<u8> = Vec::with_capacity(8 * row.capacity() * self.samples.len());
+        for s in &self.samples {
+            row.clear();
+            row.extend(columns::values(s));
+            self.layout.surface_values(s, &mut row);
+            values.extend(row.iter().flat_map(|v| v.to_le_bytes()));
+        }
+        let modes: Vec<String> = self
             .samples
             .iter()
-            .flat_map(|s| columns::values(s).into_iter().flat_map(f64::to_le_bytes))
+            .map(|s| self.layout.mode(s).into_owned())
             .collect();
-        let modes: Vec<&str> = self.samples.iter().map(|s| s.mode.name()).collect();
         let rebuild = py.import("ellipsoid._result")?.getattr("_trajectory")?;
         let args = (
             self.scenario.clone(),
@@ -586,7 +630,8 @@ impl Trajectory {
         let bad = |what: String| {
             Class::Internal.error(py, &format!("cannot unpickle a Trajectory: {what}"), &[])
         };
-        let row = NUMERIC * 8;
+        let layout = Layout::of(&scenario.get().inner.scene.body);
+        let row = layout.numeric() * 8;
         if values.len() != modes.len() * row {
             return Err(bad(format!(
                 "{} bytes for {} samples",
@@ -598,12 +643,11 @@ impl Trajectory {
             .chunks_exact(row)
             .zip(&modes)
             .map(|(chunk, m)| {
-                let mut v = [0.0; NUMERIC];
-                for (x, b) in v.iter_mut().zip(chunk.chunks_exact(8)) {
-                    *x = f64::from_le_bytes(b.try_into().expect("chunks of 8 bytes"));
-                }
-                crate::pickle::mode(m)
-                    .map(|mode| crate::pickle::sample(&v, mode))
+                let v: Vec<f64> = chunk
+                    .chunks_exact(8)
+                    .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of 8 bytes")))
+                    .collect();
+                crate::pickle::sample(&layout, &v, m)
                     .ok_or_else(|| bad(format!("unknown mode {m:?}")))
             })
             .collect::<PyResult<Vec<_>>>()?;
@@ -616,16 +660,23 @@ impl Trajectory {
         ))
     }
 
-    /// Column names in the CSV file's order.
-    #[classattr]
-    fn columns() -> Vec<&'static str> {
-        columns::names()
+    /// Column names in the CSV file's order: `ellipsoid.COLUMNS`, and for a body with
+    /// contact spheres five per surface after them (`normal_force_stem`, `slip_speed_stem`,
+    /// `gap_stem`, `contact_x_stem`, `contact_y_stem`; the ellipsoid's named `ellipsoid`).
+    #[getter]
+    fn columns(&self) -> Vec<String> {
+        self.layout.names().into_iter().map(String::from).collect()
     }
 
     /// Column name → unit ("1" for `mode`).
-    #[classattr]
-    fn units(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
-        columns::units().into_py_dict(py)
+    #[getter]
+    fn units<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        self.layout
+            .units()
+            .into_iter()
+            .map(|(c, u)| (c.into_owned(), u))
+            .collect::<Vec<_>>()
+            .into_py_dict(py)
     }
 
     /// The run summary: the same dict as the command-line tool's `--summary` JSON (status,
@@ -700,14 +751,29 @@ impl Trajectory {
         )
     }
 
+    /// The column called `name` (any of `columns`: the per-surface ones of a body with
+    /// contact spheres too, and `mode`), as its attribute gives it; KeyError otherwise.
+    fn __getitem__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+        if name == columns::MODE {
+            return self.modes(py);
+        }
+        match self.layout.index(name) {
+            Some(i) => Ok(self.column(py, i)?.into_any()),
+            None => Err(pyo3::exceptions::PyKeyError::new_err(format!(
+                "{name:?} is not a column of this trajectory; the columns are {}",
+                self.layout.names().join(", ")
+            ))),
+        }
+    }
+
     /// The columns as a dict name → array, in file order.
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
-        for (i, (name, _)) in NUMERIC_COLUMNS.iter().enumerate() {
+        for (i, (name, _)) in self.layout.numeric_columns().iter().enumerate() {
             if i == columns::MODE_POSITION {
                 d.set_item(columns::MODE, self.modes(py)?)?;
             }
-            d.set_item(*name, self.column(py, i)?)?;
+            d.set_item(&**name, self.column(py, i)?)?;
         }
         Ok(d)
     }
@@ -734,7 +800,11 @@ impl Trajectory {
     fn to_csv(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let comment = ellipsoid_io::csv::comment(&self.scenario.inner);
         self.write(py, &path, |p| {
-            Ok(TrajectoryWriter::Csv(CsvFile::create(p, Some(&comment))?))
+            Ok(TrajectoryWriter::Csv(CsvFile::create(
+                p,
+                Some(&comment),
+                self.layout.clone(),
+            )?))
         })
     }
 
@@ -747,7 +817,7 @@ impl Trajectory {
         {
             self.write(py, &path, |p| {
                 Ok(TrajectoryWriter::Hdf5(
-                    ellipsoid_io::hdf5::Hdf5File::create(p)?,
+                    ellipsoid_io::hdf5::Hdf5File::create(p, self.layout.clone())?,
                 ))
             })
         }

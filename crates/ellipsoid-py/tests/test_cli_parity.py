@@ -44,7 +44,7 @@ def test_regress_bundled_scenario_matches_the_cli(cli: Path, path: Path, tmp_pat
     assert (tmp_path / "py.csv").read_bytes() == (tmp_path / "cli.csv").read_bytes()
 
     header, rows = read_csv(tmp_path / "cli.csv")
-    assert header == list(ellipsoid.COLUMNS) == list(ellipsoid.Trajectory.columns)
+    assert header == list(ellipsoid.COLUMNS) == list(traj.columns)
     assert len(traj) == len(rows)
     for j, name in enumerate(header):
         column = [r[j] for r in rows]

@@ -137,7 +137,7 @@ def test_no_panic_reaches_python_on_odd_inputs() -> None:
         else:
             trajectory = traj
         if trajectory is not None:
-            for name in ellipsoid.Trajectory.columns:
+            for name in trajectory.columns:
                 if name != "mode":
                     assert np.all(np.isfinite(getattr(trajectory, name))), (changes, name)
 

@@ -77,6 +77,16 @@ impl<'s, E: Copy> Context<'s, E> {
         let kin = &ev.kin;
         let inv = Invariants::from_kinematics(&sys.body, sys.gravity, kin, y[state::WORK]);
         let position = Vector3::new(y[state::POS], y[state::POS + 1], kin.z_g());
+        let normal_force = self.numerics.reported_normal(&sys.body, sys.gravity, ev);
+        let second = ev.response.second_normal;
+        let touching = match mode {
+            Mode::Flight => [None, None],
+            Mode::TwoContacts => [
+                Some((self.surface.get(), normal_force - second)),
+                Some((self.second.get(), second)),
+            ],
+            _ => [Some((self.surface.get(), normal_force)), None],
+        };
         let sample = Sample {
             t,
             position,
@@ -87,11 +97,12 @@ impl<'s, E: Copy> Context<'s, E> {
             contact: position.xy() + (kin.rot * kin.contact.r).xy(),
             energy: inv.energy,
             work: y[state::WORK],
-            normal_force: self.numerics.reported_normal(&sys.body, sys.gravity, ev),
+            normal_force,
             slip_speed: kin.slip.norm(),
             drift: 0.0,
             gap: kin.gap,
             mode,
+            touching,
         };
         (sample, inv)
     }

@@ -37,6 +37,9 @@ pub struct Sample {
     /// Height of the body's lowest point above the plane \[m\] (0 in contact).
     pub gap: f64,
     pub mode: Mode,
+    /// The surfaces in contact, each with its normal force \[N\]: none in flight, a
+    /// second only in the two-contact phase (their sum is `normal_force`).
+    pub touching: [Option<(Surface, f64)>; 2],
 }
 
 /// What happened during a run.

@@ -179,6 +179,7 @@ mod tests {
             drift: 0.0,
             gap: 0.0,
             mode: Mode::Rolling,
+            touching: [None, None],
         };
         assert!(rec.emit(s, inv).is_continue());
         s.omega.y = f64::NAN;

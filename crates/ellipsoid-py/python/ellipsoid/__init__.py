@@ -46,6 +46,7 @@ that stops on an error returns its trajectory with `success` False), `OutputErro
 from ellipsoid._ellipsoid import (
     COLUMNS,
     HDF5,
+    UNITS,
     EllipsoidError,
     InternalError,
     OutputError,
@@ -70,6 +71,7 @@ from ellipsoid._study import Study, load_study, study
 __all__ = [
     "COLUMNS",
     "HDF5",
+    "UNITS",
     "EllipsoidError",
     "InternalError",
     "OutputError",

@@ -13,6 +13,7 @@ import numpy.typing as npt
 
 __all__ = [
     "COLUMNS",
+    "UNITS",
     "HDF5",
     "EllipsoidError",
     "InternalError",
@@ -42,8 +43,11 @@ __all__ = [
 __version__: Final[str]
 #: Whether this build writes HDF5 (`Trajectory.to_hdf5`).
 HDF5: Final[bool]
-#: Column names of a trajectory, in the CSV file's order.
+#: Column names of a trajectory, in the CSV file's order (a body with contact spheres
+#: adds five per surface after them: `Trajectory.columns`).
 COLUMNS: Final[list[str]]
+#: Column name -> unit of `COLUMNS` ("1" for `mode`).
+UNITS: Final[dict[str, str]]
 #: The figure's panels as JSON, declared once for `ellipsoid plot` and `Trajectory.plot`.
 _PANELS: Final[str]
 
@@ -143,10 +147,14 @@ class Scenario:
 class Trajectory:
     """The samples of a run as read-only numpy columns named like the CSV, and its summary."""
 
-    #: Column names in the CSV file's order.
-    columns: ClassVar[list[str]]
-    #: Column name -> unit ("1" for `mode`).
-    units: ClassVar[dict[str, str]]
+    @property
+    def columns(self) -> list[str]:
+        """Column names in the CSV file's order: `COLUMNS`, and for a body with contact spheres five per surface after them."""
+    def __getitem__(self, name: str) -> _FloatArray | npt.NDArray[np.str_]:
+        """The column called `name` (any of `columns`, the per-surface ones too, and `mode`); KeyError otherwise."""
+    @property
+    def units(self) -> dict[str, str]:
+        """Column name -> unit ("1" for `mode`)."""
 
     @property
     def t(self) -> _FloatArray:
@@ -231,7 +239,7 @@ class Trajectory:
         """Height of the body's lowest point above the plane [m] (0 in contact)."""
     @property
     def mode(self) -> npt.NDArray[np.str_]:
-        """Contact regime per sample: "frictionless", "sliding", "rolling", "flight" or "two_contacts"."""
+        """Contact regime per sample: "frictionless", "sliding", "rolling", "flight" or "two_contacts"; with contact spheres, the surfaces in contact after `@` ("sliding@stem")."""
     @property
     def summary(self) -> dict[str, Any]:
         """The command-line tool's summary dict (a fresh copy)."""

@@ -172,7 +172,7 @@ def _draw_column(ax: Any, traj: Any, name: str, labels: bool, alone: bool = True
     declared colour (else in matplotlib's colour cycle, beside the others)."""
     unit = traj.units[name]
     color = DECLARATION["column_color"] if alone else None
-    ax.plot(traj.t, getattr(traj, name), color=color, label=f"{name} ({unit})")
+    ax.plot(traj.t, traj[name], color=color, label=f"{name} ({unit})")
     ax.set_ylabel(f"{name} ({unit})")
     if alone:
         ax.set_title(name)
