@@ -203,3 +203,30 @@ def test_errors_name_python_changes_not_command_line_flags() -> None:
         ellipsoid.load(SCENARIOS / "nutation.toml").replace(initial={"thetta": 0.1})
     msg = str(info.value)
     assert "--set" not in msg and "the change initial.thetta=0.1" in msg and "did you mean `theta`" in msg
+
+
+def test_contact_spheres_add_their_columns_by_name_and_survive_pickling(tmp_path: Path) -> None:
+    """A body with contact spheres: five columns per surface after `ellipsoid.COLUMNS`, read
+    by name; the surface the mode names carries the normal force and touches the plane;
+    pickled, the trajectory writes the same CSV byte for byte."""
+    traj = ellipsoid.simulate(SCENARIOS / "tippe-top-stem.toml", output={"t_end": 6.0})
+    surfaces = ["ellipsoid", "stem"]
+    extra = [f"{q}_{s}" for s in surfaces for q in ("normal_force", "slip_speed", "gap", "contact_x", "contact_y")]
+    assert traj.columns == list(ellipsoid.COLUMNS) + extra
+    assert traj.units["normal_force_stem"] == "N" and traj.units["gap_ellipsoid"] == "m"
+    assert set(traj.to_pandas().columns) == set(traj.columns) - {"t"}
+    mode = traj.mode
+    assert set(np.unique(mode)) == {"sliding@ellipsoid", "sliding@stem", "two_contacts@ellipsoid+stem"}
+    n = traj.normal_force
+    for s, other in (("ellipsoid", "stem"), ("stem", "ellipsoid")):
+        alone = mode == f"sliding@{s}"
+        np.testing.assert_array_equal(traj[f"normal_force_{s}"][alone], n[alone])
+        assert np.all(traj[f"normal_force_{other}"][alone] == 0) and np.all(traj[f"gap_{other}"][alone] > 0)
+        np.testing.assert_allclose(traj[f"contact_x_{s}"][alone], traj.contact_x[alone], atol=1e-12)
+    both = mode == "two_contacts@ellipsoid+stem"
+    np.testing.assert_allclose(traj["normal_force_ellipsoid"][both] + traj["normal_force_stem"][both], n[both], rtol=1e-12)
+    with pytest.raises(KeyError, match="normal_force_peg"):
+        traj["normal_force_peg"]
+    traj.to_csv(tmp_path / "a.csv")
+    pickle.loads(pickle.dumps(traj)).to_csv(tmp_path / "b.csv")
+    assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()

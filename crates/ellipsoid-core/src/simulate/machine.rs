@@ -62,52 +62,53 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             Some(status) => status,
             None => loop {
                 let current = phase::<E>(mode);
-                let seg = current.segment(self, t, y, &mut rec)?;
-                let sol = seg.solution;
-                add_stats(&mut stats, &sol.stats);
-                warnings.extend(sol.warnings.iter().map(|w| match *w {
-                    Warning::Stiff { t } => RunWarning::Stiff { t, mode },
-                }));
-                t = sol.t;
-                y = sol.y;
-                for record in &sol.events {
-                    if let Slot::Observe(index) = seg.watches[record.index] {
-                        let (mut sample, inv) =
-                            current.sample(self, record.t, &record.y, Some(&rec.angles));
-                        sample.drift = rec.relative_drift(&inv);
-                        events.push(EventRecord {
-                            kind: EventKind::Observed {
-                                index,
-                                sample: Box::new(sample),
-                            },
-                            t: record.t,
-                        });
-                    }
-                }
-                let before = events.len();
-                let next = match sol.stop {
-                    StopReason::Reached => Next::Stop(Status::Completed, mode),
-                    StopReason::Cancelled => {
-                        Next::Stop(rec.stopped.take().unwrap_or(Status::Cancelled), mode)
-                    }
-                    StopReason::Failed(e) => {
-                        Next::Stop(current.on_failure(self, t, &y, e, &mut events), mode)
-                    }
-                    StopReason::Event { index } => match seg.watches[index] {
-                        Slot::Observe(index) => Next::Stop(Status::Observed { index }, mode),
-                        Slot::Phase(watch) => {
-                            current.on_event(self, watch, &mut t, &mut y, &mut events)
+                // A surface already below the plane where the phase starts touched it
+                // before: its event at once (the integrator finds only zeros crossed).
+                let mut before = events.len();
+                let next = if let Some(watch) = current.overdue(self, &y) {
+                    current.on_event(self, watch, &mut t, &mut y, &mut events)
+                } else {
+                    let seg = current.segment(self, t, y, &mut rec)?;
+                    let sol = seg.solution;
+                    add_stats(&mut stats, &sol.stats);
+                    warnings.extend(sol.warnings.iter().map(|w| match *w {
+                        Warning::Stiff { t } => RunWarning::Stiff { t, mode },
+                    }));
+                    t = sol.t;
+                    y = sol.y;
+                    for record in &sol.events {
+                        if let Slot::Observe(index) = seg.watches[record.index] {
+                            let (mut sample, inv) =
+                                current.sample(self, record.t, &record.y, Some(&rec.angles));
+                            sample.drift = rec.relative_drift(&inv);
+                            events.push(EventRecord {
+                                kind: EventKind::Observed {
+                                    index,
+                                    sample: Box::new(sample),
+                                },
+                                t: record.t,
+                            });
                         }
-                    },
+                    }
+                    before = events.len();
+                    match sol.stop {
+                        StopReason::Reached => Next::Stop(Status::Completed, mode),
+                        StopReason::Cancelled => {
+                            Next::Stop(rec.stopped.take().unwrap_or(Status::Cancelled), mode)
+                        }
+                        StopReason::Failed(e) => {
+                            Next::Stop(current.on_failure(self, t, &y, e, &mut events), mode)
+                        }
+                        StopReason::Event { index } => match seg.watches[index] {
+                            Slot::Observe(index) => Next::Stop(Status::Observed { index }, mode),
+                            Slot::Phase(watch) => {
+                                current.on_event(self, watch, &mut t, &mut y, &mut events)
+                            }
+                        },
+                    }
                 };
                 if mode == Mode::Flight {
-                    rec.lose(Invariant::Jellett);
-                    let impact = events[before..]
-                        .iter()
-                        .any(|e| matches!(e.kind, EventKind::Impact(_)));
-                    if impact && !conservation.elastic_impacts {
-                        rec.lose(Invariant::Energy);
-                    }
+                    lose_in_flight(&mut rec, &events[before..], &conservation);
                 }
                 match next {
                     Next::Stop(status, at) => {
@@ -244,9 +245,20 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
             }
             Slot::Phase(i) => {
                 let w = phase_watches[i];
+                // A gap that starts at or below zero (by round-off, opening: see the
+                // overdue gaps in `Context::run`) is watched from δz above where it
+                // starts, so that closing again it is seen (the driver takes no zero
+                // within round-off of t0 for an event).
+                let start = law.evaluate(&y0);
+                let w0 = P::watch(ctx, law, w, &start, &y0);
+                let dz = ctx.numerics.gap_resolution(&start.kin);
+                let offset = match P::gap_of(ctx, w, &start) {
+                    Some(_) if w0 < dz => w0 - dz,
+                    _ => 0.0,
+                };
                 Event {
                     g: Box::new(move |t, y: &State| {
-                        sys.with(t, y, |ev| P::watch(ctx, law, w, ev, y))
+                        sys.with(t, y, |ev| P::watch(ctx, law, w, ev, y)) - offset
                     }),
                     direction: Direction::Falling,
                     action: Action::Stop,
@@ -346,6 +358,18 @@ impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for Watched<'_, C, E> {
 
     fn project(&self, y: &mut State) {
         self.sys.project(y);
+    }
+}
+
+/// What a flight ending with `events` costs the invariants: Jellett's quantity (its lever
+/// arm moved without torque), and the energy at an inelastic impact.
+fn lose_in_flight(rec: &mut Recorder<'_>, events: &[EventRecord], conservation: &Conservation) {
+    rec.lose(Invariant::Jellett);
+    let impact = events
+        .iter()
+        .any(|e| matches!(e.kind, EventKind::Impact(_)));
+    if impact && !conservation.elastic_impacts {
+        rec.lose(Invariant::Energy);
     }
 }
 

@@ -323,7 +323,10 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     let (next, y_after) = land(ctx, touching, t, y, events);
     let kin = Kinematics::flying_at(&ctx.scene.body, pressed, &y_after);
     let approach = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
+    // The pressed surface's settling speed: its own contact's deceleration.
+    let landed = ctx.surface.replace(pressed);
     let settle = settling_speed(ctx, &y_after, &kin);
+    ctx.surface.set(landed);
     if approach > settle {
         return next;
     }

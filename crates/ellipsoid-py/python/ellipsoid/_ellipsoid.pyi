@@ -150,8 +150,8 @@ class Trajectory:
     @property
     def columns(self) -> list[str]:
         """Column names in the CSV file's order: `COLUMNS`, and for a body with contact spheres five per surface after them."""
-    def __getitem__(self, name: str) -> _FloatArray | npt.NDArray[np.str_]:
-        """The column called `name` (any of `columns`, the per-surface ones too, and `mode`); KeyError otherwise."""
+    def __getitem__(self, key: str, /) -> _FloatArray | npt.NDArray[np.str_]:
+        """The column called `key` (any of `columns`, the per-surface ones too, and `mode`); KeyError otherwise."""
     @property
     def units(self) -> dict[str, str]:
         """Column name -> unit ("1" for `mode`)."""

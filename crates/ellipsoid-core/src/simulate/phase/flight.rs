@@ -4,6 +4,7 @@
 //! falling through −δz (`Numerics::gap_resolution`); the touchdown that follows is a
 //! transition (`transition::touchdown`).
 
+use crate::body::Surface;
 use crate::effects::Effect;
 use crate::model::{Evaluation, Flight, System};
 use crate::state::State;
@@ -44,6 +45,12 @@ impl Phase for FlightPhase {
     ) -> f64 {
         match watch {
             FlightWatch::Gap => ev.kin.gap + ctx.numerics.gap_resolution(&ev.kin),
+        }
+    }
+
+    fn gap_of<E>(_ctx: &Context<'_, E>, watch: FlightWatch, ev: &Evaluation) -> Option<Surface> {
+        match watch {
+            FlightWatch::Gap => Some(ev.kin.contact.surface),
         }
     }
 

@@ -51,6 +51,17 @@ impl Phase for FrictionlessPhase {
         }
     }
 
+    fn gap_of<E>(
+        _ctx: &Context<'_, E>,
+        watch: FrictionlessWatch,
+        _ev: &Evaluation,
+    ) -> Option<Surface> {
+        match watch {
+            FrictionlessWatch::Touch(surface) => Some(surface),
+            _ => None,
+        }
+    }
+
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
         watch: FrictionlessWatch,

@@ -125,6 +125,14 @@ pub(super) fn touch_gap<E>(ctx: &Context<'_, E>, ev: &Evaluation, surface: Surfa
         + ctx.numerics.gap_resolution(kin)
 }
 
+/// Whether `surface`'s lowest material point moves down (or not up):
+/// v_Gz + e3·(R (ω × r_k)) ≤ 0, r_k its lever arm from G.
+fn closing<E>(ctx: &Context<'_, E>, ev: &Evaluation, surface: Surface) -> bool {
+    let kin = &ev.kin;
+    let lever = geometry::Contact::of(&ctx.scene.body, surface, kin.contact.zeta, kin.omega).r;
+    kin.v_g.z + (kin.rot * kin.omega.cross(&lever)).z <= 0.0
+}
+
 /// An event function of a segment: one of its phase's watches (by its index in
 /// [`Phase::watches`]), or an observable of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -159,6 +167,12 @@ pub(super) trait Phase {
         ev: &Evaluation,
         y: &State,
     ) -> f64;
+    /// The surface whose gap (its lowest point's height above the plane) `watch` is, if it
+    /// is one: a gap at or below zero and closing where a segment starts is its event at
+    /// once (the integrator finds only the zeros it crosses after t0).
+    fn gap_of<E>(_ctx: &Context<'_, E>, _watch: Self::Watch, _ev: &Evaluation) -> Option<Surface> {
+        None
+    }
     /// What the event of `watch` at (t, y) leads to (`transition`); may change `y` (the
     /// state map at the switch) and `t` (a touchdown taken back to gap = 0), and records
     /// what happened in `events`.
@@ -202,6 +216,9 @@ pub(super) trait AnyPhase<E> {
         prev: Option<&EulerAngles>,
     ) -> (Sample, Invariants);
     fn response(&self, ctx: &Context<'_, E>, y: &State) -> Response;
+    /// The first of the phase's gaps ([`Phase::gap_of`]) at or below zero and closing at
+    /// `y`, by its watch number.
+    fn overdue(&self, ctx: &Context<'_, E>, y: &State) -> Option<usize>;
     /// [`Phase::on_event`] of its watch number `watch`.
     fn on_event(
         &self,
@@ -245,6 +262,17 @@ impl<P: Phase, E: Effect + Copy + 'static> AnyPhase<E> for Registered<P> {
     }
     fn response(&self, ctx: &Context<'_, E>, y: &State) -> Response {
         ctx.system::<P>().evaluate(y).response
+    }
+    fn overdue(&self, ctx: &Context<'_, E>, y: &State) -> Option<usize> {
+        let sys = ctx.system::<P>();
+        let ev = sys.evaluate(y);
+        // A gap watch is the gap plus its round-off δz.
+        let dz = ctx.numerics.gap_resolution(&ev.kin);
+        P::watches(ctx).into_iter().position(|w| {
+            P::gap_of(ctx, w, &ev).is_some_and(|surface| {
+                P::watch(ctx, &sys, w, &ev, y) < dz && closing(ctx, &ev, surface)
+            })
+        })
     }
     fn on_event(
         &self,

@@ -60,6 +60,13 @@ impl Phase for RollingPhase {
         }
     }
 
+    fn gap_of<E>(_ctx: &Context<'_, E>, watch: RollingWatch, _ev: &Evaluation) -> Option<Surface> {
+        match watch {
+            RollingWatch::Touch(surface) => Some(surface),
+            _ => None,
+        }
+    }
+
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
         watch: RollingWatch,

@@ -100,6 +100,13 @@ impl Phase for SlidingPhase {
         }
     }
 
+    fn gap_of<E>(_ctx: &Context<'_, E>, watch: SlidingWatch, _ev: &Evaluation) -> Option<Surface> {
+        match watch {
+            SlidingWatch::Touch(surface) => Some(surface),
+            _ => None,
+        }
+    }
+
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
         watch: SlidingWatch,

@@ -98,6 +98,17 @@ impl Phase for TwoContactsPhase {
         }
     }
 
+    fn gap_of<E>(
+        _ctx: &Context<'_, E>,
+        watch: TwoContactsWatch,
+        _ev: &Evaluation,
+    ) -> Option<Surface> {
+        match watch {
+            TwoContactsWatch::Touch(surface) => Some(surface),
+            _ => None,
+        }
+    }
+
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
         watch: TwoContactsWatch,
