@@ -4,16 +4,18 @@
 //! Layout: [`reduce`] (the closed dynamics of ζ = Rᵀe3 and ω that the plane's symmetries
 //! and the contact constraint leave), [`families`] (the steady states), [`linearize`]
 //! (the Jacobian in tangent coordinates), [`spectrum`] (eigenvalues with the family's
-//! zero removed, eigenvectors named by what moves), [`sweep`] (a family against a
-//! parameter and its critical values).
+//! zeros removed, eigenvectors named by what moves), [`sweep`] (a family against a
+//! parameter and its critical values), [`tilted`] (the tilted families of a body of
+//! revolution: frictionless precession and Routh's rolling circles).
 
 pub mod families;
 pub mod linearize;
 pub mod reduce;
 pub mod spectrum;
 pub mod sweep;
+pub mod tilted;
 
-pub use families::{Family, SteadyMotion, started_at};
+pub use families::{Circles, Family, SteadyMotion, started_at};
 pub use linearize::{COORDINATES, Linearization, Reduced, linearize};
 pub use reduce::{Phase, ReducedField};
 pub use spectrum::{Mode, STABLE_TOLERANCE, Shape, Spectrum};
@@ -65,15 +67,21 @@ pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization
     Ok(linearize(&field, &at, None))
 }
 
-/// The linearisation and spectrum of a steady `motion` of `field`.
+/// The linearisation and spectrum of a steady `motion` of `field`: the Jacobian in the
+/// frame in which the motion is an equilibrium (turned about the body's c axis at the
+/// motion's `frame_rate`), the zeros of `motion.removed` taken out of its spectrum.
 pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Analysis {
-    let linearization = linearize(field, &motion.at, None);
+    let generator = (motion.frame_rate != 0.0).then_some((Vector3::z(), motion.frame_rate));
+    let linearization = linearize(field, &motion.at, generator);
     let (zeta, _) = reduce::split(&linearization.at);
-    let spectrum = spectrum::spectrum(
-        &linearization,
-        &motion.family_direction,
-        &shape(field, zeta),
-    );
+    let removed: Vec<Reduced> = motion
+        .removed
+        .iter()
+        .map(|d| linearization.reduced(d))
+        .collect();
+    let mut shape = shape(field, zeta);
+    shape.tilted = motion.precession.is_some();
+    let spectrum = spectrum::spectrum(&linearization, &removed, &shape);
     Analysis {
         motion,
         linearization,
@@ -117,5 +125,6 @@ fn shape(field: &ReducedField, zeta: Vector3<f64>) -> Shape {
         long: unit(long),
         short: unit(short),
         revolution,
+        tilted: false,
     }
 }
