@@ -51,6 +51,17 @@ impl Family {
         }
     }
 
+    /// Whether it is one of the tilted families of a body of revolution (`tilted`).
+    pub fn tilted(self) -> bool {
+        matches!(self, Family::Precession | Family::RollingCircle)
+    }
+
+    /// How many eigenvalues its spectrum has: 4 upright and inverted, 2 tilted (three
+    /// more zeros removed: the axial turn and the family's two tangents).
+    pub fn modes(self) -> usize {
+        if self.tilted() { 2 } else { 4 }
+    }
+
     /// Its name.
     pub fn name(self) -> &'static str {
         match self {

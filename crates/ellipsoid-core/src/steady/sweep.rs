@@ -11,6 +11,13 @@ use crate::scenario::{self, Scenario};
 /// Most values a sweep accepts.
 pub const MAX_VALUES: usize = 100_000;
 
+/// The keys a tilted family replaces by its solved spin: varying them changes nothing.
+const SOLVED_KEYS: [&str; 3] = [
+    "initial.psi_dot",
+    "initial.psi_dot_deg",
+    "initial.omega_body",
+];
+
 /// Relative width to which a critical value's bracket is narrowed.
 const CRITICAL_TOLERANCE: f64 = 1e-13;
 
@@ -87,6 +94,16 @@ pub fn sweep(
             key,
             format!("{} values", values.len()),
             format!("a sweep takes 1 to {MAX_VALUES} values"),
+        ));
+    }
+    if family.tilted() && SOLVED_KEYS.contains(&key) {
+        return Err(ModelError::invalid(
+            key,
+            format!("{} values", values.len()),
+            format!(
+                "the {} family solves for the spin: vary initial.theta or initial.phi_dot (or a body or gravity key) instead",
+                family.name()
+            ),
         ));
     }
     if let Some(v) = values.iter().find(|v| !v.is_finite()) {
