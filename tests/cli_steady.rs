@@ -108,7 +108,7 @@ fn bad_input_exits_2_and_writes_nothing() {
                 "--vary",
                 "initial.psi_dot=1:2:2",
             ],
-            "solves for the spin",
+            "solves for spin here",
         ),
         (vec!["--vary", "initial.psi_dot=1:2"], "KEY=a:b:n"),
         (vec!["--vary", "initial.psi_dot=1:2:0"], "from 1 to"),
@@ -180,7 +180,7 @@ fn steady_rolling_circle_prints_the_motion_and_its_table() {
     for want in [
         "family               rolling-circle",
         "(about the body's axis, solved for)",
-        "precession phi_dot   1 rad/s",
+        "precession phi_dot   1 rad/s (about the vertical)\n",
         "circles              G ",
         "verdict              stable",
         "  nutation ",

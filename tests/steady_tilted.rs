@@ -157,6 +157,7 @@ dt = 1e-3
 /// signs.
 #[test]
 fn val_routh_relation_against_newton_euler() {
+    let mut worst: f64 = 0.0;
     for body in [lens(), offset_sphere()] {
         for (model, family, rolling) in [
             ("rolling", Family::RollingCircle, true),
@@ -172,6 +173,7 @@ fn val_routh_relation_against_newton_euler() {
                     };
                     let expected = body.newton_euler_spin(theta, omega, rolling);
                     let err = (an.motion.spin - expected).abs() / expected.abs().max(1.0);
+                    worst = worst.max(err);
                     assert!(
                         err <= 1e-12,
                         "{what}: n = {} against {expected} ({err:.2e})",
@@ -184,6 +186,7 @@ fn val_routh_relation_against_newton_euler() {
             }
         }
     }
+    eprintln!("largest relative difference of the spin: {worst:.2e}");
 }
 
 /// Runs `scene` and returns its samples; the run must complete.
@@ -385,6 +388,84 @@ fn inv_tilted_spectrum_is_invariant_under_the_symmetries() {
                 1e-10,
                 &format!("{what}, ψ = {psi}, φ = {phi}"),
             );
+        }
+    }
+}
+
+/// A sweep of the tilt along the lens's rolling circles at Ω = 8 rad/s: the circles near
+/// θ = π/2 (the lens nearly on its edge, turning slowly) are unstable, and the nutation
+/// pair passes through zero (kind `real`) at two critical tilts. The lens is symmetric
+/// under k → −k (θ → π − θ, n → −n), so the two are symmetric about π/2 (1e-12), and the
+/// pair's size at each is below 1e-5 of the motion's rate.
+#[test]
+fn val_sweep_of_the_tilt_locates_symmetric_critical_values() {
+    let body = lens();
+    let base = body.scenario("rolling", 1.0, 8.0, 0.0, 0.0);
+    let values: Vec<f64> = (0..=6)
+        .map(|i| std::f64::consts::FRAC_PI_3 * (1.0 + i as f64 / 6.0))
+        .collect();
+    let sw = steady::sweep(&base, Family::RollingCircle, "initial.theta", &values).unwrap();
+    assert_eq!(sw.critical.len(), 2, "{:?}", sw.critical);
+    let (lo, hi) = (&sw.critical[0], &sw.critical[1]);
+    for (c, above) in [(lo, false), (hi, true)] {
+        assert_eq!(c.kind, steady::CriticalKind::Real, "{c:?}");
+        assert_eq!(c.stable_above, above, "{c:?}");
+        let an =
+            steady::analyse(&body.scene("rolling", c.value, 8.0), Family::RollingCircle).unwrap();
+        let size = an.spectrum.modes[0].eigenvalue.norm();
+        assert!(size <= 1e-5 * an.spectrum.floor, "{c:?}: |λ| = {size}");
+    }
+    let asymmetry = (lo.value + hi.value) / std::f64::consts::PI - 1.0;
+    eprintln!(
+        "critical tilts {} and {} rad: asymmetry {asymmetry:.2e}",
+        lo.value, hi.value
+    );
+    assert!(asymmetry.abs() <= 1e-12, "{asymmetry:e}");
+}
+
+/// Given two of (θ, Ω, n), the third: from the spin solved at (θ, Ω), solving for the
+/// precession rate (the root nearest a guess 10 % off) and for the tilt (Newton from 0.05
+/// rad off) returns Ω and θ to 1e-12 relative, and each solved motion closes the
+/// world-axes Newton–Euler balance to 1e-12.
+#[test]
+fn val_two_of_theta_omega_n_give_the_third() {
+    for body in [lens(), offset_sphere()] {
+        for (model, family, rolling) in [
+            ("rolling", Family::RollingCircle, true),
+            ("frictionless", Family::Precession, false),
+        ] {
+            for (theta, omega) in [(0.9, 6.0), (1.3, -7.0), (2.0, 15.0)] {
+                let what = format!("{} {model} θ = {theta} Ω = {omega}", body.name);
+                let n = steady::analyse(&body.scene(model, theta, omega), family)
+                    .unwrap()
+                    .motion
+                    .spin;
+                // The scenario's spin φ̇ cos θ + ψ̇ is n at the guessed φ̇ and θ.
+                let mut scene = body.scene(model, theta, 1.1 * omega);
+                scene.initial.angles.psi_dot = n - 1.1 * omega * theta.cos();
+                let an = steady::analyse_solving(&scene, family, steady::Solve::PhiDot)
+                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+                let got = an.motion.precession.unwrap();
+                assert!((got / omega - 1.0).abs() <= 1e-12, "{what}: Ω = {got}");
+                assert!((an.motion.spin / n - 1.0).abs() <= 1e-15, "{what}");
+                let check = body.newton_euler_spin(theta, got, rolling);
+                assert!(
+                    (check / n - 1.0).abs() <= 1e-12,
+                    "{what}: {check} against {n}"
+                );
+                let guess = theta + 0.05;
+                let mut scene = body.scene(model, guess, omega);
+                scene.initial.angles.psi_dot = n - omega * guess.cos();
+                let an = steady::analyse_solving(&scene, family, steady::Solve::Theta)
+                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+                let got = an.motion.theta;
+                assert!((got / theta - 1.0).abs() <= 1e-12, "{what}: θ = {got}");
+                let check = body.newton_euler_spin(got, omega, rolling);
+                assert!(
+                    (check / n - 1.0).abs() <= 1e-12,
+                    "{what}: {check} against {n}"
+                );
+            }
         }
     }
 }

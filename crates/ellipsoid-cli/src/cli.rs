@@ -74,6 +74,12 @@ pub struct SteadyArgs {
     /// rolling-circle (Routh's steady rolling; rolling or coulomb).
     #[arg(long, default_value = "upright")]
     pub family: String,
+    /// What a tilted family solves for: spin (from initial.theta and initial.phi_dot),
+    /// phi_dot (from initial.theta and the spin phi_dot cos theta + psi_dot; the root
+    /// nearest initial.phi_dot) or theta (from initial.phi_dot and the spin; Newton from
+    /// initial.theta).
+    #[arg(long, default_value = "spin", value_name = "spin|phi_dot|theta")]
+    pub solve: String,
     /// Vary one scenario key: KEY=a:b:n, n evenly spaced values from a to b
     /// (e.g. initial.psi_dot=0:200:201).
     #[arg(long, value_name = "KEY=a:b:n", allow_hyphen_values = true)]

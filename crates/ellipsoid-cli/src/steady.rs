@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use ellipsoid_core::error::{ModelError, number};
 use ellipsoid_core::scenario::{self, Scenario};
-use ellipsoid_core::steady::{self, Analysis, Family, Sweep, sweep::MAX_VALUES};
+use ellipsoid_core::steady::{self, Analysis, Family, Solve, Sweep, sweep::MAX_VALUES};
 use ellipsoid_io::atomic;
 
 use crate::cli::SteadyArgs;
@@ -15,6 +15,7 @@ use crate::error::CliError;
 
 pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     let family = Family::parse(&args.family).map_err(|e| CliError::Usage(format!("--{e}")))?;
+    let solve = Solve::parse(&args.solve).map_err(|e| CliError::Usage(format!("--{e}")))?;
     let scenario = scenario::load_all(&args.scenario, &args.set)?;
     if let Some(path) = &args.output {
         atomic::check_target(path)?;
@@ -22,13 +23,14 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     let located = |e: ModelError| CliError::from(scenario.locate(&e));
     let table = match &args.vary {
         None => {
-            let an = steady::analyse(&scenario.scene, family).map_err(located)?;
-            print!("{}", describe(&an));
+            let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
+            print!("{}", describe(&an, solve));
             table_of(family, "spin", &[an.motion.spin], &[Ok(an)])
         }
         Some(spec) => {
             let (key, values) = parse_vary(spec).map_err(CliError::Usage)?;
-            let sw = steady::sweep(&scenario, family, &key, &values).map_err(located)?;
+            let sw =
+                steady::sweep_solving(&scenario, family, solve, &key, &values).map_err(located)?;
             print!("{}", summarise(&scenario, &sw));
             table_of(family, &sw.key, &sw.values, &sw.rows)
         }
@@ -77,24 +79,47 @@ fn parse_vary(spec: &str) -> Result<(String, Vec<f64>), String> {
     Ok((key.trim().to_owned(), values))
 }
 
-/// One steady motion in words: the state, then each mode.
-fn describe(an: &Analysis) -> String {
+/// One steady motion in words: the state (a tilted family's unknown marked as solved
+/// for), then each mode.
+fn describe(an: &Analysis, solve: Solve) -> String {
     let m = &an.motion;
     let mut o = String::new();
     // + 0.0 prints −0 (a zero times a negative spin) as 0.
     let (zeta, omega) = steady::reduce::split(&m.at.map(|x| x + 0.0));
     let _ = writeln!(o, "family               {}", m.family.name());
+    let solved = |what: Solve| {
+        if m.family.tilted() && solve == what {
+            ", solved for"
+        } else {
+            ""
+        }
+    };
     let about = if m.family.tilted() {
-        "about the body's axis, solved for"
+        "about the body's axis"
     } else {
         "about the upward vertical"
     };
-    let _ = writeln!(o, "spin n               {} rad/s ({about})", m.spin);
-    let _ = writeln!(o, "tilt theta           {} rad", m.theta);
+    let _ = writeln!(
+        o,
+        "spin n               {} rad/s ({about}{})",
+        m.spin,
+        solved(Solve::Spin)
+    );
+    let _ = writeln!(
+        o,
+        "tilt theta           {} rad{}",
+        m.theta,
+        if solve == Solve::Theta && m.family.tilted() {
+            " (solved for)"
+        } else {
+            ""
+        }
+    );
     if let Some(precession) = m.precession {
         let _ = writeln!(
             o,
-            "precession phi_dot   {precession} rad/s (about the vertical)"
+            "precession phi_dot   {precession} rad/s (about the vertical{})",
+            solved(Solve::PhiDot)
         );
         let _ = writeln!(
             o,

@@ -14,6 +14,7 @@ use nalgebra::{Matrix2, Vector2, Vector3};
 
 use super::linearize::tangent_basis;
 use super::reduce::{Phase, ReducedField, join};
+use super::tilted::Solve;
 use crate::body::Body;
 use crate::error::{ModelError, number};
 use crate::geometry::{Contact, hessian};
@@ -118,12 +119,24 @@ pub(super) const RESIDUAL_TOLERANCE: f64 = 1e-9;
 /// The steady motion of `family` that the scene defines: upright and inverted, the spin
 /// about the vertical is the scene's initial ω·ζ0 (`initial.omega_body`, or the Euler
 /// rates: at θ = 0, n = φ̇ + ψ̇); the tilted families, the scene's θ and φ̇ (and ψ, which
-/// only chooses the coordinates) with the spin solved for (`tilted`).
+/// only chooses the coordinates) with the spin solved for (`tilted`), or two of θ, φ̇ and
+/// the spin φ̇ cos θ + ψ̇ with the third solved for, as `solve` says.
 pub fn steady_motion(
     field: &ReducedField,
     scene: &Scene,
     family: Family,
+    solve: Solve,
 ) -> Result<SteadyMotion, ModelError> {
+    if solve != Solve::Spin && !family.tilted() {
+        return Err(ModelError::invalid(
+            "solve",
+            format!("\"{}\"", solve.name()),
+            format!(
+                "the {} family has only its spin: solve applies to the tilted families (precession, rolling-circle)",
+                family.name()
+            ),
+        ));
+    }
     let start = match family {
         Family::Upright => Vector3::z(),
         Family::Inverted => -Vector3::z(),
@@ -138,7 +151,7 @@ pub fn steady_motion(
                     ),
                 ));
             }
-            return super::tilted::from_angles(field, family, &scene.initial.angles);
+            return super::tilted::from_angles(field, family, &scene.initial.angles, solve);
         }
     };
     let body = field.body();

@@ -19,7 +19,8 @@ pub use families::{Circles, Family, SteadyMotion, started_at};
 pub use linearize::{COORDINATES, Linearization, Reduced, linearize};
 pub use reduce::{Phase, ReducedField};
 pub use spectrum::{Mode, STABLE_TOLERANCE, Shape, Spectrum};
-pub use sweep::{Critical, CriticalKind, Sweep, sweep};
+pub use sweep::{Critical, CriticalKind, Sweep, sweep, sweep_solving};
+pub use tilted::Solve;
 
 use nalgebra::Vector3;
 
@@ -35,10 +36,21 @@ pub struct Analysis {
 }
 
 /// The steady motion of `family` that `scene` defines (its body, contact model and
-/// initial spin) and its stability.
+/// initial spin, or for a tilted family its tilt and precession rate, the spin solved
+/// for) and its stability.
 pub fn analyse(scene: &Scene, family: Family) -> Result<Analysis, ModelError> {
+    analyse_solving(scene, family, Solve::Spin)
+}
+
+/// [`analyse`], a tilted family solving for the unknown `solve` names (θ, φ̇ or the
+/// spin; the scene gives the other two).
+pub fn analyse_solving(
+    scene: &Scene,
+    family: Family,
+    solve: Solve,
+) -> Result<Analysis, ModelError> {
     let field = ReducedField::from_scene(scene)?;
-    let motion = families::steady_motion(&field, scene, family)?;
+    let motion = families::steady_motion(&field, scene, family, solve)?;
     Ok(analyse_motion(&field, motion))
 }
 
@@ -80,8 +92,15 @@ pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Analysis {
         .map(|d| linearization.reduced(d))
         .collect();
     let mut shape = shape(field, zeta);
-    shape.tilted = motion.precession.is_some();
-    let spectrum = spectrum::spectrum(&linearization, &removed, &shape);
+    shape.tilted = motion.family.tilted();
+    let floor = if shape.tilted {
+        let (_, omega) = reduce::split(&motion.at);
+        let axes = field.body().semi_axes();
+        omega.norm().max((field.gravity() / axes.max()).sqrt())
+    } else {
+        0.0
+    };
+    let spectrum = spectrum::spectrum(&linearization, &removed, &shape, floor);
     Analysis {
         motion,
         linearization,

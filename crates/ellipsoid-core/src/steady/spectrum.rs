@@ -35,6 +35,10 @@ pub struct Mode {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spectrum {
     pub modes: Vec<Mode>,
+    /// The smallest scale [1/s]: 0 upright and inverted; for the tilted families, whose
+    /// one pair passes through zero where the stability changes, the motion's rate
+    /// max(|ω0|, √(g/c_max)), so that round-off in a small pair does not count as growth.
+    pub floor: f64,
 }
 
 impl Spectrum {
@@ -57,12 +61,12 @@ impl Spectrum {
         self.max_real() <= STABLE_TOLERANCE * self.scale()
     }
 
-    /// The spectrum's scale max |λ| [1/s] (at least 1e-300).
+    /// The spectrum's scale max |λ| [1/s] (at least the floor and 1e-300).
     pub fn scale(&self) -> f64 {
         self.modes
             .iter()
             .map(|m| m.eigenvalue.norm())
-            .fold(1e-300, f64::max)
+            .fold(self.floor.max(1e-300), f64::max)
     }
 }
 
@@ -85,8 +89,8 @@ pub struct Shape {
 }
 
 /// The spectrum of `lin` with the zeros along `removed` (reduced directions, linearly
-/// independent, at most 4) taken out.
-pub fn spectrum(lin: &Linearization, removed: &[Reduced], shape: &Shape) -> Spectrum {
+/// independent, at most 4) taken out; `floor` as [`Spectrum::floor`].
+pub fn spectrum(lin: &Linearization, removed: &[Reduced], shape: &Shape, floor: f64) -> Spectrum {
     let k = removed.len();
     let rest = 5 - k;
     let q = completion(removed);
@@ -127,7 +131,7 @@ pub fn spectrum(lin: &Linearization, removed: &[Reduced], shape: &Shape) -> Spec
             .total_cmp(&x.eigenvalue.re)
             .then(y.eigenvalue.im.total_cmp(&x.eigenvalue.im))
     });
-    Spectrum { modes }
+    Spectrum { modes, floor }
 }
 
 /// An orthogonal Q whose first k columns span `removed` (k vectors): the Householder QR

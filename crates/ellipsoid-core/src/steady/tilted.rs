@@ -27,6 +27,43 @@ use crate::body::Body;
 use crate::error::{ModelError, number};
 use crate::geometry::Contact;
 
+/// Which of (θ, Ω, n) a tilted family solves for; the scenario gives the other two
+/// (θ = `initial.theta`, Ω = `initial.phi_dot`, n = φ̇ cos θ + ψ̇ of the scenario's rates).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Solve {
+    /// The spin n (F is linear in n: one solution).
+    #[default]
+    Spin,
+    /// The precession rate Ω (F is quadratic in Ω: the root nearest the scenario's φ̇).
+    PhiDot,
+    /// The tilt θ (Newton from the scenario's θ).
+    Theta,
+}
+
+impl Solve {
+    /// The names, as `--solve` and Python's `solve` take them.
+    pub const NAMES: [&'static str; 3] = ["spin", "phi_dot", "theta"];
+
+    /// The unknown named `name`, or an error naming the field `solve`.
+    pub fn parse(name: &str) -> Result<Self, ModelError> {
+        match name {
+            "spin" => Ok(Solve::Spin),
+            "phi_dot" => Ok(Solve::PhiDot),
+            "theta" => Ok(Solve::Theta),
+            _ => Err(ModelError::invalid(
+                "solve",
+                format!("\"{name}\""),
+                format!("must be one of {}", Solve::NAMES.join(", ")),
+            )),
+        }
+    }
+
+    /// Its name.
+    pub fn name(self) -> &'static str {
+        Solve::NAMES[self as usize]
+    }
+}
+
 /// Relative tolerance of the body-of-revolution checks.
 const REVOLUTION_TOLERANCE: f64 = 1e-12;
 
@@ -244,6 +281,88 @@ pub fn solve_spin(rel: &Relation, geo: &Meridian, omega: f64) -> Result<f64, Mod
     Ok(n)
 }
 
+/// The precession rate Ω of the steady motion of `rel` at tilt θ and spin n nearest
+/// `guess`: F is quadratic in Ω, a₂Ω² + a₁Ω + a₀ with a₂ = sin θ (κ m h w − A cos θ),
+/// a₁ = n (C sin θ + κ m h u), a₀ = m g s (module docs).
+pub fn solve_precession(
+    rel: &Relation,
+    geo: &Meridian,
+    n: f64,
+    guess: f64,
+) -> Result<f64, ModelError> {
+    let st = geo.theta.sin();
+    let (h, u, w) = (geo.h(), geo.u, geo.w);
+    let a2 = st * (rel.kappa * rel.mass * h * w - rel.big_a * geo.theta.cos());
+    let b = rel.big_c * st + rel.kappa * rel.mass * h * u;
+    let a1 = n * b;
+    let a0 = rel.weight * geo.s();
+    let disc = a1 * a1 - 4.0 * a2 * a0;
+    let none = |why: String| {
+        ModelError::invalid(
+            "initial.psi_dot",
+            number(n - guess * geo.theta.cos()),
+            format!(
+                "no steady precession at tilt θ = {} rad and spin n = {} rad/s: {why}",
+                number(geo.theta),
+                number(n)
+            ),
+        )
+    };
+    if disc < 0.0 {
+        let n_min = (4.0 * a2 * a0).sqrt() / b.abs();
+        return Err(none(format!(
+            "the spin must be at least {} rad/s in magnitude",
+            number(n_min)
+        )));
+    }
+    // The roots without cancellation: q = −(a₁ + sign(a₁)√disc)/2, Ω = q/a₂ and a₀/q.
+    let q = -0.5 * (a1 + a1.signum() * disc.sqrt());
+    let roots = [q / a2, a0 / q];
+    roots
+        .into_iter()
+        .filter(|r| r.is_finite() && *r != 0.0)
+        .min_by(|x, y| (x - guess).abs().total_cmp(&(y - guess).abs()))
+        .ok_or_else(|| none("the precession rate would be zero or infinite".into()))
+}
+
+/// The tilt θ of the steady motion of `rel` at precession rate Ω and spin n, by Newton
+/// on F(θ) from `guess` (F_θ analytic), each step kept inside (0, π).
+pub fn solve_tilt(
+    rel: &Relation,
+    body: &Body,
+    psi: f64,
+    omega: f64,
+    n: f64,
+    guess: f64,
+) -> Result<f64, ModelError> {
+    let mut theta = guess;
+    for _ in 0..60 {
+        let geo = meridian(body, theta, psi);
+        let [f, f_theta, _, _] = rel.evaluate(&geo, omega, n);
+        let mut step = -f / f_theta;
+        if !step.is_finite() {
+            break;
+        }
+        while !(theta + step > 0.0 && theta + step < std::f64::consts::PI) {
+            step *= 0.5;
+        }
+        theta += step;
+        // Newton converges quadratically: after a step of 1e-13, θ is at round-off.
+        if step.abs() <= 1e-13 * theta {
+            return Ok(theta);
+        }
+    }
+    Err(ModelError::invalid(
+        "initial.theta",
+        number(guess),
+        format!(
+            "no tilted steady motion with precession rate {} rad/s and spin {} rad/s was found from this tilt",
+            number(omega),
+            number(n)
+        ),
+    ))
+}
+
 /// The steady motion of `family` at tilt θ, yaw ψ about the axis (a symmetry: it only
 /// chooses the coordinates), precession rate Ω and spin n (which must satisfy F = 0;
 /// checked on the simulator's field).
@@ -342,23 +461,35 @@ pub fn check_tilt(theta: f64) -> Result<(), ModelError> {
     Ok(())
 }
 
-/// The steady motion of `family` that the scene's tilt θ, yaw ψ and precession rate
-/// Ω = φ̇ define, its spin n solved for.
+/// The steady motion of `family` that the scene's angles define: two of the tilt θ, the
+/// precession rate Ω = φ̇ and the spin n = φ̇ cos θ + ψ̇ given, the one `solve` names
+/// solved for; the yaw ψ about the axis only chooses the body axes.
 pub fn from_angles(
     field: &ReducedField,
     family: Family,
     angles: &crate::state::EulerAngles,
+    solve: Solve,
 ) -> Result<SteadyMotion, ModelError> {
     let rel = relation(field, family)?;
     check_tilt(angles.theta)?;
-    let geo = meridian(field.body(), angles.theta, angles.psi);
-    let n = solve_spin(&rel, &geo, angles.phi_dot)?;
-    motion(
-        field,
-        family,
-        &rel,
-        (angles.theta, angles.psi),
-        angles.phi_dot,
-        n,
-    )
+    let body = field.body();
+    let (theta, psi) = (angles.theta, angles.psi);
+    let spin = angles.phi_dot * theta.cos() + angles.psi_dot;
+    let (theta, omega, n) = match solve {
+        Solve::Spin => {
+            let n = solve_spin(&rel, &meridian(body, theta, psi), angles.phi_dot)?;
+            (theta, angles.phi_dot, n)
+        }
+        Solve::PhiDot => {
+            let geo = meridian(body, theta, psi);
+            let omega = solve_precession(&rel, &geo, spin, angles.phi_dot)?;
+            (theta, omega, spin)
+        }
+        Solve::Theta => {
+            let theta = solve_tilt(&rel, body, psi, angles.phi_dot, spin, theta)?;
+            check_tilt(theta)?;
+            (theta, angles.phi_dot, spin)
+        }
+    };
+    motion(field, family, &rel, (theta, psi), omega, n)
 }
