@@ -96,6 +96,16 @@ pub fn steady_raw<'py>(
         "normal_force",
         PyArray1::from_vec(py, column(&|a| a.motion.normal_force)),
     )?;
+    let tilted = |f: &dyn Fn(&Analysis) -> Option<Vec<f64>>| -> Option<Vec<Vec<f64>>> {
+        analyses.iter().map(|a| f(a)).collect()
+    };
+    let phi_dot = tilted(&|a| a.motion.precession.map(|p| vec![p]))
+        .map(|v| PyArray1::from_vec(py, v.concat()));
+    out.set_item("phi_dot", phi_dot)?;
+    let circles = tilted(&|a| a.motion.circles.map(|c| vec![c.center, c.contact]))
+        .map(|v| PyArray2::from_vec2(py, &v))
+        .transpose()?;
+    out.set_item("circles", circles)?;
     out.set_item(
         "max_real",
         PyArray1::from_vec(py, column(&|a| a.spectrum.max_real())),
