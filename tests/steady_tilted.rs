@@ -553,3 +553,31 @@ fn val_frictionless_nutation_against_the_routhian() {
     eprintln!("stable, unstable: {kinds:?}; largest difference {worst:.2e} of |λ|");
     assert!(kinds.0 > 0 && kinds.1 > 0, "{kinds:?}");
 }
+
+/// Under the Coulomb model the rolling circle is its rolling phase: the same spin and
+/// spectrum as the rolling model's, and the friction cone's margin μN − |F_h| with
+/// |F_h| = m Ω² R_G, the force that turns G on its circle of radius R_G.
+#[test]
+fn val_coulomb_rolling_circle_is_the_rolling_one_within_its_cone() {
+    let body = lens();
+    for (theta, omega) in [(1.2, 6.0), (0.9, -3.0)] {
+        let rolling =
+            steady::analyse(&body.scene("rolling", theta, omega), Family::RollingCircle).unwrap();
+        let mut scenario = body.scenario("rolling", theta, omega, 0.0, 0.0);
+        scenario.text = scenario
+            .text
+            .replace("model = \"rolling\"", "model = \"coulomb\"\nfriction = 0.3");
+        let coulomb = scenario::parse(&scenario.text, "lens", &[] as &[&str]).unwrap();
+        let an = steady::analyse(&coulomb.scene, Family::RollingCircle).unwrap();
+        assert_eq!(an.motion.spin, rolling.motion.spin);
+        assert_eq!(an.spectrum.eigenvalues(), rolling.spectrum.eigenvalues());
+        let radius = an.motion.circles.unwrap().center;
+        let expected = 0.3 * body.m * G - body.m * omega * omega * radius;
+        let margin = an.motion.cone_margin.unwrap();
+        assert!(
+            (margin - expected).abs() <= 1e-12 * body.m * G,
+            "θ = {theta}, Ω = {omega}: margin {margin} against {expected}"
+        );
+        assert!(rolling.motion.cone_margin.is_none());
+    }
+}
