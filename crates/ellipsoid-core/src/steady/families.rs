@@ -9,6 +9,9 @@
 //! nearest ζ = +e3 (the body's c axis up, the paper's θ = 0), "inverted" the one nearest
 //! −e3 (θ = π). The family's parameter is n; x0(n) = (ζ0, n ζ0), so the family's
 //! direction in reduced coordinates is (0, 0, ζ0).
+//!
+//! "precession" and "rolling-circle", the tilted motions of a body of revolution, are in
+//! [`super::tilted`].
 
 use nalgebra::{Matrix2, Vector2, Vector3};
 
