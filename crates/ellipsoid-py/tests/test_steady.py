@@ -141,3 +141,18 @@ def test_rolling_circle_solves_routh_relation_along_the_family() -> None:
     assert one.spin[0] == pytest.approx(routh_spin(1.2, 20.0), rel=1e-12)
     with pytest.raises(ellipsoid.ScenarioError, match="solves for spin here"):
         ellipsoid.steady(ball(1.2, 20.0), family="rolling-circle", vary={"initial.psi_dot": [1.0, 2.0]})
+
+
+def test_precession_given_two_of_theta_phi_dot_and_spin() -> None:
+    frictionless = ball(1.1, -15.0).replace(**{"contact.model": "frictionless"})
+    spin = ellipsoid.steady(frictionless, family="precession").spin[0]
+    # The spin φ̇ cos θ + ψ̇ of a scenario whose φ̇ is 10 % off: solve="phi_dot" finds Ω.
+    guess = frictionless.replace(
+        **{"initial.phi_dot": -16.5, "initial.psi_dot": spin + 16.5 * math.cos(1.1)}
+    )
+    res = ellipsoid.steady(guess, family="precession", solve="phi_dot")
+    assert res.phi_dot is not None and res.phi_dot[0] == pytest.approx(-15.0, rel=1e-12)
+    assert res.circles is not None and res.circles[0, 0] == 0.0  # G fixed
+    assert res.spin[0] == pytest.approx(spin, rel=1e-15)
+    with pytest.raises(ellipsoid.ScenarioError, match="solve"):
+        ellipsoid.steady(frictionless, family="precession", solve="psi")
