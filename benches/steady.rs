@@ -38,6 +38,20 @@ fn bench(c: &mut Criterion) {
             .unwrap()
         })
     });
+    // Routh's rolling circles of the disc against its tilt (two critical tilts).
+    let disc = load("disc.toml", &["initial.phi_dot=8.0"]);
+    let tilts: Vec<f64> = (0..200).map(|i| 30.0 + 120.0 * i as f64 / 199.0).collect();
+    c.bench_function("steady/diagram 200 tilts, rolling disc circles", |b| {
+        b.iter(|| {
+            steady::sweep(
+                black_box(&disc),
+                Family::RollingCircle,
+                "initial.theta_deg",
+                &tilts,
+            )
+            .unwrap()
+        })
+    });
 }
 
 criterion_group!(benches, bench);

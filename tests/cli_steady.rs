@@ -94,7 +94,22 @@ fn bad_input_exits_2_and_writes_nothing() {
     let table = scratch("never.csv");
     for (args, says) in [
         (vec!["--family", "sideways"], "--family = \"sideways\""),
-        (vec!["--family", "precession"], "not implemented yet"),
+        (vec!["--family", "precession"], "initial.theta = 0"),
+        (
+            vec!["--family", "rolling-circle", "--set", "initial.theta=0.5"],
+            "contact.model",
+        ),
+        (
+            vec![
+                "--family",
+                "precession",
+                "--set",
+                "initial.theta=0.5",
+                "--vary",
+                "initial.psi_dot=1:2:2",
+            ],
+            "solves for spin here",
+        ),
         (vec!["--vary", "initial.psi_dot=1:2"], "KEY=a:b:n"),
         (vec!["--vary", "initial.psi_dot=1:2:0"], "from 1 to"),
         (
@@ -119,5 +134,83 @@ fn bad_input_exits_2_and_writes_nothing() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(err.contains(says), "{args:?}: {err}");
         assert!(!table.exists(), "{args:?}");
+    }
+}
+
+/// A disc-like lens (a = 0.03 m, c = 0.004 m, uniform, 0.05 kg) rolling, tilted 1.7 rad.
+const LENS: &str = r#"
+[body]
+a = 0.03
+c = 0.004
+mass = 0.05
+inertia = "uniform"
+[initial]
+theta = 1.7
+phi_dot = 1.0
+[contact]
+model = "rolling"
+[output]
+t_end = 1.0
+dt = 0.01
+"#;
+
+/// The rolling-circle family: the printout names the solved spin, the precession rate and
+/// the circles; a sweep of φ̇ finds where the circle loses stability (a real pair leaves
+/// zero) and the table has the tilted family's columns and two eigenvalues per row.
+#[test]
+fn steady_rolling_circle_prints_the_motion_and_its_table() {
+    let scene = scratch("lens.toml");
+    std::fs::write(&scene, LENS).unwrap();
+    let run = |args: &[&str]| {
+        let out = Command::new(BIN)
+            .arg("steady")
+            .arg(&scene)
+            .args(["--family", "rolling-circle"])
+            .args(args)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let text = run(&[]);
+    for want in [
+        "family               rolling-circle",
+        "(about the body's axis, solved for)",
+        "precession phi_dot   1 rad/s (about the vertical)\n",
+        "circles              G ",
+        "verdict              stable",
+        "  nutation ",
+    ] {
+        assert!(text.contains(want), "{want:?} in {text}");
+    }
+    let table = scratch("lens.csv");
+    let text = run(&[
+        "--vary",
+        "initial.phi_dot=1:8:8",
+        "-o",
+        table.to_str().unwrap(),
+    ]);
+    assert!(
+        text.contains("critical initial.phi_dot = ") && text.contains("(real; stable below"),
+        "{text}"
+    );
+    let csv = std::fs::read_to_string(&table).unwrap();
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "initial.phi_dot,spin,theta,normal_force,phi_dot,radius_g,radius_contact,stable,max_real,lambda1_re,lambda1_im,mode1,lambda2_re,lambda2_im,mode2,error"
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 8);
+    assert_eq!(rows[0][7], "true");
+    assert_eq!(rows[2][7], "false");
+    for row in &rows {
+        assert_eq!(row.len(), 16);
+        assert_eq!(row[0], row[4]);
+        assert_eq!((row[11], row[14]), ("nutation", "nutation"));
     }
 }

@@ -66,17 +66,27 @@ pub enum Command {
 #[derive(Debug, Args)]
 pub struct SteadyArgs {
     /// The scenario file (TOML): its body, contact model (frictionless, rolling, or
-    /// coulomb's rolling phase) and initial spin.
+    /// coulomb's rolling phase) and initial spin (upright, inverted) or tilt and
+    /// precession rate (precession, rolling-circle: initial.theta, initial.phi_dot; the
+    /// spin is solved for).
     pub scenario: PathBuf,
-    /// The family: upright, inverted (precession, rolling-circle: not implemented yet).
+    /// The family: upright, inverted, precession (frictionless, G fixed) or
+    /// rolling-circle (Routh's steady rolling; rolling or coulomb).
     #[arg(long, default_value = "upright")]
     pub family: String,
+    /// What a tilted family solves for: spin (from initial.theta and initial.phi_dot),
+    /// phi_dot (from initial.theta and the spin phi_dot cos theta + psi_dot; the root
+    /// nearest initial.phi_dot) or theta (from initial.phi_dot and the spin; Newton from
+    /// initial.theta).
+    #[arg(long, default_value = "spin", value_name = "spin|phi_dot|theta")]
+    pub solve: String,
     /// Vary one scenario key: KEY=a:b:n, n evenly spaced values from a to b
     /// (e.g. initial.psi_dot=0:200:201).
     #[arg(long, value_name = "KEY=a:b:n", allow_hyphen_values = true)]
     pub vary: Option<String>,
-    /// Write the table (CSV: the key, spin, theta, normal_force, stable, max_real,
-    /// lambdaK_re, lambdaK_im, modeK for K = 1..4, error).
+    /// Write the table (CSV: the key, spin, theta, normal_force, for the tilted families
+    /// phi_dot, radius_g, radius_contact, then stable, max_real, lambdaK_re, lambdaK_im,
+    /// modeK for K = 1..4 (tilted: 1..2), error).
     #[arg(short, long, value_name = "OUT.csv")]
     pub output: Option<PathBuf>,
     /// Override a scenario value before validation (as for `run`). Repeatable.

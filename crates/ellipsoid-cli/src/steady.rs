@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use ellipsoid_core::error::{ModelError, number};
 use ellipsoid_core::scenario::{self, Scenario};
-use ellipsoid_core::steady::{self, Analysis, Family, Sweep, sweep::MAX_VALUES};
+use ellipsoid_core::steady::{self, Analysis, Family, Solve, Sweep, sweep::MAX_VALUES};
 use ellipsoid_io::atomic;
 
 use crate::cli::SteadyArgs;
@@ -15,6 +15,7 @@ use crate::error::CliError;
 
 pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     let family = Family::parse(&args.family).map_err(|e| CliError::Usage(format!("--{e}")))?;
+    let solve = Solve::parse(&args.solve).map_err(|e| CliError::Usage(format!("--{e}")))?;
     let scenario = scenario::load_all(&args.scenario, &args.set)?;
     if let Some(path) = &args.output {
         atomic::check_target(path)?;
@@ -22,15 +23,16 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     let located = |e: ModelError| CliError::from(scenario.locate(&e));
     let table = match &args.vary {
         None => {
-            let an = steady::analyse(&scenario.scene, family).map_err(located)?;
-            print!("{}", describe(&an));
-            table_of("spin", &[an.motion.spin], &[Ok(an)])
+            let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
+            print!("{}", describe(&an, solve));
+            table_of(family, "spin", &[an.motion.spin], &[Ok(an)])
         }
         Some(spec) => {
             let (key, values) = parse_vary(spec).map_err(CliError::Usage)?;
-            let sw = steady::sweep(&scenario, family, &key, &values).map_err(located)?;
+            let sw =
+                steady::sweep_solving(&scenario, family, solve, &key, &values).map_err(located)?;
             print!("{}", summarise(&scenario, &sw));
-            table_of(&sw.key, &sw.values, &sw.rows)
+            table_of(family, &sw.key, &sw.values, &sw.rows)
         }
     };
     if let Some(path) = &args.output {
@@ -77,19 +79,61 @@ fn parse_vary(spec: &str) -> Result<(String, Vec<f64>), String> {
     Ok((key.trim().to_owned(), values))
 }
 
-/// One steady motion in words: the state, then each mode.
-fn describe(an: &Analysis) -> String {
+/// One steady motion in words: the state (a tilted family's unknown marked as solved
+/// for), then each mode.
+fn describe(an: &Analysis, solve: Solve) -> String {
     let m = &an.motion;
     let mut o = String::new();
     // + 0.0 prints −0 (a zero times a negative spin) as 0.
     let (zeta, omega) = steady::reduce::split(&m.at.map(|x| x + 0.0));
     let _ = writeln!(o, "family               {}", m.family.name());
+    let solved = |what: Solve| {
+        if m.family.tilted() && solve == what {
+            ", solved for"
+        } else {
+            ""
+        }
+    };
+    let about = if m.family.tilted() {
+        "about the body's axis"
+    } else {
+        "about the upward vertical"
+    };
     let _ = writeln!(
         o,
-        "spin n               {} rad/s (about the upward vertical)",
-        m.spin
+        "spin n               {} rad/s ({about}{})",
+        m.spin,
+        solved(Solve::Spin)
     );
-    let _ = writeln!(o, "tilt theta           {} rad", m.theta);
+    let _ = writeln!(
+        o,
+        "tilt theta           {} rad{}",
+        m.theta,
+        if solve == Solve::Theta && m.family.tilted() {
+            " (solved for)"
+        } else {
+            ""
+        }
+    );
+    if let Some(precession) = m.precession {
+        let _ = writeln!(
+            o,
+            "precession phi_dot   {precession} rad/s (about the vertical{})",
+            solved(Solve::PhiDot)
+        );
+        let _ = writeln!(
+            o,
+            "psi_dot              {} rad/s (n - phi_dot cos theta)",
+            -m.frame_rate
+        );
+    }
+    if let Some(c) = m.circles {
+        let _ = writeln!(
+            o,
+            "circles              G {} m, contact point {} m (radii about a common vertical)",
+            c.center, c.contact
+        );
+    }
     let _ = writeln!(
         o,
         "zeta (up, body axes) [{}, {}, {}]",
@@ -112,7 +156,12 @@ fn describe(an: &Analysis) -> String {
     let _ = writeln!(o, "verdict              {verdict}");
     let _ = writeln!(
         o,
-        "modes (eigenvalue lambda in 1/s, body frame; eigenvector in {}):",
+        "modes (eigenvalue lambda in 1/s, {}; eigenvector in {}):",
+        if m.family.tilted() {
+            "frame turning with the motion"
+        } else {
+            "body frame"
+        },
         steady::COORDINATES.join(", ")
     );
     for mode in &an.spectrum.modes {
@@ -123,7 +172,7 @@ fn describe(an: &Analysis) -> String {
             .collect();
         let _ = writeln!(
             o,
-            "  {:<7} {:+.10e} {:+.10e}i   [{}]",
+            "  {:<8} {:+.10e} {:+.10e}i   [{}]",
             mode.name,
             mode.eigenvalue.re,
             mode.eigenvalue.im,
@@ -193,19 +242,23 @@ fn summarise(scenario: &Scenario, sw: &Sweep) -> String {
     o
 }
 
-/// The CSV table: the varied key, the steady state, the verdict and the four eigenvalues
-/// with their modes' names; a value without a steady motion has its message in `error`.
-fn table_of(key: &str, values: &[f64], rows: &[steady::sweep::Row]) -> String {
+/// The CSV table: the varied key, the steady state (a tilted family's also its
+/// precession rate and circles), the verdict and the eigenvalues (four, or two for a
+/// tilted family) with their modes' names; a value without a steady motion has its
+/// message in `error`.
+fn table_of(family: Family, key: &str, values: &[f64], rows: &[steady::sweep::Row]) -> String {
     let mut o = String::new();
     let mut header = vec![
         key.to_owned(),
         "spin".into(),
         "theta".into(),
         "normal_force".into(),
-        "stable".into(),
-        "max_real".into(),
     ];
-    for k in 1..=4 {
+    if family.tilted() {
+        header.extend(["phi_dot".into(), "radius_g".into(), "radius_contact".into()]);
+    }
+    header.extend(["stable".into(), "max_real".into()]);
+    for k in 1..=family.modes() {
         header.extend([
             format!("lambda{k}_re"),
             format!("lambda{k}_im"),
@@ -223,6 +276,11 @@ fn table_of(key: &str, values: &[f64], rows: &[steady::sweep::Row]) -> String {
                     number(m.spin + 0.0),
                     number(m.theta),
                     number(m.normal_force),
+                ]);
+                if let (Some(precession), Some(c)) = (m.precession, m.circles) {
+                    cells.extend([number(precession), number(c.center), number(c.contact)]);
+                }
+                cells.extend([
                     an.spectrum.stable().to_string(),
                     number(an.spectrum.max_real()),
                 ]);
@@ -236,7 +294,7 @@ fn table_of(key: &str, values: &[f64], rows: &[steady::sweep::Row]) -> String {
                 cells.push(String::new());
             }
             Err(e) => {
-                cells.extend(std::iter::repeat_n(String::new(), 5 + 12));
+                cells.extend(std::iter::repeat_n(String::new(), header.len() - 2));
                 cells.push(format!("\"{}\"", e.to_string().replace('"', "\"\"")));
             }
         }

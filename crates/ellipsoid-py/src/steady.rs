@@ -4,7 +4,7 @@
 
 use ellipsoid_core::error::ModelError;
 use ellipsoid_core::scenario::Scenario;
-use ellipsoid_core::steady::{self, Analysis, COORDINATES, Family, Phase};
+use ellipsoid_core::steady::{self, Analysis, COORDINATES, Family, Phase, Solve};
 use numpy::{Complex64, PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -17,30 +17,35 @@ fn located(py: Python<'_>, scenario: &Scenario, e: &ModelError) -> PyErr {
     errors::scenario_error(py, &scenario.locate(e))
 }
 
-/// The analyses of `family` for `scenario` (one, or one per value of `key`) as a dict of
-/// numpy arrays and lists: values, eigenvalues (n × 4 complex), names (n × 4), states
-/// (n × 6: ζ, ω), spin, theta, normal_force, stable, critical (list of dicts).
+/// The analyses of `family` for `scenario` (one, or one per value of `key`; a tilted
+/// family solving for `solve`: "spin", "phi_dot" or "theta") as a dict of
+/// numpy arrays and lists: values, eigenvalues (n × 4 complex; n × 2 for a tilted
+/// family), names (likewise), states (n × 6: ζ, ω), spin, theta, normal_force, stable,
+/// critical (list of dicts); for a tilted family also phi_dot and circles (n × 2: the
+/// radii of G's and the contact point's circles), None otherwise.
 #[pyfunction]
-#[pyo3(signature = (scenario, family, key = None, values = None))]
+#[pyo3(signature = (scenario, family, key = None, values = None, solve = "spin"))]
 pub fn steady_raw<'py>(
     py: Python<'py>,
     scenario: &Bound<'py, PyAny>,
     family: &str,
     key: Option<String>,
     values: Option<Vec<f64>>,
+    solve: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scenario = resolve(py, scenario, Vec::new())?.inner;
     let family = Family::parse(family).map_err(|e| located(py, &scenario, &e))?;
+    let solve = Solve::parse(solve).map_err(|e| located(py, &scenario, &e))?;
     let (key, values, rows, critical) = match (key, values) {
         (Some(key), Some(values)) => {
             let sw = py
-                .detach(|| steady::sweep(&scenario, family, &key, &values))
+                .detach(|| steady::sweep_solving(&scenario, family, solve, &key, &values))
                 .map_err(|e| located(py, &scenario, &e))?;
             (Some(key), sw.values, sw.rows, sw.critical)
         }
         _ => {
-            let an =
-                steady::analyse(&scenario.scene, family).map_err(|e| located(py, &scenario, &e))?;
+            let an = steady::analyse_solving(&scenario.scene, family, solve)
+                .map_err(|e| located(py, &scenario, &e))?;
             (None, vec![an.motion.spin], vec![Ok(an)], Vec::new())
         }
     };
@@ -91,6 +96,16 @@ pub fn steady_raw<'py>(
         "normal_force",
         PyArray1::from_vec(py, column(&|a| a.motion.normal_force)),
     )?;
+    let tilted = |f: &dyn Fn(&Analysis) -> Option<Vec<f64>>| -> Option<Vec<Vec<f64>>> {
+        analyses.iter().map(|a| f(a)).collect()
+    };
+    let phi_dot = tilted(&|a| a.motion.precession.map(|p| vec![p]))
+        .map(|v| PyArray1::from_vec(py, v.concat()));
+    out.set_item("phi_dot", phi_dot)?;
+    let circles = tilted(&|a| a.motion.circles.map(|c| vec![c.center, c.contact]))
+        .map(|v| PyArray2::from_vec2(py, &v))
+        .transpose()?;
+    out.set_item("circles", circles)?;
     out.set_item(
         "max_real",
         PyArray1::from_vec(py, column(&|a| a.spectrum.max_real())),

@@ -74,11 +74,85 @@ def test_single_motion_and_linearize() -> None:
 def test_bad_input_names_the_field() -> None:
     with pytest.raises(ellipsoid.ScenarioError, match="family"):
         ellipsoid.steady(egg(), family="sideways")
-    with pytest.raises(ellipsoid.ScenarioError, match="not implemented"):
+    with pytest.raises(ellipsoid.ScenarioError, match="initial.theta"):
         ellipsoid.steady(egg(), family="precession")
+    with pytest.raises(ellipsoid.ScenarioError, match="contact.model"):
+        ellipsoid.steady(egg().replace(**{"initial.theta": 0.5}), family="rolling-circle")
     with pytest.raises(ellipsoid.ScenarioError, match="1-D"):
         ellipsoid.steady(egg(), vary={"initial.psi_dot": [[1.0, 2.0]]})
     with pytest.raises(ellipsoid.ScenarioError, match="sliding"):
         ellipsoid.steady(egg().replace(contact={"model": "sliding", "friction": 0.3}))
     with pytest.raises(ellipsoid.ScenarioError, match="state"):
         ellipsoid.linearize(egg(), state=[1.0, 2.0])
+
+
+# A sphere with G 5 mm below its centre (a tippe top's ball), rolling tilted.
+R_BALL, D_OFF, M_BALL, A_BALL, C_BALL = 0.02, 0.005, 0.015, 1.6e-6, 2.0e-6
+
+
+def ball(theta: float, phi_dot: float) -> ellipsoid.Scenario:
+    inertia = [[A_BALL, 0.0, 0.0], [0.0, A_BALL, 0.0], [0.0, 0.0, C_BALL]]
+    return ellipsoid.Scenario(
+        body=dict(a=R_BALL, c=R_BALL, mass=M_BALL, inertia=inertia, com_offset=D_OFF),
+        initial=dict(theta=theta, phi_dot=phi_dot),
+        contact=dict(model="rolling"),
+        effects=dict(gravity=G),
+        output=dict(t_end=1.0, dt=0.01),
+    )
+
+
+def routh_spin(theta: float, omega: float) -> float:
+    """Routh's steady rolling of the ball from the Newton–Euler balance about G in world
+    axes (axis k tilted towards +x; every vector turns at Ω e3): dH/dt = Ω e3 × H equals
+    r × (m a_G + m g e3), v_G = −ω × r, a_G = Ω e3 × v_G; affine in n, solved along e3 × k."""
+    e3 = np.array([0.0, 0.0, 1.0])
+    k = np.array([math.sin(theta), 0.0, math.cos(theta)])
+    r = -R_BALL * e3 + D_OFF * k
+
+    def residual(n: float) -> np.ndarray:
+        w = omega * e3 + (n - omega * math.cos(theta)) * k
+        h = A_BALL * w + (C_BALL - A_BALL) * np.dot(w, k) * k
+        v_g = -np.cross(w, r)
+        force = M_BALL * omega * np.cross(e3, v_g) + M_BALL * G * e3
+        return omega * np.cross(e3, h) - np.cross(r, force)
+
+    j = np.cross(e3, k) / math.sin(theta)
+    r0, r1 = residual(0.0), residual(1.0)
+    return float(-np.dot(r0, j) / np.dot(r1 - r0, j))
+
+
+def test_rolling_circle_solves_routh_relation_along_the_family() -> None:
+    thetas = np.linspace(0.3, 2.5, 12)
+    res = ellipsoid.steady(ball(0.3, -5.0), family="rolling-circle", vary={"initial.theta": thetas})
+    assert res.family == "rolling-circle"
+    assert res.eigenvalues.shape == (12, 2) and res.eigenvalues.dtype == np.complex128
+    assert np.allclose(res.theta, thetas, rtol=0, atol=1e-15)
+    assert res.phi_dot is not None and np.all(res.phi_dot == -5.0)
+    expected = np.array([routh_spin(t, -5.0) for t in thetas])
+    assert np.max(np.abs(res.spin - expected) / np.abs(expected)) <= 1e-12
+    assert all(row == ["nutation", "nutation"] for row in res.modes)
+    # Frictionless and rolling spectra are symmetric about the imaginary axis: ±λ.
+    assert np.allclose(res.eigenvalues[:, 0], -res.eigenvalues[:, 1], rtol=0, atol=1e-9 * np.abs(res.eigenvalues).max())
+    table = res.to_pandas()
+    assert list(table.columns[:9]) == [
+        "initial.theta", "spin", "theta", "normal_force", "phi_dot", "radius_g", "radius_contact", "stable", "max_real",
+    ]
+    one = ellipsoid.steady(ball(1.2, 20.0), family="rolling-circle")
+    assert one.spin[0] == pytest.approx(routh_spin(1.2, 20.0), rel=1e-12)
+    with pytest.raises(ellipsoid.ScenarioError, match="solves for spin here"):
+        ellipsoid.steady(ball(1.2, 20.0), family="rolling-circle", vary={"initial.psi_dot": [1.0, 2.0]})
+
+
+def test_precession_given_two_of_theta_phi_dot_and_spin() -> None:
+    frictionless = ball(1.1, -15.0).replace(**{"contact.model": "frictionless"})
+    spin = ellipsoid.steady(frictionless, family="precession").spin[0]
+    # The spin φ̇ cos θ + ψ̇ of a scenario whose φ̇ is 10 % off: solve="phi_dot" finds Ω.
+    guess = frictionless.replace(
+        **{"initial.phi_dot": -16.5, "initial.psi_dot": spin + 16.5 * math.cos(1.1)}
+    )
+    res = ellipsoid.steady(guess, family="precession", solve="phi_dot")
+    assert res.phi_dot is not None and res.phi_dot[0] == pytest.approx(-15.0, rel=1e-12)
+    assert res.circles is not None and res.circles[0, 0] == 0.0  # G fixed
+    assert res.spin[0] == pytest.approx(spin, rel=1e-15)
+    with pytest.raises(ellipsoid.ScenarioError, match="solve"):
+        ellipsoid.steady(frictionless, family="precession", solve="psi")

@@ -9,11 +9,15 @@
 //! nearest ζ = +e3 (the body's c axis up, the paper's θ = 0), "inverted" the one nearest
 //! −e3 (θ = π). The family's parameter is n; x0(n) = (ζ0, n ζ0), so the family's
 //! direction in reduced coordinates is (0, 0, ζ0).
+//!
+//! "precession" and "rolling-circle", the tilted motions of a body of revolution, are in
+//! [`super::tilted`].
 
 use nalgebra::{Matrix2, Vector2, Vector3};
 
-use super::linearize::{Reduced, tangent_basis};
+use super::linearize::tangent_basis;
 use super::reduce::{Phase, ReducedField, join};
+use super::tilted::Solve;
 use crate::body::Body;
 use crate::error::{ModelError, number};
 use crate::geometry::{Contact, hessian};
@@ -51,6 +55,17 @@ impl Family {
         }
     }
 
+    /// Whether it is one of the tilted families of a body of revolution (`tilted`).
+    pub fn tilted(self) -> bool {
+        matches!(self, Family::Precession | Family::RollingCircle)
+    }
+
+    /// How many eigenvalues its spectrum has: 4 upright and inverted, 2 tilted (three
+    /// more zeros removed: the axial turn and the family's two tangents).
+    pub fn modes(self) -> usize {
+        if self.tilted() { 2 } else { 4 }
+    }
+
     /// Its name.
     pub fn name(self) -> &'static str {
         match self {
@@ -62,13 +77,23 @@ impl Family {
     }
 }
 
-/// One steady motion.
+/// The circles of a tilted steady motion, about a common vertical.
 #[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Circles {
+    /// Radius of G's circle \[m\] (0: G fixed).
+    pub center: f64,
+    /// Radius of the contact point's circle on the plane \[m\].
+    pub contact: f64,
+}
+
+/// One steady motion.
+#[derive(Debug, Clone, PartialEq)]
 pub struct SteadyMotion {
     pub family: Family,
     /// (ζ0, ω0): world up and the angular velocity, body axes.
     pub at: Phase,
-    /// Spin about the upward vertical n = ω0·ζ0 [rad/s].
+    /// The spin n [rad/s]: upright and inverted, about the upward vertical (ω0·ζ0);
+    /// the tilted families, about the body's axis (ω0·k = φ̇ cos θ + ψ̇).
     pub spin: f64,
     /// Tilt θ of the body's c axis from the vertical \[rad\].
     pub theta: f64,
@@ -77,31 +102,59 @@ pub struct SteadyMotion {
     /// Under the Coulomb model, the friction cone's margin μN − |F_h| \[N\]: the motion
     /// rolls (and the rolling analysis holds) only where it is positive.
     pub cone_margin: Option<f64>,
-    /// The family's tangent dx0/dp in reduced coordinates (a zero eigenvector).
-    pub family_direction: Reduced,
+    /// The phase-space directions (δζ, δω) whose zero eigenvalues are not the motion's:
+    /// the family's tangents, and for the tilted families the turn about the body's axis.
+    pub removed: Vec<Phase>,
+    /// ν [rad/s]: the motion is an equilibrium in the body frame turned about the body's
+    /// c axis at ν (0 upright and inverted; −ψ̇ for the tilted families).
+    pub frame_rate: f64,
+    /// Ω = φ̇, the rate at which a tilted motion turns about the vertical [rad/s].
+    pub precession: Option<f64>,
+    /// A tilted motion's circles.
+    pub circles: Option<Circles>,
     /// |f(x0)| relative to the field's scale: how far from steady the state is.
     pub residual: f64,
 }
 
 /// Largest accepted residual |f(x0)| of a steady state, relative to the field's scale.
-const RESIDUAL_TOLERANCE: f64 = 1e-9;
+pub(super) const RESIDUAL_TOLERANCE: f64 = 1e-9;
 
-/// The steady motion of `family` whose spin about the vertical is the scene's initial
-/// ω·ζ0 (`initial.omega_body`, or the Euler rates: at θ = 0, n = φ̇ + ψ̇).
+/// The steady motion of `family` that the scene defines: upright and inverted, the spin
+/// about the vertical is the scene's initial ω·ζ0 (`initial.omega_body`, or the Euler
+/// rates: at θ = 0, n = φ̇ + ψ̇); the tilted families, the scene's θ and φ̇ (and ψ, which
+/// only chooses the coordinates) with the spin solved for (`tilted`), or two of θ, φ̇ and
+/// the spin φ̇ cos θ + ψ̇ with the third solved for, as `solve` says.
 pub fn steady_motion(
     field: &ReducedField,
     scene: &Scene,
     family: Family,
+    solve: Solve,
 ) -> Result<SteadyMotion, ModelError> {
+    if solve != Solve::Spin && !family.tilted() {
+        return Err(ModelError::invalid(
+            "solve",
+            format!("\"{}\"", solve.name()),
+            format!(
+                "the {} family has only its spin: solve applies to the tilted families (precession, rolling-circle)",
+                family.name()
+            ),
+        ));
+    }
     let start = match family {
         Family::Upright => Vector3::z(),
         Family::Inverted => -Vector3::z(),
         Family::Precession | Family::RollingCircle => {
-            return Err(ModelError::invalid(
-                "family",
-                format!("\"{}\"", family.name()),
-                "this family is not implemented yet: use \"upright\" or \"inverted\"",
-            ));
+            if let Some(w) = scene.initial.omega_body {
+                return Err(ModelError::invalid(
+                    "initial.omega_body",
+                    format!("[{}, {}, {}]", w.x, w.y, w.z),
+                    format!(
+                        "the {} family takes its tilt and precession rate from initial.theta and initial.phi_dot: give the Euler rates instead",
+                        family.name()
+                    ),
+                ));
+            }
+            return super::tilted::from_angles(field, family, &scene.initial.angles, solve);
         }
     };
     let body = field.body();
@@ -163,8 +216,6 @@ pub fn upright_motion(
     let cone_margin = field
         .friction()
         .map(|mu| mu * normal_force - force.xy().norm());
-    let mut family_direction = Reduced::zeros();
-    family_direction.fixed_rows_mut::<3>(2).copy_from(&zeta);
     Ok(SteadyMotion {
         family,
         at,
@@ -172,7 +223,10 @@ pub fn upright_motion(
         theta: zeta.xy().norm().atan2(zeta.z),
         normal_force,
         cone_margin,
-        family_direction,
+        removed: vec![join(&Vector3::zeros(), &zeta)],
+        frame_rate: 0.0,
+        precession: None,
+        circles: None,
         residual,
     })
 }

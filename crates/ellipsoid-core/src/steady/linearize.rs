@@ -39,6 +39,18 @@ pub struct Linearization {
 }
 
 impl Linearization {
+    /// The reduced vector of a phase-space direction (δζ, δω) (δζ's normal part dropped).
+    pub fn reduced(&self, d: &Phase) -> Reduced {
+        let (dz, dw) = split(d);
+        Reduced::new(
+            self.tangent[0].dot(&dz),
+            self.tangent[1].dot(&dz),
+            dw.x,
+            dw.y,
+            dw.z,
+        )
+    }
+
     /// The phase-space direction (δζ, δω) of a reduced vector.
     pub fn direction(&self, v: &Reduced) -> Phase {
         let dz = self.tangent[0] * v[0] + self.tangent[1] * v[1];

@@ -4,20 +4,23 @@
 //! Layout: [`reduce`] (the closed dynamics of ζ = Rᵀe3 and ω that the plane's symmetries
 //! and the contact constraint leave), [`families`] (the steady states), [`linearize`]
 //! (the Jacobian in tangent coordinates), [`spectrum`] (eigenvalues with the family's
-//! zero removed, eigenvectors named by what moves), [`sweep`] (a family against a
-//! parameter and its critical values).
+//! zeros removed, eigenvectors named by what moves), [`sweep`] (a family against a
+//! parameter and its critical values), [`tilted`] (the tilted families of a body of
+//! revolution: frictionless precession and Routh's rolling circles).
 
 pub mod families;
 pub mod linearize;
 pub mod reduce;
 pub mod spectrum;
 pub mod sweep;
+pub mod tilted;
 
-pub use families::{Family, SteadyMotion, started_at};
+pub use families::{Circles, Family, SteadyMotion, started_at};
 pub use linearize::{COORDINATES, Linearization, Reduced, linearize};
 pub use reduce::{Phase, ReducedField};
 pub use spectrum::{Mode, STABLE_TOLERANCE, Shape, Spectrum};
-pub use sweep::{Critical, CriticalKind, Sweep, sweep};
+pub use sweep::{Critical, CriticalKind, Sweep, sweep, sweep_solving};
+pub use tilted::Solve;
 
 use nalgebra::Vector3;
 
@@ -33,10 +36,21 @@ pub struct Analysis {
 }
 
 /// The steady motion of `family` that `scene` defines (its body, contact model and
-/// initial spin) and its stability.
+/// initial spin, or for a tilted family its tilt and precession rate, the spin solved
+/// for) and its stability.
 pub fn analyse(scene: &Scene, family: Family) -> Result<Analysis, ModelError> {
+    analyse_solving(scene, family, Solve::Spin)
+}
+
+/// [`analyse`], a tilted family solving for the unknown `solve` names (θ, φ̇ or the
+/// spin; the scene gives the other two).
+pub fn analyse_solving(
+    scene: &Scene,
+    family: Family,
+    solve: Solve,
+) -> Result<Analysis, ModelError> {
     let field = ReducedField::from_scene(scene)?;
-    let motion = families::steady_motion(&field, scene, family)?;
+    let motion = families::steady_motion(&field, scene, family, solve)?;
     Ok(analyse_motion(&field, motion))
 }
 
@@ -65,15 +79,28 @@ pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization
     Ok(linearize(&field, &at, None))
 }
 
-/// The linearisation and spectrum of a steady `motion` of `field`.
+/// The linearisation and spectrum of a steady `motion` of `field`: the Jacobian in the
+/// frame in which the motion is an equilibrium (turned about the body's c axis at the
+/// motion's `frame_rate`), the zeros of `motion.removed` taken out of its spectrum.
 pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Analysis {
-    let linearization = linearize(field, &motion.at, None);
+    let generator = (motion.frame_rate != 0.0).then_some((Vector3::z(), motion.frame_rate));
+    let linearization = linearize(field, &motion.at, generator);
     let (zeta, _) = reduce::split(&linearization.at);
-    let spectrum = spectrum::spectrum(
-        &linearization,
-        &motion.family_direction,
-        &shape(field, zeta),
-    );
+    let removed: Vec<Reduced> = motion
+        .removed
+        .iter()
+        .map(|d| linearization.reduced(d))
+        .collect();
+    let mut shape = shape(field, zeta);
+    shape.tilted = motion.family.tilted();
+    let floor = if shape.tilted {
+        let (_, omega) = reduce::split(&motion.at);
+        let axes = field.body().semi_axes();
+        omega.norm().max((field.gravity() / axes.max()).sqrt())
+    } else {
+        0.0
+    };
+    let spectrum = spectrum::spectrum(&linearization, &removed, &shape, floor);
     Analysis {
         motion,
         linearization,
@@ -117,5 +144,6 @@ fn shape(field: &ReducedField, zeta: Vector3<f64>) -> Shape {
         long: unit(long),
         short: unit(short),
         revolution,
+        tilted: false,
     }
 }

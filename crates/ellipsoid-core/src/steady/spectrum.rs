@@ -1,14 +1,16 @@
-//! Eigenvalues and eigenvectors of a linearisation with the family's zero removed, and
-//! each mode named by what moves (docs/physics.md, "Steady motions and their
-//! stability", "The spectrum").
+//! Eigenvalues and eigenvectors of a linearisation with the zeros that are not the
+//! motion's removed, and each mode named by what moves (docs/physics.md, "Steady motions
+//! and their stability", "The spectrum").
 //!
-//! A steady motion of a one-parameter family x0(p) has J dx0/dp = 0 (every member is an
-//! equilibrium of the reduced field): that zero belongs to the family, not to the motion's
-//! stability. With an orthogonal Q whose first column is the unit family direction,
-//! QᵀJQ = [[0, b], [0, B]], and the spectrum left is that of the 4×4 block B. An
-//! eigenvector u of B lifts to Q (bᵀu/λ, u), an eigenvector of J.
+//! A steady motion of a family x0(p) has J dx0/dp = 0 (every member is an equilibrium of
+//! the reduced field), or, for a relative equilibrium in a turning frame, J dx0/dp in the
+//! symmetry's direction, which J takes to zero: those zeros belong to the family and the
+//! symmetry, not to the motion's stability. With an orthogonal Q whose first k columns
+//! span these directions, QᵀJQ = [[N, T], [0, B]] (N nilpotent), and the spectrum left is
+//! that of the (5 − k)×(5 − k) block B. An eigenvector u of B lifts to Q ((λ − N)⁻¹ T u, u),
+//! an eigenvector of J.
 
-use nalgebra::{Complex, Matrix4, Matrix5, SVector, Vector3};
+use nalgebra::{Complex, DMatrix, DVector, Matrix5, SVector, Vector3};
 
 use super::linearize::{Linearization, Reduced};
 
@@ -21,16 +23,22 @@ pub struct Mode {
     /// that its tilt part (ζ·t1, ζ·t2) has unit norm (its ω part unit norm if it has no
     /// tilt), largest component real and positive.
     pub vector: SVector<Complex<f64>, 5>,
-    /// What moves: "tilt" (a body of revolution: the axis circles), "roll" (a rotation
+    /// What moves: "tilt" (a body of revolution: the axis circles), "nutation" (a tilted
+    /// motion of a body of revolution: the tilt θ oscillates or grows), "roll" (a rotation
     /// mainly about the longer horizontal body axis), "pitch" (the shorter), "wobble"
     /// (both), "spin" (ω only).
     pub name: &'static str,
 }
 
-/// The spectrum of a steady motion: four modes, by decreasing real part.
+/// The spectrum of a steady motion: four modes (upright, inverted) or two (the tilted
+/// families), by decreasing real part.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Spectrum {
     pub modes: Vec<Mode>,
+    /// The smallest scale [1/s]: 0 upright and inverted; for the tilted families, whose
+    /// one pair passes through zero where the stability changes, the motion's rate
+    /// max(|ω0|, √(g/c_max)), so that round-off in a small pair does not count as growth.
+    pub floor: f64,
 }
 
 impl Spectrum {
@@ -53,12 +61,12 @@ impl Spectrum {
         self.max_real() <= STABLE_TOLERANCE * self.scale()
     }
 
-    /// The spectrum's scale max |λ| [1/s] (at least 1e-300).
+    /// The spectrum's scale max |λ| [1/s] (at least the floor and 1e-300).
     pub fn scale(&self) -> f64 {
         self.modes
             .iter()
             .map(|m| m.eigenvalue.norm())
-            .fold(1e-300, f64::max)
+            .fold(self.floor.max(1e-300), f64::max)
     }
 }
 
@@ -76,27 +84,38 @@ pub struct Shape {
     pub short: Vector3<f64>,
     /// A body of revolution about ζ0 (its modes are circular: "tilt").
     pub revolution: bool,
+    /// A tilted steady motion (its mode is the axis' nutation: "nutation").
+    pub tilted: bool,
 }
 
-/// The spectrum of `lin` with the zero along `family` (a reduced direction) removed.
-pub fn spectrum(lin: &Linearization, family: &Reduced, shape: &Shape) -> Spectrum {
-    let q = householder(&family.normalize());
+/// The spectrum of `lin` with the zeros along `removed` (reduced directions, linearly
+/// independent, at most 4) taken out; `floor` as [`Spectrum::floor`].
+pub fn spectrum(lin: &Linearization, removed: &[Reduced], shape: &Shape, floor: f64) -> Spectrum {
+    let k = removed.len();
+    let rest = 5 - k;
+    let q = completion(removed);
     let b = q.transpose() * lin.jacobian * q;
-    let block: Matrix4<f64> = b.fixed_view::<4, 4>(1, 1).into();
-    let top = b.fixed_view::<1, 4>(0, 1).transpose();
+    let block = DMatrix::from_fn(rest, rest, |i, j| b[(k + i, k + j)]);
+    let complex = |m: DMatrix<f64>| m.map(|x| Complex::new(x, 0.0));
+    let nil = complex(DMatrix::from_fn(k, k, |i, j| b[(i, j)]));
+    let top = complex(DMatrix::from_fn(k, rest, |i, j| b[(i, k + j)]));
     let mut modes: Vec<Mode> = block
+        .clone()
         .complex_eigenvalues()
         .iter()
         .map(|&lambda| {
             let u = null_vector(&block, lambda);
-            let top_u: Complex<f64> = (0..4).map(|i| u[i] * top[i]).sum();
-            let a = if lambda.norm() > 0.0 {
-                top_u / lambda
+            let shifted = DMatrix::<Complex<f64>>::identity(k, k) * lambda - &nil;
+            let y = if lambda.norm() > 0.0 {
+                shifted
+                    .lu()
+                    .solve(&(&top * &u))
+                    .unwrap_or_else(|| DVector::zeros(k))
             } else {
-                Complex::new(0.0, 0.0)
+                DVector::zeros(k)
             };
             let lifted =
-                SVector::<Complex<f64>, 5>::from_fn(|i, _| if i == 0 { a } else { u[i - 1] });
+                SVector::<Complex<f64>, 5>::from_fn(|i, _| if i < k { y[i] } else { u[i - k] });
             let v = q.map(|x| Complex::new(x, 0.0)) * lifted;
             let vector = normalise(v);
             Mode {
@@ -112,22 +131,30 @@ pub fn spectrum(lin: &Linearization, family: &Reduced, shape: &Shape) -> Spectru
             .total_cmp(&x.eigenvalue.re)
             .then(y.eigenvalue.im.total_cmp(&x.eigenvalue.im))
     });
-    Spectrum { modes }
+    Spectrum { modes, floor }
 }
 
-/// An orthogonal Q with Q e1 = v (v unit): the Householder reflection that takes v to
-/// ∓e1 (the sign chosen to avoid cancellation), its first column's sign then fixed.
-fn householder(v: &Reduced) -> Matrix5<f64> {
-    let sign = if v[0] >= 0.0 { 1.0 } else { -1.0 };
-    let w = (v + Reduced::x() * sign).normalize();
-    let mut q = Matrix5::identity() - w * w.transpose() * 2.0;
-    q.column_mut(0).scale_mut(-sign);
-    q
+/// An orthogonal Q whose first k columns span `removed` (k vectors): the Householder QR
+/// of [removed | 𝟙].
+fn completion(removed: &[Reduced]) -> Matrix5<f64> {
+    let k = removed.len();
+    let m = DMatrix::from_fn(5, k + 5, |i, j| {
+        if j < k {
+            removed[j][i]
+        } else if i == j - k {
+            1.0
+        } else {
+            0.0
+        }
+    });
+    let q = m.qr().q();
+    Matrix5::from_fn(|i, j| q[(i, j)])
 }
 
 /// A unit u with (B − λ) u ≈ 0: the right singular vector of the smallest singular value.
-fn null_vector(block: &Matrix4<f64>, lambda: Complex<f64>) -> SVector<Complex<f64>, 4> {
-    let m = block.map(|x| Complex::new(x, 0.0)) - Matrix4::identity() * lambda;
+fn null_vector(block: &DMatrix<f64>, lambda: Complex<f64>) -> DVector<Complex<f64>> {
+    let n = block.nrows();
+    let m = block.map(|x| Complex::new(x, 0.0)) - DMatrix::identity(n, n) * lambda;
     let svd = m.svd(false, true);
     let v_t = svd.v_t.expect("requested");
     let (k, _) = svd
@@ -163,6 +190,9 @@ fn name(lin: &Linearization, v: &SVector<Complex<f64>, 5>, shape: &Shape) -> &'s
     let tilt = (v[0].norm_sqr() + v[1].norm_sqr()).sqrt();
     if tilt < 1e-9 {
         return "spin";
+    }
+    if shape.tilted {
+        return "nutation";
     }
     if shape.revolution {
         return "tilt";

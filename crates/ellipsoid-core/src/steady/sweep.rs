@@ -4,12 +4,22 @@
 
 use nalgebra::Complex;
 
-use super::{Analysis, Family, analyse};
+use super::{Analysis, Family, Solve, analyse_solving};
 use crate::error::{ModelError, number};
 use crate::scenario::{self, Scenario};
 
 /// Most values a sweep accepts.
 pub const MAX_VALUES: usize = 100_000;
+
+/// The keys a tilted family replaces by the unknown it solves for: varying them changes
+/// nothing.
+fn solved_keys(solve: Solve) -> &'static [&'static str] {
+    match solve {
+        Solve::Spin => &["initial.psi_dot", "initial.psi_dot_deg"],
+        Solve::PhiDot => &["initial.phi_dot", "initial.phi_dot_deg"],
+        Solve::Theta => &["initial.theta", "initial.theta_deg"],
+    }
+}
 
 /// Relative width to which a critical value's bracket is narrowed.
 const CRITICAL_TOLERANCE: f64 = 1e-13;
@@ -56,6 +66,8 @@ pub type Row = Result<Analysis, ModelError>;
 #[derive(Debug, Clone)]
 pub struct Sweep {
     pub family: Family,
+    /// What a tilted family solves for.
+    pub solve: Solve,
     /// The scenario key varied.
     pub key: String,
     pub values: Vec<f64>,
@@ -64,14 +76,14 @@ pub struct Sweep {
     pub critical: Vec<Critical>,
 }
 
-/// The analysis of `family` for `base` with `key` set to `value` (`key=value` applied
-/// after the scenario's own overrides).
-pub fn analyse_at(base: &Scenario, family: Family, key: &str, value: f64) -> Row {
+/// The analysis of `family` (solving for `solve`) for `base` with `key` set to `value`
+/// (`key=value` applied after the scenario's own overrides).
+pub fn analyse_at(base: &Scenario, (family, solve): (Family, Solve), key: &str, value: f64) -> Row {
     let mut overrides = base.overrides.clone();
     overrides.push(format!("{key}={value:e}"));
     let scenario = scenario::parse(&base.text, &base.source, &overrides)
         .map_err(|e| ModelError::invalid(key, number(value), e.to_string()))?;
-    analyse(&scenario.scene, family)
+    analyse_solving(&scenario.scene, family, solve)
 }
 
 /// Sweeps `key` over `values` (finite, at most [`MAX_VALUES`]) and locates every change
@@ -82,11 +94,33 @@ pub fn sweep(
     key: &str,
     values: &[f64],
 ) -> Result<Sweep, ModelError> {
+    sweep_solving(base, family, Solve::Spin, key, values)
+}
+
+/// [`sweep`], a tilted family solving for the unknown `solve` names.
+pub fn sweep_solving(
+    base: &Scenario,
+    family: Family,
+    solve: Solve,
+    key: &str,
+    values: &[f64],
+) -> Result<Sweep, ModelError> {
     if values.is_empty() || values.len() > MAX_VALUES {
         return Err(ModelError::invalid(
             key,
             format!("{} values", values.len()),
             format!("a sweep takes 1 to {MAX_VALUES} values"),
+        ));
+    }
+    if family.tilted() && solved_keys(solve).contains(&key) {
+        return Err(ModelError::invalid(
+            key,
+            format!("{} values", values.len()),
+            format!(
+                "the {} family solves for {} here, which replaces this key: vary one of the given quantities (initial.theta, initial.phi_dot, initial.psi_dot) or a body or gravity key instead",
+                family.name(),
+                solve.name()
+            ),
         ));
     }
     if let Some(v) = values.iter().find(|v| !v.is_finite()) {
@@ -98,7 +132,7 @@ pub fn sweep(
     }
     let rows: Vec<Row> = values
         .iter()
-        .map(|&v| analyse_at(base, family, key, v))
+        .map(|&v| analyse_at(base, (family, solve), key, v))
         .collect();
     let mut critical = Vec::new();
     for k in 1..values.len() {
@@ -108,7 +142,7 @@ pub fn sweep(
         if a.spectrum.stable() != b.spectrum.stable() {
             critical.push(locate(
                 base,
-                family,
+                (family, solve),
                 key,
                 (values[k - 1], a),
                 (values[k], b),
@@ -118,6 +152,7 @@ pub fn sweep(
     critical.sort_by(|x, y| x.value.total_cmp(&y.value));
     Ok(Sweep {
         family,
+        solve,
         key: key.to_owned(),
         values: values.to_vec(),
         rows,
@@ -134,7 +169,7 @@ pub fn sweep(
 /// A value in between without a steady motion ends the search at the bracket so far.
 fn locate(
     base: &Scenario,
-    family: Family,
+    family: (Family, Solve),
     key: &str,
     (p, a): (f64, &Analysis),
     (q, b): (f64, &Analysis),

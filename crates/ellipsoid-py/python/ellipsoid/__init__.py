@@ -31,7 +31,9 @@ Results follow solve_ivp's conventions where they can: `traj.success`, `traj.nfe
 xarray Datasets with units as attributes.
 
 `steady(scenario, family="upright", vary={"initial.psi_dot": values})` finds the steady
-motions of a family and their eigenvalues and critical values (`Steady`: `.values`,
+motions of a family ("upright", "inverted"; for a body of revolution the tilted
+"precession" and "rolling-circle", at the scenario's tilt and precession rate, the spin
+solved for) and their eigenvalues and critical values (`Steady`: `.values`,
 `.eigenvalues`, `.critical`, `.states`, `.to_pandas()`); `linearize(scenario, state=None)`
 returns the Jacobian of the reduced dynamics and its coordinates' names
 (docs/physics.md, "Steady motions and their stability").

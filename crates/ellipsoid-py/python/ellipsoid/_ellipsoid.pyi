@@ -484,7 +484,11 @@ def sweep(
 ) -> list[Any]: ...
 
 def steady_raw(
-    scenario: Scenario | _Path, family: str, key: str | None = None, values: list[float] | None = None
+    scenario: Scenario | _Path,
+    family: str,
+    key: str | None = None,
+    values: list[float] | None = None,
+    solve: str = "spin",
 ) -> dict[str, Any]:
     """The arrays behind `ellipsoid.steady` (use that)."""
 def linearize(scenario: Scenario | _Path, state: Sequence[float] | None = None) -> tuple[npt.NDArray[np.float64], list[str]]:

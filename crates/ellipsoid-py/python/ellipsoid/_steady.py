@@ -17,35 +17,42 @@ class Steady:
     """Steady motions of one family, one per value of the varied key.
 
     ``values``: the varied values (without ``vary``, the one motion's spin n [rad/s]);
-    ``eigenvalues``: complex array, one row per value, four eigenvalues [1/s] (body frame)
-    sorted by decreasing real part, the zeros of the symmetries, the constraints and the
-    family removed; ``modes``: the name of each eigenvalue's mode ("tilt", "roll",
-    "pitch", "wobble", "spin"); ``states``: (ζ1, ζ2, ζ3, ω1, ω2, ω3) per value (world up
-    and the angular velocity in body axes [rad/s]); ``spin`` [rad/s], ``theta`` [rad],
-    ``normal_force`` [N], ``max_real`` [1/s], ``stable``; ``critical``: the critical
-    values, dicts with ``value``, ``kind`` ("collision", "hopf", "real"),
-    ``stable_side`` ("above" or "below") and ``eigenvalue``.
+    ``eigenvalues``: complex array, one row per value, four eigenvalues [1/s] (body frame;
+    two for the tilted families "precession" and "rolling-circle", in the frame turning
+    with the motion) sorted by decreasing real part, the zeros of the symmetries, the
+    constraints and the family removed; ``modes``: the name of each eigenvalue's mode
+    ("tilt", "roll", "pitch", "wobble", "spin", "nutation"); ``states``: (ζ1, ζ2, ζ3,
+    ω1, ω2, ω3) per value (world up and the angular velocity in body axes [rad/s]);
+    ``spin`` [rad/s], ``theta`` [rad], ``normal_force`` [N], ``max_real`` [1/s],
+    ``stable``; for the tilted families ``phi_dot`` [rad/s] and ``circles`` [m] (None
+    otherwise); ``critical``: the critical values, dicts with ``value``, ``kind``
+    ("collision", "hopf", "real"), ``stable_side`` ("above" or "below") and
+    ``eigenvalue``.
     """
 
     def __init__(self, raw: dict[str, Any]) -> None:
         self.family: str = raw["family"]
-        """The family: "upright" or "inverted"."""
+        """The family: "upright", "inverted", "precession" or "rolling-circle"."""
         self.key: str | None = raw["key"]
         """The varied scenario key, or None without ``vary``."""
         self.values: np.ndarray = raw["values"]
         """The varied values (without ``vary``, the one motion's spin n [rad/s])."""
         self.eigenvalues: np.ndarray = raw["eigenvalues"]
-        """Complex, one row per value: four eigenvalues [1/s] sorted by decreasing real part (the zeros of the symmetries, constraints and family removed)."""
+        """Complex, one row per value: four eigenvalues [1/s] (two for a tilted family) sorted by decreasing real part (the zeros of the symmetries, constraints and family removed)."""
         self.modes: list[list[str]] = raw["modes"]
-        """The mode of each eigenvalue: "tilt", "roll", "pitch", "wobble" or "spin"."""
+        """The mode of each eigenvalue: "tilt", "roll", "pitch", "wobble", "spin" or "nutation" (a tilted family: the tilt θ oscillates or grows)."""
         self.states: np.ndarray = raw["states"]
         """(ζ1, ζ2, ζ3, ω1, ω2, ω3) per value: world up in body axes [1] and the angular velocity in body axes [rad/s]."""
         self.spin: np.ndarray = raw["spin"]
-        """The spin n about the vertical per value [rad/s]."""
+        """The spin n per value [rad/s]: about the vertical (upright, inverted), about the body's axis and solved for (precession, rolling-circle)."""
         self.theta: np.ndarray = raw["theta"]
         """The tilt of the symmetry axis per value [rad] (0 upright, π inverted)."""
         self.normal_force: np.ndarray = raw["normal_force"]
         """The normal force N of each steady motion [N]."""
+        self.phi_dot: np.ndarray | None = raw["phi_dot"]
+        """A tilted family's precession rate φ̇ about the vertical per value [rad/s] (None for upright and inverted)."""
+        self.circles: np.ndarray | None = raw["circles"]
+        """A tilted family's circles per value: the radii of G's and of the contact point's circle [m] (None for upright and inverted)."""
         self.max_real: np.ndarray = raw["max_real"]
         """The largest real part of each row of eigenvalues [1/s]."""
         self.stable: np.ndarray = raw["stable"]
@@ -64,8 +71,9 @@ class Steady:
         )
 
     def to_pandas(self) -> Any:
-        """The table of ``ellipsoid steady -o``: the key, spin, theta, normal_force, stable,
-        max_real, lambdaK_re, lambdaK_im, modeK (K = 1..4), as a ``pandas.DataFrame``."""
+        """The table of ``ellipsoid steady -o``: the key, spin, theta, normal_force (for a
+        tilted family phi_dot, radius_g, radius_contact), stable, max_real, lambdaK_re,
+        lambdaK_im, modeK (K = 1..4; 1..2 tilted), as a ``pandas.DataFrame``."""
         import pandas as pd  # type: ignore[import-untyped,unused-ignore]  # optional dependency
 
         columns: dict[str, Any] = {
@@ -73,6 +81,12 @@ class Steady:
             "spin": self.spin,
             "theta": self.theta,
             "normal_force": self.normal_force,
+        }
+        if self.phi_dot is not None and self.circles is not None:
+            columns["phi_dot"] = self.phi_dot
+            columns["radius_g"] = self.circles[:, 0]
+            columns["radius_contact"] = self.circles[:, 1]
+        columns |= {
             "stable": self.stable,
             "max_real": self.max_real,
         }
@@ -87,15 +101,21 @@ def steady(
     scenario: Scenario | str | os.PathLike[str],
     family: str = "upright",
     vary: Mapping[str, Sequence[float] | np.ndarray] | None = None,
+    solve: str = "spin",
 ) -> Steady:
-    """The steady motions of ``family`` ("upright", "inverted"; "precession" and
-    "rolling-circle" are not implemented yet) of ``scenario``'s body under its contact
-    model (frictionless, rolling, or the Coulomb model's rolling phase) and their
-    stability. Without ``vary``, the one motion the scenario's initial spin defines;
-    ``vary`` maps one scenario key to a 1-D array of values. Raises ScenarioError for a
-    bad scenario, family or key, or a value without a steady motion."""
+    """The steady motions of ``family`` of ``scenario``'s body under its contact model
+    (frictionless, rolling, or the Coulomb model's rolling phase) and their stability:
+    "upright" and "inverted" spin about the vertical at the scenario's initial spin;
+    "precession" (frictionless, G fixed) and "rolling-circle" (Routh's steady rolling) are
+    the tilted motions of a body of revolution at the scenario's ``initial.theta`` and
+    ``initial.phi_dot``, the spin about the body's axis solved for — or, with ``solve``
+    "phi_dot" or "theta", that unknown solved for from the other two, the spin being the
+    scenario's φ̇ cos θ + ψ̇ (the root nearest ``initial.phi_dot``; Newton from
+    ``initial.theta``). Without ``vary``, the one motion the scenario defines; ``vary``
+    maps one scenario key to a 1-D array of values. Raises ScenarioError for a bad
+    scenario, family, unknown or key, or a value without a steady motion."""
     if vary is None:
-        return Steady(steady_raw(scenario, family))
+        return Steady(steady_raw(scenario, family, solve=solve))
     if not isinstance(vary, Mapping) or len(vary) != 1:
         raise ScenarioError(
             f"vary = {vary!r}: must map exactly one scenario key to a 1-D array of values"
@@ -104,4 +124,4 @@ def steady(
     array = np.asarray(values, dtype=float)
     if array.ndim != 1:
         raise ScenarioError(f"vary[{key!r}]: must be a 1-D array of values (got shape {array.shape})")
-    return Steady(steady_raw(scenario, family, str(key), [float(v) for v in array]))
+    return Steady(steady_raw(scenario, family, str(key), [float(v) for v in array], solve))
