@@ -217,9 +217,11 @@ pub struct ViewArgs {
     pub title: Option<String>,
     /// The side plots against time, comma-separated output columns, at most 6 (e.g.
     /// `omega_world_z,theta` for a rattleback's spin); `energy` adds E + W when work is
-    /// dissipated.
-    #[arg(long, value_name = "LIST", default_value = "theta,energy")]
-    pub columns: String,
+    /// dissipated; a body's per-surface columns (`normal_force_stem`), or `QUANTITY_*` for
+    /// that quantity of every surface in one plot (`normal_force_*`). Default: theta,energy,
+    /// and normal_force_* for a body with contact spheres.
+    #[arg(long, value_name = "LIST")]
+    pub columns: Option<String>,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,

@@ -123,11 +123,29 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
 
 pub fn view(args: &ViewArgs) -> Result<ExitCode, CliError> {
     check_output(&args.output, &["html", "htm"], "page")?;
-    let plots = ellipsoid_io::viewer::parse_plots(&args.columns)
+    let asked = args
+        .columns
+        .as_deref()
+        .map(ellipsoid_io::viewer::parse_plots)
+        .transpose()
         .map_err(|rule| CliError::Usage(format!("--columns: {rule}")))?;
-    let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
+    let plots: Vec<&str> = match &asked {
+        Some(plots) => plots.iter().map(String::as_str).collect(),
+        None => [
+            &ellipsoid_io::viewer::DEFAULT_PLOTS[..],
+            &[ellipsoid_io::viewer::SURFACE_FORCES],
+        ]
+        .concat(),
+    };
     let keep = ellipsoid_io::viewer::columns(&plots);
     let table = load(&args.input, Some(&keep), args.summary.as_deref())?;
+    let default = ellipsoid_io::viewer::default_plots(&table);
+    let plots: Vec<&str> = match &asked {
+        Some(_) => plots,
+        None => default.iter().map(String::as_str).collect(),
+    };
+    ellipsoid_io::viewer::check_plots(&table, &plots)
+        .map_err(|rule| CliError::Usage(format!("--columns: {rule}")))?;
     let title = args
         .title
         .clone()

@@ -1,8 +1,10 @@
 //! The 3-D viewer: one self-contained HTML page (no network: three.js r170 and its MIT
 //! licence are inlined from `assets/three/`, the trajectory is embedded) showing the
 //! body as it is — its semi-axes, meridians and an equatorial band that make the spin
-//! visible, the symmetry axis and G — on the plane with the trace of the contact point;
-//! play/pause, speed, a time slider, events, and θ(t) and energy plots whose cursor
+//! visible, the symmetry axis and G, and its contact spheres (a tippe top's stem, a top's
+//! peg), each surface marked while it touches the plane — on the plane with the trace of
+//! the contact point; play/pause, speed, a time slider, events, and θ(t) and energy plots
+//! (and, for a body with contact spheres, the normal force of each surface) whose cursor
 //! follows the 3-D view. Shared by `ellipsoid view` and Python's `Trajectory.view()`.
 //!
 //! Decimation: at most [`MAX_FRAMES`] poses, spread evenly in time, plus the samples on
@@ -10,7 +12,7 @@
 //! plots get the min/max envelope of every sample in [`PLOT_BUCKETS`] buckets, so no peak
 //! is lost. A 10⁶-sample run makes a page of about 2 MB.
 
-use crate::table::Table;
+use crate::table::{self, ELLIPSOID, Table};
 
 /// Most poses embedded in a page (plus the samples kept around events).
 pub const MAX_FRAMES: usize = 20_000;
@@ -151,22 +153,40 @@ pub const COLUMNS: [&str; 9] = [
 ];
 
 /// The columns the page with side plots `plots` draws from: [`COLUMNS`], the plots' own,
-/// and `work` for the energy's E + W.
+/// `work` for the energy's E + W, and every surface's gap (which surfaces touch, where the
+/// mode does not say).
 pub fn columns<'a>(plots: &[&'a str]) -> Vec<&'a str> {
     let mut cols: Vec<&str> = COLUMNS.to_vec();
     cols.extend_from_slice(plots);
     if plots.contains(&"energy") {
         cols.push("work");
     }
+    cols.push("gap_*");
     cols
 }
 
 /// The side plots a page shows unless asked otherwise: θ(t) and the energy.
 pub const DEFAULT_PLOTS: [&str; 2] = ["theta", "energy"];
 
+/// The side plot of every surface's normal force, one line each.
+pub const SURFACE_FORCES: &str = "normal_force_*";
+
+/// The side plots of a page of `table` unless asked otherwise: [`DEFAULT_PLOTS`], and for
+/// a body with contact spheres the normal force of each surface ([`SURFACE_FORCES`]).
+pub fn default_plots(table: &Table) -> Vec<String> {
+    let mut plots: Vec<String> = DEFAULT_PLOTS.map(String::from).to_vec();
+    if !table.per_surface("normal_force").is_empty() {
+        plots.push(SURFACE_FORCES.into());
+    }
+    plots
+}
+
 /// Checks the side plots asked for, comma-separated: numeric output columns other than `t`
-/// (`energy` gets E + W too), no repeats, at most six. The error is the rule broken (the
-/// caller names its flag or argument).
+/// (`energy` gets E + W too), a body's per-surface columns (`normal_force_stem`), or
+/// `QUANTITY_*`, that quantity of every surface in one plot (`normal_force_*`); no
+/// repeats, at most six. The error is the rule broken (the caller names its flag or
+/// argument). Whether the run has a per-surface column is known once it is read
+/// ([`html`] leaves out a column the run lacks).
 pub fn parse_plots(spec: &str) -> Result<Vec<String>, String> {
     let names: Vec<&str> = crate::columns::NUMERIC_COLUMNS[1..]
         .iter()
@@ -174,10 +194,18 @@ pub fn parse_plots(spec: &str) -> Result<Vec<String>, String> {
         .collect();
     let mut out: Vec<String> = Vec::new();
     for name in spec.split(',').map(str::trim) {
-        if !names.contains(&name) {
+        let every_surface = name
+            .strip_suffix("_*")
+            .is_some_and(|q| crate::columns::SURFACE_COLUMNS.iter().any(|c| c.0 == q));
+        if !names.contains(&name) && !every_surface && table::surface_column(name).is_none() {
+            let quantities: Vec<&str> = crate::columns::SURFACE_COLUMNS
+                .iter()
+                .map(|c| c.0)
+                .collect();
             return Err(format!(
-                "{name:?} is not a numeric output column; the columns are {}",
-                names.join(", ")
+                "{name:?} is not a numeric output column; the columns are {}, and for a body with contact spheres {}_S of each surface S (or QUANTITY_* for all of them)",
+                names.join(", "),
+                quantities.join("_S, ")
             ));
         }
         if out.iter().any(|o| o == name) {
@@ -189,6 +217,29 @@ pub fn parse_plots(spec: &str) -> Result<Vec<String>, String> {
         return Err(format!("{} columns asked for; at most 6", out.len()));
     }
     Ok(out)
+}
+
+/// Checks that the run in `table` has the per-surface columns among `plots` (which
+/// [`parse_plots`] can only check by their form): the error names the first one missing
+/// and the surfaces the run has.
+pub fn check_plots(table: &Table, plots: &[&str]) -> Result<(), String> {
+    for name in plots {
+        let quantity = match name.strip_suffix("_*") {
+            Some(q) => q,
+            None if table::surface_column(name).is_some() && table.column(name).is_none() => "",
+            None => continue,
+        };
+        if quantity.is_empty() || table.per_surface(quantity).is_empty() {
+            let surfaces: Vec<&str> = table.per_surface("gap").iter().map(|c| c.0).collect();
+            let has = if surfaces.is_empty() {
+                "no per-surface columns (its body has no contact spheres)".to_owned()
+            } else {
+                format!("the per-surface columns of {}", surfaces.join(", "))
+            };
+            return Err(format!("{name:?}: {} has {has}", table.source));
+        }
+    }
+    Ok(())
 }
 
 /// The energy's side plot: E, and E + W when work is dissipated; a conserving scene's
@@ -225,8 +276,50 @@ fn energy_plot(table: &Table, e: &[f64]) -> serde_json::Value {
 
 /// One side plot: `v` against `t` as its min/max envelope, named and labelled.
 fn plot_series(name: &str, label: &str, t: &[f64], v: &[f64]) -> serde_json::Value {
+    with_line(serde_json::json!({ "name": name, "label": label }), t, v)
+}
+
+/// `head` (a JSON object) with the line `v` against `t` as its min/max envelope: `n`
+/// points, `t` and `v` as base64 float32.
+fn with_line(mut head: serde_json::Value, t: &[f64], v: &[f64]) -> serde_json::Value {
     let (ts, vs) = envelope(t, v, PLOT_BUCKETS);
-    serde_json::json!({ "name": name, "label": label, "n": ts.len(), "t": b64_f32(ts.into_iter()), "v": b64_f32(vs.into_iter()) })
+    head["n"] = ts.len().into();
+    head["t"] = b64_f32(ts.into_iter()).into();
+    head["v"] = b64_f32(vs.into_iter()).into();
+    head
+}
+
+/// The side plot `QUANTITY_*`: that quantity of every surface, one line each named by its
+/// surface (`lines`, in file order); `None` when the run has no such columns.
+fn surfaces_plot(table: &Table, name: &str, quantity: &str) -> Option<serde_json::Value> {
+    let columns = table.per_surface(quantity);
+    if columns.is_empty() {
+        return None;
+    }
+    let lines: Vec<serde_json::Value> = columns
+        .iter()
+        .map(|(surface, v)| with_line(serde_json::json!({ "label": surface }), table.t(), v))
+        .collect();
+    let unit = table::unit(&format!("{quantity}_{ELLIPSOID}")).unwrap_or("1");
+    let label = format!("{quantity} of each surface ({unit})");
+    Some(serde_json::json!({ "name": name, "label": label, "lines": lines }))
+}
+
+/// The body's contact spheres and, per pose, which surfaces touch the plane (bit k of
+/// `touch[i]` for surface k of `names`: the ellipsoid, then the spheres), for the page's
+/// data; `None` for a one-surface body (its page is as it always was).
+fn surfaces_data(table: &Table, idx: &[usize]) -> Option<serde_json::Value> {
+    let shape = table.shape.as_ref().filter(|s| !s.spheres.is_empty())?;
+    let names: Vec<&str> = std::iter::once(ELLIPSOID)
+        .chain(shape.spheres.iter().map(|s| s.name.as_str()))
+        .collect();
+    let touch = b64_f32(idx.iter().map(|&i| f64::from(table.in_contact(i, &names))));
+    let spheres: Vec<serde_json::Value> = shape
+        .spheres
+        .iter()
+        .map(|s| serde_json::json!({ "name": s.name, "center": s.center, "radius": s.radius }))
+        .collect();
+    Some(serde_json::json!({ "names": names, "spheres": spheres, "touch": touch }))
 }
 
 /// The viewer page for `table`, titled `title`, with a side plot against time of each of
@@ -256,27 +349,30 @@ pub fn html(table: &Table, title: &str, plots: &[&str]) -> Result<String, ViewEr
         );
     }
     let t = table.t();
-    let unit = |name: &str| {
-        crate::columns::NUMERIC_COLUMNS
-            .iter()
-            .find(|c| c.0 == name)
-            .map_or("1", |c| c.1)
-    };
     let plots: Vec<serde_json::Value> = plots
         .iter()
         .filter_map(|name| {
+            if let Some(quantity) = name.strip_suffix("_*") {
+                return surfaces_plot(table, name, quantity);
+            }
             let v = table.column(name)?;
             Some(match *name {
                 "energy" => energy_plot(table, v),
                 "theta" => plot_series(name, "θ (rad)", t, v),
-                _ => plot_series(name, &format!("{name} ({})", unit(name)), t, v),
+                _ => plot_series(
+                    name,
+                    &format!("{name} ({})", table::unit(name).unwrap_or("1")),
+                    t,
+                    v,
+                ),
             })
         })
         .collect();
     let shape = table
         .shape
+        .as_ref()
         .map(|s| serde_json::json!({ "semi_axes": s.semi_axes, "com_offset": s.com_offset }));
-    let data = serde_json::json!({
+    let mut data = serde_json::json!({
         "title": title,
         "rows": table.rows(),
         "t0": t[0],
@@ -290,6 +386,9 @@ pub fn html(table: &Table, title: &str, plots: &[&str]) -> Result<String, ViewEr
         "frames": frames,
         "plots": plots,
     });
+    if let Some(surfaces) = surfaces_data(table, &idx) {
+        data["surfaces"] = surfaces;
+    }
     // Inside a script element `</script` would end it and `<!--` change how it is parsed;
     // JSON never needs `<` outside strings, and inside them `\u003c` is the same text.
     let data = data.to_string().replace('<', "\\u003c");
