@@ -176,13 +176,11 @@ pub struct PlotArgs {
     /// (directories created as needed).
     #[arg(short, long, value_name = "FIG.svg|FIG.png|FIG.pdf")]
     pub output: PathBuf,
-    /// Panels, comma-separated, drawn top to bottom: theta, rates, energy, forces, path.
-    #[arg(
-        long,
-        value_name = "LIST",
-        default_value = "theta,rates,energy,forces,path"
-    )]
-    pub panels: String,
+    /// Panels, comma-separated, drawn top to bottom: theta, rates, energy, forces, surfaces
+    /// (the normal force of each surface of a body with contact spheres), path. Default:
+    /// all of them, `surfaces` only for a body with contact spheres.
+    #[arg(long, value_name = "LIST")]
+    pub panels: Option<String>,
     /// Output columns instead of the panels, comma-separated, each drawn against time with
     /// its unit (e.g. `omega_world_z,theta`).
     #[arg(long, value_name = "LIST", conflicts_with = "panels")]

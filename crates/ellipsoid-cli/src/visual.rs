@@ -82,13 +82,17 @@ pub(crate) fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
 
 pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     let ext = check_output(&args.output, &["svg", "png", "pdf"], "figure")?;
-    let panels = match &args.columns {
-        Some(columns) => figure::parse_columns(columns),
-        None => figure::parse_panels(&args.panels),
+    let asked = match (&args.columns, &args.panels) {
+        (Some(columns), _) => Some(figure::parse_columns(columns)),
+        (None, Some(panels)) => Some(figure::parse_panels(panels)),
+        (None, None) => None,
     }
+    .transpose()
     .map_err(CliError::Usage)?;
-    let keep = figure::columns_for(&panels);
+    let every = ellipsoid_io::panels::declaration().names();
+    let keep = figure::columns_for(asked.as_deref().unwrap_or(&every));
     let table = load(&args.input, Some(&keep), args.summary.as_deref())?;
+    let panels = asked.unwrap_or_else(|| figure::default_panels(&table));
     figure::check_columns(&table, &panels).map_err(CliError::Usage)?;
     if table.shape.is_none()
         && table.contact_path().is_none()

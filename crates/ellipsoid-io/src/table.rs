@@ -780,7 +780,7 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
 
 /// Whether the column `name` is among those `keep` names (all when `None`; see
 /// [`read_columns`] for `QUANTITY_*`).
-fn keeps(keep: Option<&[&str]>, name: &str) -> bool {
+pub fn keeps(keep: Option<&[&str]>, name: &str) -> bool {
     keep.is_none_or(|k| {
         k.iter().any(|&p| match p.strip_suffix("_*") {
             Some(quantity) => surface_column(name).is_some_and(|(q, _)| q == quantity),
