@@ -589,6 +589,38 @@ mod tests {
         }
     }
 
+    /// A body with a contact sphere (a peg hanging below the ellipsoid): the ray through the
+    /// peg's lowest part hits it, in the sphere's colour; the ray through the ellipsoid's
+    /// centre hits the ellipsoid; one beside both hits nothing.
+    #[test]
+    fn a_contact_sphere_is_drawn_beside_the_ellipsoid() {
+        let shape = Shape {
+            semi_axes: [1.0; 3],
+            com_offset: [0.0; 3],
+            spheres: vec![crate::table::SphereShape {
+                name: "peg".into(),
+                center: [0.0, 0.0, -2.0],
+                radius: 0.5,
+            }],
+        };
+        let cam = Camera::fit(
+            Vector3::new(-4.0, -4.0, 0.0),
+            Vector3::new(4.0, 4.0, 4.0),
+            200,
+            200,
+        );
+        // upright: the peg hangs 2 m below the ellipsoid's centre
+        let pose = Pose::new(&shape, Vector3::new(0.0, 0.0, 2.5), 0.0, 0.0, 0.0);
+        let colour = |p: Vector3<f64>| {
+            let (x, y) = cam.pixel(&p);
+            body_pixel(&shape, &pose, &cam.origin(x as u32, y as u32), &cam.back)
+                .map(|c| (c - BODY) / BODY_LEVELS)
+        };
+        assert_eq!(colour(Vector3::new(0.0, 0.0, 0.15)), Some(SPHERE_COLOUR));
+        assert!(colour(Vector3::new(0.0, 0.0, 2.5)).is_some_and(|c| c < SPHERE_COLOUR));
+        assert_eq!(colour(Vector3::new(3.0, 3.0, 0.0)), None);
+    }
+
     #[test]
     fn options_are_bounded() {
         assert!(Options::default().check().is_ok());

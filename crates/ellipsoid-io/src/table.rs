@@ -199,6 +199,18 @@ impl Table {
             .collect()
     }
 
+    /// The surfaces that have per-surface columns, in file order, each once (`ellipsoid`,
+    /// then the contact spheres; none for a one-surface body's file).
+    pub fn surfaces(&self) -> Vec<&str> {
+        let mut out: Vec<&str> = Vec::new();
+        for (_, s) in self.columns.iter().filter_map(|c| surface_column(&c.0)) {
+            if !out.contains(&s) {
+                out.push(s);
+            }
+        }
+        out
+    }
+
     /// The surfaces of the body in contact at row `i`, as bits over `surfaces` (bit k for
     /// `surfaces[k]`): those the row's mode names after `@` (`sliding@stem`,
     /// `two_contacts@ellipsoid+stem`); for a row whose mode names none (`flight`, or a
@@ -1178,6 +1190,7 @@ mod tests {
             ["ellipsoid", "stem"]
         );
         assert_eq!(forces[1].1, [0.0, 0.04, 0.06, 0.0]);
+        assert_eq!(t.surfaces(), ["ellipsoid", "stem"]);
         let surfaces = ["ellipsoid", "stem"];
         let bits: Vec<u32> = (0..4).map(|i| t.in_contact(i, &surfaces)).collect();
         assert_eq!(bits, [0b01, 0b11, 0b10, 0b00]);

@@ -230,7 +230,7 @@ pub fn check_plots(table: &Table, plots: &[&str]) -> Result<(), String> {
             None => continue,
         };
         if quantity.is_empty() || table.per_surface(quantity).is_empty() {
-            let surfaces: Vec<&str> = table.per_surface("gap").iter().map(|c| c.0).collect();
+            let surfaces = table.surfaces();
             let has = if surfaces.is_empty() {
                 "no per-surface columns (its body has no contact spheres)".to_owned()
             } else {
@@ -612,6 +612,152 @@ mod tests {
             let err = parse_plots(spec).unwrap_err();
             assert!(err.starts_with(rule), "{err}");
         }
+    }
+
+    /// The page's embedded data.
+    fn data(page: &str) -> serde_json::Value {
+        let start = page
+            .find("<script type=\"application/json\" id=\"data\">")
+            .unwrap();
+        let json = &page[start..];
+        let json = &json[json.find('>').unwrap() + 1..json.find("</script>").unwrap()];
+        serde_json::from_str(json).unwrap()
+    }
+
+    /// [`table`] as a body with a contact sphere `stem` writes it: the stem takes the load
+    /// at row 4 (mode `two_contacts@ellipsoid+stem`) and alone from row 6 on.
+    fn with_stem() -> Table {
+        let mut t = table(10);
+        let stem: Vec<f64> = (0..10).map(|i| if i < 4 { 0.0 } else { 0.05 }).collect();
+        let ball: Vec<f64> = (0..10).map(|i| if i < 6 { 0.05 } else { 0.0 }).collect();
+        t.columns.push(("normal_force_ellipsoid".into(), ball));
+        t.columns.push(("normal_force_stem".into(), stem));
+        t.mode_names = vec![
+            "sliding@ellipsoid".into(),
+            "two_contacts@ellipsoid+stem".into(),
+            "sliding@stem".into(),
+        ];
+        t.modes = Some(
+            (0..10)
+                .map(|i| u8::from(i >= 4) + u8::from(i >= 6))
+                .collect(),
+        );
+        t.shape = Some(crate::table::Shape {
+            semi_axes: [0.015; 3],
+            com_offset: [0.0, 0.0, -0.003],
+            spheres: vec![crate::table::SphereShape {
+                name: "stem".into(),
+                center: [0.0, 0.0, 0.013],
+                radius: 0.005,
+            }],
+        });
+        t
+    }
+
+    /// A body with contact spheres: the page carries them and which surfaces touch per
+    /// pose, and by default the normal force of each surface, one line per surface; a
+    /// one-surface body's page carries none of it.
+    #[test]
+    fn a_body_with_spheres_carries_them_and_each_surface_s_normal_force() {
+        let t = with_stem();
+        let plots = default_plots(&t);
+        assert_eq!(plots, ["theta", "energy", "normal_force_*"]);
+        let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
+        let d = data(&html(&t, "x", &plots).unwrap());
+        let s = &d["surfaces"];
+        assert_eq!(s["names"], serde_json::json!(["ellipsoid", "stem"]));
+        assert_eq!(
+            s["spheres"],
+            serde_json::json!([{"name": "stem", "center": [0.0, 0.0, 0.013], "radius": 0.005}])
+        );
+        let touch: Vec<f32> = base64_decode(s["touch"].as_str().unwrap())
+            .chunks(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        assert_eq!(touch, [1., 1., 1., 1., 3., 3., 2., 2., 2., 2.]);
+        let forces = &d["plots"][2];
+        assert_eq!(forces["label"], "normal_force of each surface (N)");
+        let lines: Vec<&str> = forces["lines"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| l["label"].as_str().unwrap())
+            .collect();
+        assert_eq!(lines, ["ellipsoid", "stem"]);
+        // A per-surface column alone, with its unit.
+        let d = data(&html(&t, "x", &["normal_force_stem"]).unwrap());
+        assert_eq!(d["plots"][0]["label"], "normal_force_stem (N)");
+        // One surface: the page as it always was.
+        let one = table(10);
+        assert_eq!(default_plots(&one), DEFAULT_PLOTS);
+        let d = data(&html(&one, "x", &DEFAULT_PLOTS).unwrap());
+        assert!(d.get("surfaces").is_none());
+        assert_eq!(
+            d.as_object().unwrap().keys().collect::<Vec<_>>(),
+            [
+                "title",
+                "rows",
+                "t0",
+                "t1",
+                "status",
+                "shape",
+                "shape_note",
+                "contact",
+                "modes",
+                "events",
+                "frames",
+                "plots"
+            ]
+        );
+    }
+
+    #[test]
+    fn per_surface_plots_are_parsed_by_form_and_checked_against_the_run() {
+        assert_eq!(
+            parse_plots("theta, normal_force_stem, gap_*").unwrap(),
+            ["theta", "normal_force_stem", "gap_*"]
+        );
+        for (spec, rule) in [
+            ("wobble_*", "\"wobble_*\" is not a numeric output column"),
+            (
+                "normal_force_a-b",
+                "\"normal_force_a-b\" is not a numeric output column",
+            ),
+            ("gap_*,gap_*", "\"gap_*\" is named twice"),
+        ] {
+            let err = parse_plots(spec).unwrap_err();
+            assert!(err.starts_with(rule), "{err}");
+        }
+        let t = with_stem();
+        assert!(check_plots(&t, &["theta", "normal_force_stem", "normal_force_*"]).is_ok());
+        let err = check_plots(&t, &["normal_force_stme"]).unwrap_err();
+        assert!(
+            err.contains(
+                "\"normal_force_stme\": mem has the per-surface columns of ellipsoid, stem"
+            ),
+            "{err}"
+        );
+        let err = check_plots(&table(10), &["gap_*"]).unwrap_err();
+        assert!(err.contains("has no per-surface columns"), "{err}");
+    }
+
+    /// Decodes standard base64 (the inverse of [`base64`], for the tests).
+    fn base64_decode(s: &str) -> Vec<u8> {
+        const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let six: Vec<u32> = s
+            .bytes()
+            .filter(|c| *c != b'=')
+            .map(|c| A.iter().position(|a| *a == c).unwrap() as u32)
+            .collect();
+        let mut out = Vec::new();
+        for q in six.chunks(4) {
+            let n = q
+                .iter()
+                .enumerate()
+                .fold(0, |n, (k, v)| n | v << (18 - 6 * k));
+            out.extend(&n.to_be_bytes()[1..q.len()]);
+        }
+        out
     }
 
     #[test]
