@@ -92,7 +92,9 @@ const BODY_COLOURS: [[f64; 3]; 5] = [
 /// The palette colour of a contact sphere (see [`BODY_COLOURS`]).
 const SPHERE_COLOUR: u8 = 4;
 
-fn palette() -> Vec<u8> {
+/// The palette of a body with contact spheres (`spheres`) or without: the sphere's colour
+/// only when drawn, so a one-surface body's GIF is as it always was.
+fn palette(spheres: bool) -> Vec<u8> {
     let mut p = vec![
         255, 255, 255, // background
         222, 226, 232, // checker light
@@ -101,7 +103,12 @@ fn palette() -> Vec<u8> {
         20, 20, 20, // text
         255, 255, 255, // text background
     ];
-    for c in BODY_COLOURS {
+    let colours = if spheres {
+        &BODY_COLOURS[..]
+    } else {
+        &BODY_COLOURS[..usize::from(SPHERE_COLOUR)]
+    };
+    for c in colours {
         for l in 0..BODY_LEVELS {
             let k = 0.25 + 0.75 * f64::from(l) / f64::from(BODY_LEVELS - 1);
             p.extend(c.map(|x| (255.0 * x * k).round() as u8));
@@ -313,8 +320,8 @@ fn segment(buf: &mut [u8], mask: &[bool], width: u32, height: u32, a: (f64, f64)
 /// row to the last, at most [`MAX_FRAMES`]. Returns the number of frames.
 pub fn gif(table: &Table, opt: &Options, out: impl Write) -> Result<usize, String> {
     let (w, h) = (opt.width, opt.height);
-    let mut enc =
-        gif::Encoder::new(out, w as u16, h as u16, &palette()).map_err(|e| e.to_string())?;
+    let mut enc = gif::Encoder::new(out, w as u16, h as u16, &palette(has_spheres(table)))
+        .map_err(|e| e.to_string())?;
     enc.set_repeat(gif::Repeat::Infinite)
         .map_err(|e| e.to_string())?;
     let delay = (100.0 / opt.fps).round().max(1.0) as u16;
@@ -359,7 +366,7 @@ pub fn mp4(table: &Table, opt: &Options) -> Result<(Vec<u8>, usize), String> {
                 program.to_string_lossy()
             )
         })?;
-    let pal = palette();
+    let pal = palette(has_spheres(table));
     let mut stdin = child.stdin.take().expect("piped");
     let mut rgb = Vec::new();
     let rendered = render(table, opt, |buf| {
@@ -395,6 +402,11 @@ pub fn mp4(table: &Table, opt: &Options) -> Result<(Vec<u8>, usize), String> {
     }
     let bytes = std::fs::read(&out).map_err(|e| format!("cannot read ffmpeg's MP4: {e}"))?;
     Ok((bytes, frames))
+}
+
+/// Whether the body of `table` has contact spheres.
+fn has_spheres(table: &Table) -> bool {
+    table.shape.as_ref().is_some_and(|s| !s.spheres.is_empty())
 }
 
 /// The columns an animation needs.
