@@ -34,7 +34,8 @@ HEADER = """# Gallery: every bundled scenario
 Each scenario of `scenarios/` with what it shows, its key parameters, what the run does,
 a thumbnail of `ellipsoid plot` (θ, and the normal force and slip speed with the contact
 mode shaded: sliding orange, rolling green; events dashed; for a body with contact spheres
-also the normal force of each surface) and a link to its 3-D viewer page. Run one with `ellipsoid run scenarios/NAME.toml -o out/NAME.csv` or
+also the normal force of each surface) and a link to its 3-D viewer page. Run one with
+`ellipsoid run scenarios/NAME.toml -o out/NAME.csv` or
 `ellipsoid.simulate("scenarios/NAME.toml")`; every key is described in
 [scenarios.md](scenarios.md). SI units; angles in degrees here.
 
