@@ -1,7 +1,8 @@
 //! Trajectory files read back (CSV, and HDF5 with the `hdf5` feature) as named columns,
 //! with what the plots and the viewer need besides: the events (from a JSON summary or
-//! the summary stored in an HDF5 file) and the body's shape (from the scenario, when it
-//! can be found), so that the contact point can be placed on the plane.
+//! the summary stored in an HDF5 file) and the body's shape with its contact spheres
+//! (from a CSV's comment line, or the scenario, when it can be found), so that the body
+//! can be drawn and the contact point placed on the plane.
 //!
 //! Columns are read by name, so a file with more columns than this build writes (e.g.
 //! `omega_world_x`, `contact_x`, `drift`) is read whole, and one with fewer is read as

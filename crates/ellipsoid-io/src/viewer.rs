@@ -323,8 +323,11 @@ fn surfaces_data(table: &Table, idx: &[usize]) -> Option<serde_json::Value> {
 }
 
 /// The viewer page for `table`, titled `title`, with a side plot against time of each of
-/// `plots` (output columns, e.g. [`DEFAULT_PLOTS`]; `energy` with E + W, or its relative
-/// deviation when conserved; a column the table lacks is left out).
+/// `plots` (output columns, e.g. [`DEFAULT_PLOTS`] or [`default_plots`]; `energy` with
+/// E + W, or its relative deviation when conserved; `QUANTITY_*` that quantity of every
+/// surface, one line each; a column the table lacks is left out). A body with contact
+/// spheres carries them and, per pose, which surfaces touch the plane
+/// ([`Table::in_contact`]); a one-surface body's data is as it always was.
 pub fn html(table: &Table, title: &str, plots: &[&str]) -> Result<String, ViewError> {
     let need = ["t", "x", "y", "z", "theta", "phi", "psi"];
     let cols = table
