@@ -33,8 +33,9 @@ HEADER = """# Gallery: every bundled scenario
 
 Each scenario of `scenarios/` with what it shows, its key parameters, what the run does,
 a thumbnail of `ellipsoid plot` (θ, and the normal force and slip speed with the contact
-mode shaded: sliding orange, rolling green; events dashed) and a link to its 3-D viewer
-page. Run one with `ellipsoid run scenarios/NAME.toml -o out/NAME.csv` or
+mode shaded: sliding orange, rolling green; events dashed; for a body with contact spheres
+also the normal force of each surface) and a link to its 3-D viewer page. Run one with
+`ellipsoid run scenarios/NAME.toml -o out/NAME.csv` or
 `ellipsoid.simulate("scenarios/NAME.toml")`; every key is described in
 [scenarios.md](scenarios.md). SI units; angles in degrees here.
 
@@ -110,9 +111,12 @@ def outcome(traj: ellipsoid.Trajectory) -> str:
 
 
 def thumbnail(traj: ellipsoid.Trajectory, path: Path) -> None:
-    fig = traj.plot("theta,forces")
+    """θ, the normal force and slip speed, and for a body with contact spheres the normal
+    force of each surface."""
+    panels = ["theta", "forces"] + (["surfaces"] if "normal_force_ellipsoid" in traj.columns else [])
+    fig = traj.plot(panels)
     fig.suptitle("")
-    fig.set_size_inches(7, 5)
+    fig.set_size_inches(7, 2.5 * len(panels))
     fig.savefig(path, dpi=45)
 
 

@@ -458,7 +458,7 @@ fn bad_input_is_one_line_naming_what_is_wrong_and_writes_nothing() {
                 "--panels",
                 "theta,wobble",
             ],
-            "unknown panel \"wobble\"; the panels are theta, rates, energy, forces, path",
+            "unknown panel \"wobble\"; the panels are theta, rates, energy, forces, surfaces, path",
         ),
         (
             vec!["plot", csv, "-o", "f.eps"],
@@ -652,5 +652,81 @@ fn out_of_memory_is_a_clean_error_not_an_abort() {
             }
         }
         assert!(failed > 0, "{cmd}: the big file never ran out of memory");
+    }
+}
+
+/// A body with contact spheres (the tippe top with its stem, through the stem's
+/// touchdown at 1.372 s): its CSV (comment line) and its HDF5 file (stored scenario) both
+/// give the stem back with which surface touches, and draw the same figure (the surfaces
+/// panel by default) and the same page (the stem and each surface's normal force).
+#[test]
+fn spheres_travel_with_csv_and_hdf5_and_draw_alike() {
+    use ellipsoid_io::table::{SphereShape, read};
+    let dir = tempfile::tempdir().unwrap();
+    let toml = scenarios().join("tippe-top-stem.toml");
+    let formats: &[&str] = if cfg!(feature = "hdf5") {
+        &["s.csv", "s.h5"]
+    } else {
+        &["s.csv"]
+    };
+    for out in formats {
+        let o = ellipsoid(
+            dir.path(),
+            &[
+                "run",
+                toml.to_str().unwrap(),
+                "-o",
+                out,
+                "--summary",
+                "s.json",
+                "--set",
+                "output.t_end=1.6",
+                "-q",
+            ],
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+        let t = read(&dir.path().join(out)).unwrap();
+        let shape = t.shape.as_ref().expect("the body");
+        assert_eq!(
+            shape.spheres,
+            [SphereShape {
+                name: "stem".into(),
+                center: [0.0, 0.0, 0.013],
+                radius: 0.005
+            }],
+            "{out}"
+        );
+        let last = t.rows() - 1;
+        assert_eq!(t.mode(last), Some("sliding@stem"), "{out}");
+        assert_eq!(t.in_contact(last, &["ellipsoid", "stem"]), 0b10, "{out}");
+        assert_eq!(t.in_contact(0, &["ellipsoid", "stem"]), 0b01, "{out}");
+        let mut args = vec!["plot", out, "-o", "", "--title", "x", "-q"];
+        let svg = format!("{out}.svg");
+        args[3] = &svg;
+        if out.ends_with(".csv") {
+            args.extend(["--summary", "s.json"]);
+        }
+        let p = ellipsoid(dir.path(), &args);
+        assert!(p.status.success(), "{}", stderr(&p));
+        args[0] = "view";
+        let html = format!("{out}.html");
+        args[3] = &html;
+        let v = ellipsoid(dir.path(), &args);
+        assert!(v.status.success(), "{}", stderr(&v));
+    }
+    let read = |f: &str| std::fs::read_to_string(dir.path().join(f)).unwrap();
+    let (svg, page) = (read("s.csv.svg"), read("s.csv.html"));
+    assert!(
+        svg.contains("normal force of each surface") && svg.contains("N, stem"),
+        "the surfaces panel by default"
+    );
+    assert!(
+        page.contains(r#""spheres":[{"name":"stem","center":[0.0,0.0,0.013],"radius":0.005}]"#)
+            && page.contains(r#""name":"normal_force_*""#),
+        "the stem and each surface's normal force on the page"
+    );
+    if formats.len() == 2 {
+        assert!(svg == read("s.h5.svg"), "CSV and HDF5 draw the same figure");
+        assert!(page == read("s.h5.html"), "CSV and HDF5 make the same page");
     }
 }

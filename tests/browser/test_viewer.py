@@ -230,3 +230,52 @@ def test_a_failed_webgl_context_says_so_on_the_page(cli: Path, tmp_path: Path, p
     finally:
         page.send("Page.removeScriptToEvaluateOnNewDocument", {"identifier": script["identifier"]})
 
+
+
+def hue_mask(img: np.ndarray, hue: str) -> np.ndarray:
+    """Pixels whose colour is clearly `hue`: "green" (the mark of a surface in contact) or
+    "violet" (a contact sphere that does not touch)."""
+    r, g, b = (img[..., k].astype(int) for k in range(3))
+    if hue == "green":
+        return (g > r + 40) & (g > b + 30)
+    return (r > g + 15) & (b > g + 30)
+
+
+def test_the_stem_is_drawn_and_the_surface_in_contact_marked(cli: Path, tmp_path: Path, page) -> None:
+    """The tippe top with its stem (tippe-top-stem.toml): the stem is drawn fixed in the
+    body, violet while the ball carries the top and green once the stem touches (at
+    1.372 s, mode sliding@stem); the default side plots add each surface's normal force,
+    one line per surface."""
+    html = run(cli, tmp_path, REPO / "scenarios/tippe-top-stem.toml", "stem", "output.t_end=1.6")
+    open_page(page, html)
+    assert page.eval("ellipsoidViewer.surfaces()") == ["ellipsoid", "stem"]
+    ids = page.eval("[...document.querySelectorAll('#plots canvas')].map((c) => c.id)")
+    assert ids == ["plot-theta", "plot-energy", "plot-normal_force-each"]
+    forces = page.screenshot(page.rect("#plot-normal_force-each"))
+    for name, rgb in (("ellipsoid", (0x1F, 0x77, 0xB4)), ("stem", (0xFF, 0x7F, 0x0E))):
+        near = (np.abs(forces[..., :3].astype(int) - rgb) < 40).all(axis=2)
+        assert near.sum() > 100, f"no line of the {name}'s normal force"
+    shots = {}
+    for t, touching in ((0.3, ["ellipsoid"]), (1.5, ["stem"])):
+        page.eval(f"ellipsoidViewer.seek({t})")
+        # A level camera on the side, close: the stem is in view whether it is up or down.
+        page.eval("ellipsoidViewer.setCamera({az: -0.9, el: 0.0, dist: 0.09})")
+        assert page.eval("ellipsoidViewer.touching()") == touching, t
+        img = scene_shot(page)
+        r = page.rect("#scene canvas")
+        # Where the stem stands out of the ball: 3.5 mm beyond its centre (r2 = 5 mm),
+        # 16.5 mm from the ball's centre C0 = G − R g (r1 = 15 mm, g = −3 mm on the axis).
+        p = page.eval("ellipsoidViewer.pose()")
+        axis = np.array([math.sin(p["phi"]) * math.sin(p["theta"]), -math.cos(p["phi"]) * math.sin(p["theta"]), math.cos(p["theta"])])
+        c0 = np.array([p["x"], p["y"], p["z"]]) + 0.003 * axis
+        stem = np.array(page.eval("ellipsoidViewer.sphereCentre('stem')"))
+        assert abs(np.linalg.norm(stem - c0) - 0.013) < 1e-6, "the stem is 13 mm from the ball's centre"
+        out = stem + 0.0035 * (stem - c0) / np.linalg.norm(stem - c0)
+        x, y = page.eval(f"ellipsoidViewer.project({out[0]}, {out[1]}, {out[2]})")
+        i, j = int(x - r["x"]), int(y - r["y"])
+        shots[t] = img[max(j - 3, 0):j + 4, max(i - 3, 0):i + 4]
+        assert page.errors() == []
+    # Before the stem touches: drawn in its own colour, not marked; on the stem: marked.
+    assert hue_mask(shots[0.3], "violet").mean() > 0.5, "the stem is not drawn"
+    assert hue_mask(shots[0.3], "green").mean() == 0, "an open stem is marked"
+    assert hue_mask(shots[1.5], "green").mean() > 0.3, "the stem in contact is not marked"

@@ -186,13 +186,11 @@ pub struct PlotArgs {
     /// (directories created as needed).
     #[arg(short, long, value_name = "FIG.svg|FIG.png|FIG.pdf")]
     pub output: PathBuf,
-    /// Panels, comma-separated, drawn top to bottom: theta, rates, energy, forces, path.
-    #[arg(
-        long,
-        value_name = "LIST",
-        default_value = "theta,rates,energy,forces,path"
-    )]
-    pub panels: String,
+    /// Panels, comma-separated, drawn top to bottom: theta, rates, energy, forces, surfaces
+    /// (the normal force of each surface of a body with contact spheres), path. Default:
+    /// all of them, `surfaces` only for a body with contact spheres.
+    #[arg(long, value_name = "LIST")]
+    pub panels: Option<String>,
     /// Output columns instead of the panels, comma-separated, each drawn against time with
     /// its unit (e.g. `omega_world_z,theta`).
     #[arg(long, value_name = "LIST", conflicts_with = "panels")]
@@ -227,9 +225,11 @@ pub struct ViewArgs {
     pub title: Option<String>,
     /// The side plots against time, comma-separated output columns, at most 6 (e.g.
     /// `omega_world_z,theta` for a rattleback's spin); `energy` adds E + W when work is
-    /// dissipated.
-    #[arg(long, value_name = "LIST", default_value = "theta,energy")]
-    pub columns: String,
+    /// dissipated; a body's per-surface columns (`normal_force_stem`), or `QUANTITY_*` for
+    /// that quantity of every surface in one plot (`normal_force_*`). Default: theta,energy,
+    /// and normal_force_* for a body with contact spheres.
+    #[arg(long, value_name = "LIST")]
+    pub columns: Option<String>,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,

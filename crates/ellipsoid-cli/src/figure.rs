@@ -16,6 +16,9 @@
 //!          of the conserved quantity, |ΔE|/|E0| or |Δ(E + W)|/|E0 + W0|
 //!          (the `drift` column when present), on a log axis
 //! forces   normal force N and slip speed, contact mode shaded            normal_force, slip_speed
+//! surfaces the normal force of each surface of a body with contact        normal_force_S of each
+//!          spheres, one line per surface, contact phase shaded            surface S (drawn by default
+//!                                                                         only when present)
 //! path     the paths on the plane of the contact point, G and C0         x, y (contact: contact_x/y,
 //!                                                                        or the body's shape)
 //! COLUMN   any numeric output column against time (`--columns`)          COLUMN
@@ -26,7 +29,7 @@
 //! min/max envelope of each series (`ellipsoid_io::viewer::envelope`), so peaks survive.
 
 use ellipsoid_io::panels;
-use ellipsoid_io::table::Table;
+use ellipsoid_io::table::{self, Table};
 use ellipsoid_io::viewer::envelope;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -47,24 +50,44 @@ fn color(hex: &str) -> RGBColor {
     RGBColor(r, g, b)
 }
 
-/// Parses `--columns a,b,c`: numeric output columns other than `t`, no repeats; each is
-/// drawn as a panel of its own against time.
-pub fn parse_columns(spec: &str) -> Result<Vec<&'static str>, String> {
+/// Parses `--columns a,b,c`: numeric output columns other than `t`, or a body's
+/// per-surface columns (`normal_force_stem`; whether the run has one is checked once it is
+/// read, [`check_columns`]), no repeats; each is drawn as a panel of its own against time.
+pub fn parse_columns(spec: &str) -> Result<Vec<&str>, String> {
     let names = ellipsoid_io::columns::NUMERIC_COLUMNS.map(|c| c.0);
     let mut out = Vec::new();
     for name in spec.split(',').map(str::trim) {
-        let Some(c) = names[1..].iter().find(|c| **c == name) else {
+        if !names[1..].contains(&name) && table::surface_column(name).is_none() {
             return Err(format!(
-                "--columns: {name:?} is not a numeric output column; the columns are {}",
+                "--columns: {name:?} is not a numeric output column; the columns are {}, and for a body with contact spheres those of each surface S (normal_force_S, slip_speed_S, gap_S, contact_x_S, contact_y_S)",
                 names[1..].join(", ")
             ));
-        };
-        if out.contains(c) {
+        }
+        if out.contains(&name) {
             return Err(format!("--columns: {name:?} is named twice"));
         }
-        out.push(*c);
+        out.push(name);
     }
     Ok(out)
+}
+
+/// The panels drawn unless asked otherwise: every declared one, those of per-surface
+/// columns only when `table` has them (a body with contact spheres).
+pub fn default_panels(table: &Table) -> Vec<&'static str> {
+    panels::declaration()
+        .panels
+        .iter()
+        .filter(|p| !p.per_surface || p.needs.iter().all(|n| has(table, n)))
+        .map(|p| p.name.as_str())
+        .collect()
+}
+
+/// Whether `table` has the column `name`, or for `QUANTITY_*` that quantity of some surface.
+fn has(table: &Table, name: &str) -> bool {
+    match name.strip_suffix("_*") {
+        Some(quantity) => !table.per_surface(quantity).is_empty(),
+        None => table.column(name).is_some(),
+    }
 }
 
 /// Parses `--panels a,b,c`: declared names, no repeats, at least one.
@@ -140,6 +163,14 @@ pub fn check_columns(table: &Table, panels: &[&str]) -> Result<(), String> {
             Some(panel) => panel.needs.iter().map(String::as_str).collect(),
             None => vec![*p],
         };
+        if let Some(q) = need.iter().find(|n| n.ends_with("_*") && !has(table, n)) {
+            return Err(format!(
+                "the {p} panel needs the per-surface columns `{}S` of a body with contact spheres, which {} does not have",
+                q.trim_end_matches('*'),
+                table.source
+            ));
+        }
+        let need: Vec<&str> = need.into_iter().filter(|n| !n.ends_with("_*")).collect();
         table.require(&need, &format!("the {p} panel"))?;
     }
     Ok(())
@@ -324,10 +355,7 @@ fn event_lines(table: &Table, t0: f64, t1: f64) -> Vec<f64> {
 
 /// Any numeric column against time, labelled with its unit.
 fn column_panel(area: &Area<'_>, table: &Table, name: &str) -> Res {
-    let unit = ellipsoid_io::columns::NUMERIC_COLUMNS
-        .iter()
-        .find(|c| c.0 == name)
-        .map_or("1", |c| c.1);
+    let unit = table::unit(name).unwrap_or("1");
     time_chart(
         area,
         table,
@@ -387,6 +415,15 @@ fn time_axis(area: &Area<'_>, table: &Table, axis: &panels::Axis) -> Res {
     let mut drawn = Vec::new();
     let mut left_out = false;
     for s in &axis.series {
+        if let Some(quantity) = s.data.strip_suffix("_*") {
+            let colors = &decl.surface_colors;
+            for (k, (surface, v)) in table.per_surface(quantity).into_iter().enumerate() {
+                let label = s.label.replace("{surface}", surface);
+                let c = color(&colors[k % colors.len()]);
+                drawn.push(series(&label, c, table.t(), v));
+            }
+            continue;
+        }
         let Some((t, mut v)) = series_data(table, s) else {
             if s.optional {
                 continue;
@@ -708,18 +745,43 @@ mod tests {
         t
     }
 
+    /// [`table`] as a body with a contact sphere `stem` writes it: the normal force of
+    /// each surface (the stem takes the load from 0.2 s on), modes naming the surfaces.
+    fn with_stem() -> Table {
+        let mut t = table();
+        let n = t.rows();
+        let s: Vec<f64> = t
+            .t()
+            .iter()
+            .map(|t| if *t < 0.2 { 0.0 } else { 0.5 })
+            .collect();
+        let e: Vec<f64> = s.iter().map(|s| 0.5 - s).collect();
+        t.columns.push(("normal_force_ellipsoid".into(), e));
+        t.columns.push(("normal_force_stem".into(), s));
+        t.mode_names = vec![
+            "sliding@ellipsoid".into(),
+            "two_contacts@ellipsoid+stem".into(),
+            "rolling@stem".into(),
+        ];
+        t.modes = Some((0..n).map(|i| (i * 3 / n) as u8).collect());
+        t
+    }
+
     /// Every declared axis is drawn with its title, its labels and its series' labels
     /// (`Trajectory.plot` is held to the same declaration by the Python tests).
     #[test]
     fn every_declared_axis_is_drawn_with_its_labels() {
-        let svg = svg(&table(), &panels::declaration().names(), "test").unwrap();
+        let svg = svg(&with_stem(), &panels::declaration().names(), "test").unwrap();
         let text = |s: &str| s.replace('&', "&amp;").replace('<', "&lt;");
         for axis in panels::declaration().panels.iter().flat_map(|p| &p.axes) {
             let title = axis.title.replace("{conserved}", "E + W");
             assert!(svg.contains(&text(&title)), "missing title {title}");
             assert!(svg.contains(&text(&axis.ylabel)), "missing {}", axis.ylabel);
             for s in &axis.series {
-                let label = s.label.replace("{conserved}", "E + W");
+                let label = s
+                    .label
+                    .replace("{conserved}", "E + W")
+                    .replace("{surface}", "stem");
                 assert!(
                     s.optional || svg.contains(&text(&label)),
                     "missing series {label}"
@@ -730,7 +792,7 @@ mod tests {
 
     #[test]
     fn every_panel_names_its_axes_with_units() {
-        let svg = svg(&table(), &panels::declaration().names(), "test").unwrap();
+        let svg = svg(&with_stem(), &panels::declaration().names(), "test").unwrap();
         for label in [
             "time t (s)",
             "θ (rad)",
@@ -743,6 +805,7 @@ mod tests {
             "y (m)",
             "E + W",
             "sliding orange",
+            "normal force N_S (N)",
         ] {
             assert!(
                 svg.contains(&label.replace('&', "&amp;")),
@@ -769,7 +832,7 @@ mod tests {
         let lines = event_lines(&t, t0, t1);
         assert_eq!(lines[0], lone, "a lone event keeps its line");
         assert!(lines.len() <= 4, "{} lines", lines.len());
-        let svg = svg(&t, &panels::declaration().names(), "test").unwrap();
+        let svg = svg(&t, &default_panels(&t), "test").unwrap();
         assert!(svg.len() < 2_000_000, "{} bytes", svg.len());
         png(&svg).unwrap();
     }
@@ -778,11 +841,12 @@ mod tests {
     /// table does (what `ellipsoid plot` reads is enough), and leaves others out.
     #[test]
     fn the_columns_read_for_a_panel_draw_it_whole() {
-        let full = table();
+        let full = with_stem();
         for p in panels::declaration().names().into_iter().chain(["vx"]) {
             let keep = columns_for(&[p]);
-            let mut part = table();
-            part.columns.retain(|c| keep.contains(&c.0.as_str()));
+            let mut part = with_stem();
+            part.columns
+                .retain(|c| table::keeps(Some(&keep), c.0.as_str()));
             if p == "vx" {
                 assert_eq!(keep, ["drift", "energy", "t", "vx", "work"]);
                 continue;
@@ -795,6 +859,47 @@ mod tests {
             );
         }
         assert!(columns_for(&["rates"]).contains(&"omega_world_z"));
+    }
+
+    /// A body with contact spheres: the surfaces panel draws a line per surface, named by
+    /// it, and shades the contact phases (each once in the title); it is drawn by default
+    /// only for such a body, and asked of another it says what is missing.
+    #[test]
+    fn the_surfaces_panel_draws_each_surface_and_only_for_bodies_with_spheres() {
+        let svg = svg(&with_stem(), &["surfaces"], "x").unwrap();
+        for text in [
+            "normal force of each surface (shaded: sliding orange, two_contacts pink, rolling green)",
+            "N, ellipsoid",
+            "N, stem",
+        ] {
+            assert!(svg.contains(text), "missing {text}");
+        }
+        let (ellipsoid, stem) = (
+            panels::declaration().surface_colors[0].to_lowercase(),
+            panels::declaration().surface_colors[1].to_lowercase(),
+        );
+        assert!(
+            svg.to_lowercase()
+                .contains(&format!("stroke=\"{ellipsoid}\""))
+                && svg.to_lowercase().contains(&format!("stroke=\"{stem}\"")),
+            "a line of each surface's colour"
+        );
+        assert!(default_panels(&with_stem()).contains(&"surfaces"));
+        assert_eq!(
+            default_panels(&table()),
+            ["theta", "rates", "energy", "forces", "path"]
+        );
+        let err = super::svg(&table(), &["surfaces"], "x").unwrap_err();
+        assert!(
+            err.contains("the surfaces panel needs the per-surface columns `normal_force_S`"),
+            "{err}"
+        );
+        assert_eq!(
+            parse_columns("normal_force_stem,theta").unwrap(),
+            ["normal_force_stem", "theta"]
+        );
+        let svg = super::svg(&with_stem(), &["normal_force_stem"], "x").unwrap();
+        assert!(svg.contains("normal_force_stem (N)"));
     }
 
     #[test]

@@ -82,13 +82,17 @@ pub(crate) fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
 
 pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     let ext = check_output(&args.output, &["svg", "png", "pdf"], "figure")?;
-    let panels = match &args.columns {
-        Some(columns) => figure::parse_columns(columns),
-        None => figure::parse_panels(&args.panels),
+    let asked = match (&args.columns, &args.panels) {
+        (Some(columns), _) => Some(figure::parse_columns(columns)),
+        (None, Some(panels)) => Some(figure::parse_panels(panels)),
+        (None, None) => None,
     }
+    .transpose()
     .map_err(CliError::Usage)?;
-    let keep = figure::columns_for(&panels);
+    let every = ellipsoid_io::panels::declaration().names();
+    let keep = figure::columns_for(asked.as_deref().unwrap_or(&every));
     let table = load(&args.input, Some(&keep), args.summary.as_deref())?;
+    let panels = asked.unwrap_or_else(|| figure::default_panels(&table));
     figure::check_columns(&table, &panels).map_err(CliError::Usage)?;
     if table.shape.is_none()
         && table.contact_path().is_none()
@@ -123,11 +127,29 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
 
 pub fn view(args: &ViewArgs) -> Result<ExitCode, CliError> {
     check_output(&args.output, &["html", "htm"], "page")?;
-    let plots = ellipsoid_io::viewer::parse_plots(&args.columns)
+    let asked = args
+        .columns
+        .as_deref()
+        .map(ellipsoid_io::viewer::parse_plots)
+        .transpose()
         .map_err(|rule| CliError::Usage(format!("--columns: {rule}")))?;
-    let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
+    let plots: Vec<&str> = match &asked {
+        Some(plots) => plots.iter().map(String::as_str).collect(),
+        None => [
+            &ellipsoid_io::viewer::DEFAULT_PLOTS[..],
+            &[ellipsoid_io::viewer::SURFACE_FORCES],
+        ]
+        .concat(),
+    };
     let keep = ellipsoid_io::viewer::columns(&plots);
     let table = load(&args.input, Some(&keep), args.summary.as_deref())?;
+    let default = ellipsoid_io::viewer::default_plots(&table);
+    let plots: Vec<&str> = match &asked {
+        Some(_) => plots,
+        None => default.iter().map(String::as_str).collect(),
+    };
+    ellipsoid_io::viewer::check_plots(&table, &plots)
+        .map_err(|rule| CliError::Usage(format!("--columns: {rule}")))?;
     let title = args
         .title
         .clone()

@@ -24,6 +24,10 @@ const THREE = await import(URL.createObjectURL(new Blob([src], { type: 'text/jav
 let now = 0, dirty = true;
 const F = {};
 for (const k of ['t', 'x', 'y', 'z', 'theta', 'phi', 'psi', 'cx', 'cy', 'mode']) if (D.frames[k]) F[k] = f32(D.frames[k]);
+// A body with contact spheres: its surfaces (the ellipsoid, then the spheres) and, per
+// pose, which touch the plane (bit k for surface k).
+const S = D.surfaces || null;
+if (S) F.touch = f32(S.touch);
 const N = D.frames.n;
 const T0 = D.t0, T1 = D.t1;
 now = T0;
@@ -100,6 +104,32 @@ body.add(new THREE.Line(axisGeo, new THREE.LineBasicMaterial({ color: 0xd62728 }
 const gMark = new THREE.Mesh(new THREE.SphereGeometry(0.07 * L, 16, 12), new THREE.MeshBasicMaterial({ color: 0x111111, depthTest: false }));
 gMark.renderOrder = 10;
 body.add(gMark);
+
+// The contact spheres fixed in the body (centres from C0, body axes), violet while open;
+// a surface touching the plane is marked green (the ellipsoid by a green glow).
+const SPHERE_OPEN = 0x8a5a9a, IN_CONTACT = 0x2ca02c, ELLIPSOID_GLOW = 0x1f6f1f;
+const spheres = S ? S.spheres.map((sp) => {
+  const m = new THREE.Mesh(new THREE.SphereGeometry(sp.radius, 32, 20), new THREE.MeshLambertMaterial({ color: SPHERE_OPEN }));
+  m.position.set(sp.center[0] - gOff[0], sp.center[1] - gOff[1], sp.center[2] - gOff[2]);
+  body.add(m);
+  return m;
+}) : [];
+if (S) {
+  const legend = document.querySelector('.legend');
+  for (const [color, text] of [[SPHERE_OPEN, 'contact sphere'], [IN_CONTACT, 'surface in contact']]) {
+    const item = document.createElement('span');
+    item.innerHTML = `<i class="sw" style="background:#${color.toString(16).padStart(6, '0')}"></i>${text}`;
+    legend.appendChild(item);
+  }
+}
+// The surfaces touching the plane at frame i, by name.
+const touching = (i) => (S ? S.names.filter((_, k) => (F.touch[i] >> k) & 1) : []);
+function markContacts(i) {
+  if (!S) return;
+  const bits = F.touch[i];
+  mesh.material.emissive.setHex(bits & 1 ? ELLIPSOID_GLOW : 0x000000);
+  spheres.forEach((m, k) => m.material.color.setHex((bits >> (k + 1)) & 1 ? IN_CONTACT : SPHERE_OPEN));
+}
 
 // Traces on the plane: the contact point (or G when it is unknown) and G's ground path.
 function trace(xs, ys, color, z) {
@@ -178,7 +208,8 @@ function apply(t) {
   gTrace.geometry.setDrawRange(0, upto);
   if (cTrace) { cTrace.geometry.setDrawRange(0, upto); cMark.position.x = p.cx; cMark.position.y = p.cy; }
   if (cam.follow) cam.target.set(p.x, p.y, 0.6 * L);
-  const mode = F.mode && D.modes.length ? D.modes[F.mode[p.frame]] : '';
+  markContacts(p.frame);
+  const mode = F.mode && D.modes.length ? D.modes[F.mode[p.frame]] : (S ? `on ${touching(p.frame).join('+') || 'nothing'}` : '');
   $('hud').textContent = `t = ${t.toFixed(4)} s   θ = ${p.theta.toFixed(4)} rad (${(p.theta * 180 / Math.PI).toFixed(2)}°)` + (mode ? `   ${mode}` : '');
   $('time').textContent = `t = ${t.toFixed(4)} s / ${T1.toFixed(4)} s`;
   return p;
@@ -186,16 +217,20 @@ function apply(t) {
 
 // ---------------------------------------------------------------- plots
 const CURSOR = 'rgb(220,0,0)';
+const LINE_COLORS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#9467bd', '#8c564b', '#e377c2', '#7f7f7f', '#bcbd22', '#17becf'];
 const M = { left: 70, right: 10, top: 20, bottom: 34 };
 // One canvas per side plot the page was made with (`--columns`, `columns=`), in order.
 const plots = D.plots.map((p) => {
   const canvas = document.createElement('canvas');
-  canvas.id = 'plot-' + p.name; canvas.width = 360; canvas.height = 190;
+  canvas.id = 'plot-' + p.name.replace('_*', '-each'); canvas.width = 360; canvas.height = 190;
   canvas.setAttribute('aria-label', p.name + ' against time');
   $('plots').appendChild(canvas);
-  const s = { name: p.name, label: p.label, canvas, t: f32(p.t), v: f32(p.v), t2: p.t2 ? f32(p.t2) : null, v2: p.v2 ? f32(p.v2) : null };
+  // A plot of one quantity per surface has `lines`, each labelled by its surface.
+  const lines = p.lines ? p.lines.map((l, k) => ({ label: l.label, t: f32(l.t), v: f32(l.v), color: LINE_COLORS[k % LINE_COLORS.length] }))
+    : [{ t: f32(p.t), v: f32(p.v), color: '#1f77b4' }].concat(p.t2 ? [{ t: f32(p.t2), v: f32(p.v2), color: '#2ca02c' }] : []);
+  const s = { name: p.name, label: p.label, canvas, lines };
   let lo = Infinity, hi = -Infinity;
-  for (const arr of [s.v, s.v2]) if (arr) for (const v of arr) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  for (const l of lines) for (const v of l.v) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
   const pad = Math.max((hi - lo) * 0.08, Math.abs(hi) * 1e-6, 1e-12);
   s.lo = lo - pad; s.hi = hi + pad;
   canvas.addEventListener('click', (e) => {
@@ -235,8 +270,16 @@ function drawPlot(s, t) {
     for (let i = 0; i < ts.length; i++) { const x = xOf(s.canvas, ts[i]), y = yOf(vs[i]); if (i) g.lineTo(x, y); else g.moveTo(x, y); }
     g.stroke();
   };
-  line(s.t, s.v, '#1f77b4');
-  if (s.t2) line(s.t2, s.v2, '#2ca02c');
+  for (const l of s.lines) line(l.t, l.v, l.color);
+  // The legend of a plot per surface: each surface's name in its line's colour.
+  let lx = M.left + pw - 4;
+  g.textAlign = 'right'; g.textBaseline = 'top'; g.font = '11px "DejaVu Sans", sans-serif';
+  for (const l of s.lines.filter((l) => l.label).reverse()) {
+    const w = g.measureText(l.label).width;
+    g.fillStyle = 'rgba(255,255,255,0.85)'; g.fillRect(lx - w - 2, M.top + 2, w + 4, 14);
+    g.fillStyle = l.color; g.fillText(l.label, lx, M.top + 3);
+    lx -= w + 8;
+  }
   // The cursor: a 2-pixel column of exactly CURSOR, so tests can find it.
   g.fillStyle = CURSOR; g.fillRect(Math.round(xOf(s.canvas, t)) - 1, M.top + 1, 2, ph - 1);
   g.restore();
@@ -296,6 +339,11 @@ requestAnimationFrame(loop);
 
 window.ellipsoidViewer = {
   t0: T0, t1: T1, frames: N, rows: D.rows, semiAxes: A, shapeKnown: !!shape, contactKnown: !!cTrace,
+  // The body's surfaces (the ellipsoid, then its contact spheres), which touch the plane
+  // now, and where a sphere's centre is in the world (metres).
+  surfaces: () => (S ? S.names.slice() : ['ellipsoid']),
+  touching: () => touching(pose(now).frame),
+  sphereCentre: (name) => { const k = S ? S.spheres.findIndex((sp) => sp.name === name) : -1; if (k < 0) return null; const v = new THREE.Vector3(); body.updateMatrixWorld(); spheres[k].getWorldPosition(v); return [v.x, v.y, v.z]; },
   time: () => now,
   playing: () => playing,
   rendered: () => frames,

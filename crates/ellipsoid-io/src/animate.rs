@@ -7,7 +7,9 @@
 //! ray hits the ellipsoid |S⁻¹ R⁻¹(p − C0)| = 1 (S = diag(a, b, c), R the z-x-z rotation,
 //! C0 = G − R g) where the quadratic in the ray parameter has a root, and is shaded by
 //! Lambert's law with the surface normal R S⁻² p_b; the body's octants are coloured
-//! alternately so that the spin shows, its lower half (z_b < 0) in another hue. Pixels
+//! alternately so that the spin shows, its lower half (z_b < 0) in another hue; a contact
+//! sphere fixed in the body (a tippe top's stem, a top's peg) is hit where
+//! |p − C0 − R c| = r and drawn grey-green, the nearest surface along the ray shown. Pixels
 //! that miss it show the plane z = 0 (a checkerboard, one square per largest semi-axis)
 //! and the contact point's path so far. The camera is fixed (the run's whole path in
 //! view), so a frame differs from the last only around the body: each is written as the
@@ -80,14 +82,19 @@ const TEXT: u8 = 4;
 const TEXT_BG: u8 = 5;
 const BODY: u8 = 6;
 const BODY_LEVELS: u8 = 40;
-const BODY_COLOURS: [[f64; 3]; 4] = [
+const BODY_COLOURS: [[f64; 3]; 5] = [
     [0.20, 0.45, 0.85], // upper half, even octants
     [0.95, 0.95, 0.98], // upper half, odd octants
     [0.90, 0.45, 0.15], // lower half, even
     [0.98, 0.85, 0.55], // lower half, odd
+    [0.55, 0.68, 0.55], // a contact sphere
 ];
+/// The palette colour of a contact sphere (see [`BODY_COLOURS`]).
+const SPHERE_COLOUR: u8 = 4;
 
-fn palette() -> Vec<u8> {
+/// The palette of a body with contact spheres (`spheres`) or without: the sphere's colour
+/// only when drawn, so a one-surface body's GIF is as it always was.
+fn palette(spheres: bool) -> Vec<u8> {
     let mut p = vec![
         255, 255, 255, // background
         222, 226, 232, // checker light
@@ -96,7 +103,12 @@ fn palette() -> Vec<u8> {
         20, 20, 20, // text
         255, 255, 255, // text background
     ];
-    for c in BODY_COLOURS {
+    let colours = if spheres {
+        &BODY_COLOURS[..]
+    } else {
+        &BODY_COLOURS[..usize::from(SPHERE_COLOUR)]
+    };
+    for c in colours {
         for l in 0..BODY_LEVELS {
             let k = 0.25 + 0.75 * f64::from(l) / f64::from(BODY_LEVELS - 1);
             p.extend(c.map(|x| (255.0 * x * k).round() as u8));
@@ -183,26 +195,43 @@ impl Pose {
     }
 }
 
-/// The palette index of the body where the ray from `o` along −`back` hits it, if it does.
+/// The palette index of the body where the ray from `o` along −`back` first hits it (the
+/// ellipsoid or a contact sphere, whichever is nearer), if it does.
 fn body_pixel(shape: &Shape, pose: &Pose, o: &Vector3<f64>, back: &Vector3<f64>) -> Option<u8> {
     let inv = Vector3::from(shape.semi_axes).map(|a| 1.0 / a);
-    // ray in body axes, scaled so that the body is the unit sphere: q(s) = q0 + s w
+    // ray in body axes, scaled so that the ellipsoid is the unit sphere: q(s) = q0 + s w
+    // (s is the distance along the ray in world units, the same for every surface)
     let q0 = (pose.r.transpose() * (o - pose.c0)).component_mul(&inv);
     let w = (pose.r.transpose() * -back).component_mul(&inv);
-    let (a, b, c) = (w.dot(&w), q0.dot(&w), q0.dot(&q0) - 1.0);
-    let disc = b * b - a * c;
-    if disc < 0.0 {
-        return None;
+    // (s, palette colour, world normal) of the nearest hit
+    let mut hit: Option<(f64, u8, Vector3<f64>)> = None;
+    if let Some(s) = first_root(w.dot(&w), q0.dot(&w), q0.dot(&q0) - 1.0) {
+        let q = q0 + w * s; // on the unit sphere; body point S q, normal ∝ S⁻¹ q
+        let octant = usize::from(q.x >= 0.0) ^ usize::from(q.y >= 0.0);
+        let colour = octant + if q.z < 0.0 { 2 } else { 0 };
+        hit = Some((s, colour as u8, pose.r * q.component_mul(&inv).normalize()));
     }
-    let s = (-b - disc.sqrt()) / a;
-    let q = q0 + w * s; // on the unit sphere; body point S q, normal ∝ S⁻¹ q
-    let n = pose.r * q.component_mul(&inv).normalize();
+    for sphere in &shape.spheres {
+        let centre = pose.c0 + pose.r * Vector3::from(sphere.center);
+        let d = o - centre;
+        let r2 = sphere.radius * sphere.radius;
+        if let Some(s) = first_root(1.0, -d.dot(back), d.dot(&d) - r2)
+            && hit.is_none_or(|h| s < h.0)
+        {
+            hit = Some((s, SPHERE_COLOUR, (d - back * s).normalize()));
+        }
+    }
+    let (_, colour, n) = hit?;
     let light = Vector3::new(-0.3, -0.5, 0.8).normalize();
     let lambert = 0.35 + 0.65 * n.dot(&light).max(0.0);
-    let octant = usize::from(q.x >= 0.0) ^ usize::from(q.y >= 0.0);
-    let colour = octant + if q.z < 0.0 { 2 } else { 0 };
     let level = (lambert * f64::from(BODY_LEVELS - 1)).round() as u8;
-    Some(BODY + colour as u8 * BODY_LEVELS + level.min(BODY_LEVELS - 1))
+    Some(BODY + colour * BODY_LEVELS + level.min(BODY_LEVELS - 1))
+}
+
+/// The smaller root s of a s² + 2 b s + c = 0 (a > 0), if it has one.
+fn first_root(a: f64, b: f64, c: f64) -> Option<f64> {
+    let disc = b * b - a * c;
+    (disc >= 0.0).then(|| (-b - disc.sqrt()) / a)
 }
 
 /// The plane's checkerboard at the ray from `o` (squares of side `square`).
@@ -291,8 +320,8 @@ fn segment(buf: &mut [u8], mask: &[bool], width: u32, height: u32, a: (f64, f64)
 /// row to the last, at most [`MAX_FRAMES`]. Returns the number of frames.
 pub fn gif(table: &Table, opt: &Options, out: impl Write) -> Result<usize, String> {
     let (w, h) = (opt.width, opt.height);
-    let mut enc =
-        gif::Encoder::new(out, w as u16, h as u16, &palette()).map_err(|e| e.to_string())?;
+    let mut enc = gif::Encoder::new(out, w as u16, h as u16, &palette(has_spheres(table)))
+        .map_err(|e| e.to_string())?;
     enc.set_repeat(gif::Repeat::Infinite)
         .map_err(|e| e.to_string())?;
     let delay = (100.0 / opt.fps).round().max(1.0) as u16;
@@ -337,7 +366,7 @@ pub fn mp4(table: &Table, opt: &Options) -> Result<(Vec<u8>, usize), String> {
                 program.to_string_lossy()
             )
         })?;
-    let pal = palette();
+    let pal = palette(has_spheres(table));
     let mut stdin = child.stdin.take().expect("piped");
     let mut rgb = Vec::new();
     let rendered = render(table, opt, |buf| {
@@ -375,6 +404,11 @@ pub fn mp4(table: &Table, opt: &Options) -> Result<(Vec<u8>, usize), String> {
     Ok((bytes, frames))
 }
 
+/// Whether the body of `table` has contact spheres.
+fn has_spheres(table: &Table) -> bool {
+    table.shape.as_ref().is_some_and(|s| !s.spheres.is_empty())
+}
+
 /// The columns an animation needs.
 const COLUMNS: [&str; 7] = ["t", "x", "y", "z", "theta", "phi", "psi"];
 
@@ -385,6 +419,7 @@ pub fn check(table: &Table, opt: &Options) -> Result<Shape, String> {
     opt.check()?;
     let shape = table
         .shape
+        .clone()
         .ok_or_else(|| format!("cannot draw the body: {}", table.shape_note))?;
     let cols = table.require(&COLUMNS, "an animation")?;
     if cols[0].is_empty() {
@@ -409,6 +444,10 @@ fn render(
     let step = opt.speed / opt.fps;
     let frames = (((t1 - t0) / step).floor() as usize + 1).min(MAX_FRAMES);
     let rmax = shape.semi_axes.iter().copied().fold(0.0, f64::max);
+    // how far the body reaches from C0: its ellipsoid, or a contact sphere beyond it
+    let reach0 = shape.spheres.iter().fold(rmax, |m, s| {
+        m.max(Vector3::from(s.center).norm() + s.radius)
+    });
     // the box the camera keeps in view: every position of G, grown by the body
     let (mut lo, mut hi) = (
         Vector3::repeat(f64::INFINITY),
@@ -419,7 +458,8 @@ fn render(
         lo = lo.inf(&g);
         hi = hi.sup(&g);
     }
-    let grow = Vector3::repeat(rmax + shape.com_offset.iter().map(|v| v.abs()).fold(0.0, f64::max));
+    let grow =
+        Vector3::repeat(reach0 + shape.com_offset.iter().map(|v| v.abs()).fold(0.0, f64::max));
     let (lo, hi) = (Vector3::new(lo.x, lo.y, 0.0) - grow, hi + grow);
     let (w, h) = (opt.width, opt.height);
     let cam = Camera::fit(Vector3::new(lo.x, lo.y, 0.0), hi, w, h);
@@ -427,9 +467,20 @@ fn render(
     let floor: Vec<u8> = (0..n)
         .map(|p| floor_pixel(&cam.origin(p as u32 % w, p as u32 / w), &cam.back, rmax))
         .collect();
+    // the ellipsoid's lowest point; with contact spheres, the contact point the run wrote
+    // (on whichever surface touches)
+    let written = (!shape.spheres.is_empty())
+        .then(|| table.contact_path())
+        .flatten();
     let trace: Vec<(f64, f64)> = (0..t.len())
         .map(|i| {
-            let c = shape.contact_point([x[i], y[i], z[i]], theta[i], phi[i], psi[i]);
+            let c = match &written {
+                Some((cx, cy)) => [cx[i], cy[i]],
+                None => {
+                    let c = shape.contact_point([x[i], y[i], z[i]], theta[i], phi[i], psi[i]);
+                    [c[0], c[1]]
+                }
+            };
             cam.pixel(&Vector3::new(c[0], c[1], 0.0))
         })
         .collect();
@@ -451,7 +502,7 @@ fn render(
         let mut mask = vec![false; n];
         // only pixels near the body can show it
         let (cx, cy) = cam.pixel(&pose.c0);
-        let reach = rmax * cam.scale + 2.0;
+        let reach = reach0 * cam.scale + 2.0;
         let (i0, i1) = (
             (cx - reach).max(0.0) as u32,
             ((cx + reach).ceil().max(0.0) as u32).min(w),
@@ -528,6 +579,7 @@ mod tests {
         let shape = Shape {
             semi_axes: [1.0; 3],
             com_offset: [0.0; 3],
+            spheres: Vec::new(),
         };
         let cam = Camera::fit(
             Vector3::new(-3.0, -3.0, 0.0),
@@ -547,6 +599,38 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A body with a contact sphere (a peg hanging below the ellipsoid): the ray through the
+    /// peg's lowest part hits it, in the sphere's colour; the ray through the ellipsoid's
+    /// centre hits the ellipsoid; one beside both hits nothing.
+    #[test]
+    fn a_contact_sphere_is_drawn_beside_the_ellipsoid() {
+        let shape = Shape {
+            semi_axes: [1.0; 3],
+            com_offset: [0.0; 3],
+            spheres: vec![crate::table::SphereShape {
+                name: "peg".into(),
+                center: [0.0, 0.0, -2.0],
+                radius: 0.5,
+            }],
+        };
+        let cam = Camera::fit(
+            Vector3::new(-4.0, -4.0, 0.0),
+            Vector3::new(4.0, 4.0, 4.0),
+            200,
+            200,
+        );
+        // upright: the peg hangs 2 m below the ellipsoid's centre
+        let pose = Pose::new(&shape, Vector3::new(0.0, 0.0, 2.5), 0.0, 0.0, 0.0);
+        let colour = |p: Vector3<f64>| {
+            let (x, y) = cam.pixel(&p);
+            body_pixel(&shape, &pose, &cam.origin(x as u32, y as u32), &cam.back)
+                .map(|c| (c - BODY) / BODY_LEVELS)
+        };
+        assert_eq!(colour(Vector3::new(0.0, 0.0, 0.15)), Some(SPHERE_COLOUR));
+        assert!(colour(Vector3::new(0.0, 0.0, 2.5)).is_some_and(|c| c < SPHERE_COLOUR));
+        assert_eq!(colour(Vector3::new(3.0, 3.0, 0.0)), None);
     }
 
     #[test]

@@ -33,7 +33,9 @@ pub const COMMENT: &str = "# ellipsoid ";
 /// The comment line of a run of `scenario` (without its newline): the scenario's file name
 /// (never its directories) and its body's shape, so that `ellipsoid view`, `plot` and
 /// `animate` draw the body from the CSV alone, e.g.
-/// `# ellipsoid {"scenario":"tippe-top.toml","semi_axes":[0.015,0.015,0.015],"com_offset":[0.0,0.0,-0.003]}`.
+/// `# ellipsoid {"scenario":"tippe-top.toml","semi_axes":[0.015,0.015,0.015],"com_offset":[0.0,0.0,-0.003]}`;
+/// a body with contact spheres adds them (body axes, from the ellipsoid's centre, m):
+/// `…,"spheres":[{"name":"stem","center":[0.0,0.0,0.013],"radius":0.005}]}`.
 pub fn comment(scenario: &Scenario) -> String {
     let name = Path::new(&scenario.source).file_name().map_or_else(
         || scenario.source.clone(),
@@ -41,11 +43,22 @@ pub fn comment(scenario: &Scenario) -> String {
     );
     let body = &scenario.scene.body;
     let (a, g) = (body.semi_axes(), body.com_offset());
-    let json = serde_json::json!({
+    let mut json = serde_json::json!({
         "scenario": name,
         "semi_axes": [a.x, a.y, a.z],
         "com_offset": [g.x, g.y, g.z],
     });
+    if !body.spheres().is_empty() {
+        let spheres: Vec<serde_json::Value> = body
+            .spheres()
+            .iter()
+            .map(|s| {
+                let c = s.center;
+                serde_json::json!({ "name": s.name, "center": [c.x, c.y, c.z], "radius": s.radius })
+            })
+            .collect();
+        json["spheres"] = spheres.into();
+    }
     format!("{COMMENT}{json}")
 }
 

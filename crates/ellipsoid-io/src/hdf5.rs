@@ -122,7 +122,7 @@ const MODE_LEN: usize = 12;
 
 /// Longest mode label of a body with contact spheres ("two_contacts@" and two names of
 /// at most `body::MAX_NAME` bytes joined by "+").
-const LABEL_LEN: usize = 64;
+pub(crate) const LABEL_LEN: usize = 64;
 
 /// A `mode` column: a code per row into the labels met, in order of first appearance.
 #[derive(Default)]

@@ -26,6 +26,8 @@ pub struct Declaration {
     pub euler_singular_suffix: String,
     /// Colour of a panel of one output column (`--columns`).
     pub column_color: String,
+    /// Colours of the lines of a per-surface series (`QUANTITY_*`), surface by surface.
+    pub surface_colors: Vec<String>,
     pub panels: Vec<Panel>,
 }
 
@@ -52,6 +54,9 @@ pub struct Panel {
     pub needs: Vec<String>,
     /// One or two axes, left to right.
     pub axes: Vec<Axis>,
+    /// It draws per-surface columns: drawn by default only for a trajectory that has them.
+    #[serde(default)]
+    pub per_surface: bool,
 }
 
 /// One axes of a panel.
@@ -108,26 +113,41 @@ impl Declaration {
         self.panels.iter().map(|p| p.name.as_str()).collect()
     }
 
-    /// The shading of `mode` (the last entry for a mode not listed).
+    /// The shading of `mode`, by its contact phase (the label before `@`: `sliding@stem`
+    /// is shaded as sliding; the last entry for a phase not listed).
     pub fn shade(&self, mode: &str) -> &ModeShade {
+        let phase = phase(mode);
         self.modes
             .iter()
-            .find(|m| m.mode == mode)
+            .find(|m| m.mode == phase)
             .unwrap_or_else(|| self.modes.last().expect("modes declared"))
     }
 
     /// The suffix of a shaded axis's title for the modes present, e.g.
-    /// " (shaded: sliding orange, rolling green)"; empty without modes.
+    /// " (shaded: sliding orange, rolling green)", each contact phase once; empty without
+    /// modes.
     pub fn shaded_title(&self, modes: &[&str]) -> String {
-        if modes.is_empty() {
+        let mut phases: Vec<&str> = Vec::new();
+        for m in modes.iter().map(|m| phase(m)) {
+            if !phases.contains(&m) {
+                phases.push(m);
+            }
+        }
+        if phases.is_empty() {
             return String::new();
         }
-        let names: Vec<String> = modes
+        let names: Vec<String> = phases
             .iter()
             .map(|m| format!("{m} {}", self.shade(m).name))
             .collect();
         self.shaded_suffix.replace("{modes}", &names.join(", "))
     }
+}
+
+/// The contact phase of a mode label: the label before `@` (`two_contacts@ellipsoid+stem`
+/// → `two_contacts`), the label itself without one.
+pub fn phase(mode: &str) -> &str {
+    mode.split_once('@').map_or(mode, |p| p.0)
 }
 
 /// `#rrggbb` as (r, g, b).
@@ -143,7 +163,10 @@ mod tests {
     #[test]
     fn the_declaration_parses_and_names_real_columns() {
         let d = declaration();
-        assert_eq!(d.names(), ["theta", "rates", "energy", "forces", "path"]);
+        assert_eq!(
+            d.names(),
+            ["theta", "rates", "energy", "forces", "surfaces", "path"]
+        );
         let columns: Vec<&str> = crate::columns::NUMERIC_COLUMNS
             .iter()
             .map(|c| c.0)
@@ -156,12 +179,18 @@ mod tests {
             "centre",
             "start",
         ];
+        // `QUANTITY_*`: a per-surface quantity.
+        let known = |c: &str| {
+            columns.contains(&c)
+                || c.strip_suffix("_*")
+                    .is_some_and(|q| crate::columns::SURFACE_COLUMNS.iter().any(|s| s.0 == q))
+        };
         for p in &d.panels {
-            assert!(p.needs.iter().all(|c| columns.contains(&c.as_str())));
+            assert!(p.needs.iter().all(|c| known(c)), "{}", p.name);
             assert!(!p.axes.is_empty() && p.axes.len() <= 2, "{}", p.name);
             for s in p.axes.iter().flat_map(|a| &a.series) {
                 assert!(
-                    columns.contains(&s.data.as_str()) || derived.contains(&s.data.as_str()),
+                    known(&s.data) || derived.contains(&s.data.as_str()),
                     "{}",
                     s.data
                 );
@@ -172,6 +201,17 @@ mod tests {
             d.shaded_title(&["sliding", "rolling"]),
             " (shaded: sliding orange, rolling green)"
         );
+        // A body with contact spheres: shaded by phase, each phase named once.
+        assert_eq!(
+            d.shaded_title(&[
+                "sliding@ellipsoid",
+                "sliding@stem",
+                "two_contacts@ellipsoid+stem"
+            ]),
+            " (shaded: sliding orange, two_contacts pink)"
+        );
+        assert_eq!(d.shade("rolling@peg").fill, d.shade("rolling").fill);
+        assert!(d.surface_colors.iter().all(|c| c.len() == 7));
         assert_eq!(rgb("#8040a0"), (0x80, 0x40, 0xa0));
     }
 }

@@ -1,7 +1,8 @@
 //! Trajectory files read back (CSV, and HDF5 with the `hdf5` feature) as named columns,
 //! with what the plots and the viewer need besides: the events (from a JSON summary or
-//! the summary stored in an HDF5 file) and the body's shape (from the scenario, when it
-//! can be found), so that the contact point can be placed on the plane.
+//! the summary stored in an HDF5 file) and the body's shape with its contact spheres
+//! (from a CSV's comment line, or the scenario, when it can be found), so that the body
+//! can be drawn and the contact point placed on the plane.
 //!
 //! Columns are read by name, so a file with more columns than this build writes (e.g.
 //! `omega_world_x`, `contact_x`, `drift`) is read whole, and one with fewer is read as
@@ -14,6 +15,8 @@ use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 
+use ellipsoid_core::body::MAX_NAME;
+use ellipsoid_core::columns::{NUMERIC_COLUMNS, SURFACE_COLUMNS};
 use ellipsoid_core::scenario::{self, MAX_SAMPLES};
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -67,13 +70,30 @@ pub struct Event {
 }
 
 /// The body's geometry, enough to draw it and place its contact point.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Shape {
     /// Semi-axes (a, b, c) along body x, y, z \[m\].
     pub semi_axes: [f64; 3],
     /// G − C0 in body axes \[m\].
     pub com_offset: [f64; 3],
+    /// The contact spheres fixed in the body (a tippe top's stem, a top's peg), in the
+    /// body's order; empty for a one-surface body.
+    pub spheres: Vec<SphereShape>,
 }
+
+/// A contact sphere of the body, as drawn.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SphereShape {
+    /// Its name (the per-surface columns and the modes name it).
+    pub name: String,
+    /// Its centre in body axes, from the ellipsoid's centre C0 \[m\].
+    pub center: [f64; 3],
+    /// Its radius \[m\].
+    pub radius: f64,
+}
+
+/// The name of the ellipsoid among a body's surfaces (the per-surface columns' suffix).
+pub const ELLIPSOID: &str = "ellipsoid";
 
 impl Shape {
     /// The world position of the contact point for G at `g` and z-x-z Euler angles
@@ -167,6 +187,53 @@ impl Table {
             .map(String::as_str)
     }
 
+    /// The columns of `quantity` (one of [`SURFACE_COLUMNS`], e.g. `normal_force`) per
+    /// surface, as (surface, values) in file order: `normal_force_ellipsoid`,
+    /// `normal_force_stem`, … (none for a one-surface body's file).
+    pub fn per_surface(&self, quantity: &str) -> Vec<(&str, &[f64])> {
+        self.columns
+            .iter()
+            .filter_map(|(name, v)| {
+                let (q, surface) = surface_column(name)?;
+                (q == quantity).then_some((surface, v.as_slice()))
+            })
+            .collect()
+    }
+
+    /// The surfaces that have per-surface columns, in file order, each once (`ellipsoid`,
+    /// then the contact spheres; none for a one-surface body's file).
+    pub fn surfaces(&self) -> Vec<&str> {
+        let mut out: Vec<&str> = Vec::new();
+        for (_, s) in self.columns.iter().filter_map(|c| surface_column(&c.0)) {
+            if !out.contains(&s) {
+                out.push(s);
+            }
+        }
+        out
+    }
+
+    /// The surfaces of the body in contact at row `i`, as bits over `surfaces` (bit k for
+    /// `surfaces[k]`): those the row's mode names after `@` (`sliding@stem`,
+    /// `two_contacts@ellipsoid+stem`); for a row whose mode names none (`flight`, or a
+    /// file without a mode column), those whose `gap_S` column is 0.
+    pub fn in_contact(&self, i: usize, surfaces: &[&str]) -> u32 {
+        let bits = |touching: &dyn Fn(&str) -> bool| {
+            surfaces
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| touching(s))
+                .fold(0u32, |m, (k, _)| m | 1 << k)
+        };
+        if let Some((_, list)) = self.mode(i).and_then(|m| m.split_once('@')) {
+            return bits(&|s| list.split('+').any(|n| n == s));
+        }
+        bits(&|s| {
+            self.column(&format!("gap_{s}"))
+                .and_then(|g| g.get(i))
+                .is_some_and(|g| *g == 0.0)
+        })
+    }
+
     /// The contact point's horizontal path: the `contact_x`, `contact_y` columns when the
     /// file has them, else computed from G, the Euler angles and the shape; `None` if
     /// neither is possible.
@@ -174,7 +241,7 @@ impl Table {
         if let (Some(x), Some(y)) = (self.column("contact_x"), self.column("contact_y")) {
             return Some((x.to_vec(), y.to_vec()));
         }
-        let shape = self.shape?;
+        let shape = self.shape.as_ref()?;
         let cols = self
             .require(&["x", "y", "z", "theta", "phi", "psi"], "the contact path")
             .ok()?;
@@ -199,6 +266,7 @@ impl Table {
     pub fn centre_path(&self) -> Option<(Vec<f64>, Vec<f64>)> {
         let shape = self
             .shape
+            .as_ref()
             .filter(|s| s.com_offset.iter().any(|v| *v != 0.0))?;
         let cols = self
             .require(&["x", "y", "theta", "phi", "psi"], "the centre path")
@@ -314,12 +382,14 @@ impl Table {
         }
     }
 
-    /// Sets the scenario's name and the body's shape from the JSON of a CSV file's comment
-    /// line (`ellipsoid_io::csv::comment`); a comment that does not parse changes nothing
-    /// (a summary can still give them).
-    pub fn apply_comment(&mut self, json: &str) {
+    /// Sets the scenario's name and the body's shape, with its contact spheres, from the
+    /// JSON of a CSV file's comment line (`ellipsoid_io::csv::comment`); a comment that does
+    /// not parse changes nothing (a summary can still give them). A comment that gives a
+    /// body and a `spheres` list that is not one a body may have (see [`comment_spheres`])
+    /// is an error, the rule it breaks.
+    pub fn apply_comment(&mut self, json: &str) -> Result<(), String> {
         let Ok(v) = serde_json::from_str::<Value>(json) else {
-            return;
+            return Ok(());
         };
         let triple = |key: &str| -> Option<[f64; 3]> {
             let a = v.get(key)?.as_array()?;
@@ -336,9 +406,14 @@ impl Table {
         if let (Some(semi_axes), Some(com_offset)) = (triple("semi_axes"), triple("com_offset"))
             && semi_axes.iter().all(|a| *a > 0.0)
         {
+            let spheres = match v.get("spheres") {
+                Some(list) => comment_spheres(list, semi_axes, com_offset)?,
+                None => Vec::new(),
+            };
             self.shape = Some(Shape {
                 semi_axes,
                 com_offset,
+                spheres,
             });
             self.shape_note = format!(
                 "body from the file's comment line ({})",
@@ -348,6 +423,7 @@ impl Table {
         if name.is_some() {
             self.scenario = name;
         }
+        Ok(())
     }
 
     /// Sets the events and status from a run summary, nothing else.
@@ -369,12 +445,77 @@ impl Table {
         self.shape = Some(Shape {
             semi_axes: [a.x, a.y, a.z],
             com_offset: [g.x, g.y, g.z],
+            spheres: body.spheres().iter().map(SphereShape::of).collect(),
         });
         let name = Path::new(source)
             .file_name()
             .map_or_else(|| source.into(), |n| n.to_string_lossy());
         self.shape_note = format!("body from {name}");
     }
+}
+
+impl SphereShape {
+    /// The drawing of a body's contact sphere.
+    fn of(s: &ellipsoid_core::body::Sphere) -> SphereShape {
+        SphereShape {
+            name: s.name.clone(),
+            center: [s.center.x, s.center.y, s.center.z],
+            radius: s.radius,
+        }
+    }
+}
+
+/// The `spheres` list of a CSV comment line, `[{"name": …, "center": [x, y, z], "radius": …}]`
+/// for the body of `semi_axes` and `com_offset`: entries with exactly these keys, at most
+/// `body::MAX_SPHERES`, and values a body may have (`Body::with_spheres`: names unique
+/// words of at most `body::MAX_NAME` bytes, centres finite, radii positive lengths). The
+/// error names the entry, its value and the rule.
+pub fn comment_spheres(
+    list: &Value,
+    semi_axes: [f64; 3],
+    com_offset: [f64; 3],
+) -> Result<Vec<SphereShape>, String> {
+    use ellipsoid_core::body::{Body, MAX_SPHERES, Sphere, uniform_inertia};
+    let entries = list
+        .as_array()
+        .ok_or("the comment line's `spheres` is not a list")?;
+    if entries.len() > MAX_SPHERES {
+        return Err(format!(
+            "the comment line's `spheres` has {} entries; a body has at most {MAX_SPHERES} contact spheres",
+            entries.len()
+        ));
+    }
+    let mut spheres = Vec::with_capacity(entries.len());
+    for (k, e) in entries.iter().enumerate() {
+        let bad = |rule: &str| format!("the comment line's spheres[{k}]: {rule}");
+        let fields = e
+            .as_object()
+            .filter(|o| o.len() == 3)
+            .ok_or_else(|| bad("expected {\"name\", \"center\", \"radius\"}"))?;
+        let name = fields.get("name").and_then(Value::as_str);
+        let center: Option<Vec<f64>> = fields
+            .get("center")
+            .and_then(Value::as_array)
+            .and_then(|c| c.iter().map(Value::as_f64).collect());
+        let radius = fields.get("radius").and_then(Value::as_f64);
+        let (Some(name), Some(center), Some(radius)) = (name, center, radius) else {
+            return Err(bad(
+                "expected {\"name\": text, \"center\": [x, y, z], \"radius\": a number}",
+            ));
+        };
+        let center = <[f64; 3]>::try_from(center)
+            .map_err(|c| bad(&format!("center has {} coordinates, not 3", c.len())))?;
+        spheres.push(Sphere {
+            name: name.to_owned(),
+            center: Vector3::from(center),
+            radius,
+        });
+    }
+    let a = Vector3::from(semi_axes);
+    Body::new(a, 1.0, uniform_inertia(a, 1.0), Vector3::from(com_offset))
+        .and_then(|b| b.with_spheres(spheres))
+        .map(|b| b.spheres().iter().map(SphereShape::of).collect())
+        .map_err(|e| format!("the comment line's body: {e}"))
 }
 
 fn mode_index(names: &mut Vec<String>, mode: &str) -> u8 {
@@ -452,6 +593,8 @@ pub fn read(path: &Path) -> Result<Table, ReadError> {
 /// [`read`], keeping only the columns named in `keep` (and `t` and `mode`) when it is
 /// given: a caller that draws a few columns holds those alone (a 10⁷-row file of 27
 /// columns is 2.2 GB of f64 in memory, a dozen of them 1 GB). The others are not parsed.
+/// A name `QUANTITY_*` keeps that quantity's column of every surface
+/// (`normal_force_*`: `normal_force_ellipsoid`, `normal_force_stem`, …).
 pub fn read_columns(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> {
     let ext = path
         .extension()
@@ -477,7 +620,7 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
     let mut reader = BufReader::with_capacity(1 << 16, file.take(MAX_FILE_BYTES));
     let mut line = String::new();
     // Comment lines before the header: ours names the scenario and its body.
-    let (mut lineno, mut comment) = (0u64, None);
+    let (mut lineno, mut comment) = (0u64, None::<(u64, String)>);
     loop {
         line.clear();
         let n = reader
@@ -495,7 +638,7 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
             break;
         }
         if let Some(json) = line.strip_prefix(crate::csv::COMMENT) {
-            comment = Some(json.trim().to_owned());
+            comment = Some((lineno, json.trim().to_owned()));
         }
     }
     let header_line = lineno;
@@ -532,7 +675,7 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
         ));
     }
     let mode_col = seen.get("mode").copied();
-    let kept = |name: &str| name == "t" || keep.is_none_or(|k| k.contains(&name));
+    let kept = |name: &str| name == "t" || keeps(keep, name);
     let mut columns: Vec<(String, Vec<f64>)> = header
         .iter()
         .enumerate()
@@ -640,10 +783,48 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
         shape_note: "body unknown: pass the run's --summary FILE.json (or an .h5 file) to draw the body and its contact point".to_owned(),
         ..Default::default()
     };
-    if let Some(json) = comment {
-        table.apply_comment(&json);
+    if let Some((line, json)) = comment {
+        table
+            .apply_comment(&json)
+            .map_err(|rule| ReadError::format(path, Some(line), rule))?;
     }
     Ok(table)
+}
+
+/// Whether the column `name` is among those `keep` names (all when `None`; see
+/// [`read_columns`] for `QUANTITY_*`).
+pub fn keeps(keep: Option<&[&str]>, name: &str) -> bool {
+    keep.is_none_or(|k| {
+        k.iter().any(|&p| match p.strip_suffix("_*") {
+            Some(quantity) => surface_column(name).is_some_and(|(q, _)| q == quantity),
+            None => p == name,
+        })
+    })
+}
+
+/// A per-surface column's name split into its quantity (one of [`SURFACE_COLUMNS`]) and
+/// its surface (a word: `ellipsoid`, or a contact sphere's name): `contact_x_stem` →
+/// (`contact_x`, `stem`); `None` for any other name.
+pub fn surface_column(name: &str) -> Option<(&'static str, &str)> {
+    SURFACE_COLUMNS.iter().find_map(|&(q, _)| {
+        let surface = name.strip_prefix(q)?.strip_prefix('_')?;
+        let word = |c: char| c.is_ascii_alphanumeric() || c == '_';
+        (!surface.is_empty() && surface.len() <= MAX_NAME && surface.chars().all(word))
+            .then_some((q, surface))
+    })
+}
+
+/// The unit of the output column `name`: a fixed column's, or a per-surface column's
+/// (`normal_force_stem`: N); `None` for any other name.
+pub fn unit(name: &str) -> Option<&'static str> {
+    NUMERIC_COLUMNS
+        .iter()
+        .find(|c| c.0 == name)
+        .map(|c| c.1)
+        .or_else(|| {
+            let (q, _) = surface_column(name)?;
+            SURFACE_COLUMNS.iter().find(|c| c.0 == q).map(|c| c.1)
+        })
 }
 
 fn bad_text(path: &Path, line: u64, e: std::io::Error) -> ReadError {
@@ -711,9 +892,7 @@ fn read_hdf5(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> {
     let mut columns = Vec::new();
     let mut modes = None;
     let mut mode_names = Vec::new();
-    let kept = |name: &str| {
-        name == "t" || name == crate::columns::MODE || keep.is_none_or(|k| k.contains(&name))
-    };
+    let kept = |name: &str| name == "t" || name == crate::columns::MODE || keeps(keep, name);
     for name in names
         .split(',')
         .map(str::trim)
@@ -738,7 +917,9 @@ fn read_hdf5(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> {
         }
         crate::hdf5::check_filters(&ds, name).map_err(|e| ReadError::format(path, None, e))?;
         if name == crate::columns::MODE {
-            let raw = ds.read_raw::<FixedAscii<32>>().map_err(fail)?;
+            let raw = ds
+                .read_raw::<FixedAscii<{ crate::hdf5::LABEL_LEN }>>()
+                .map_err(fail)?;
             modes = Some(
                 raw.iter()
                     .map(|m| mode_index(&mut mode_names, m.as_str()))
@@ -876,6 +1057,160 @@ mod tests {
         }
     }
 
+    fn bundled(name: &str) -> ellipsoid_core::scenario::Scenario {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../scenarios")
+            .join(name);
+        scenario::load(&path, &[] as &[String]).unwrap()
+    }
+
+    /// The comment line `ellipsoid run` writes carries a body's contact spheres, and they
+    /// read back as the scenario gives them; a one-surface body's line is as it always
+    /// was (the format its readers know).
+    #[test]
+    fn csv_comment_carries_the_spheres_and_they_read_back() {
+        let dir = tempfile::tempdir().unwrap();
+        let one = crate::csv::comment(&bundled("tippe-top.toml"));
+        assert_eq!(
+            one,
+            r#"# ellipsoid {"scenario":"tippe-top.toml","semi_axes":[0.015,0.015,0.015],"com_offset":[0.0,0.0,-0.003]}"#
+        );
+        let p = write(dir.path(), "one.csv", &format!("{one}\nt,x\n0,1\n"));
+        assert!(read(&p).unwrap().shape.unwrap().spheres.is_empty());
+        let stem = crate::csv::comment(&bundled("tippe-top-stem.toml"));
+        assert!(
+            stem.ends_with(
+                r#","spheres":[{"name":"stem","center":[0.0,0.0,0.013],"radius":0.005}]}"#
+            ),
+            "{stem}"
+        );
+        let p = write(dir.path(), "stem.csv", &format!("{stem}\nt,x\n0,1\n"));
+        let shape = read(&p).unwrap().shape.unwrap();
+        assert_eq!(
+            shape.spheres,
+            [SphereShape {
+                name: "stem".into(),
+                center: [0.0, 0.0, 0.013],
+                radius: 0.005
+            }]
+        );
+        assert_eq!(shape.semi_axes, [0.015; 3]);
+    }
+
+    /// A comment line whose spheres are not a body's is refused, naming the line, the
+    /// entry and the rule; nothing panics.
+    #[test]
+    fn a_hostile_spheres_list_is_a_clear_error() {
+        let dir = tempfile::tempdir().unwrap();
+        let body = r#""semi_axes":[0.015,0.015,0.015],"com_offset":[0.0,0.0,-0.003]"#;
+        let sphere = |name: &str, center: &str, radius: &str| {
+            format!(r#"{{"name":{name},"center":{center},"radius":{radius}}}"#)
+        };
+        let ok = sphere("\"stem\"", "[0,0,0.013]", "0.005");
+        let nine = vec![ok.clone(); 9].join(",");
+        let many: Vec<String> = (0..9)
+            .map(|k| sphere(&format!("\"s{k}\""), "[0,0,0.013]", "0.005"))
+            .collect();
+        let cases = [
+            ("{}".to_owned(), "`spheres` is not a list"),
+            (
+                format!("[{}]", many.join(",")),
+                "has 9 entries; a body has at most 8",
+            ),
+            (format!("[{nine}]"), "at most 8"),
+            (format!("[{ok},{ok}]"), "names must be unique"),
+            (
+                format!("[{}]", sphere("\"ellipsoid\"", "[0,0,0]", "0.005")),
+                "not \"ellipsoid\"",
+            ),
+            (
+                format!("[{}]", sphere("\"a b\"", "[0,0,0]", "0.005")),
+                "body.sphere[0].name = \"a b\": a sphere's name is 1 to 24",
+            ),
+            (
+                format!("[{}]", sphere("\"stem\"", "[0,0,0]", "-0.005")),
+                "body.sphere[0].radius = -0.005",
+            ),
+            (
+                format!("[{}]", sphere("\"stem\"", "[0,0,0]", "1e300")),
+                "a sphere's radius must be a length",
+            ),
+            (
+                format!("[{}]", sphere("\"stem\"", "[0,1e300,0]", "0.005")),
+                "a sphere's centre must be finite",
+            ),
+            (
+                format!("[{}]", sphere("\"stem\"", "[0,0]", "0.005")),
+                "spheres[0]: center has 2 coordinates, not 3",
+            ),
+            (
+                format!("[{}]", sphere("\"stem\"", "[0,0,0]", "\"big\"")),
+                "spheres[0]: expected {\"name\": text",
+            ),
+            (
+                r#"[{"name":"stem","center":[0,0,0],"radius":0.005,"colour":1}]"#.to_owned(),
+                "spheres[0]: expected {\"name\", \"center\", \"radius\"}",
+            ),
+            (r#"[17]"#.to_owned(), "spheres[0]: expected"),
+        ];
+        for (k, (spheres, rule)) in cases.iter().enumerate() {
+            let text = format!("# ellipsoid {{{body},\"spheres\":{spheres}}}\nt,x\n0,1\n");
+            let p = write(dir.path(), &format!("h{k}.csv"), &text);
+            let err = read(&p).unwrap_err().to_string();
+            assert!(
+                err.starts_with(&format!("{}:1: the comment line's", p.display()))
+                    && err.contains(rule),
+                "{spheres}: {err}"
+            );
+        }
+    }
+
+    #[test]
+    fn per_surface_columns_and_the_surfaces_in_contact() {
+        let names = [
+            "t",
+            "gap",
+            "normal_force_ellipsoid",
+            "gap_ellipsoid",
+            "normal_force_stem",
+            "gap_stem",
+        ];
+        let rows = [
+            ([0.0, 0.0, 0.06, 0.0, 0.0, 0.01], "sliding@ellipsoid"),
+            (
+                [1.0, 0.0, 0.02, 0.0, 0.04, 0.0],
+                "two_contacts@ellipsoid+stem",
+            ),
+            ([2.0, 0.0, 0.0, 0.002, 0.06, 0.0], "sliding@stem"),
+            ([3.0, 0.001, 0.0, 0.003, 0.0, 0.001], "flight"),
+        ];
+        let mut t = Table::from_rows("m", &names, 4, |i| (rows[i].0.to_vec(), rows[i].1.into()));
+        let forces = t.per_surface("normal_force");
+        assert_eq!(
+            forces.iter().map(|f| f.0).collect::<Vec<_>>(),
+            ["ellipsoid", "stem"]
+        );
+        assert_eq!(forces[1].1, [0.0, 0.04, 0.06, 0.0]);
+        assert_eq!(t.surfaces(), ["ellipsoid", "stem"]);
+        let surfaces = ["ellipsoid", "stem"];
+        let bits: Vec<u32> = (0..4).map(|i| t.in_contact(i, &surfaces)).collect();
+        assert_eq!(bits, [0b01, 0b11, 0b10, 0b00]);
+        // Without modes, a surface touches where its gap is 0.
+        t.modes = None;
+        let bits: Vec<u32> = (0..4).map(|i| t.in_contact(i, &surfaces)).collect();
+        assert_eq!(bits, [0b01, 0b11, 0b10, 0b00]);
+        assert_eq!(unit("normal_force_stem"), Some("N"));
+        assert_eq!(unit("contact_y_peg_2"), Some("m"));
+        assert_eq!(unit("normal_force"), Some("N"));
+        assert_eq!(unit("normal_force_"), None);
+        assert_eq!(unit("normal_force_a-b"), None);
+        assert_eq!(
+            surface_column("contact_x_stem"),
+            Some(("contact_x", "stem"))
+        );
+        assert!(keeps(Some(&["gap_*"]), "gap_stem") && !keeps(Some(&["gap_*"]), "gap"));
+    }
+
     #[test]
     fn csv_errors_name_the_file_line_column_and_value() {
         let dir = tempfile::tempdir().unwrap();
@@ -945,6 +1280,7 @@ mod tests {
         let s = Shape {
             semi_axes: [0.1; 3],
             com_offset: [0.0, 0.0, -0.02],
+            spheres: Vec::new(),
         };
         let theta: f64 = 0.7;
         // C0 is at G + R(0,0,0.02); the contact point at C0 − 0.1 e3.
@@ -967,6 +1303,7 @@ mod tests {
         t.shape = Some(Shape {
             semi_axes: [0.1; 3],
             com_offset: [0.0, 0.0, -0.02],
+            spheres: Vec::new(),
         });
         let (x, y) = t.centre_path().unwrap();
         // C0 = G + 0.02 e3*, e3* = (sin φ sin θ, −cos φ sin θ, cos θ).
@@ -978,6 +1315,7 @@ mod tests {
         t.shape = Some(Shape {
             semi_axes: [0.1; 3],
             com_offset: [0.0; 3],
+            spheres: Vec::new(),
         });
         assert!(t.centre_path().is_none(), "C0 is G");
     }

@@ -1,8 +1,10 @@
 //! The 3-D viewer: one self-contained HTML page (no network: three.js r170 and its MIT
 //! licence are inlined from `assets/three/`, the trajectory is embedded) showing the
 //! body as it is — its semi-axes, meridians and an equatorial band that make the spin
-//! visible, the symmetry axis and G — on the plane with the trace of the contact point;
-//! play/pause, speed, a time slider, events, and θ(t) and energy plots whose cursor
+//! visible, the symmetry axis and G, and its contact spheres (a tippe top's stem, a top's
+//! peg), each surface marked while it touches the plane — on the plane with the trace of
+//! the contact point; play/pause, speed, a time slider, events, and θ(t) and energy plots
+//! (and, for a body with contact spheres, the normal force of each surface) whose cursor
 //! follows the 3-D view. Shared by `ellipsoid view` and Python's `Trajectory.view()`.
 //!
 //! Decimation: at most [`MAX_FRAMES`] poses, spread evenly in time, plus the samples on
@@ -10,7 +12,7 @@
 //! plots get the min/max envelope of every sample in [`PLOT_BUCKETS`] buckets, so no peak
 //! is lost. A 10⁶-sample run makes a page of about 2 MB.
 
-use crate::table::Table;
+use crate::table::{self, ELLIPSOID, Table};
 
 /// Most poses embedded in a page (plus the samples kept around events).
 pub const MAX_FRAMES: usize = 20_000;
@@ -151,22 +153,40 @@ pub const COLUMNS: [&str; 9] = [
 ];
 
 /// The columns the page with side plots `plots` draws from: [`COLUMNS`], the plots' own,
-/// and `work` for the energy's E + W.
+/// `work` for the energy's E + W, and every surface's gap (which surfaces touch, where the
+/// mode does not say).
 pub fn columns<'a>(plots: &[&'a str]) -> Vec<&'a str> {
     let mut cols: Vec<&str> = COLUMNS.to_vec();
     cols.extend_from_slice(plots);
     if plots.contains(&"energy") {
         cols.push("work");
     }
+    cols.push("gap_*");
     cols
 }
 
 /// The side plots a page shows unless asked otherwise: θ(t) and the energy.
 pub const DEFAULT_PLOTS: [&str; 2] = ["theta", "energy"];
 
+/// The side plot of every surface's normal force, one line each.
+pub const SURFACE_FORCES: &str = "normal_force_*";
+
+/// The side plots of a page of `table` unless asked otherwise: [`DEFAULT_PLOTS`], and for
+/// a body with contact spheres the normal force of each surface ([`SURFACE_FORCES`]).
+pub fn default_plots(table: &Table) -> Vec<String> {
+    let mut plots: Vec<String> = DEFAULT_PLOTS.map(String::from).to_vec();
+    if !table.per_surface("normal_force").is_empty() {
+        plots.push(SURFACE_FORCES.into());
+    }
+    plots
+}
+
 /// Checks the side plots asked for, comma-separated: numeric output columns other than `t`
-/// (`energy` gets E + W too), no repeats, at most six. The error is the rule broken (the
-/// caller names its flag or argument).
+/// (`energy` gets E + W too), a body's per-surface columns (`normal_force_stem`), or
+/// `QUANTITY_*`, that quantity of every surface in one plot (`normal_force_*`); no
+/// repeats, at most six. The error is the rule broken (the caller names its flag or
+/// argument). Whether the run has a per-surface column is known once it is read
+/// ([`html`] leaves out a column the run lacks).
 pub fn parse_plots(spec: &str) -> Result<Vec<String>, String> {
     let names: Vec<&str> = crate::columns::NUMERIC_COLUMNS[1..]
         .iter()
@@ -174,10 +194,18 @@ pub fn parse_plots(spec: &str) -> Result<Vec<String>, String> {
         .collect();
     let mut out: Vec<String> = Vec::new();
     for name in spec.split(',').map(str::trim) {
-        if !names.contains(&name) {
+        let every_surface = name
+            .strip_suffix("_*")
+            .is_some_and(|q| crate::columns::SURFACE_COLUMNS.iter().any(|c| c.0 == q));
+        if !names.contains(&name) && !every_surface && table::surface_column(name).is_none() {
+            let quantities: Vec<&str> = crate::columns::SURFACE_COLUMNS
+                .iter()
+                .map(|c| c.0)
+                .collect();
             return Err(format!(
-                "{name:?} is not a numeric output column; the columns are {}",
-                names.join(", ")
+                "{name:?} is not a numeric output column; the columns are {}, and for a body with contact spheres {}_S of each surface S (or QUANTITY_* for all of them)",
+                names.join(", "),
+                quantities.join("_S, ")
             ));
         }
         if out.iter().any(|o| o == name) {
@@ -189,6 +217,29 @@ pub fn parse_plots(spec: &str) -> Result<Vec<String>, String> {
         return Err(format!("{} columns asked for; at most 6", out.len()));
     }
     Ok(out)
+}
+
+/// Checks that the run in `table` has the per-surface columns among `plots` (which
+/// [`parse_plots`] can only check by their form): the error names the first one missing
+/// and the surfaces the run has.
+pub fn check_plots(table: &Table, plots: &[&str]) -> Result<(), String> {
+    for name in plots {
+        let quantity = match name.strip_suffix("_*") {
+            Some(q) => q,
+            None if table::surface_column(name).is_some() && table.column(name).is_none() => "",
+            None => continue,
+        };
+        if quantity.is_empty() || table.per_surface(quantity).is_empty() {
+            let surfaces = table.surfaces();
+            let has = if surfaces.is_empty() {
+                "no per-surface columns (its body has no contact spheres)".to_owned()
+            } else {
+                format!("the per-surface columns of {}", surfaces.join(", "))
+            };
+            return Err(format!("{name:?}: {} has {has}", table.source));
+        }
+    }
+    Ok(())
 }
 
 /// The energy's side plot: E, and E + W when work is dissipated; a conserving scene's
@@ -225,13 +276,58 @@ fn energy_plot(table: &Table, e: &[f64]) -> serde_json::Value {
 
 /// One side plot: `v` against `t` as its min/max envelope, named and labelled.
 fn plot_series(name: &str, label: &str, t: &[f64], v: &[f64]) -> serde_json::Value {
+    with_line(serde_json::json!({ "name": name, "label": label }), t, v)
+}
+
+/// `head` (a JSON object) with the line `v` against `t` as its min/max envelope: `n`
+/// points, `t` and `v` as base64 float32.
+fn with_line(mut head: serde_json::Value, t: &[f64], v: &[f64]) -> serde_json::Value {
     let (ts, vs) = envelope(t, v, PLOT_BUCKETS);
-    serde_json::json!({ "name": name, "label": label, "n": ts.len(), "t": b64_f32(ts.into_iter()), "v": b64_f32(vs.into_iter()) })
+    head["n"] = ts.len().into();
+    head["t"] = b64_f32(ts.into_iter()).into();
+    head["v"] = b64_f32(vs.into_iter()).into();
+    head
+}
+
+/// The side plot `QUANTITY_*`: that quantity of every surface, one line each named by its
+/// surface (`lines`, in file order); `None` when the run has no such columns.
+fn surfaces_plot(table: &Table, name: &str, quantity: &str) -> Option<serde_json::Value> {
+    let columns = table.per_surface(quantity);
+    if columns.is_empty() {
+        return None;
+    }
+    let lines: Vec<serde_json::Value> = columns
+        .iter()
+        .map(|(surface, v)| with_line(serde_json::json!({ "label": surface }), table.t(), v))
+        .collect();
+    let unit = table::unit(&format!("{quantity}_{ELLIPSOID}")).unwrap_or("1");
+    let label = format!("{quantity} of each surface ({unit})");
+    Some(serde_json::json!({ "name": name, "label": label, "lines": lines }))
+}
+
+/// The body's contact spheres and, per pose, which surfaces touch the plane (bit k of
+/// `touch[i]` for surface k of `names`: the ellipsoid, then the spheres), for the page's
+/// data; `None` for a one-surface body (its page is as it always was).
+fn surfaces_data(table: &Table, idx: &[usize]) -> Option<serde_json::Value> {
+    let shape = table.shape.as_ref().filter(|s| !s.spheres.is_empty())?;
+    let names: Vec<&str> = std::iter::once(ELLIPSOID)
+        .chain(shape.spheres.iter().map(|s| s.name.as_str()))
+        .collect();
+    let touch = b64_f32(idx.iter().map(|&i| f64::from(table.in_contact(i, &names))));
+    let spheres: Vec<serde_json::Value> = shape
+        .spheres
+        .iter()
+        .map(|s| serde_json::json!({ "name": s.name, "center": s.center, "radius": s.radius }))
+        .collect();
+    Some(serde_json::json!({ "names": names, "spheres": spheres, "touch": touch }))
 }
 
 /// The viewer page for `table`, titled `title`, with a side plot against time of each of
-/// `plots` (output columns, e.g. [`DEFAULT_PLOTS`]; `energy` with E + W, or its relative
-/// deviation when conserved; a column the table lacks is left out).
+/// `plots` (output columns, e.g. [`DEFAULT_PLOTS`] or [`default_plots`]; `energy` with
+/// E + W, or its relative deviation when conserved; `QUANTITY_*` that quantity of every
+/// surface, one line each; a column the table lacks is left out). A body with contact
+/// spheres carries them and, per pose, which surfaces touch the plane
+/// ([`Table::in_contact`]); a one-surface body's data is as it always was.
 pub fn html(table: &Table, title: &str, plots: &[&str]) -> Result<String, ViewError> {
     let need = ["t", "x", "y", "z", "theta", "phi", "psi"];
     let cols = table
@@ -256,27 +352,30 @@ pub fn html(table: &Table, title: &str, plots: &[&str]) -> Result<String, ViewEr
         );
     }
     let t = table.t();
-    let unit = |name: &str| {
-        crate::columns::NUMERIC_COLUMNS
-            .iter()
-            .find(|c| c.0 == name)
-            .map_or("1", |c| c.1)
-    };
     let plots: Vec<serde_json::Value> = plots
         .iter()
         .filter_map(|name| {
+            if let Some(quantity) = name.strip_suffix("_*") {
+                return surfaces_plot(table, name, quantity);
+            }
             let v = table.column(name)?;
             Some(match *name {
                 "energy" => energy_plot(table, v),
                 "theta" => plot_series(name, "θ (rad)", t, v),
-                _ => plot_series(name, &format!("{name} ({})", unit(name)), t, v),
+                _ => plot_series(
+                    name,
+                    &format!("{name} ({})", table::unit(name).unwrap_or("1")),
+                    t,
+                    v,
+                ),
             })
         })
         .collect();
     let shape = table
         .shape
+        .as_ref()
         .map(|s| serde_json::json!({ "semi_axes": s.semi_axes, "com_offset": s.com_offset }));
-    let data = serde_json::json!({
+    let mut data = serde_json::json!({
         "title": title,
         "rows": table.rows(),
         "t0": t[0],
@@ -290,6 +389,9 @@ pub fn html(table: &Table, title: &str, plots: &[&str]) -> Result<String, ViewEr
         "frames": frames,
         "plots": plots,
     });
+    if let Some(surfaces) = surfaces_data(table, &idx) {
+        data["surfaces"] = surfaces;
+    }
     // Inside a script element `</script` would end it and `<!--` change how it is parsed;
     // JSON never needs `<` outside strings, and inside them `\u003c` is the same text.
     let data = data.to_string().replace('<', "\\u003c");
@@ -513,6 +615,152 @@ mod tests {
             let err = parse_plots(spec).unwrap_err();
             assert!(err.starts_with(rule), "{err}");
         }
+    }
+
+    /// The page's embedded data.
+    fn data(page: &str) -> serde_json::Value {
+        let start = page
+            .find("<script type=\"application/json\" id=\"data\">")
+            .unwrap();
+        let json = &page[start..];
+        let json = &json[json.find('>').unwrap() + 1..json.find("</script>").unwrap()];
+        serde_json::from_str(json).unwrap()
+    }
+
+    /// [`table`] as a body with a contact sphere `stem` writes it: the stem takes the load
+    /// at row 4 (mode `two_contacts@ellipsoid+stem`) and alone from row 6 on.
+    fn with_stem() -> Table {
+        let mut t = table(10);
+        let stem: Vec<f64> = (0..10).map(|i| if i < 4 { 0.0 } else { 0.05 }).collect();
+        let ball: Vec<f64> = (0..10).map(|i| if i < 6 { 0.05 } else { 0.0 }).collect();
+        t.columns.push(("normal_force_ellipsoid".into(), ball));
+        t.columns.push(("normal_force_stem".into(), stem));
+        t.mode_names = vec![
+            "sliding@ellipsoid".into(),
+            "two_contacts@ellipsoid+stem".into(),
+            "sliding@stem".into(),
+        ];
+        t.modes = Some(
+            (0..10)
+                .map(|i| u8::from(i >= 4) + u8::from(i >= 6))
+                .collect(),
+        );
+        t.shape = Some(crate::table::Shape {
+            semi_axes: [0.015; 3],
+            com_offset: [0.0, 0.0, -0.003],
+            spheres: vec![crate::table::SphereShape {
+                name: "stem".into(),
+                center: [0.0, 0.0, 0.013],
+                radius: 0.005,
+            }],
+        });
+        t
+    }
+
+    /// A body with contact spheres: the page carries them and which surfaces touch per
+    /// pose, and by default the normal force of each surface, one line per surface; a
+    /// one-surface body's page carries none of it.
+    #[test]
+    fn a_body_with_spheres_carries_them_and_each_surface_s_normal_force() {
+        let t = with_stem();
+        let plots = default_plots(&t);
+        assert_eq!(plots, ["theta", "energy", "normal_force_*"]);
+        let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
+        let d = data(&html(&t, "x", &plots).unwrap());
+        let s = &d["surfaces"];
+        assert_eq!(s["names"], serde_json::json!(["ellipsoid", "stem"]));
+        assert_eq!(
+            s["spheres"],
+            serde_json::json!([{"name": "stem", "center": [0.0, 0.0, 0.013], "radius": 0.005}])
+        );
+        let touch: Vec<f32> = base64_decode(s["touch"].as_str().unwrap())
+            .chunks(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        assert_eq!(touch, [1., 1., 1., 1., 3., 3., 2., 2., 2., 2.]);
+        let forces = &d["plots"][2];
+        assert_eq!(forces["label"], "normal_force of each surface (N)");
+        let lines: Vec<&str> = forces["lines"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|l| l["label"].as_str().unwrap())
+            .collect();
+        assert_eq!(lines, ["ellipsoid", "stem"]);
+        // A per-surface column alone, with its unit.
+        let d = data(&html(&t, "x", &["normal_force_stem"]).unwrap());
+        assert_eq!(d["plots"][0]["label"], "normal_force_stem (N)");
+        // One surface: the page as it always was.
+        let one = table(10);
+        assert_eq!(default_plots(&one), DEFAULT_PLOTS);
+        let d = data(&html(&one, "x", &DEFAULT_PLOTS).unwrap());
+        assert!(d.get("surfaces").is_none());
+        assert_eq!(
+            d.as_object().unwrap().keys().collect::<Vec<_>>(),
+            [
+                "title",
+                "rows",
+                "t0",
+                "t1",
+                "status",
+                "shape",
+                "shape_note",
+                "contact",
+                "modes",
+                "events",
+                "frames",
+                "plots"
+            ]
+        );
+    }
+
+    #[test]
+    fn per_surface_plots_are_parsed_by_form_and_checked_against_the_run() {
+        assert_eq!(
+            parse_plots("theta, normal_force_stem, gap_*").unwrap(),
+            ["theta", "normal_force_stem", "gap_*"]
+        );
+        for (spec, rule) in [
+            ("wobble_*", "\"wobble_*\" is not a numeric output column"),
+            (
+                "normal_force_a-b",
+                "\"normal_force_a-b\" is not a numeric output column",
+            ),
+            ("gap_*,gap_*", "\"gap_*\" is named twice"),
+        ] {
+            let err = parse_plots(spec).unwrap_err();
+            assert!(err.starts_with(rule), "{err}");
+        }
+        let t = with_stem();
+        assert!(check_plots(&t, &["theta", "normal_force_stem", "normal_force_*"]).is_ok());
+        let err = check_plots(&t, &["normal_force_stme"]).unwrap_err();
+        assert!(
+            err.contains(
+                "\"normal_force_stme\": mem has the per-surface columns of ellipsoid, stem"
+            ),
+            "{err}"
+        );
+        let err = check_plots(&table(10), &["gap_*"]).unwrap_err();
+        assert!(err.contains("has no per-surface columns"), "{err}");
+    }
+
+    /// Decodes standard base64 (the inverse of [`base64`], for the tests).
+    fn base64_decode(s: &str) -> Vec<u8> {
+        const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+        let six: Vec<u32> = s
+            .bytes()
+            .filter(|c| *c != b'=')
+            .map(|c| A.iter().position(|a| *a == c).unwrap() as u32)
+            .collect();
+        let mut out = Vec::new();
+        for q in six.chunks(4) {
+            let n = q
+                .iter()
+                .enumerate()
+                .fold(0, |n, (k, v)| n | v << (18 - 6 * k));
+            out.extend(&n.to_be_bytes()[1..q.len()]);
+        }
+        out
     }
 
     #[test]

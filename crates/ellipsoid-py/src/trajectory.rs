@@ -259,22 +259,24 @@ impl Trajectory {
 
     /// The viewer page, titled `title` (default: the scenario's file name, as `ellipsoid
     /// view` titles it; never its directories), with the side plots `columns` (comma-
-    /// separated column names; default θ and the energy).
+    /// separated column names; default θ and the energy, and each surface's normal force
+    /// for a body with contact spheres).
     fn page(&self, py: Python<'_>, title: Option<&str>, columns: Option<&str>) -> PyResult<String> {
         let source = &self.scenario.inner.source;
         let name = Path::new(source)
             .file_name()
             .map_or_else(|| source.clone(), |n| n.to_string_lossy().into_owned());
+        let table = self.table();
         let plots = match columns {
-            None => ellipsoid_io::viewer::DEFAULT_PLOTS
-                .map(String::from)
-                .to_vec(),
+            None => ellipsoid_io::viewer::default_plots(&table),
             Some(spec) => ellipsoid_io::viewer::parse_plots(spec).map_err(|rule| {
                 errors::value_error(py, source, Some("columns"), Some(spec), rule)
             })?,
         };
         let plots: Vec<&str> = plots.iter().map(String::as_str).collect();
-        ellipsoid_io::viewer::html(&self.table(), title.unwrap_or(&name), &plots)
+        ellipsoid_io::viewer::check_plots(&table, &plots)
+            .map_err(|rule| errors::value_error(py, source, Some("columns"), columns, rule))?;
+        ellipsoid_io::viewer::html(&table, title.unwrap_or(&name), &plots)
             .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))
     }
 }
@@ -831,9 +833,12 @@ impl Trajectory {
     }
 
     /// The 3-D viewer page of this run (the same HTML as `ellipsoid view`): the body on the
-    /// plane with its contact trace, play/pause, speed, a time slider, side plots with a
-    /// linked cursor — θ(t) and the energy, or the output columns `columns` (a list, or a
-    /// comma-separated string, at most 6: `columns=["omega_world_z", "theta"]`); titled
+    /// plane with its contact trace (and its contact spheres, the surface touching the plane
+    /// marked green), play/pause, speed, a time slider, side plots with a linked cursor —
+    /// θ(t) and the energy (and each surface's normal force for a body with contact
+    /// spheres), or the output columns `columns` (a list, or a comma-separated string, at
+    /// most 6: `columns=["omega_world_z", "theta"]`; a per-surface column such as
+    /// `"normal_force_stem"`, or `"normal_force_*"` for every surface in one plot); titled
     /// `title` (default: the scenario's file name); self-contained (opens offline). Without `path`, returns
     /// the HTML text as an `ellipsoid._display.ViewerPage` (a `str` that Jupyter displays
     /// as the viewer, inline: 0.7–1.4 MB in the notebook). With `path`, writes it there
@@ -951,8 +956,9 @@ impl Trajectory {
 
     /// The multi-panel figure of `ellipsoid plot` drawn with matplotlib (needed; raises
     /// ImportError saying how to install it): `panels` a comma-separated string or a list
-    /// of "theta", "rates", "energy", "forces", "path" (default: all); or `columns`, any
-    /// numeric output columns (a list or a comma-separated string), one panel each. With
+    /// of "theta", "rates", "energy", "forces", "surfaces", "path" (default: all, "surfaces"
+    /// — each surface's normal force — only for a body with contact spheres); or `columns`,
+    /// any numeric output columns (a list or a comma-separated string), one panel each. With
     /// `ax` (a matplotlib Axes) it draws there instead: the columns, or one of the panels
     /// theta, rates, path. Returns the Figure (in Jupyter it displays itself; in a script
     /// it is pyplot's, for `plt.show()`; `fig.savefig("x.pdf")` for PDF).

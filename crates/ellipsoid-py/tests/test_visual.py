@@ -122,7 +122,8 @@ def test_both_renderers_draw_the_declared_panels_alike(cli: Path, tmp_path: Path
     fig = tippe_top().plot()
     from ellipsoid._plot import DECLARATION
 
-    assert len(fig.axes) == sum(len(p["axes"]) for p in DECLARATION["panels"])
+    # (the surfaces panel only for a body with contact spheres: see below)
+    assert len(fig.axes) == sum(len(p["axes"]) for p in DECLARATION["panels"] if not p.get("per_surface"))
     assert fig.get_suptitle() == "tippe-top.toml" and "tippe-top.toml" in texts
     titles = [ax.get_title() for ax in fig.axes]
     assert "Euler rates and the vertical spin (φ̇, ψ̇ left out where sin θ < 0.1)" in titles
@@ -188,3 +189,76 @@ def test_repr_html_runs_in_a_browser(tmp_path: Path) -> None:
         assert saturated.mean() > 0.01, "the iframe shows no body"
 
     cdp.with_page(check)
+
+
+def stem_top() -> ellipsoid.Trajectory:
+    """The tippe top with its stem, through the stem's touchdown (1.372 s)."""
+    return ellipsoid.simulate(str(SCENARIOS / "tippe-top-stem.toml"), output={"t_end": 1.6})
+
+
+def test_plot_draws_each_surface_s_normal_force() -> None:
+    """A body with contact spheres gets the surfaces panel: one line per surface, named by
+    it, its values the run's per-surface column; the contact phases shaded once each (the
+    `@` labels shaded by phase). A one-surface body has no such panel, and asking for it
+    says why."""
+    pytest.importorskip("matplotlib")
+    from ellipsoid._plot import DECLARATION
+
+    traj = stem_top()
+    fig = traj.plot()
+    assert len(fig.axes) == sum(len(p["axes"]) for p in DECLARATION["panels"])
+    surfaces = [ax for ax in fig.axes if ax.get_ylabel() == "normal force N_S (N)"]
+    assert len(surfaces) == 1
+    ax = surfaces[0]
+    # sliding@ellipsoid, then sliding@stem: one phase, named once
+    assert ax.get_title() == "normal force of each surface (shaded: sliding orange)"
+    lines = [ln for ln in ax.lines if not ln.get_label().startswith("_")]  # (events are unlabelled lines)
+    assert [ln.get_label() for ln in lines] == ["N, ellipsoid", "N, stem"]
+    assert [ln.get_color() for ln in lines] == DECLARATION["surface_colors"][:2]
+    import numpy as np
+
+    stem = lines[1].get_ydata()
+    assert np.array_equal(stem, traj["normal_force_stem"]) and stem[-1] > 0.05, "the stem carries the top at the end"
+    assert np.array_equal(lines[0].get_ydata(), traj["normal_force_ellipsoid"])
+    forces = [a for a in fig.axes if a.get_ylabel() == "normal force N (N)"][0]
+    assert "@" not in forces.get_title() and "sliding orange" in forces.get_title()
+    one = traj.plot(columns=["normal_force_stem"])
+    assert one.axes[0].get_ylabel() == "normal_force_stem (N)"
+    top = tippe_top()
+    assert not any(a.get_ylabel() == "normal force N_S (N)" for a in top.plot().axes)
+    with pytest.raises(ValueError, match="the surfaces panel needs the per-surface columns `normal_force_S`"):
+        top.plot("surfaces")
+
+
+def test_both_renderers_draw_the_surfaces_panel_alike(cli: Path, tmp_path: Path) -> None:
+    """`ellipsoid plot` of the stem scene's CSV draws the surfaces panel by default, with
+    the titles, labels and legend entries `Trajectory.plot` draws."""
+    pytest.importorskip("matplotlib")
+    run = [str(cli), "run", str(SCENARIOS / "tippe-top-stem.toml"), "--set", "output.t_end=1.6",
+           "-o", str(tmp_path / "run.csv"), "--summary", str(tmp_path / "run.json"), "-q"]
+    subprocess.run(run, check=True)
+    subprocess.run([str(cli), "plot", str(tmp_path / "run.csv"), "--summary", str(tmp_path / "run.json"),
+                    "-o", str(tmp_path / "fig.svg"), "--panels", "forces,surfaces", "-q"], check=True)
+    texts = svg_texts(tmp_path / "fig.svg")
+    fig = stem_top().plot("forces,surfaces")
+    for ax in fig.axes:
+        for text in [ax.get_title(), ax.get_ylabel()] + [t.get_text() for t in ax.get_legend().get_texts()]:
+            assert text in texts, f"matplotlib draws {text!r}, ellipsoid plot does not"
+
+
+def test_view_of_a_body_with_a_stem_is_the_command_line_s(cli: Path, tmp_path: Path) -> None:
+    """The stem scene's page: the same as `ellipsoid view` makes from the CSV and its
+    summary, carrying the stem and which surface touches, and by default
+    each surface's normal force; a per-surface column the run lacks is refused."""
+    scenario = str(SCENARIOS / "tippe-top-stem.toml")
+    subprocess.run([str(cli), "run", scenario, "-o", str(tmp_path / "s.csv"), "--summary", str(tmp_path / "s.json"),
+                    "--set", "output.t_end=1.6", "-q"], check=True)
+    subprocess.run([str(cli), "view", str(tmp_path / "s.csv"), "--summary", str(tmp_path / "s.json"),
+                    "-o", str(tmp_path / "cli.html"), "--title", "s", "-q"], check=True)
+    traj = stem_top()
+    page = traj.view(title="s")
+    assert page == (tmp_path / "cli.html").read_text(encoding="utf-8")
+    assert '"spheres":[{"name":"stem","center":[0.0,0.0,0.013],"radius":0.005}]' in page
+    assert '"name":"normal_force_*","label":"normal_force of each surface (N)"' in page
+    with pytest.raises(ellipsoid.ScenarioError, match="normal_force_stme"):
+        traj.view(columns="theta,normal_force_stme")

@@ -8,8 +8,9 @@ labels with units, series, colours and the contact-mode shading. Top to bottom: 
 φ̇ and ψ̇ are left out where sin θ < 0.1, near the z-x-z singularity at θ = 0 where they
 diverge as 1/sin θ), energy (E, E + W when work is dissipated, and the relative drift of
 the conserved quantity on a log axis), forces (normal force and slip speed with the
-contact mode shaded), path (the paths on the plane of G, the contact point and the
-geometric centre C0). Events are dashed vertical lines, labelled by kind in the first time
+contact mode shaded), surfaces (for a body with contact spheres: the normal force of each
+surface, one line each, the contact phase shaded), path (the paths on the plane of G, the
+contact point and the geometric centre C0). Events are dashed vertical lines, labelled by kind in the first time
 panel. SI units on every axis. Or any output columns, one panel each (`columns=`), or
 drawn into an existing matplotlib Axes (`ax=`), so figures compose.
 
@@ -26,6 +27,7 @@ from typing import Any
 import io
 import json
 import os
+import re
 import sys
 
 import numpy as np
@@ -91,9 +93,27 @@ def _names(key: str, value: Any) -> list[str]:
     raise _bad(key, value, f"expected a comma-separated str or a list of str, found {type(value).__name__}", True)
 
 
-def _panels(panels: str | Sequence[str] | None) -> list[str]:
+def _per_surface(traj: Any, quantity: str) -> list[tuple[str, np.ndarray]]:
+    """The per-surface columns of `quantity` (`normal_force` → `normal_force_ellipsoid`,
+    `normal_force_stem`, …) as (surface, values), in column order; none for a one-surface
+    body."""
+    pattern = re.compile(re.escape(quantity) + r"_(\w+)")
+    found = (pattern.fullmatch(c) for c in traj.columns)
+    return [(m.group(1), np.asarray(traj[m.group(0)])) for m in found if m]
+
+
+def _has(traj: Any, need: str) -> bool:
+    """Whether `traj` has the column `need`, or for `QUANTITY_*` that quantity of a surface."""
+    if need.endswith("_*"):
+        return bool(_per_surface(traj, need[:-2]))
+    return need in traj.columns
+
+
+def _panels(traj: Any, panels: str | Sequence[str] | None) -> list[str]:
+    """The panels asked for, checked; by default every declared one, those of per-surface
+    columns only for a body with contact spheres."""
     if panels is None:
-        return list(PANELS)
+        return [p["name"] for p in DECLARATION["panels"] if not p.get("per_surface") or all(_has(traj, n) for n in p["needs"])]
     names = _names("panels", panels)
     if not names:
         raise _bad("panels", panels, f"give at least one of {', '.join(PANELS)}")
@@ -102,6 +122,9 @@ def _panels(panels: str | Sequence[str] | None) -> list[str]:
             raise _bad("panels", p, f"unknown panel {p!r}; the panels are {', '.join(PANELS)}")
         if p in names[:i]:
             raise _bad("panels", p, "a panel is named twice")
+        missing = [n for n in _BY_NAME[p]["needs"] if n.endswith("_*") and not _has(traj, n)]
+        if missing:
+            raise _bad("panels", p, f"the {p} panel needs the per-surface columns `{missing[0][:-1]}S` of a body with contact spheres, which this run does not have")
     return names
 
 
@@ -116,23 +139,30 @@ def _drift(traj: Any) -> tuple[np.ndarray, str]:
     return (total - total[0]) / scale, ("E + W" if dissipative else "E")
 
 
+def _phase(mode: Any) -> str:
+    """The contact phase of a mode label: the label before `@` (`sliding@stem` → `sliding`)."""
+    return str(mode).split("@", 1)[0]
+
+
 def _shade(ax: Any, traj: Any) -> None:
-    """The contact mode shaded behind the data, in the declared fills."""
+    """The contact mode shaded behind the data, in the declared fills (by contact phase:
+    `sliding@stem` is shaded as sliding)."""
     fills = {m["mode"]: m["fill"] for m in DECLARATION["modes"]}
     t, mode = traj.t, traj.mode
     start = 0
     for i in range(1, len(t) + 1):
         if i == len(t) or mode[i] != mode[start]:
             end = t[i - 1] if i == len(t) else t[i]
-            fill = fills.get(str(mode[start]), DECLARATION["modes"][-1]["fill"])
+            fill = fills.get(_phase(mode[start]), DECLARATION["modes"][-1]["fill"])
             ax.axvspan(t[start], end, color=fill, lw=0, zorder=0)
             start = i
 
 
 def _shaded_title(traj: Any) -> str:
-    """The suffix of a shaded axis's title for the modes present, in order of appearance."""
+    """The suffix of a shaded axis's title for the contact phases present, in order of
+    appearance."""
     names = {m["mode"]: m["name"] for m in DECLARATION["modes"]}
-    modes = [str(m) for m in dict.fromkeys(traj.mode.tolist()) if m]
+    modes = [m for m in dict.fromkeys(_phase(m) for m in traj.mode.tolist()) if m]
     if not modes:
         return ""
     listed = ", ".join(f"{m} {names.get(m, DECLARATION['modes'][-1]['name'])}" for m in modes)
@@ -214,6 +244,12 @@ def _draw_axis(ax: Any, traj: Any, axis: dict[str, Any], labels: bool = False) -
     title = axis["title"].replace("{conserved}", conserved)
     left_out, drawn = False, 0
     for series in axis["series"]:
+        if series["data"].endswith("_*"):
+            colors = DECLARATION["surface_colors"]
+            for k, (surface, values) in enumerate(_per_surface(traj, series["data"][:-2])):
+                ax.plot(traj.t, values, color=colors[k % len(colors)], label=series["label"].replace("{surface}", surface))
+                drawn += 1
+            continue
         found = _series_data(traj, series)
         if found is None:
             if series.get("optional"):
@@ -293,7 +329,7 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None, columns: str | Se
         for i, (a, c) in enumerate(zip(axes, names)):
             _draw_column(a, traj, c, labels=i == 0)
         return fig
-    names = _panels(panels)
+    names = _panels(traj, panels)
     if ax is not None:
         if len(names) != 1 or len(_BY_NAME[names[0]]["axes"]) != 1:
             single = ", ".join(n for n in PANELS if len(_BY_NAME[n]["axes"]) == 1)
