@@ -393,6 +393,10 @@ fn scenario_tippe_top_jump_hops_while_turning_over() {
     let kinds = event_kinds(&s);
     assert!(kinds.iter().filter(|k| **k == "lift_off").count() >= 5);
     assert!(kinds.contains(&"observed"), "θ passes π/2");
+    // A one-surface body's events name no surface.
+    let events = s["events"].as_array().unwrap();
+    assert!(events.iter().any(|e| e["kind"] == "touchdown"));
+    assert!(events.iter().all(|e| e.get("surface").is_none()));
 }
 
 /// The stem touches down after the top passes π/2, the summary names the surfaces, the
@@ -412,6 +416,20 @@ fn scenario_tippe_top_stem_rises_on_its_stem_and_rests_on_two_contacts() {
     );
     let inverted = events.iter().find(|e| e["kind"] == "observed").unwrap();
     assert!(inverted["t"].as_f64().unwrap() < first["t"].as_f64().unwrap());
+    // Touchdowns and impacts name the surface struck: the one the contact moves to where
+    // it moves (a surface that rebounds while the other stays pressed moves nothing).
+    let mut struck = 0;
+    for (k, e) in events.iter().enumerate() {
+        if e["kind"] == "touchdown" || e["kind"] == "impact" {
+            assert!(e["surface"] == "ellipsoid" || e["surface"] == "stem", "{e}");
+            let before = &events[k.saturating_sub(2)..k];
+            if let Some(moved) = before.iter().find(|b| b["kind"] == "contact_surface") {
+                assert_eq!(e["surface"], moved["to"], "{e}");
+                struck += 1;
+            }
+        }
+    }
+    assert!(struck > 100, "{struck}");
     let (theta, mode) = (
         h.iter().position(|c| c == "theta").unwrap(),
         h.iter().position(|c| c == "mode").unwrap(),

@@ -569,7 +569,7 @@ fn hard_impact_at_the_moment_of_lift_off() {
         .events
         .iter()
         .find_map(|e| match e.kind {
-            EventKind::Touchdown { speed } => Some((e.t, speed)),
+            EventKind::Touchdown { speed, .. } => Some((e.t, speed)),
             _ => None,
         })
         .expect("touchdown");

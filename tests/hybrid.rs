@@ -33,7 +33,7 @@ fn bounces(out: &Outcome) -> Vec<(f64, f64, bool)> {
     let mut result = Vec::new();
     for e in &out.events {
         match &e.kind {
-            EventKind::Touchdown { speed } => speeds.push(*speed),
+            EventKind::Touchdown { speed, .. } => speeds.push(*speed),
             EventKind::Impact(r) => result.push((speeds[result.len()], r.rebound, r.persistent)),
             _ => {}
         }

@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 
+use ellipsoid_core::body::Surface;
 use ellipsoid_core::error::number;
 use ellipsoid_core::integrate::Stats;
 use ellipsoid_core::invariants::Invariants;
@@ -168,7 +169,19 @@ pub fn state_map(layout: &columns::Layout, s: &Sample) -> Map<String, Value> {
     state
 }
 
-/// An event as the summary lists it: `{kind, t}`, with `from` and `to` for a mode switch
+/// Adds the `surface` an event happened at, by name, for a body with contact spheres (a
+/// one-surface body's events have none).
+fn surface_name(scene: &Scene, m: &mut Map<String, Value>, surface: Surface) {
+    if !scene.body.spheres().is_empty() {
+        m.insert(
+            "surface".into(),
+            Value::from(scene.body.surface_name(surface)),
+        );
+    }
+}
+
+/// An event as the summary lists it: `{kind, t}` (a touchdown and an impact of a body with
+/// contact spheres name their `surface`), with `from` and `to` for a mode switch
 /// (and, by name, for a change of the surface in contact),
 /// `name` and the full `state` for an observable, the approach `speed` (m/s) for a
 /// touchdown, and for an impact its `impulse` (N s, world axes), `energy_loss` (J),
@@ -191,8 +204,9 @@ pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
             let layout = columns::Layout::of(&scene.body);
             m.insert("state".into(), Value::Object(state_map(&layout, sample)));
         }
-        EventKind::Touchdown { speed } => {
+        EventKind::Touchdown { speed, surface } => {
             m.insert("speed".into(), finite_or_null(*speed));
+            surface_name(scene, &mut m, *surface);
         }
         EventKind::Impact(hit) => {
             let p = &hit.impulse;
@@ -208,6 +222,7 @@ pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
             m.insert("stuck".into(), Value::from(hit.stuck));
             m.insert("rebound".into(), finite_or_null(hit.rebound));
             m.insert("persistent".into(), Value::from(hit.persistent));
+            surface_name(scene, &mut m, hit.surface);
         }
         EventKind::ContactSurface { from, to } => {
             m.insert("from".into(), Value::from(scene.body.surface_name(*from)));

@@ -714,7 +714,8 @@ impl Trajectory {
     /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "lift_off",
     /// "touchdown", "impact", "painleve", "contact_surface" (with "from" and "to", the
     /// surfaces by name), "observed" (with "name" and "state", a dict of every column at
-    /// the event).
+    /// the event). A touchdown and an impact of a body with contact spheres name the
+    /// `surface` struck.
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let json = serde_json::to_string(&self.summary.events)

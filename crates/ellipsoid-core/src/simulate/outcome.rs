@@ -53,8 +53,8 @@ pub enum EventKind {
     LostContact,
     /// N reached zero: the body leaves the plane and flies.
     LiftOff,
-    /// The body's lowest point reached the plane, approaching at `speed` [m/s].
-    Touchdown { speed: f64 },
+    /// The body's `surface` reached the plane, approaching at `speed` [m/s].
+    Touchdown { speed: f64, surface: Surface },
     /// The impact at a touchdown (docs/physics.md, "Impact at touchdown").
     Impact(ImpactReport),
     /// The sliding normal-force denominator collapsed (to 10⁻³, on its way to zero).
@@ -97,6 +97,8 @@ pub struct ImpactReport {
     /// Whether contact became persistent here (the bounce was below the settling speed,
     /// docs/physics.md "Settling"); the run goes on in contact.
     pub persistent: bool,
+    /// The surface struck.
+    pub surface: Surface,
 }
 
 /// A located event.

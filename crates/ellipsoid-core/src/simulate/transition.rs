@@ -486,6 +486,7 @@ fn land<E: Effect + Copy + 'static>(
     events.push(EventRecord {
         kind: EventKind::Touchdown {
             speed: -hit.normal_velocity.0,
+            surface,
         },
         t: *t,
     });
@@ -496,6 +497,7 @@ fn land<E: Effect + Copy + 'static>(
             stuck: hit.stuck,
             rebound: hit.normal_velocity.1,
             persistent,
+            surface,
         })
     };
     let impact = |events: &mut Vec<EventRecord>, persistent| {
