@@ -7,6 +7,9 @@
 //! - `kept`: every row built and kept in a `Vec`, as the Python package's `simulate`
 //!   does (its numpy columns are made from it on first access; benches/python_samples.py
 //!   measures that side);
+//! - `columns`: the kept rows turned into one vector per column
+//!   (`ellipsoid_io::columns::column_major`, the Rust side of the package's first column
+//!   access; no run);
 //! - `csv_rows`: every row formatted as CSV and thrown away (`io::sink`: the CPU cost);
 //! - `csv`: every row formatted into a CSV file (a temporary file, written and synced to
 //!   disk as `ellipsoid run` does before renaming it into place, then removed);
@@ -86,6 +89,15 @@ fn output(c: &mut Criterion) {
             }));
             kept.len()
         })
+    });
+    let mut kept = Vec::new();
+    finished(run(&sampled, None, "bench", None, |s| {
+        kept.push(*s);
+        Ok::<(), ellipsoid_io::OutputError>(())
+    }));
+    let layout = ellipsoid_io::columns::Layout::of(&sampled.scene.body);
+    g.bench_function("columns", |b| {
+        b.iter(|| ellipsoid_io::columns::column_major(&layout, &kept))
     });
     g.bench_function("csv_rows", |b| {
         b.iter(|| {

@@ -92,21 +92,11 @@ impl Trajectory {
 
     /// Numeric column `index` (the layout's order). Every column is made on the first
     /// access of any, in one pass over the samples (a column at a time would read each
-    /// sample 27 times).
+    /// sample 27 times); numpy takes the vectors over without a copy.
     fn column<'py>(&self, py: Python<'py>, index: usize) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let all = self.numeric.get_or_try_init(py, || -> PyResult<_> {
-            let mut data: Vec<Vec<f64>> = (0..self.layout.numeric())
-                .map(|_| Vec::with_capacity(self.samples.len()))
-                .collect();
-            let mut extra = Vec::with_capacity(self.layout.extra());
-            for s in &self.samples {
-                extra.clear();
-                self.layout.surface_values(s, &mut extra);
-                for (col, v) in data.iter_mut().zip(columns::values(s).iter().chain(&extra)) {
-                    col.push(*v);
-                }
-            }
-            data.into_iter()
+            columns::column_major(&self.layout, &self.samples)
+                .into_iter()
                 .map(|col| {
                     let arr = PyArray1::from_vec(py, col);
                     readonly(arr.as_any())?;
