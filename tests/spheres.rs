@@ -353,7 +353,8 @@ fn val_classic_top_sleeps_above_the_critical_spin_and_falls_below() {
 /// bounces. Every surface stays on or above the plane in every row (a gap that started a
 /// phase at zero by round-off used to be blind to its own touchdown: the body sank 2 mm
 /// through the plane on its stem, and with the ball's watch lost too fell through it);
-/// E + W balances through the 100-odd impacts; the run ends with a clear status.
+/// E + W balances through the 100-odd impacts; the run ends with a clear status and
+/// physical numbers.
 #[test]
 fn a_body_rocking_between_two_surfaces_never_passes_through_the_plane() {
     let file = "tests/data/spheres/tippe-top-jump-stem.toml";
@@ -391,12 +392,11 @@ fn a_body_rocking_between_two_surfaces_never_passes_through_the_plane() {
         .get(ellipsoid_core::invariants::Invariant::EnergyPlusWork)
         .unwrap();
     assert!(drift.abs() < 1e-9, "E + W drift {drift:e}");
-    assert!(
-        matches!(
-            out.status,
-            Status::Completed | Status::SeveralContacts { .. }
-        ),
-        "{:?}",
-        out.status
-    );
+    // Where it stops, the status's approach speed is the motion's, not the 640 m/s of a
+    // grazing touchdown taken back seconds along a flight (`back_to_contact`).
+    match out.status {
+        Status::Completed => {}
+        Status::SeveralContacts { approach, .. } => assert!(approach.abs() < 0.1, "{approach}"),
+        other => panic!("{other:?}"),
+    }
 }

@@ -243,16 +243,18 @@ impl Layout {
     }
 
     /// The `mode` column of `s`: the contact phase's name, and for a body with contact
-    /// spheres the surfaces in contact after `@`, joined by `+` (`flight` alone).
+    /// spheres the surfaces in contact after `@`, in the body's order (the ellipsoid
+    /// first), joined by `+` (`flight` alone).
     pub fn mode(&self, s: &Sample) -> Cow<'static, str> {
         match &self.body {
             Some(body) if s.mode != Mode::Flight => {
-                let names: Vec<&str> = s
-                    .touching
-                    .iter()
-                    .flatten()
-                    .map(|t| body.surface_name(t.0))
-                    .collect();
+                // In the body's order, whichever touched first.
+                let mut touching: Vec<Surface> = s.touching.iter().flatten().map(|t| t.0).collect();
+                touching.sort_by_key(|&surface| match surface {
+                    Surface::Ellipsoid => 0,
+                    Surface::Sphere(k) => k + 1,
+                });
+                let names: Vec<&str> = touching.iter().map(|&t| body.surface_name(t)).collect();
                 Cow::Owned(format!("{}@{}", s.mode.name(), names.join("+")))
             }
             _ => Cow::Borrowed(s.mode.name()),

@@ -573,7 +573,10 @@ pub(super) fn touch<E>(
 /// free deceleration) — enough to stall a Zeno sequence above the settling speed
 /// whenever a e²/(1 − e²) > g (docs/physics.md, "Settling"). Newton's iteration on s,
 /// gap(t + s) = 0 with d gap/dt = v_n, that surface's lowest point's normal velocity, each y(t + s)
-/// one RK4 step of the flight system from (t, y); |s| ≈ δz/|v_n| is at most a few ns.
+/// one RK4 step of the flight system from (t, y); |s| ≈ δz/|v_n|, a few ns, and never more
+/// than 4√(2δz/g), the time a fall from rest takes through a few δz: a grazing touchdown
+/// (v_n → 0, as when a body rocks between two surfaces) would otherwise send one RK4 step
+/// seconds back along the flight.
 fn back_to_contact<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     surface: Surface,
@@ -581,6 +584,10 @@ fn back_to_contact<E: Effect + Copy + 'static>(
     y: &State,
 ) -> (f64, State) {
     let body = &ctx.scene.body;
+    let dz = ctx
+        .numerics
+        .gap_resolution(&Kinematics::flying_at(body, surface, y));
+    let most = 4.0 * (2.0 * dz / ctx.scene.gravity.max(f64::MIN_POSITIVE)).sqrt();
     let gap_and_rate = |y: &State| {
         let kin = Kinematics::flying_at(body, surface, y);
         let v_n = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
@@ -594,7 +601,7 @@ fn back_to_contact<E: Effect + Copy + 'static>(
         if gap == 0.0 || !(v_n < 0.0) {
             break;
         }
-        s -= gap / v_n;
+        s = (s - gap / v_n).max(-most);
         ys = rk4_step(&fly, t, y, s, &mut k);
     }
     (t + s, ys)
