@@ -42,6 +42,7 @@ mod collect;
 mod file;
 mod format;
 mod reader;
+pub mod schema;
 #[cfg(test)]
 mod tests;
 mod tree;
@@ -51,6 +52,7 @@ use collect::*;
 pub use file::{MAX_SCENARIO_BYTES, open_regular, read_bounded};
 use format::*;
 use reader::*;
+use schema::{CONTACT_MODELS, DIRECTIONS, ROTATION_AXES, keys};
 use tree::*;
 
 /// g when `effects.gravity` is absent [m/s²] (standard gravity rounded as in the paper).
@@ -71,57 +73,6 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 pub const DRIFT_NAMES: [&str; 6] = crate::invariants::Invariant::NAMES;
 /// The run statuses a `[check]` table may expect (declared in `simulate::Status`).
 pub const STATUS_NAMES: [&str; 11] = crate::simulate::Status::NAMES;
-const OBSERVE_KEYS: [&str; 5] = ["name", "column", "crosses", "direction", "terminal"];
-const DIRECTIONS: [&str; 3] = ["up", "down", "either"];
-
-const TOP_KEYS: [&str; 8] = [
-    "body", "initial", "contact", "effects", "solver", "output", "check", "observe",
-];
-const BODY_KEYS: [&str; 8] = [
-    "a",
-    "b",
-    "c",
-    "mass",
-    "com_offset",
-    "com_offset_vector",
-    "inertia",
-    "sphere",
-];
-const SPHERE_KEYS: [&str; 3] = ["name", "center", "radius"];
-const INITIAL_KEYS: [&str; 18] = [
-    "theta",
-    "theta_deg",
-    "phi",
-    "phi_deg",
-    "psi",
-    "psi_deg",
-    "theta_dot",
-    "theta_dot_deg",
-    "phi_dot",
-    "phi_dot_deg",
-    "psi_dot",
-    "psi_dot_deg",
-    "omega_body",
-    "omega_body_deg",
-    "rotation",
-    "position",
-    "velocity",
-    "height",
-];
-const CONTACT_KEYS: [&str; 6] = [
-    "model",
-    "friction",
-    "restitution",
-    "on_lift_off",
-    "contact_radius",
-    "contact_law",
-];
-const CONTACT_MODELS: [&str; 4] = ["frictionless", "sliding", "rolling", "coulomb"];
-const EFFECT_KEYS: [&str; 4] = ["gravity", "rolling_resistance", "spin_friction", "air_drag"];
-const SOLVER_KEYS: [&str; 5] = ["method", "rtol", "atol", "step", "max_steps"];
-const METHODS: [&str; 3] = ["rk4", "dopri5", "dop853"];
-const OUTPUT_KEYS: [&str; 3] = ["t_end", "dt", "times"];
-
 /// A parsed, validated scenario.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scenario {

@@ -353,8 +353,8 @@ fn unreadable_file_is_an_io_error() {
 #[test]
 fn suggestions_need_a_small_edit_distance() {
     assert_eq!(levenshtein("kitten", "sitting"), 3);
-    assert_eq!(suggest("gravty", &EFFECT_KEYS), Some("gravity"));
-    assert_eq!(suggest("zzz", &EFFECT_KEYS), None);
+    assert_eq!(suggest("gravty", &keys("effects")), Some("gravity"));
+    assert_eq!(suggest("zzz", &keys("effects")), None);
 }
 
 #[test]

@@ -382,39 +382,6 @@ pub fn value_text(v: &toml::Value) -> String {
     }
 }
 
-/// The unit of a scenario key, for table headers (`None` if it has none or is unknown).
-pub fn key_unit(key: &str) -> Option<&'static str> {
-    let last = key
-        .rsplit('.')
-        .next()
-        .unwrap_or(key)
-        .split('[')
-        .next()
-        .unwrap_or("");
-    let table = key.split('.').next().unwrap_or("");
-    Some(match (table, last) {
-        (_, l) if l.ends_with("_deg") && l.contains("_dot") => "deg/s",
-        (_, l) if l.ends_with("_deg") => "deg",
-        ("body", "a" | "b" | "c" | "com_offset" | "com_offset_vector" | "center" | "radius") => "m",
-        ("body", "mass") => "kg",
-        ("body", "inertia") => "kg m^2",
-        ("initial", "theta" | "phi" | "psi" | "angle") => "rad",
-        ("initial", "theta_dot" | "phi_dot" | "psi_dot" | "omega_body") => "rad/s",
-        ("initial", "position") => "m",
-        ("initial", "velocity") => "m/s",
-        ("contact", "friction") => "1",
-        ("effects", "gravity") => "m/s^2",
-        ("effects", "rolling_resistance" | "spin_friction" | "coefficient") => "m",
-        ("effects", "regularisation") => "rad/s",
-        ("effects", "linear") => "kg/s",
-        ("effects", "angular") => "kg m^2/s",
-        ("solver", "rtol" | "atol") => "1",
-        ("solver", "step") => "s",
-        ("output", "t_end" | "dt" | "times") => "s",
-        _ => return None,
-    })
-}
-
 /// A study ready to run: the plan, its base document, parsed keys and columns.
 #[derive(Debug, Clone)]
 pub struct Study {
@@ -851,7 +818,11 @@ fn columns(plan: &Plan, observables: &[String]) -> Result<Vec<Column>, (String, 
             let numeric = dim.values.numeric();
             cols.push(col(
                 dim.key.clone(),
-                if numeric { key_unit(&dim.key) } else { None },
+                if numeric {
+                    scenario::schema::unit(&dim.key)
+                } else {
+                    None
+                },
                 if numeric { Type::Float } else { Type::Text },
                 false,
                 Role::Axis { axis: a, dim: d },

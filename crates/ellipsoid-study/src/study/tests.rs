@@ -435,3 +435,23 @@ fn every_rejected_study_file_names_its_line_and_column() {
         assert!(e.contains(expected), "expected {expected:?} in {e:?}");
     }
 }
+
+/// An axis column's unit is the scenario schema's, for every key the format has.
+#[test]
+fn axis_columns_take_their_units_from_the_scenario_schema() {
+    let s = study(
+        "combine = \"zip\"\n\
+         [[axis]]\nkey = \"contact.contact_radius\"\nvalues = [0.0]\n\
+         [[axis]]\nkey = \"contact.restitution\"\nvalues = [0.5]\n\
+         [[axis]]\nkey = \"initial.height\"\nvalues = [0.0]\n",
+    )
+    .unwrap();
+    assert_eq!(
+        &header(&s)[1..4],
+        [
+            "contact.contact_radius [m]",
+            "contact.restitution [1]",
+            "initial.height [m]"
+        ]
+    );
+}
