@@ -206,8 +206,25 @@ pub struct SetError {
 }
 
 impl SetError {
-    /// The rule, as `--set` reports it (the key being the path up to `depth`).
-    pub fn rule(&self, path: &KeyPath) -> String {
+    /// The error of the change `set` (`key=value`) of the scenario `source` that set
+    /// `path`, as `--set` reports it: the key is the path up to the segment that does not fit.
+    pub fn error(&self, source: &str, path: &KeyPath, set: &str) -> ScenarioError {
+        ScenarioError {
+            kind: ErrorKind::Override,
+            location: Location {
+                source: source.to_owned(),
+                line: None,
+                column: None,
+                set: Some(set.to_owned()),
+            },
+            key: Some(path.prefix(self.depth)),
+            value: None,
+            rule: self.rule(path),
+        }
+    }
+
+    /// The rule, as `--set` reports it.
+    fn rule(&self, path: &KeyPath) -> String {
         let what = match self.blocked {
             Blocked::NotTable => "is not a table".to_owned(),
             Blocked::NotArray => "is not an array".to_owned(),
@@ -356,18 +373,7 @@ pub(super) fn parse_override(ctx: &Ctx<'_>, set: &str) -> Result<(KeyPath, Node)
 /// Applies one `key.path=value` override to the document.
 pub(super) fn apply_override(ctx: &Ctx<'_>, tree: &mut Node, set: &str) -> Result<()> {
     let (path, node) = parse_override(ctx, set)?;
-    set_node(tree, &path, node).map_err(|e| ScenarioError {
-        kind: ErrorKind::Override,
-        location: Location {
-            source: ctx.source.to_owned(),
-            line: None,
-            column: None,
-            set: Some(set.to_owned()),
-        },
-        key: Some(path.prefix(e.depth)),
-        value: None,
-        rule: e.rule(&path),
-    })
+    set_node(tree, &path, node).map_err(|e| e.error(ctx.source, &path, set))
 }
 
 impl Node {

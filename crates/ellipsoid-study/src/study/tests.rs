@@ -91,9 +91,9 @@ fn an_element_of_an_array_and_tied_keys_change_together() {
     .unwrap();
     let r = s.resolve(1).unwrap();
     assert!(
-        r.overrides.last().unwrap().starts_with("body.inertia=["),
+        r.draft.overrides.last().unwrap().starts_with("body.inertia=["),
         "{:?}",
-        r.overrides
+        r.draft.overrides
     );
     let sc = s.scenario(&r).unwrap();
     let i = sc.scene.body.inertia();
