@@ -192,13 +192,25 @@ impl PyScenario {
     /// naming the override. Keys cannot be removed.
     #[pyo3(signature = (**changes))]
     fn replace(&self, py: Python<'_>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        self.with_overrides(
-            py,
-            convert::Conv {
-                source: &self.inner.source,
+        let changes = convert::Conv {
+            source: &self.inner.source,
+        }
+        .changes(changes)?;
+        if changes.is_empty() {
+            return Ok(self.clone());
+        }
+        errors::guard(py, || {
+            let mut draft = self.inner.draft();
+            for (key, value) in &changes {
+                draft
+                    .change(key, value, &convert::label(key, value))
+                    .map_err(|e| errors::scenario_errors(py, &e.into()))?;
             }
-            .overrides(changes)?,
-        )
+            draft
+                .build()
+                .map(|inner| PyScenario { inner })
+                .map_err(|e| errors::scenario_errors(py, &e))
+        })
     }
 
     /// Where the scenario came from: the file path as given, or the name of the text.
@@ -240,13 +252,7 @@ impl PyScenario {
     /// The contact model: "frictionless", "sliding", "rolling" or "coulomb".
     #[getter]
     fn contact_model(&self) -> &'static str {
-        use ellipsoid_core::simulate::ContactModel;
-        match self.inner.scene.contact {
-            ContactModel::Frictionless => "frictionless",
-            ContactModel::Sliding { .. } => "sliding",
-            ContactModel::Rolling => "rolling",
-            ContactModel::Coulomb { .. } => "coulomb",
-        }
+        ellipsoid_core::scenario::schema::contact_name(&self.inner.scene.contact)
     }
 
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {

@@ -348,6 +348,17 @@ impl Draft {
         )
     }
 
+    /// Sets `value` at the key path `key`, a change named `label` (`key=value`) in
+    /// messages and recorded in [`Draft::overrides`]: the typed counterpart of
+    /// [`Draft::apply`], with its errors.
+    pub fn change(&mut self, key: &str, value: &toml::Value, label: &str) -> Result<()> {
+        let path = parse_key(&self.source, label, key)?;
+        self.set(&path, value, label)
+            .map_err(|e| e.error(&self.source, &path, label))?;
+        self.overrides.push(label.to_owned());
+        Ok(())
+    }
+
     /// The value at `path`, if the document has one.
     pub fn get(&self, path: &KeyPath) -> Option<toml::Value> {
         self.tree.get(path).map(Node::to_toml)

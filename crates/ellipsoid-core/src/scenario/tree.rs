@@ -209,18 +209,13 @@ impl SetError {
     /// The error of the change `set` (`key=value`) of the scenario `source` that set
     /// `path`, as `--set` reports it: the key is the path up to the segment that does not fit.
     pub fn error(&self, source: &str, path: &KeyPath, set: &str) -> ScenarioError {
-        ScenarioError {
-            kind: ErrorKind::Override,
-            location: Location {
-                source: source.to_owned(),
-                line: None,
-                column: None,
-                set: Some(set.to_owned()),
-            },
-            key: Some(path.prefix(self.depth)),
-            value: None,
-            rule: self.rule(path),
-        }
+        override_error(
+            source,
+            set,
+            Some(path.prefix(self.depth)),
+            None,
+            self.rule(path),
+        )
     }
 
     /// The rule, as `--set` reports it.
@@ -314,18 +309,8 @@ pub(super) fn set_node(
 /// The `--set` form `key.path=value`: the path and the value, the value in TOML syntax or
 /// a bare word, taken as a string (`--set contact.model=rolling`).
 pub(super) fn parse_override(ctx: &Ctx<'_>, set: &str) -> Result<(KeyPath, Node)> {
-    let location = Location {
-        source: ctx.source.to_owned(),
-        line: None,
-        column: None,
-        set: Some(set.to_owned()),
-    };
-    let fail = |key: Option<String>, value: Option<String>, rule: String| ScenarioError {
-        kind: ErrorKind::Override,
-        location: location.clone(),
-        key,
-        value,
-        rule,
+    let fail = |key: Option<String>, value: Option<String>, rule: String| {
+        override_error(ctx.source, set, key, value, rule)
     };
     let Some((key, raw)) = set.split_once('=') else {
         return Err(fail(
@@ -334,8 +319,7 @@ pub(super) fn parse_override(ctx: &Ctx<'_>, set: &str) -> Result<(KeyPath, Node)
             "an override must have the form key=value, e.g. --set output.t_end=1.0".into(),
         ));
     };
-    let path =
-        KeyPath::parse(key).map_err(|e| fail(Some(key.trim().to_owned()), None, e.to_string()))?;
+    let path = parse_key(ctx.source, set, key)?;
     let raw = raw.trim();
     let shared: Arc<str> = Arc::from(set);
     let node = match DeValue::parse(raw) {
@@ -368,6 +352,41 @@ pub(super) fn parse_override(ctx: &Ctx<'_>, set: &str) -> Result<(KeyPath, Node)
         }
     };
     Ok((path, node))
+}
+
+/// An error of the change `set` (`key=value`) of the scenario `source`.
+pub(super) fn override_error(
+    source: &str,
+    set: &str,
+    key: Option<String>,
+    value: Option<String>,
+    rule: String,
+) -> ScenarioError {
+    ScenarioError {
+        kind: ErrorKind::Override,
+        location: Location {
+            source: source.to_owned(),
+            line: None,
+            column: None,
+            set: Some(set.to_owned()),
+        },
+        key,
+        value,
+        rule,
+    }
+}
+
+/// The key path `key` of the change `set`, or the error naming it.
+pub(super) fn parse_key(source: &str, set: &str, key: &str) -> Result<KeyPath> {
+    KeyPath::parse(key).map_err(|e| {
+        override_error(
+            source,
+            set,
+            Some(key.trim().to_owned()),
+            None,
+            e.to_string(),
+        )
+    })
 }
 
 /// Applies one `key.path=value` override to the document.

@@ -2,12 +2,13 @@
 //! same study made ready to run ([`Study`]): the base document, the key paths, the
 //! columns of its table, and each point resolved to the scenario it runs.
 //!
-//! A point's scenario is the base with the study's `set` changes and the point's axis
-//! values applied as `--set` overrides (so a bad value is reported exactly as `ellipsoid
-//! run --set` reports it), and its **key** is a hash of the fully resolved scenario text:
-//! the base document with every change applied, written out by the `toml` crate in its
-//! canonical form. Two points that run the same scenario have the same key, whatever
-//! the study file looks like; a point whose scenario changed gets a new one.
+//! A point's scenario is the base document (parsed once, with the study's `set` changes)
+//! with the point's axis values set on it as typed values, each named by the `--set`
+//! override that would make it (so a bad value is reported exactly as `ellipsoid run
+//! --set` reports it), and its **key** is a hash of the fully resolved document written
+//! out by the `toml` crate in its canonical form. Two points that run the same scenario
+//! have the same key, whatever the study file looks like; a point whose scenario changed
+//! gets a new one.
 
 #![allow(clippy::result_large_err)] // errors of a whole study, made once, off the hot path
 
@@ -312,6 +313,9 @@ pub struct Study {
     pub columns: Vec<Column>,
     /// Index of the first outcome column (status).
     outcome_start: usize,
+    /// Points resolved so far (tests count them).
+    #[cfg(test)]
+    pub(crate) resolves: std::sync::Arc<std::sync::atomic::AtomicUsize>,
 }
 
 /// A point resolved to the scenario it runs.
@@ -320,9 +324,8 @@ pub struct Resolved {
     /// The base document with every change of the point set, not yet validated; its
     /// `overrides` name the changes (`key=value`), in order.
     pub draft: Draft,
-    /// The fully resolved scenario text (canonical TOML).
-    pub text: String,
-    /// Hash of `text`: 32 hexadecimal digits (SipHash-1-3, 128 bits, key 0).
+    /// Hash of the fully resolved document's canonical TOML text ([`Draft::canonical`]):
+    /// 32 hexadecimal digits (SipHash-1-3, 128 bits, key 0).
     pub key: String,
 }
 
@@ -519,6 +522,8 @@ impl Study {
             observables,
             columns,
             outcome_start,
+            #[cfg(test)]
+            resolves: Default::default(),
         };
         // A misspelt key fails every point the same way: say so now, at the axis.
         if study.points > 0 {
@@ -598,6 +603,9 @@ impl Study {
     /// Point `index` as the overrides that make its scenario, its resolved text and key.
     /// (An error names the key and why: an index out of range in the base.)
     pub fn resolve(&self, index: usize) -> Result<Resolved, (String, String)> {
+        #[cfg(test)]
+        self.resolves
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let coords = self.coords(index);
         let mut draft = self.base.clone();
         // Arrays with an element set, by their path as written: each is named by one
@@ -637,7 +645,6 @@ impl Study {
         let text = draft.canonical().map_err(|e| ("base".to_owned(), e))?;
         Ok(Resolved {
             key: hash_hex(&text),
-            text,
             draft,
         })
     }

@@ -91,7 +91,11 @@ fn an_element_of_an_array_and_tied_keys_change_together() {
     .unwrap();
     let r = s.resolve(1).unwrap();
     assert!(
-        r.draft.overrides.last().unwrap().starts_with("body.inertia=["),
+        r.draft
+            .overrides
+            .last()
+            .unwrap()
+            .starts_with("body.inertia=["),
         "{:?}",
         r.draft.overrides
     );
@@ -210,11 +214,14 @@ fn a_resumed_study_gives_the_table_of_an_uninterrupted_one() {
     }
     drop(journal);
     let mut seen = Tally::default();
+    s.resolves.store(0, std::sync::atomic::Ordering::Relaxed);
     let r = execute(&s, Some(&j), 2, &Arc::new(AtomicBool::new(false)), |t| {
         seen = *t
     })
     .unwrap();
     assert_eq!((seen.done, seen.resumed, seen.total), (6, 3, 6));
+    // Each point resolved once: its key found the journal's row, or its run used it.
+    assert_eq!(s.resolves.load(std::sync::atomic::Ordering::Relaxed), 6);
     let resumed = s.rows(r);
     let wall = s
         .columns
