@@ -462,3 +462,25 @@ fn axis_columns_take_their_units_from_the_scenario_schema() {
         ]
     );
 }
+
+/// The row keys of studies run before the values were set on the parsed document (by
+/// `--set` text): the same, so their journals resume. The keys were written by that
+/// implementation for this study (an index axis with its `also` key, and a string axis).
+#[test]
+fn row_keys_are_those_of_existing_journals() {
+    let s = study(
+        "[[axis]]\nkey = \"body.inertia[0]\"\nalso = [\"body.inertia[1]\"]\nvalues = [6e-7, 9e-7]\n\
+         [[axis]]\nkey = \"contact.model\"\nvalues = [\"coulomb\", \"sliding\"]\n",
+    )
+    .unwrap();
+    let keys: Vec<String> = (0..4).map(|i| s.resolve(i).unwrap().key).collect();
+    assert_eq!(
+        keys,
+        [
+            "30fe60aa2b2b8739af55f22a4768fe9a",
+            "12afb2bd4621d9cf28ceabcc8219d493",
+            "c427a48a1ffea43b492caae4e63ecdb9",
+            "5dc80532da170c32b296bfe348a5a25e"
+        ]
+    );
+}
