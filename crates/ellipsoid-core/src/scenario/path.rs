@@ -83,13 +83,7 @@ impl KeyPath {
         Ok(KeyPath { segs })
     }
 
-    /// A path of names only (`["body", "mass"]` → `body.mass`).
-    pub fn names(names: &[&str]) -> KeyPath {
-        KeyPath {
-            segs: names.iter().map(|n| Seg::Name((*n).to_owned())).collect(),
-        }
-    }
-
+    /// Its segments, in order.
     pub fn segs(&self) -> &[Seg] {
         &self.segs
     }
