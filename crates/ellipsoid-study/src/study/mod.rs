@@ -201,7 +201,7 @@ pub fn execute_with(
 
 /// Points resolved together while resuming: the cancel flag is read between such chunks,
 /// and only one chunk's resolved scenarios are held.
-const RESUME_CHUNK: usize = 1 << 10;
+const RESUME_CHUNK: usize = 1 << 12;
 
 /// Where the rows of a resumed study go: the tally, the results, what is done with a
 /// finished run, and the progress display.

@@ -318,6 +318,10 @@ pub struct Study {
     pub(crate) resolves: std::sync::Arc<std::sync::atomic::AtomicUsize>,
 }
 
+/// What resolving a point gives: the scenario it runs, or the key that cannot be set
+/// and why.
+pub type Resolution = Result<Resolved, (String, String)>;
+
 /// A point resolved to the scenario it runs.
 #[derive(Debug, Clone)]
 pub struct Resolved {
@@ -602,7 +606,7 @@ impl Study {
 
     /// Point `index` as the overrides that make its scenario, its resolved text and key.
     /// (An error names the key and why: an index out of range in the base.)
-    pub fn resolve(&self, index: usize) -> Result<Resolved, (String, String)> {
+    pub fn resolve(&self, index: usize) -> Resolution {
         #[cfg(test)]
         self.resolves
             .fetch_add(1, std::sync::atomic::Ordering::Relaxed);

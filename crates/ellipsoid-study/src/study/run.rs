@@ -16,7 +16,7 @@ use ellipsoid_core::columns;
 use ellipsoid_core::simulate::{EventKind, Sample, Status};
 use rayon::prelude::*;
 
-use super::plan::{Cell, Resolved, Role, Study};
+use super::plan::{Cell, Resolution, Resolved, Role, Study};
 
 /// Version recorded in the summaries the runs make (the workspace's).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -97,7 +97,7 @@ impl Study {
     fn run_job(
         &self,
         index: usize,
-        resolved: Result<Resolved, (String, String)>,
+        resolved: Resolution,
         cancel: Option<&Arc<AtomicBool>>,
         keep: bool,
     ) -> Option<PointResult> {
@@ -288,7 +288,7 @@ impl Study {
     /// resumed study has them: each runs without being resolved again.
     pub(crate) fn run_resolved_with(
         &self,
-        jobs: Vec<(usize, Result<Resolved, (String, String)>)>,
+        jobs: Vec<(usize, Resolution)>,
         threads: usize,
         cancel: &Arc<AtomicBool>,
         keep: bool,
