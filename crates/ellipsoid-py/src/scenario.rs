@@ -52,14 +52,33 @@ impl PyScenario {
         })
     }
 
-    /// This scenario with more overrides (the text is parsed again, so every check runs).
+    /// This scenario with more overrides (`key=value`), applied to its document, which
+    /// is then validated again (every check runs).
     pub fn with_overrides(&self, py: Python<'_>, more: Vec<String>) -> PyResult<Self> {
-        if more.is_empty() {
+        self.changed(py, more.len(), |draft, i| draft.apply(&more[i]))
+    }
+
+    /// This scenario with `n` changes made to its document by `change(draft, i)`, validated
+    /// again; itself when there are none.
+    fn changed(
+        &self,
+        py: Python<'_>,
+        n: usize,
+        change: impl Fn(&mut scenario::Draft, usize) -> Result<(), scenario::ScenarioError>,
+    ) -> PyResult<Self> {
+        if n == 0 {
             return Ok(self.clone());
         }
-        let mut all = self.inner.overrides.clone();
-        all.extend(more);
-        Self::parse(py, &self.inner.text, &self.inner.source, &all)
+        errors::guard(py, || {
+            let mut draft = self.inner.draft();
+            for i in 0..n {
+                change(&mut draft, i).map_err(|e| errors::scenario_errors(py, &e.into()))?;
+            }
+            draft
+                .build()
+                .map(|inner| PyScenario { inner })
+                .map_err(|e| errors::scenario_errors(py, &e))
+        })
     }
 
     /// This scenario sampled at `times` [s] instead of its `dt` or `times` (`simulate`'s
@@ -196,20 +215,9 @@ impl PyScenario {
             source: &self.inner.source,
         }
         .changes(changes)?;
-        if changes.is_empty() {
-            return Ok(self.clone());
-        }
-        errors::guard(py, || {
-            let mut draft = self.inner.draft();
-            for (key, value) in &changes {
-                draft
-                    .change(key, value, &convert::label(key, value))
-                    .map_err(|e| errors::scenario_errors(py, &e.into()))?;
-            }
-            draft
-                .build()
-                .map(|inner| PyScenario { inner })
-                .map_err(|e| errors::scenario_errors(py, &e))
+        self.changed(py, changes.len(), |draft, i| {
+            let (key, value) = &changes[i];
+            draft.change(key, value, &convert::label(key, value))
         })
     }
 
