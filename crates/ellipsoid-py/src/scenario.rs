@@ -54,6 +54,7 @@ impl PyScenario {
 
     /// This scenario with more overrides (`key=value`), applied to its document, which
     /// is then validated again (every check runs).
+    #[allow(clippy::result_large_err)] // the scenario's own error, once per failed change
     pub fn with_overrides(&self, py: Python<'_>, more: Vec<String>) -> PyResult<Self> {
         self.changed(py, more.len(), |draft, i| draft.apply(&more[i]))
     }
@@ -210,6 +211,7 @@ impl PyScenario {
     /// keys). The changed scenario is validated again; a bad value raises ScenarioError
     /// naming the override. Keys cannot be removed.
     #[pyo3(signature = (**changes))]
+    #[allow(clippy::result_large_err)] // the scenario's own error, once per failed change
     fn replace(&self, py: Python<'_>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
         let changes = convert::Conv {
             source: &self.inner.source,
