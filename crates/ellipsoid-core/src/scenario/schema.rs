@@ -11,6 +11,8 @@ use crate::integrate::Method;
 use crate::model::contensou;
 use crate::simulate::{ContactModel, LiftOff};
 
+use super::path::{KeyPath, Seg};
+
 /// What a key holds.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Kind {
@@ -230,21 +232,18 @@ pub fn keys(table: &str) -> Vec<&'static str> {
 /// The declaration of the key at `path` (a dotted path, `[i]` indexes allowed and
 /// ignored: `body.sphere[1].radius`, `body.inertia[0]`).
 pub fn find(path: &str) -> Option<&'static Key> {
-    let bare: String = {
-        let mut out = String::with_capacity(path.len());
-        let mut depth = 0usize;
-        for c in path.chars() {
-            match c {
-                '[' => depth += 1,
-                ']' => depth = depth.saturating_sub(1),
-                _ if depth == 0 => out.push(c),
-                _ => {}
-            }
-        }
-        out
-    };
-    let (table, name) = bare.rsplit_once('.').unwrap_or(("", &bare));
-    SCHEMA.iter().find(|k| k.table == table && k.name == name)
+    let path = KeyPath::parse(path).ok()?;
+    let names: Vec<&str> = path
+        .segs()
+        .iter()
+        .filter_map(|s| match s {
+            Seg::Name(n) => Some(n.as_str()),
+            Seg::Index(_) => None,
+        })
+        .collect();
+    let (name, table) = names.split_last()?;
+    let table = table.join(".");
+    SCHEMA.iter().find(|k| k.table == table && k.name == *name)
 }
 
 /// The unit of the key at `path` (see [`find`]); `None` for a key without one or not
