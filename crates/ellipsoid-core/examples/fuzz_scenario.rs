@@ -21,9 +21,10 @@
 use std::collections::HashSet;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
+use std::sync::LazyLock;
 use std::time::{Duration, Instant};
 
-use ellipsoid_core::scenario::{self, MAX_ERRORS, ScenarioErrors};
+use ellipsoid_core::scenario::{self, MAX_ERRORS, ScenarioErrors, schema};
 
 /// xorshift64*: small, fast, reproducible from the printed seed.
 struct Rng(u64);
@@ -133,28 +134,8 @@ const FRAGMENTS: &[&str] = &[
     "\t",
 ];
 
-const KEYS: &[&str] = &[
-    "a",
-    "b",
-    "c",
-    "mass",
-    "com_offset",
-    "inertia",
-    "center",
-    "radius",
-    "theta",
-    "psi_dot",
-    "model",
-    "friction",
-    "gravity",
-    "rtol",
-    "atol",
-    "step",
-    "max_steps",
-    "t_end",
-    "dt",
-    "times",
-];
+/// Every key name of the format (from the scenario schema), for misspelling and swapping.
+static KEYS: LazyLock<Vec<&'static str>> = LazyLock::new(schema::names);
 
 fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
     let len = input.len();
@@ -190,7 +171,7 @@ fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
         6 => {
             // A key misspelt or swapped for another.
             let text = String::from_utf8_lossy(input).into_owned();
-            let k = rng.pick(KEYS);
+            let k = rng.pick(&KEYS);
             let at: Vec<usize> = text
                 .match_indices(&format!("\n{k} "))
                 .map(|(i, _)| i + 1)
@@ -200,7 +181,7 @@ fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
                 let typo = match rng.below(3) {
                     0 => format!("{k}{k}"),
                     1 => k[1..].to_owned(),
-                    _ => rng.pick(KEYS).to_string(),
+                    _ => rng.pick(&KEYS).to_string(),
                 };
                 *input = format!("{}{typo}{}", &text[..i], &text[i + k.len()..]).into_bytes();
             }
@@ -272,14 +253,18 @@ fn mutate(rng: &mut Rng, input: &mut Vec<u8>, seeds: &[Vec<u8>]) {
 /// Overrides sometimes given with an input.
 fn overrides(rng: &mut Rng) -> Vec<String> {
     match rng.below(6) {
-        0 => vec![format!(
-            "{}.{}={}",
-            rng.pick(&[
-                "body", "initial", "contact", "effects", "solver", "output", "check"
-            ]),
-            rng.pick(KEYS),
-            rng.pick(VALUES)
-        )],
+        0 => {
+            // A key of the schema, its array tables' first element (`body.sphere[0]`).
+            let k = rng.pick(schema::SCHEMA);
+            let table = match k.table {
+                "" => String::new(),
+                t if schema::find(t).is_some_and(|t| t.kind == schema::Kind::Tables) => {
+                    format!("{t}[0].")
+                }
+                t => format!("{t}."),
+            };
+            vec![format!("{table}{}={}", k.name, rng.pick(VALUES))]
+        }
         1 => vec![format!(
             "output.times=[{}]",
             (0..rng.below(5000))

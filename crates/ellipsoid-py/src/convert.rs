@@ -259,6 +259,19 @@ impl Conv<'_> {
     /// `key=value` overrides (the command line's `--set`) from keyword arguments: a dict value
     /// merges into the table its key names; dotted keys address nested keys directly.
     pub fn overrides(&self, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Vec<String>> {
+        Ok(self
+            .changes(changes)?
+            .iter()
+            .map(|(k, v)| label(k, v))
+            .collect())
+    }
+
+    /// The changes of [`Conv::overrides`] as (key path, value) pairs, to set on a scenario's
+    /// document as they are.
+    pub fn changes(
+        &self,
+        changes: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Vec<(String, toml::Value)>> {
         let mut out = Vec::new();
         if let Some(changes) = changes {
             for (k, v) in changes.iter() {
@@ -273,7 +286,7 @@ impl Conv<'_> {
         &self,
         key: &str,
         value: &Bound<'_, PyAny>,
-        out: &mut Vec<String>,
+        out: &mut Vec<(String, toml::Value)>,
         depth: usize,
     ) -> PyResult<()> {
         let py = value.py();
@@ -302,7 +315,7 @@ impl Conv<'_> {
                 Ok(())
             }
             _ => {
-                out.push(format!("{key}={}", self.value_at(key, value, depth)?));
+                out.push((key.to_owned(), self.value_at(key, value, depth)?));
                 Ok(())
             }
         }
@@ -323,6 +336,11 @@ pub fn changes_for(
             .unwrap_or_else(|_| "<changes>".into()),
     };
     Conv { source: &source }.overrides(changes)
+}
+
+/// A change as the override that names it: `key=value`, the value in TOML syntax.
+pub fn label(key: &str, value: &toml::Value) -> String {
+    format!("{key}={value}")
 }
 
 fn join(prefix: &str, key: &str) -> String {

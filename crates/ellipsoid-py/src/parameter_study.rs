@@ -400,7 +400,7 @@ impl PyStudy {
             .inner
             .resolve(index)
             .map_err(|(k, rule)| errors::value_error(py, SOURCE, Some(&k), None, rule))?;
-        Ok((r.overrides, r.key))
+        Ok((r.draft.overrides, r.key))
     }
 
     /// Runs points `start` to `stop` (exclusive) on `threads` threads (0 or None: one per

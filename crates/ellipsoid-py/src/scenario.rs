@@ -52,14 +52,34 @@ impl PyScenario {
         })
     }
 
-    /// This scenario with more overrides (the text is parsed again, so every check runs).
+    /// This scenario with more overrides (`key=value`), applied to its document, which
+    /// is then validated again (every check runs).
+    #[allow(clippy::result_large_err)] // the scenario's own error, once per failed change
     pub fn with_overrides(&self, py: Python<'_>, more: Vec<String>) -> PyResult<Self> {
-        if more.is_empty() {
+        self.changed(py, more.len(), |draft, i| draft.apply(&more[i]))
+    }
+
+    /// This scenario with `n` changes made to its document by `change(draft, i)`, validated
+    /// again; itself when there are none.
+    fn changed(
+        &self,
+        py: Python<'_>,
+        n: usize,
+        change: impl Fn(&mut scenario::Draft, usize) -> Result<(), scenario::ScenarioError>,
+    ) -> PyResult<Self> {
+        if n == 0 {
             return Ok(self.clone());
         }
-        let mut all = self.inner.overrides.clone();
-        all.extend(more);
-        Self::parse(py, &self.inner.text, &self.inner.source, &all)
+        errors::guard(py, || {
+            let mut draft = self.inner.draft();
+            for i in 0..n {
+                change(&mut draft, i).map_err(|e| errors::scenario_errors(py, &e.into()))?;
+            }
+            draft
+                .build()
+                .map(|inner| PyScenario { inner })
+                .map_err(|e| errors::scenario_errors(py, &e))
+        })
     }
 
     /// This scenario sampled at `times` [s] instead of its `dt` or `times` (`simulate`'s
@@ -191,14 +211,16 @@ impl PyScenario {
     /// keys). The changed scenario is validated again; a bad value raises ScenarioError
     /// naming the override. Keys cannot be removed.
     #[pyo3(signature = (**changes))]
+    #[allow(clippy::result_large_err)] // the scenario's own error, once per failed change
     fn replace(&self, py: Python<'_>, changes: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
-        self.with_overrides(
-            py,
-            convert::Conv {
-                source: &self.inner.source,
-            }
-            .overrides(changes)?,
-        )
+        let changes = convert::Conv {
+            source: &self.inner.source,
+        }
+        .changes(changes)?;
+        self.changed(py, changes.len(), |draft, i| {
+            let (key, value) = &changes[i];
+            draft.change(key, value, &convert::label(key, value))
+        })
     }
 
     /// Where the scenario came from: the file path as given, or the name of the text.
@@ -240,13 +262,7 @@ impl PyScenario {
     /// The contact model: "frictionless", "sliding", "rolling" or "coulomb".
     #[getter]
     fn contact_model(&self) -> &'static str {
-        use ellipsoid_core::simulate::ContactModel;
-        match self.inner.scene.contact {
-            ContactModel::Frictionless => "frictionless",
-            ContactModel::Sliding { .. } => "sliding",
-            ContactModel::Rolling => "rolling",
-            ContactModel::Coulomb { .. } => "coulomb",
-        }
+        ellipsoid_core::scenario::schema::contact_name(&self.inner.scene.contact)
     }
 
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {

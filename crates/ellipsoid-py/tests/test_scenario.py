@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import ellipsoid
-from conftest import REPO, oblate
+from conftest import I1, REPO, oblate
 
 NUTATION = REPO / "scenarios" / "nutation.toml"
 
@@ -153,3 +153,23 @@ def test_python_values_that_toml_cannot_hold_are_type_errors() -> None:
         oblate(body={1: 2})
     with pytest.raises(TypeError, match="expected an ellipsoid.Scenario or the path"):
         ellipsoid.simulate(42)  # type: ignore[arg-type]
+
+
+def test_replace_sets_elements_of_arrays_by_index() -> None:
+    """A key path with [i] indexes (the grammar of --set and of a study's axes) changes one
+    element of an array, of numbers or of tables; the rest stays, and a bad index is an
+    error naming the change."""
+    base = oblate()
+    s = base.replace(**{"body.inertia[2]": 1.5e-5, "initial.position": [0.5, 0.25]}).replace(**{"initial.position[1]": 2.0})
+    whole = base.replace(body={"inertia": [I1, I1, 1.5e-5]}, initial={"position": [0.5, 2.0]})
+    same_run(ellipsoid.simulate(s, output={"t_end": 0.05}), ellipsoid.simulate(whole, output={"t_end": 0.05}))
+    assert s.overrides[0] == "body.inertia[2]=0.000015" and s.overrides[-1] == "initial.position[1]=2.0"
+    stem = ellipsoid.load(REPO / "scenarios" / "tippe-top-stem.toml")
+    bigger = stem.replace(**{"body.sphere[0].radius": 0.004})
+    assert bigger == ellipsoid.load(REPO / "scenarios" / "tippe-top-stem.toml", **{"body.sphere[0].radius": 0.004})
+    assert bigger != stem and "body.sphere[0].radius=0.004" in bigger.overrides
+    with pytest.raises(ellipsoid.ScenarioError, match=r"body\.sphere: has 1 element\(s\), no index 1, so body\.sphere\[1\]\.radius cannot be set") as info:
+        stem.replace(**{"body.sphere[1].radius": 0.004})
+    assert info.value.kind == "override"
+    with pytest.raises(ellipsoid.ScenarioError, match=r"body\.inertia\[2\] = -1|principal moments"):
+        base.replace(**{"body.inertia[2]": -1.0})

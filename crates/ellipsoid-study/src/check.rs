@@ -10,7 +10,7 @@ use std::ops::ControlFlow;
 use ellipsoid_core::geometry::Contact;
 use ellipsoid_core::integrate::Method;
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
-use ellipsoid_core::simulate::{self, ContactModel, Sample};
+use ellipsoid_core::simulate::{self, Sample};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
@@ -197,12 +197,10 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
     let mut moments: Vec<f64> = i.symmetric_eigenvalues().iter().copied().collect();
     moments.sort_by(f64::total_cmp);
     let radial = g.component_div(&ax).norm();
-    let (model, friction) = match scene.contact {
-        ContactModel::Frictionless => ("frictionless", None),
-        ContactModel::Sliding { friction } => ("sliding", Some(friction)),
-        ContactModel::Rolling => ("rolling", None),
-        ContactModel::Coulomb { friction } => ("coulomb", Some(friction)),
-    };
+    let (model, friction) = (
+        ellipsoid_core::scenario::schema::contact_name(&scene.contact),
+        scene.contact.friction(),
+    );
     let e = &scene.effects;
     let init = &scene.initial;
     let a = &init.angles;

@@ -21,8 +21,18 @@ pub enum Method {
 }
 
 impl Method {
-    /// Short lowercase name, as used in tables and file names.
-    pub fn name(&self) -> &'static str {
+    /// Every method, its parameters at placeholder values (rk4's step 0), in the order
+    /// of [`Method::NAMES`].
+    pub const ALL: [Method; 3] = [Method::Rk4 { h: 0.0 }, Method::Dopri5, Method::Dop853];
+    /// Their names, as scenario files spell them.
+    pub const NAMES: [&'static str; 3] = [
+        Method::ALL[0].name(),
+        Method::ALL[1].name(),
+        Method::ALL[2].name(),
+    ];
+
+    /// Short lowercase name, as used in scenario files, tables and file names.
+    pub const fn name(&self) -> &'static str {
         match self {
             Method::Rk4 { .. } => "rk4",
             Method::Dopri5 => "dopri5",

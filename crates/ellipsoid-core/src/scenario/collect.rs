@@ -31,7 +31,7 @@ pub(super) fn build_all(
     let mut clean = tree.clone();
     // The top level: unknown tables and keys.
     retry(ctx, &mut clean, &mut found, |t| {
-        ctx.table_of("", t, &t.origin, &TOP_KEYS, "the scenario")
+        ctx.table_of("", t, &t.origin, &keys(""), "the scenario")
             .map(|_| ())
     });
     retry(ctx, &mut clean, &mut found, |t| {

@@ -3,12 +3,6 @@
 
 use super::*;
 
-/// `status` and the invariants' names (declared in `invariants::Invariant`).
-pub(super) const CHECK_KEYS: [&str; 7] = {
-    let n = DRIFT_NAMES;
-    ["status", n[0], n[1], n[2], n[3], n[4], n[5]]
-};
-
 /// An empty table standing in for an optional table that is absent.
 pub(super) static EMPTY: Node = Node {
     value: Value::Table(Vec::new()),
@@ -16,7 +10,7 @@ pub(super) static EMPTY: Node = Node {
 };
 
 pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
-    let root = ctx.table_of("", tree, &tree.origin, &TOP_KEYS, "the scenario")?;
+    let root = ctx.table_of("", tree, &tree.origin, &keys(""), "the scenario")?;
     let body = read_body(ctx, tree, &root)?;
     let contact = read_contact(ctx, &root)?;
     let disc = read_disc(ctx, &root, contact)?;
@@ -49,7 +43,7 @@ pub(super) fn read_body(ctx: &Ctx<'_>, tree: &Node, root: &Sec<'_>) -> Result<Bo
         .section(
             root,
             "body",
-            &BODY_KEYS,
+            &keys("body"),
             "semi-axes, mass, centre of mass, inertia",
         )?
         .ok_or_else(|| {
@@ -122,7 +116,7 @@ fn read_spheres(ctx: &Ctx<'_>, body: &Sec<'_>) -> Result<Vec<Sphere>> {
             &format!("body.sphere[{k}]"),
             item,
             &item.origin,
-            &SPHERE_KEYS,
+            &keys("body.sphere"),
             "a contact sphere: name, center, radius",
         )?;
         let name = match sec.get("name") {
@@ -229,7 +223,7 @@ pub(super) fn read_inertia(
 pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel> {
     let models = quoted(&CONTACT_MODELS);
     let sec = ctx
-        .section(root, "contact", &CONTACT_KEYS, "model and friction")?
+        .section(root, "contact", &keys("contact"), "model and friction")?
         .ok_or_else(|| {
             ctx.missing(
                 root,
@@ -260,29 +254,41 @@ pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel
             ),
         )
     };
-    Ok(match model {
-        "frictionless" | "rolling" => {
-            if let Some(got) = sec.get("friction") {
-                let why = if model == "rolling" {
-                    "rolling assumes unlimited friction"
-                } else {
-                    "the plane exerts no friction"
-                };
-                return Err(ctx.bad(ErrorKind::Invalid, &sec, got, format!("the {model} model takes no friction coefficient ({why}); remove it, or use model = \"coulomb\"")));
-            }
-            if model == "rolling" {
-                ContactModel::Rolling
-            } else {
-                ContactModel::Frictionless
-            }
+    let no_friction = |why: &str| {
+        match sec.get("friction") {
+        Some(got) => Err(ctx.bad(ErrorKind::Invalid, &sec, got, format!("the {model} model takes no friction coefficient ({why}); remove it, or use model = \"coulomb\""))),
+        None => Ok(()),
+    }
+    };
+    Ok(match schema::contact_kind(model) {
+        Some(ContactModel::Frictionless) => {
+            no_friction("the plane exerts no friction")?;
+            ContactModel::Frictionless
         }
-        "sliding" => ContactModel::Sliding {
+        Some(ContactModel::Rolling) => {
+            no_friction("rolling assumes unlimited friction")?;
+            ContactModel::Rolling
+        }
+        Some(ContactModel::Sliding { .. }) => ContactModel::Sliding {
             friction: friction.ok_or_else(need)?,
         },
-        _ => ContactModel::Coulomb {
+        Some(ContactModel::Coulomb { .. }) => ContactModel::Coulomb {
             friction: friction.ok_or_else(need)?,
         },
+        None => return Err(unknown_name(ctx, &sec, "model", &CONTACT_MODELS)),
     })
+}
+
+/// The error of a name that `choice` accepted but no dispatch arm reads (a name list
+/// longer than its enum): names the key, the value and the names allowed.
+fn unknown_name(ctx: &Ctx<'_>, sec: &Sec<'_>, key: &str, names: &[&str]) -> ScenarioError {
+    let got = sec.get(key).expect("a name was read");
+    ctx.bad(
+        ErrorKind::Invalid,
+        sec,
+        got,
+        format!("expected one of {}", quoted(names)),
+    )
 }
 
 /// `contact_radius` and `contact_law` of `[contact]`: a contact disc (R > 0), or `None`
@@ -293,7 +299,7 @@ pub(super) fn read_disc(
     root: &Sec<'_>,
     contact: ContactModel,
 ) -> Result<Option<ContactDisc>> {
-    let Some(sec) = ctx.section(root, "contact", &CONTACT_KEYS, "model and friction")? else {
+    let Some(sec) = ctx.section(root, "contact", &keys("contact"), "model and friction")? else {
         return Ok(None);
     };
     let radius = ctx.checked(
@@ -322,7 +328,7 @@ pub(super) fn read_disc(
 
 /// `[contact] restitution` and `on_lift_off` (docs/physics.md, "Flight").
 pub(super) fn read_landing(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Landing> {
-    let Some(sec) = ctx.section(root, "contact", &CONTACT_KEYS, "model and friction")? else {
+    let Some(sec) = ctx.section(root, "contact", &keys("contact"), "model and friction")? else {
         return Ok(Landing::default());
     };
     let restitution = ctx
@@ -353,7 +359,7 @@ pub(super) fn read_initial(
         .section(
             root,
             "initial",
-            &INITIAL_KEYS,
+            &keys("initial"),
             "initial angles, rates, position and velocity",
         )?
         .unwrap_or(Sec {
@@ -523,14 +529,8 @@ pub(super) fn read_rotation(
     let mut q = UnitQuaternion::identity();
     for (i, item) in items.iter().enumerate() {
         let path = format!("{}[{i}]", sec.full("rotation"));
-        let rot = ctx.table_of(
-            &path,
-            item,
-            &item.origin,
-            &["axis", "angle", "angle_deg"],
-            FORM,
-        )?;
-        let (axis, _) = ctx.choice(&rot, "axis", &["x", "y", "z"])?.ok_or_else(|| ctx.missing(&rot, "axis", "give the axis, \"x\", \"y\" or \"z\" (world and body axes coincide before the rotation)"))?;
+        let rot = ctx.table_of(&path, item, &item.origin, &keys("initial.rotation"), FORM)?;
+        let (axis, _) = ctx.choice(&rot, "axis", &ROTATION_AXES)?.ok_or_else(|| ctx.missing(&rot, "axis", "give the axis, \"x\", \"y\" or \"z\" (world and body axes coincide before the rotation)"))?;
         let angle = ctx
             .angle(&rot, "angle", "the rotation angle (rad)")?
             .ok_or_else(|| {
@@ -564,7 +564,7 @@ pub(super) fn read_effects(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, Effect
     let Some(sec) = ctx.section(
         root,
         "effects",
-        &EFFECT_KEYS,
+        &keys("effects"),
         "gravity and optional dissipation",
     )?
     else {
@@ -602,7 +602,7 @@ pub(super) fn read_effects(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, Effect
     let air_drag = match ctx.section(
         &sec,
         "air_drag",
-        &["linear", "angular"],
+        &keys("effects.air_drag"),
         "{ linear = k (kg/s), angular = k_ω (kg m^2/s) }",
     )? {
         Some(d) => {
@@ -659,7 +659,7 @@ pub(super) fn resistance(
         &sec.full(key),
         got.node(),
         &got.entry.key_origin,
-        &["coefficient", "regularisation"],
+        &keys(&sec.full(key)),
         &form,
     )?;
     let c = ctx
@@ -679,13 +679,18 @@ pub(super) fn resistance(
 
 pub(super) fn read_solver(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<SolverSettings> {
     let sec = ctx
-        .section(root, "solver", &SOLVER_KEYS, "method, tolerances and step")?
+        .section(
+            root,
+            "solver",
+            &keys("solver"),
+            "method, tolerances and step",
+        )?
         .unwrap_or(Sec {
             path: "solver".into(),
             node: &EMPTY,
         });
     let method = ctx
-        .choice(&sec, "method", &METHODS)?
+        .choice(&sec, "method", &Method::NAMES)?
         .map_or(DEFAULT_METHOD, |(m, _)| m);
     let rtol = ctx
         .checked(&sec, "rtol", "the relative tolerance", |v| (10.0 * f64::EPSILON..=1e-2).contains(&v), "the relative tolerance must lie between 10·EPS ≈ 2.2e-15 and 1e-2 (looser tolerances leave no correct digit)")?
@@ -715,8 +720,9 @@ pub(super) fn read_solver(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<SolverSetting
             "must be a whole number, at least 1 and below 2^64",
         )?
         .map_or(DEFAULT_MAX_STEPS, |v| v as u64);
-    let (method, initial_step) = match method {
-        "rk4" => {
+    let kind = Method::ALL.into_iter().find(|m| m.name() == method);
+    let (method, initial_step) = match kind {
+        Some(Method::Rk4 { .. }) => {
             let h = step.ok_or_else(|| {
                 ctx.missing(
                     &sec,
@@ -726,8 +732,8 @@ pub(super) fn read_solver(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<SolverSetting
             })?;
             (Method::Rk4 { h }, None)
         }
-        "dopri5" => (Method::Dopri5, step),
-        _ => (Method::Dop853, step),
+        Some(m @ (Method::Dopri5 | Method::Dop853)) => (m, step),
+        None => return Err(unknown_name(ctx, &sec, "method", &Method::NAMES)),
     };
     Ok(SolverSettings {
         method,
@@ -740,7 +746,7 @@ pub(super) fn read_solver(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<SolverSetting
 
 pub(super) fn read_output(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, Vec<f64>)> {
     let sec = ctx
-        .section(root, "output", &OUTPUT_KEYS, "end time and sampling")?
+        .section(root, "output", &keys("output"), "end time and sampling")?
         .ok_or_else(|| {
             ctx.missing(
                 root,
@@ -851,7 +857,7 @@ pub(super) fn read_check(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Check> {
     let Some(sec) = ctx.section(
         root,
         "check",
-        &CHECK_KEYS,
+        &keys("check"),
         "expected status and invariant tolerances",
     )?
     else {
@@ -902,7 +908,7 @@ pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Vec<Observe>
             &format!("observe[{k}]"),
             item,
             &item.origin,
-            &OBSERVE_KEYS,
+            &keys("observe"),
             "an observable: name, column, crosses, direction, terminal",
         )?;
         let name = match sec.get("name") {

@@ -22,6 +22,7 @@ use std::collections::BTreeMap;
 use std::fmt;
 use std::ops::Range;
 use std::path::Path;
+use std::sync::Arc;
 
 use nalgebra::{Matrix3, UnitQuaternion, Vector2, Vector3};
 use serde::Serialize;
@@ -41,7 +42,9 @@ use crate::state::EulerAngles;
 mod collect;
 mod file;
 mod format;
+mod path;
 mod reader;
+pub mod schema;
 #[cfg(test)]
 mod tests;
 mod tree;
@@ -50,8 +53,11 @@ pub use collect::MAX_ERRORS;
 use collect::*;
 pub use file::{MAX_SCENARIO_BYTES, open_regular, read_bounded};
 use format::*;
+pub use path::{KEY_RULE, KeyPath, MAX_INDEX, PathError, Seg};
 use reader::*;
+use schema::{CONTACT_MODELS, DIRECTIONS, ROTATION_AXES, keys};
 use tree::*;
+pub use tree::{Blocked, SetError};
 
 /// g when `effects.gravity` is absent [m/s²] (standard gravity rounded as in the paper).
 pub const DEFAULT_GRAVITY: f64 = 9.81;
@@ -71,57 +77,6 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 pub const DRIFT_NAMES: [&str; 6] = crate::invariants::Invariant::NAMES;
 /// The run statuses a `[check]` table may expect (declared in `simulate::Status`).
 pub const STATUS_NAMES: [&str; 11] = crate::simulate::Status::NAMES;
-const OBSERVE_KEYS: [&str; 5] = ["name", "column", "crosses", "direction", "terminal"];
-const DIRECTIONS: [&str; 3] = ["up", "down", "either"];
-
-const TOP_KEYS: [&str; 8] = [
-    "body", "initial", "contact", "effects", "solver", "output", "check", "observe",
-];
-const BODY_KEYS: [&str; 8] = [
-    "a",
-    "b",
-    "c",
-    "mass",
-    "com_offset",
-    "com_offset_vector",
-    "inertia",
-    "sphere",
-];
-const SPHERE_KEYS: [&str; 3] = ["name", "center", "radius"];
-const INITIAL_KEYS: [&str; 18] = [
-    "theta",
-    "theta_deg",
-    "phi",
-    "phi_deg",
-    "psi",
-    "psi_deg",
-    "theta_dot",
-    "theta_dot_deg",
-    "phi_dot",
-    "phi_dot_deg",
-    "psi_dot",
-    "psi_dot_deg",
-    "omega_body",
-    "omega_body_deg",
-    "rotation",
-    "position",
-    "velocity",
-    "height",
-];
-const CONTACT_KEYS: [&str; 6] = [
-    "model",
-    "friction",
-    "restitution",
-    "on_lift_off",
-    "contact_radius",
-    "contact_law",
-];
-const CONTACT_MODELS: [&str; 4] = ["frictionless", "sliding", "rolling", "coulomb"];
-const EFFECT_KEYS: [&str; 4] = ["gravity", "rolling_resistance", "spin_friction", "air_drag"];
-const SOLVER_KEYS: [&str; 5] = ["method", "rtol", "atol", "step", "max_steps"];
-const METHODS: [&str; 3] = ["rk4", "dopri5", "dop853"];
-const OUTPUT_KEYS: [&str; 3] = ["t_end", "dt", "times"];
-
 /// A parsed, validated scenario.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scenario {
@@ -315,37 +270,135 @@ pub fn parse_all(
     source: &str,
     overrides: &[impl AsRef<str>],
 ) -> std::result::Result<Scenario, ScenarioErrors> {
-    let ctx = Ctx { source, text };
-    let doc = DeTable::parse(text).map_err(|e| ctx.syntax(&e, None))?;
-    if let Some(span) = wide_integer_table(doc.get_ref()) {
-        let literal = text.get(span.clone()).unwrap_or_default();
-        return Err(ctx
-            .error(
-                ErrorKind::Syntax,
-                &Origin::File(span),
-                None,
-                None,
-                format!("{}: {WIDE_INTEGER}", cut(literal)),
-            )
-            .into());
+    Draft::parse(text, source, overrides)?.build()
+}
+
+/// A scenario document with changes applied, not yet validated: [`parse_all`] is
+/// [`Draft::parse`] then [`Draft::build`]. A study or Python sets typed values in a
+/// draft ([`Draft::set`]) rather than writing them as `--set` text.
+#[derive(Debug, Clone)]
+pub struct Draft {
+    text: String,
+    source: String,
+    /// The changes applied, as `key=value`, in order (they become [`Scenario::overrides`]).
+    pub overrides: Vec<String>,
+    /// The document after the changes, with spans.
+    tree: Node,
+}
+
+impl Draft {
+    /// Parses scenario `text` (named `source` in messages) and applies `overrides`
+    /// (`key=value`, see [`parse`]).
+    pub fn parse(
+        text: &str,
+        source: &str,
+        overrides: &[impl AsRef<str>],
+    ) -> std::result::Result<Draft, ScenarioErrors> {
+        let ctx = Ctx { source, text };
+        let doc = DeTable::parse(text).map_err(|e| ctx.syntax(&e, None))?;
+        if let Some(span) = wide_integer_table(doc.get_ref()) {
+            let literal = text.get(span.clone()).unwrap_or_default();
+            return Err(ctx
+                .error(
+                    ErrorKind::Syntax,
+                    &Origin::File(span),
+                    None,
+                    None,
+                    format!("{}: {WIDE_INTEGER}", cut(literal)),
+                )
+                .into());
+        }
+        let mut draft = Draft {
+            text: text.to_owned(),
+            source: source.to_owned(),
+            overrides: Vec::new(),
+            tree: Node::from_table(doc.into_inner(), Origin::File(0..0)),
+        };
+        for set in overrides {
+            draft.apply(set.as_ref())?;
+        }
+        Ok(draft)
     }
-    let mut tree = Node::from_table(doc.into_inner(), Origin::File(0..0));
-    let overrides: Vec<String> = overrides.iter().map(|s| s.as_ref().to_owned()).collect();
-    for set in &overrides {
-        apply_override(&ctx, &mut tree, set)?;
+
+    /// Applies one `--set` override (`key=value`, the value in TOML syntax or a bare
+    /// word) and records it.
+    pub fn apply(&mut self, set: &str) -> Result<()> {
+        let ctx = Ctx {
+            source: &self.source,
+            text: &self.text,
+        };
+        apply_override(&ctx, &mut self.tree, set)?;
+        self.overrides.push(set.to_owned());
+        Ok(())
     }
-    let (scene, check) = build_all(&ctx, &tree).map_err(ScenarioErrors)?;
-    Ok(Scenario {
-        scene,
-        text: text.to_owned(),
-        source: source.to_owned(),
-        overrides,
-        check,
-        tree,
-    })
+
+    /// Sets `value` at `path` (tables made as needed; an index must name an element that
+    /// exists). `label`, the change as `key=value`, names it in messages; it is not
+    /// recorded in [`Draft::overrides`], which the caller keeps.
+    pub fn set(
+        &mut self,
+        path: &KeyPath,
+        value: &toml::Value,
+        label: &str,
+    ) -> std::result::Result<(), SetError> {
+        set_node(
+            &mut self.tree,
+            path,
+            Node::from_toml(value, &Arc::from(label)),
+        )
+    }
+
+    /// Sets `value` at the key path `key`, a change named `label` (`key=value`) in
+    /// messages and recorded in [`Draft::overrides`]: the typed counterpart of
+    /// [`Draft::apply`], with its errors.
+    pub fn change(&mut self, key: &str, value: &toml::Value, label: &str) -> Result<()> {
+        let path = parse_key(&self.source, label, key)?;
+        self.set(&path, value, label)
+            .map_err(|e| e.error(&self.source, &path, label))?;
+        self.overrides.push(label.to_owned());
+        Ok(())
+    }
+
+    /// The value at `path`, if the document has one.
+    pub fn get(&self, path: &KeyPath) -> Option<toml::Value> {
+        self.tree.get(path).map(Node::to_toml)
+    }
+
+    /// The document in the `toml` crate's canonical form: the same text for the same
+    /// content, whatever the spelling, order or comments of the file and the changes.
+    pub fn canonical(&self) -> std::result::Result<String, String> {
+        toml::to_string(&self.tree.to_toml()).map_err(|e| e.to_string())
+    }
+
+    /// Validates the document into a scenario, or returns every independent error.
+    pub fn build(self) -> std::result::Result<Scenario, ScenarioErrors> {
+        let ctx = Ctx {
+            source: &self.source,
+            text: &self.text,
+        };
+        let (scene, check) = build_all(&ctx, &self.tree).map_err(ScenarioErrors)?;
+        Ok(Scenario {
+            scene,
+            text: self.text,
+            source: self.source,
+            overrides: self.overrides,
+            check,
+            tree: self.tree,
+        })
+    }
 }
 
 impl Scenario {
+    /// The scenario's document with its changes, to change further.
+    pub fn draft(&self) -> Draft {
+        Draft {
+            text: self.text.clone(),
+            source: self.source.clone(),
+            overrides: self.overrides.clone(),
+            tree: self.tree.clone(),
+        }
+    }
+
     /// The file name without its extension (`nutation` for `scenarios/nutation.toml`).
     pub fn stem(&self) -> String {
         Path::new(&self.source).file_stem().map_or_else(

@@ -214,6 +214,51 @@ fn overrides_apply_before_validation() {
     );
 }
 
+/// `--set` takes the key paths of studies and Python: `[i]` picks an element of an array
+/// (of numbers or of tables); the change, and a bad value, are placed at the override.
+#[test]
+fn overrides_name_elements_of_arrays_by_index() {
+    let s = ok(
+        PAPER,
+        &[
+            "body.inertia[2]=7e-6",
+            "initial.position=[1, 2]",
+            "initial.position[1]=5",
+        ],
+    );
+    assert_eq!(s.scene.body.inertia()[(2, 2)], 7e-6);
+    assert_eq!(s.scene.body.inertia()[(0, 0)], 3.8e-6);
+    assert_eq!(s.scene.initial.position, Vector2::new(1.0, 5.0));
+    let observed =
+        format!("{PAPER}\n[[observe]]\nname = \"up\"\ncolumn = \"theta\"\ncrosses = 0.5\n");
+    let s = ok(
+        &observed,
+        &["observe[0].crosses=0.25", "observe[0].direction=down"],
+    );
+    assert_eq!(s.scene.observe[0].crosses, 0.25);
+    assert_eq!(s.scene.observe[0].direction, Direction::Falling);
+    assert_eq!(
+        err(PAPER, &["body.inertia[1]=-1"]),
+        "x.toml: --set body.inertia[1]=-1: body.inertia = [3.8e-6, -1, 6.25e-6]: principal moments of inertia must be positive"
+    );
+    assert_eq!(
+        err(PAPER, &["body.inertia[3]=1"]),
+        "x.toml: --set body.inertia[3]=1: body.inertia: has 3 element(s), no index 3, so body.inertia[3] cannot be set"
+    );
+    assert_eq!(
+        err(PAPER, &["body.mass[0]=1"]),
+        "x.toml: --set body.mass[0]=1: body.mass: is not an array, so body.mass[0] cannot be set"
+    );
+    assert_eq!(
+        err(PAPER, &["observe[0].crosses=1"]),
+        "x.toml: --set observe[0].crosses=1: observe: has 0 element(s), no index 0, so observe[0].crosses cannot be set"
+    );
+    assert_eq!(
+        err(PAPER, &["body.inertia[x]=1"]),
+        format!("x.toml: --set body.inertia[x]=1: body.inertia[x]: {KEY_RULE}")
+    );
+}
+
 #[test]
 fn inertia_forms() {
     let full = ok(
@@ -353,8 +398,8 @@ fn unreadable_file_is_an_io_error() {
 #[test]
 fn suggestions_need_a_small_edit_distance() {
     assert_eq!(levenshtein("kitten", "sitting"), 3);
-    assert_eq!(suggest("gravty", &EFFECT_KEYS), Some("gravity"));
-    assert_eq!(suggest("zzz", &EFFECT_KEYS), None);
+    assert_eq!(suggest("gravty", &keys("effects")), Some("gravity"));
+    assert_eq!(suggest("zzz", &keys("effects")), None);
 }
 
 #[test]

@@ -1,8 +1,6 @@
 //! The spanned document tree: every key and value with where it came from (a byte
 //! span of the file or a `--set` override), and the overrides applied to it.
 
-use std::sync::Arc;
-
 use super::*;
 
 /// Where a key or value came from.
@@ -187,20 +185,132 @@ pub(super) fn set_origin(node: &mut Node, set: &Arc<str>) {
     }
 }
 
-/// Applies one `key.path=value` override to the document.
-pub(super) fn apply_override(ctx: &Ctx<'_>, tree: &mut Node, set: &str) -> Result<()> {
-    let location = Location {
-        source: ctx.source.to_owned(),
-        line: None,
-        column: None,
-        set: Some(set.to_owned()),
-    };
-    let fail = |key: Option<String>, value: Option<String>, rule: String| ScenarioError {
-        kind: ErrorKind::Override,
-        location: location.clone(),
-        key,
-        value,
-        rule,
+/// Why a value could not be set at a path: the segment at `depth` (0-based) does not
+/// fit the document.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Blocked {
+    /// A name where the document has no table.
+    NotTable,
+    /// An index where the document has no array.
+    NotArray,
+    /// An index beyond the array's `len` elements.
+    OutOfRange { len: usize },
+}
+
+/// A value that cannot be set at a path: where it is blocked and why.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct SetError {
+    pub blocked: Blocked,
+    /// The segment of the path that does not fit (0-based).
+    pub depth: usize,
+}
+
+impl SetError {
+    /// The error of the change `set` (`key=value`) of the scenario `source` that set
+    /// `path`, as `--set` reports it: the key is the path up to the segment that does not fit.
+    pub fn error(&self, source: &str, path: &KeyPath, set: &str) -> ScenarioError {
+        override_error(
+            source,
+            set,
+            Some(path.prefix(self.depth)),
+            None,
+            self.rule(path),
+        )
+    }
+
+    /// The rule, as `--set` reports it.
+    fn rule(&self, path: &KeyPath) -> String {
+        let what = match self.blocked {
+            Blocked::NotTable => "is not a table".to_owned(),
+            Blocked::NotArray => "is not an array".to_owned(),
+            Blocked::OutOfRange { len } => {
+                let index = match path.segs().get(self.depth) {
+                    Some(Seg::Index(i)) => *i,
+                    _ => 0,
+                };
+                format!("has {len} element(s), no index {index}")
+            }
+        };
+        format!("{what}, so {path} cannot be set")
+    }
+}
+
+/// Sets `node` at `path` in `tree`, making tables (or, before an index, empty arrays) for
+/// names that are absent; an index must name an element that exists. The keys and nodes
+/// from the last name of the path down take `node`'s origin, so that a message about
+/// the changed key or array names the change.
+pub(super) fn set_node(
+    tree: &mut Node,
+    path: &KeyPath,
+    node: Node,
+) -> std::result::Result<(), SetError> {
+    let origin = node.origin.clone();
+    let segs = path.segs();
+    let last_name = segs
+        .iter()
+        .rposition(|s| matches!(s, Seg::Name(_)))
+        .unwrap_or(0);
+    let mut cur = tree;
+    let mut node = Some(node);
+    for (depth, seg) in segs.iter().enumerate() {
+        let blocked = |blocked| SetError { blocked, depth };
+        let last = depth + 1 == segs.len();
+        let slot = match seg {
+            Seg::Name(name) => {
+                let Value::Table(entries) = &mut cur.value else {
+                    return Err(blocked(Blocked::NotTable));
+                };
+                let pos = entries
+                    .iter()
+                    .position(|e| &e.key == name)
+                    .unwrap_or_else(|| {
+                        let empty = match segs.get(depth + 1) {
+                            Some(Seg::Index(_)) => Value::Array(Vec::new()),
+                            _ => Value::Table(Vec::new()),
+                        };
+                        entries.push(Entry {
+                            key: name.clone(),
+                            key_origin: origin.clone(),
+                            node: Node {
+                                value: empty,
+                                origin: origin.clone(),
+                            },
+                        });
+                        entries.len() - 1
+                    });
+                let entry = &mut entries[pos];
+                if depth >= last_name {
+                    entry.key_origin = origin.clone();
+                }
+                &mut entry.node
+            }
+            Seg::Index(i) => {
+                let Value::Array(items) = &mut cur.value else {
+                    return Err(blocked(Blocked::NotArray));
+                };
+                let len = items.len();
+                items
+                    .get_mut(*i)
+                    .ok_or_else(|| blocked(Blocked::OutOfRange { len }))?
+            }
+        };
+        if last {
+            *slot = node.take().expect("set once, at the last segment");
+            return Ok(());
+        }
+        if depth >= last_name {
+            slot.origin = origin.clone();
+        }
+        cur = slot;
+    }
+    unreachable!("a key path has at least one segment")
+}
+
+/// The `--set` form `key.path=value`: the path and the value, the value in TOML syntax or
+/// a bare word, taken as a string (`--set contact.model=rolling`).
+pub(super) fn parse_override(ctx: &Ctx<'_>, set: &str) -> Result<(KeyPath, Node)> {
+    let fail = |key: Option<String>, value: Option<String>, rule: String| {
+        override_error(ctx.source, set, key, value, rule)
     };
     let Some((key, raw)) = set.split_once('=') else {
         return Err(fail(
@@ -209,19 +319,7 @@ pub(super) fn apply_override(ctx: &Ctx<'_>, tree: &mut Node, set: &str) -> Resul
             "an override must have the form key=value, e.g. --set output.t_end=1.0".into(),
         ));
     };
-    let path: Vec<&str> = key.trim().split('.').map(str::trim).collect();
-    if path.iter().any(|s| {
-        s.is_empty()
-            || !s
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-    }) {
-        return Err(fail(
-            Some(key.trim().to_owned()),
-            None,
-            "the key must be a dotted path of names such as body.mass".into(),
-        ));
-    }
+    let path = parse_key(ctx.source, set, key)?;
     let raw = raw.trim();
     let shared: Arc<str> = Arc::from(set);
     let node = match DeValue::parse(raw) {
@@ -253,37 +351,105 @@ pub(super) fn apply_override(ctx: &Ctx<'_>, tree: &mut Node, set: &str) -> Resul
             ));
         }
     };
-    let mut table = tree;
-    for (i, seg) in path.iter().enumerate() {
-        let Value::Table(entries) = &mut table.value else {
-            return Err(fail(
-                Some(path[..i].join(".")),
-                None,
-                format!("is not a table, so {} cannot be set", path.join(".")),
-            ));
-        };
-        let pos = match entries.iter().position(|e| e.key == *seg) {
-            Some(p) => p,
-            None => {
-                let empty = Node {
-                    value: Value::Table(Vec::new()),
-                    origin: Origin::Set(Arc::clone(&shared)),
-                };
-                entries.push(Entry {
-                    key: (*seg).to_owned(),
-                    key_origin: Origin::Set(Arc::clone(&shared)),
-                    node: empty,
-                });
-                entries.len() - 1
-            }
-        };
-        let entry = &mut entries[pos];
-        if i + 1 == path.len() {
-            entry.key_origin = Origin::Set(Arc::clone(&shared));
-            entry.node = node;
-            return Ok(());
-        }
-        table = &mut entry.node;
+    Ok((path, node))
+}
+
+/// An error of the change `set` (`key=value`) of the scenario `source`.
+pub(super) fn override_error(
+    source: &str,
+    set: &str,
+    key: Option<String>,
+    value: Option<String>,
+    rule: String,
+) -> ScenarioError {
+    ScenarioError {
+        kind: ErrorKind::Override,
+        location: Location {
+            source: source.to_owned(),
+            line: None,
+            column: None,
+            set: Some(set.to_owned()),
+        },
+        key,
+        value,
+        rule,
     }
-    unreachable!("the loop returns at the last segment of a non-empty path")
+}
+
+/// The key path `key` of the change `set`, or the error naming it.
+pub(super) fn parse_key(source: &str, set: &str, key: &str) -> Result<KeyPath> {
+    KeyPath::parse(key).map_err(|e| {
+        override_error(
+            source,
+            set,
+            Some(key.trim().to_owned()),
+            None,
+            e.to_string(),
+        )
+    })
+}
+
+/// Applies one `key.path=value` override to the document.
+pub(super) fn apply_override(ctx: &Ctx<'_>, tree: &mut Node, set: &str) -> Result<()> {
+    let (path, node) = parse_override(ctx, set)?;
+    set_node(tree, &path, node).map_err(|e| e.error(ctx.source, &path, set))
+}
+
+impl Node {
+    /// A value of the `toml` crate (a study's, or Python's) as a node from the change `set`.
+    pub(super) fn from_toml(value: &toml::Value, set: &Arc<str>) -> Node {
+        let value = match value {
+            toml::Value::String(s) => Value::Str(s.clone()),
+            toml::Value::Integer(i) => Value::Int(*i),
+            toml::Value::Float(f) => Value::Float(*f),
+            toml::Value::Boolean(b) => Value::Bool(*b),
+            toml::Value::Datetime(d) => Value::Datetime(d.to_string()),
+            toml::Value::Array(a) => {
+                Value::Array(a.iter().map(|v| Node::from_toml(v, set)).collect())
+            }
+            toml::Value::Table(t) => Value::Table(
+                t.iter()
+                    .map(|(k, v)| Entry {
+                        key: k.clone(),
+                        key_origin: Origin::Set(Arc::clone(set)),
+                        node: Node::from_toml(v, set),
+                    })
+                    .collect(),
+            ),
+        };
+        Node {
+            value,
+            origin: Origin::Set(Arc::clone(set)),
+        }
+    }
+
+    /// The node as a value of the `toml` crate (the canonical form of the document).
+    pub(super) fn to_toml(&self) -> toml::Value {
+        match &self.value {
+            Value::Str(s) => toml::Value::String(s.clone()),
+            Value::Int(i) => toml::Value::Integer(*i),
+            Value::Float(f) => toml::Value::Float(*f),
+            Value::Bool(b) => toml::Value::Boolean(*b),
+            Value::Datetime(d) => d
+                .parse()
+                .map_or_else(|_| toml::Value::String(d.clone()), toml::Value::Datetime),
+            Value::Array(a) => toml::Value::Array(a.iter().map(Node::to_toml).collect()),
+            Value::Table(e) => toml::Value::Table(
+                e.iter()
+                    .map(|e| (e.key.clone(), e.node.to_toml()))
+                    .collect(),
+            ),
+        }
+    }
+
+    /// The node at `path`, if present.
+    pub(super) fn get(&self, path: &KeyPath) -> Option<&Node> {
+        path.segs().iter().try_fold(self, |node, seg| match seg {
+            Seg::Name(n) => node.entries().iter().find(|e| &e.key == n).map(|e| &e.node),
+            Seg::Index(i) => match &node.value {
+                Value::Array(a) => a.get(*i),
+                _ => None,
+            },
+        })
+    }
 }

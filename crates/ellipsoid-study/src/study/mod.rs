@@ -2,7 +2,7 @@
 //! scenario, axes over any of its keys, and a table with one row per point.
 //!
 //! ```text
-//!   study file ──spec──▶ Plan ──Study::new──▶ Study ──resolve(i)──▶ overrides, resolved text, key
+//!   study file ──spec──▶ Plan ──Study::new──▶ Study ──resolve(i)──▶ changed document, key
 //!   (or Python)          (data, JSON)          (columns)   └──run_point(i)──▶ outcome cells
 //!                                                              (ellipsoid_io::run::run)
 //!   execute: journal (done rows by key) ─▶ run the rest on a rayon pool ─▶ journal each row
@@ -136,41 +136,51 @@ pub fn execute_with(
         });
     }
     let mut results: Vec<PointResult> = Vec::with_capacity(n);
-    let pending = if done.is_empty() {
-        (0..n).collect()
-    } else {
-        resume(study, done, cancel, &mut tally, &mut results)?
-    };
-    progress(&tally);
     let mut journal_error = None;
     let mut sink_error = None;
     let keep = trajectories.is_some();
-    study
-        .run_many_with(&pending, threads, cancel, keep, |mut r| {
-            // A point that never ran (invalid) gets an empty trajectory: still a group.
-            let t = r.trajectory.take().unwrap_or_default();
-            if let Some(sink) = trajectories.as_mut()
-                && sink_error.is_none()
-                && let Err(e) = sink(&r, &t)
-            {
-                sink_error = Some(e);
-                cancel.store(true, Ordering::Relaxed);
-            }
-            if let Some(j) = journal.as_mut()
-                && journal_error.is_none()
-                && let Err(e) = j.append(&r)
-            {
-                journal_error = Some(e);
-                cancel.store(true, Ordering::Relaxed);
-            }
-            tally.done += 1;
-            if matches!(r.cells.first(), Some(Cell::Text(s)) if is_failure(s)) {
-                tally.failed += 1;
-            }
-            results.push(r);
-            progress(&tally);
-        })
-        .map_err(ExecError::Internal)?;
+    // A finished run: its trajectory to the sink, its row to the journal and the tally.
+    let mut finish = |mut r: PointResult, tally: &mut Tally, results: &mut Vec<PointResult>| {
+        // A point that never ran (invalid) gets an empty trajectory: still a group.
+        let t = r.trajectory.take().unwrap_or_default();
+        if let Some(sink) = trajectories.as_mut()
+            && sink_error.is_none()
+            && let Err(e) = sink(&r, &t)
+        {
+            sink_error = Some(e);
+            cancel.store(true, Ordering::Relaxed);
+        }
+        if let Some(j) = journal.as_mut()
+            && journal_error.is_none()
+            && let Err(e) = j.append(&r)
+        {
+            journal_error = Some(e);
+            cancel.store(true, Ordering::Relaxed);
+        }
+        tally.done += 1;
+        if matches!(r.cells.first(), Some(Cell::Text(s)) if is_failure(s)) {
+            tally.failed += 1;
+        }
+        results.push(r);
+    };
+    if done.is_empty() {
+        progress(&tally);
+        let all: Vec<usize> = (0..n).collect();
+        study
+            .run_many_with(&all, threads, cancel, keep, |r| {
+                finish(r, &mut tally, &mut results);
+                progress(&tally);
+            })
+            .map_err(ExecError::Internal)?;
+    } else {
+        let mut rows = Rows {
+            tally: &mut tally,
+            results: &mut results,
+            finish: &mut finish,
+            progress: &mut progress,
+        };
+        resume(study, done, threads, cancel, keep, &mut rows)?;
+    }
     if let Some(j) = journal.as_mut() {
         j.sync()?;
     }
@@ -188,68 +198,95 @@ pub fn execute_with(
     }
     Ok(results)
 }
-/// Points whose keys are computed together while resuming: the cancel flag is read
-/// between such chunks, and only one chunk's keys are held.
-const RESUME_CHUNK: usize = 1 << 14;
 
-/// Splits the points into those whose rows the journal holds (`done`, moved into
-/// `results` and counted in `tally`) and the rest, returned in order. Keys are computed
-/// in parallel, a chunk at a time (a resolve is tens of microseconds: 10⁷ points take
-/// a minute of CPU); [`ExecError::Interrupted`] as soon as `cancel` is set.
-fn resume(
+/// Points resolved together while resuming: the cancel flag is read between such chunks,
+/// and only one chunk's resolved scenarios are held.
+const RESUME_CHUNK: usize = 1 << 12;
+
+/// Where the rows of a resumed study go: the tally, the results, what is done with a
+/// finished run, and the progress display.
+struct Rows<'a, F, P> {
+    tally: &'a mut Tally,
+    results: &'a mut Vec<PointResult>,
+    finish: &'a mut F,
+    progress: &'a mut P,
+}
+
+/// Resumes a study: the points whose rows the journal holds (`done`) are moved into the
+/// results and counted as resumed, the others run. Each point is resolved once, in
+/// parallel, a chunk at a time (a resolve is tens of microseconds: 10⁷ points take a
+/// minute of CPU), and a chunk's pending points run with the scenarios resolved for their
+/// keys; [`ExecError::Interrupted`] as soon as `cancel` is set.
+fn resume<F, P>(
     study: &Study,
     mut done: journal::Done,
-    cancel: &AtomicBool,
-    tally: &mut Tally,
-    results: &mut Vec<PointResult>,
-) -> Result<Vec<usize>, ExecError> {
+    threads: usize,
+    cancel: &Arc<AtomicBool>,
+    keep: bool,
+    rows: &mut Rows<'_, F, P>,
+) -> Result<(), ExecError>
+where
+    F: FnMut(PointResult, &mut Tally, &mut Vec<PointResult>),
+    P: FnMut(&Tally),
+{
     let n = study.len();
     // Rows already moved into `results`, by key (32 hexadecimal digits), for points that
     // run the same scenario: 24 bytes a row, not a second copy of the key and cells.
     let id = |k: &str| u128::from_str_radix(k, 16).ok();
     let mut taken: std::collections::HashMap<u128, usize> = Default::default();
-    let mut pending = Vec::new();
     for start in (0..n).step_by(RESUME_CHUNK) {
         if cancel.load(Ordering::Relaxed) {
             return Err(ExecError::Interrupted {
-                done: tally.done,
+                done: rows.tally.done,
                 total: n,
             });
         }
-        let keys: Vec<Option<String>> = (start..n.min(start + RESUME_CHUNK))
+        let resolved: Vec<_> = (start..n.min(start + RESUME_CHUNK))
             .into_par_iter()
-            .map(|i| study.resolve(i).ok().map(|r| r.key))
+            .map(|i| (i, study.resolve(i)))
             .collect();
-        for (i, key) in (start..).zip(keys) {
-            let cells = key.as_deref().and_then(|k| match done.remove(k) {
+        let mut pending = Vec::new();
+        for (i, r) in resolved {
+            let key = r.as_ref().ok().map(|r| r.key.as_str());
+            let cells = key.and_then(|k| match done.remove(k) {
                 Some(cells) => {
                     if let Some(id) = id(k) {
-                        taken.insert(id, results.len());
+                        taken.insert(id, rows.results.len());
                     }
                     Some(cells)
                 }
                 None => id(k)
                     .and_then(|id| taken.get(&id))
-                    .map(|&r| results[r].cells.clone()),
+                    .map(|&r| rows.results[r].cells.clone()),
             });
-            let (Some(key), Some(cells)) = (key, cells) else {
-                pending.push(i);
+            let (Ok(r), Some(cells)) = (&r, cells) else {
+                pending.push((i, r));
                 continue;
             };
-            tally.done += 1;
-            tally.resumed += 1;
+            rows.tally.done += 1;
+            rows.tally.resumed += 1;
             if matches!(cells.first(), Some(Cell::Text(s)) if is_failure(s)) {
-                tally.failed += 1;
+                rows.tally.failed += 1;
             }
-            results.push(PointResult {
+            rows.results.push(PointResult {
                 index: i,
-                key,
+                key: r.key.clone(),
                 cells,
                 trajectory: None,
             });
         }
+        (rows.progress)(rows.tally);
+        if pending.is_empty() {
+            continue;
+        }
+        study
+            .run_resolved_with(pending, threads, cancel, keep, |r| {
+                (rows.finish)(r, rows.tally, rows.results);
+                (rows.progress)(rows.tally);
+            })
+            .map_err(ExecError::Internal)?;
     }
-    Ok(pending)
+    Ok(())
 }
 
 #[cfg(test)]

@@ -2,12 +2,13 @@
 //! same study made ready to run ([`Study`]): the base document, the key paths, the
 //! columns of its table, and each point resolved to the scenario it runs.
 //!
-//! A point's scenario is the base with the study's `set` changes and the point's axis
-//! values applied as `--set` overrides (so a bad value is reported exactly as `ellipsoid
-//! run --set` reports it), and its **key** is a hash of the fully resolved scenario text:
-//! the base document with every change applied, written out by the `toml` crate in its
-//! canonical form. Two points that run the same scenario have the same key, whatever
-//! the study file looks like; a point whose scenario changed gets a new one.
+//! A point's scenario is the base document (parsed once, with the study's `set` changes)
+//! with the point's axis values set on it as typed values, each named by the `--set`
+//! override that would make it (so a bad value is reported exactly as `ellipsoid run
+//! --set` reports it), and its **key** is a hash of the fully resolved document written
+//! out by the `toml` crate in its canonical form. Two points that run the same scenario
+//! have the same key, whatever the study file looks like; a point whose scenario changed
+//! gets a new one.
 
 #![allow(clippy::result_large_err)] // errors of a whole study, made once, off the hot path
 
@@ -16,8 +17,10 @@ use std::hash::Hasher;
 
 use ellipsoid_core::columns::NUMERIC_COLUMNS;
 use ellipsoid_core::invariants::Invariant;
+pub use ellipsoid_core::scenario::KEY_RULE;
 use ellipsoid_core::scenario::{
-    self, ErrorKind, Location, Scenario, ScenarioError, ScenarioErrors,
+    self, Draft, ErrorKind, KeyPath, Location, Scenario, ScenarioError, ScenarioErrors, Seg,
+    SetError,
 };
 use serde::{Deserialize, Serialize};
 use siphasher::sip128::{Hasher128, SipHasher13};
@@ -252,124 +255,36 @@ pub enum Cell {
     Text(String),
 }
 
-/// One segment of a key path.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) enum Seg {
-    Name(String),
-    Index(usize),
-}
-
-/// A key path, parsed once.
-#[derive(Debug, Clone, PartialEq)]
-pub(crate) struct Path {
-    pub segs: Vec<Seg>,
-    /// The override key: the names before the first index (`body.inertia` for
-    /// `body.inertia[0]`).
-    pub head: String,
-    pub indexed: bool,
-}
-
-/// The rule for a key path, in messages.
-pub const KEY_RULE: &str = "a key is a dotted path of scenario keys, each [A-Za-z0-9_-]+ and optionally followed by [i] to pick element i of an array (e.g. body.inertia[0], observe[0].crosses)";
-
-pub(crate) fn parse_path(text: &str) -> Result<Path, String> {
+/// A study's key path: the scenario's grammar ([`KEY_RULE`]), at most 200 characters.
+pub(crate) fn parse_path(text: &str) -> Result<KeyPath, String> {
     if text.is_empty() || text.len() > 200 {
         return Err(format!("{KEY_RULE}; at most 200 characters"));
     }
-    let mut segs = Vec::new();
-    for part in text.split('.') {
-        let (name, mut rest) = part.split_at(part.find('[').unwrap_or(part.len()));
-        if name.is_empty()
-            || !name
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
-        {
-            return Err(KEY_RULE.to_owned());
-        }
-        segs.push(Seg::Name(name.to_owned()));
-        while !rest.is_empty() {
-            let close = rest.find(']').ok_or_else(|| KEY_RULE.to_owned())?;
-            let digits = &rest[1..close];
-            let i: usize = digits
-                .parse()
-                .ok()
-                .filter(|i| *i < 1_000_000 && digits.chars().all(|c| c.is_ascii_digit()))
-                .ok_or_else(|| format!("{KEY_RULE}; an index is 0 to 999999"))?;
-            segs.push(Seg::Index(i));
-            rest = &rest[close + 1..];
-            if !rest.is_empty() && !rest.starts_with('[') {
-                return Err(KEY_RULE.to_owned());
-            }
-        }
-    }
-    let head: Vec<&str> = segs
+    KeyPath::parse(text).map_err(|e| e.to_string())
+}
+
+/// Why a value cannot be set at `path` of the base scenario, in the study's words: the
+/// slot named by the last name before the segment that does not fit (and its indexes).
+fn blocked_rule(path: &KeyPath, e: &SetError) -> String {
+    let before = &path.segs()[..e.depth];
+    let start = before
         .iter()
-        .map_while(|s| match s {
-            Seg::Name(n) => Some(n.as_str()),
-            Seg::Index(_) => None,
-        })
-        .collect();
-    Ok(Path {
-        indexed: head.len() < segs.len(),
-        head: head.join("."),
-        segs,
-    })
-}
-
-/// Sets `path` in `table` to `value`, making tables as needed; an index must name an
-/// element that exists.
-pub(crate) fn set_path(
-    table: &mut toml::Table,
-    path: &[Seg],
-    value: toml::Value,
-) -> Result<(), String> {
-    let Some((Seg::Name(first), rest)) = path.split_first() else {
-        return Err(KEY_RULE.to_owned());
-    };
-    if rest.is_empty() {
-        table.insert(first.clone(), value);
-        return Ok(());
-    }
-    let slot = table.entry(first.clone()).or_insert_with(|| match rest[0] {
-        Seg::Name(_) => toml::Value::Table(toml::Table::new()),
-        Seg::Index(_) => toml::Value::Array(Vec::new()),
-    });
-    set_in(slot, first, rest, value)
-}
-
-fn set_in(
-    slot: &mut toml::Value,
-    at: &str,
-    path: &[Seg],
-    value: toml::Value,
-) -> Result<(), String> {
-    match (&path[0], slot) {
-        (Seg::Name(_), toml::Value::Table(t)) => set_path(t, path, value),
-        (Seg::Index(i), toml::Value::Array(a)) => {
-            let len = a.len();
-            let elem = a.get_mut(*i).ok_or_else(|| {
-                format!("{at} has {len} elements in the base scenario; index {i} is out of range")
-            })?;
-            if path.len() == 1 {
-                *elem = value;
-                Ok(())
-            } else {
-                set_in(elem, &format!("{at}[{i}]"), &path[1..], value)
-            }
+        .rposition(|s| matches!(s, Seg::Name(_)))
+        .unwrap_or(0);
+    let head = path.prefix(start);
+    let slot = path.prefix(e.depth);
+    let at = slot[head.len()..].trim_start_matches('.');
+    match e.blocked {
+        scenario::Blocked::NotTable => format!("{at} is not a table in the base scenario"),
+        scenario::Blocked::NotArray => format!("{at} is not an array in the base scenario"),
+        scenario::Blocked::OutOfRange { len } => {
+            let index = match path.segs().get(e.depth) {
+                Some(Seg::Index(i)) => *i,
+                _ => 0,
+            };
+            format!("{at} has {len} elements in the base scenario; index {index} is out of range")
         }
-        (Seg::Name(_), _) => Err(format!("{at} is not a table in the base scenario")),
-        (Seg::Index(_), _) => Err(format!("{at} is not an array in the base scenario")),
     }
-}
-
-/// The value at `head` (a dotted path of names) in `table`.
-fn get_head<'t>(table: &'t toml::Table, head: &str) -> Option<&'t toml::Value> {
-    let mut parts = head.split('.');
-    let mut v = table.get(parts.next()?)?;
-    for p in parts {
-        v = v.as_table()?.get(p)?;
-    }
-    Some(v)
 }
 
 /// A value as the right-hand side of a `--set` override (TOML; floats in the shortest
@@ -382,49 +297,14 @@ pub fn value_text(v: &toml::Value) -> String {
     }
 }
 
-/// The unit of a scenario key, for table headers (`None` if it has none or is unknown).
-pub fn key_unit(key: &str) -> Option<&'static str> {
-    let last = key
-        .rsplit('.')
-        .next()
-        .unwrap_or(key)
-        .split('[')
-        .next()
-        .unwrap_or("");
-    let table = key.split('.').next().unwrap_or("");
-    Some(match (table, last) {
-        (_, l) if l.ends_with("_deg") && l.contains("_dot") => "deg/s",
-        (_, l) if l.ends_with("_deg") => "deg",
-        ("body", "a" | "b" | "c" | "com_offset" | "com_offset_vector" | "center" | "radius") => "m",
-        ("body", "mass") => "kg",
-        ("body", "inertia") => "kg m^2",
-        ("initial", "theta" | "phi" | "psi" | "angle") => "rad",
-        ("initial", "theta_dot" | "phi_dot" | "psi_dot" | "omega_body") => "rad/s",
-        ("initial", "position") => "m",
-        ("initial", "velocity") => "m/s",
-        ("contact", "friction") => "1",
-        ("effects", "gravity") => "m/s^2",
-        ("effects", "rolling_resistance" | "spin_friction" | "coefficient") => "m",
-        ("effects", "regularisation") => "rad/s",
-        ("effects", "linear") => "kg/s",
-        ("effects", "angular") => "kg m^2/s",
-        ("solver", "rtol" | "atol") => "1",
-        ("solver", "step") => "s",
-        ("output", "t_end" | "dt" | "times") => "s",
-        _ => return None,
-    })
-}
-
 /// A study ready to run: the plan, its base document, parsed keys and columns.
 #[derive(Debug, Clone)]
 pub struct Study {
     pub plan: Plan,
-    /// The base with the `set` changes, as the `toml` crate reads it.
-    base_table: toml::Table,
-    /// The base's overrides followed by the `set` changes.
-    base_overrides: Vec<String>,
+    /// The base with its overrides and the `set` changes (recorded in that order).
+    base: Draft,
     /// Key paths, by axis and dim: the key and its `also` keys.
-    paths: Vec<Vec<Vec<Path>>>,
+    paths: Vec<Vec<Vec<KeyPath>>>,
     /// Points per axis.
     lens: Vec<usize>,
     points: usize,
@@ -433,16 +313,23 @@ pub struct Study {
     pub columns: Vec<Column>,
     /// Index of the first outcome column (status).
     outcome_start: usize,
+    /// Points resolved so far (tests count them).
+    #[cfg(test)]
+    pub(crate) resolves: std::sync::Arc<std::sync::atomic::AtomicUsize>,
 }
+
+/// What resolving a point gives: the scenario it runs, or the key that cannot be set
+/// and why.
+pub type Resolution = Result<Resolved, (String, String)>;
 
 /// A point resolved to the scenario it runs.
 #[derive(Debug, Clone)]
 pub struct Resolved {
-    /// `key=value` overrides of the base text, in order.
-    pub overrides: Vec<String>,
-    /// The fully resolved scenario text (canonical TOML).
-    pub text: String,
-    /// Hash of `text`: 32 hexadecimal digits (SipHash-1-3, 128 bits, key 0).
+    /// The base document with every change of the point set, not yet validated; its
+    /// `overrides` name the changes (`key=value`), in order.
+    pub draft: Draft,
+    /// Hash of the fully resolved document's canonical TOML text ([`Draft::canonical`]):
+    /// 32 hexadecimal digits (SipHash-1-3, 128 bits, key 0).
     pub key: String,
 }
 
@@ -465,39 +352,6 @@ pub fn study_error(
         value,
         rule,
     }
-}
-
-/// The base document with its overrides applied, as the `toml` crate reads it.
-fn base_document(
-    base: &Base,
-    err: &dyn Fn(String) -> ScenarioError,
-) -> Result<toml::Table, ScenarioError> {
-    let mut table: toml::Table = base.text.parse().map_err(|e: toml::de::Error| {
-        err(format!(
-            "the base scenario is not valid TOML: {}",
-            e.message()
-        ))
-    })?;
-    for o in &base.overrides {
-        let (k, v) = o.split_once('=').ok_or_else(|| {
-            err(format!(
-                "the base scenario's override {o:?} is not key=value"
-            ))
-        })?;
-        let path = parse_path(k.trim()).map_err(err)?;
-        let value = parse_value(v.trim());
-        set_path(&mut table, &path.segs, value).map_err(err)?;
-    }
-    Ok(table)
-}
-
-/// A `--set` value: TOML, or else a bare word taken as a string (as the scenario parser does).
-pub(crate) fn parse_value(text: &str) -> toml::Value {
-    format!("v = {text}")
-        .parse::<toml::Table>()
-        .ok()
-        .and_then(|mut t| t.remove("v"))
-        .unwrap_or_else(|| toml::Value::String(text.to_owned()))
 }
 
 /// The points of a grid over axes of `lens` values each, or the rule it breaks (more than
@@ -542,43 +396,42 @@ impl Study {
                 format!("a study has at most {MAX_AXES} axes"),
             ));
         }
-        let mut base_overrides = plan.base.overrides.clone();
-        for (k, v) in &plan.set {
-            base_overrides.push(format!("{k}={}", value_text(v)));
-        }
+        let set_labels: Vec<String> = plan
+            .set
+            .iter()
+            .map(|(k, v)| format!("{k}={}", value_text(v)))
+            .collect();
         // The base as the study changes it must be a valid scenario; an error of a `set`
         // change is placed at that change in the study file.
-        let base_scenario =
-            scenario::parse_all(&plan.base.text, &plan.base.source, &base_overrides).map_err(
-                |errs| {
-                    let own = &base_overrides[plan.base.overrides.len()..];
-                    ScenarioErrors(
-                        errs.0
-                            .into_iter()
-                            .map(|mut e| {
-                                let Some(j) =
-                                    own.iter().position(|o| e.location.set.as_ref() == Some(o))
-                                else {
-                                    return e;
-                                };
-                                let label = format!("set.{}", plan.set[j].0);
-                                if places.0.contains_key(&label) {
-                                    e.key = e.key.map(|k| format!("set.{k}"));
-                                }
-                                places.locate(&src, &label, e)
-                            })
-                            .collect(),
-                    )
-                },
-            )?;
-        let mut base_table = base_document(&plan.base, &|rule| {
-            err_at("base", Some("base".into()), None, rule).first()
-        })?;
-        for (k, v) in &plan.set {
+        let at_set = |errs: ScenarioErrors| {
+            ScenarioErrors(
+                errs.0
+                    .into_iter()
+                    .map(|mut e| {
+                        let Some(j) = set_labels
+                            .iter()
+                            .position(|o| e.location.set.as_ref() == Some(o))
+                        else {
+                            return e;
+                        };
+                        let label = format!("set.{}", plan.set[j].0);
+                        if places.0.contains_key(&label) {
+                            e.key = e.key.map(|k| format!("set.{k}"));
+                        }
+                        places.locate(&src, &label, e)
+                    })
+                    .collect(),
+            )
+        };
+        let mut base = Draft::parse(&plan.base.text, &plan.base.source, &plan.base.overrides)
+            .map_err(at_set)?;
+        for ((k, v), label) in plan.set.iter().zip(&set_labels) {
             let path = parse_path(k).map_err(|r| err(Some(format!("set.{k}")), None, r))?;
-            set_path(&mut base_table, &path.segs, v.clone())
-                .map_err(|r| err(Some(format!("set.{k}")), Some(value_text(v)), r))?;
+            base.set(&path, v, label)
+                .map_err(|e| at_set(e.error(&plan.base.source, &path, label).into()))?;
+            base.overrides.push(label.clone());
         }
+        let base_scenario = base.clone().build().map_err(at_set)?;
         let mut paths = Vec::new();
         let mut lens = Vec::new();
         for (i, axis) in plan.axes.iter().enumerate() {
@@ -615,8 +468,10 @@ impl Study {
                     };
                     let p = parse_path(k).map_err(fail)?;
                     // The path must reach into the base (indices exist, no scalar in the way).
-                    let mut probe = base_table.clone();
-                    set_path(&mut probe, &p.segs, d.values.get(0)).map_err(fail)?;
+                    let mut probe = base.clone();
+                    probe
+                        .set(&p, &d.values.get(0), "")
+                        .map_err(|e| fail(blocked_rule(&p, &e)))?;
                     keys.push(p);
                 }
                 dims.push(keys);
@@ -664,20 +519,20 @@ impl Study {
             .unwrap_or(0);
         let study = Study {
             plan,
-            base_table,
-            base_overrides,
+            base,
             paths,
             lens,
             points,
             observables,
             columns,
             outcome_start,
+            #[cfg(test)]
+            resolves: Default::default(),
         };
         // A misspelt key fails every point the same way: say so now, at the axis.
         if study.points > 0 {
             let r = study.resolve(0).map_err(|(k, r)| err(Some(k), None, r))?;
-            if let Err(e) =
-                scenario::parse_all(&study.plan.base.text, &study.plan.base.source, &r.overrides)
+            if let Err(e) = r.draft.clone().build()
                 && let Some(e) = e.0.iter().find(|e| {
                     matches!(
                         e.kind,
@@ -688,7 +543,7 @@ impl Study {
                 let rule = format!(
                     "{} (the first point, {})",
                     e.rule,
-                    r.overrides[study.base_overrides.len()..].join(", ")
+                    r.draft.overrides[study.base.overrides.len()..].join(", ")
                 );
                 // The axis (and whether its key or an `also` key) that names it.
                 let named = e.key.as_deref().and_then(|k| {
@@ -751,43 +606,56 @@ impl Study {
 
     /// Point `index` as the overrides that make its scenario, its resolved text and key.
     /// (An error names the key and why: an index out of range in the base.)
-    pub fn resolve(&self, index: usize) -> Result<Resolved, (String, String)> {
+    pub fn resolve(&self, index: usize) -> Resolution {
+        #[cfg(test)]
+        self.resolves
+            .fetch_add(1, std::sync::atomic::Ordering::Relaxed);
         let coords = self.coords(index);
-        let mut table = self.base_table.clone();
-        let mut overrides = self.base_overrides.clone();
-        let mut heads: Vec<&str> = Vec::new();
+        let mut draft = self.base.clone();
+        // Arrays with an element set, by their path as written: each is named by one
+        // change, the whole array as resolved, after the others.
+        let mut heads: Vec<(String, KeyPath)> = Vec::new();
         for ((axis, paths), &c) in self.plan.axes.iter().zip(&self.paths).zip(&coords) {
             for (dim, keys) in axis.dims.iter().zip(paths) {
                 let v = dim.values.get(c);
                 for p in keys {
-                    set_path(&mut table, &p.segs, v.clone()).map_err(|r| (dim.key.clone(), r))?;
-                    if p.indexed {
-                        heads.push(&p.head);
+                    let label = if p.is_indexed() {
+                        let head = p.head();
+                        heads.push((head.to_string(), head));
+                        String::new()
                     } else {
-                        overrides.push(format!("{}={}", p.head, value_text(&v)));
+                        format!("{p}={}", value_text(&v))
+                    };
+                    draft
+                        .set(p, &v, &label)
+                        .map_err(|e| (dim.key.clone(), blocked_rule(p, &e)))?;
+                    if !label.is_empty() {
+                        draft.overrides.push(label);
                     }
                 }
             }
         }
-        // Elements of arrays: the whole array, as resolved, once per array.
-        heads.sort_unstable();
-        heads.dedup();
-        for h in heads {
-            if let Some(v) = get_head(&table, h) {
-                overrides.push(format!("{h}={}", value_text(v)));
+        heads.sort_unstable_by(|a, b| a.0.cmp(&b.0));
+        heads.dedup_by(|a, b| a.0 == b.0);
+        for (h, path) in heads {
+            if let Some(v) = draft.get(&path) {
+                let label = format!("{h}={}", value_text(&v));
+                draft
+                    .set(&path, &v, &label)
+                    .map_err(|e| (h.clone(), blocked_rule(&path, &e)))?;
+                draft.overrides.push(label);
             }
         }
-        let text = toml::to_string(&table).map_err(|e| ("base".to_owned(), e.to_string()))?;
+        let text = draft.canonical().map_err(|e| ("base".to_owned(), e))?;
         Ok(Resolved {
-            overrides,
             key: hash_hex(&text),
-            text,
+            draft,
         })
     }
 
     /// Point `index`'s scenario.
     pub fn scenario(&self, r: &Resolved) -> Result<Scenario, ScenarioErrors> {
-        scenario::parse_all(&self.plan.base.text, &self.plan.base.source, &r.overrides)
+        r.draft.clone().build()
     }
 
     /// The axis cells of point `index`, in column order.
@@ -851,7 +719,11 @@ fn columns(plan: &Plan, observables: &[String]) -> Result<Vec<Column>, (String, 
             let numeric = dim.values.numeric();
             cols.push(col(
                 dim.key.clone(),
-                if numeric { key_unit(&dim.key) } else { None },
+                if numeric {
+                    scenario::schema::unit(&dim.key)
+                } else {
+                    None
+                },
                 if numeric { Type::Float } else { Type::Text },
                 false,
                 Role::Axis { axis: a, dim: d },

@@ -16,7 +16,7 @@ use ellipsoid_core::columns;
 use ellipsoid_core::simulate::{EventKind, Sample, Status};
 use rayon::prelude::*;
 
-use super::plan::{Cell, Role, Study};
+use super::plan::{Cell, Resolution, Resolved, Role, Study};
 
 /// Version recorded in the summaries the runs make (the workspace's).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
@@ -90,7 +90,18 @@ impl Study {
         cancel: Option<&Arc<AtomicBool>>,
         keep: bool,
     ) -> Option<PointResult> {
-        let resolved = match self.resolve(index) {
+        self.run_job(index, self.resolve(index), cancel, keep)
+    }
+
+    /// Runs point `index` as `resolved` ([`Study::resolve`]'s answer for it).
+    fn run_job(
+        &self,
+        index: usize,
+        resolved: Resolution,
+        cancel: Option<&Arc<AtomicBool>>,
+        keep: bool,
+    ) -> Option<PointResult> {
+        let resolved = match resolved {
             Ok(r) => r,
             Err((key, rule)) => {
                 return Some(PointResult {
@@ -121,7 +132,7 @@ impl Study {
 
     fn run_resolved(
         &self,
-        resolved: &super::plan::Resolved,
+        resolved: &Resolved,
         cancel: Option<&Arc<AtomicBool>>,
         keep: bool,
     ) -> Option<(Vec<Cell>, Option<Trajectory>)> {
@@ -261,10 +272,56 @@ impl Study {
         threads: usize,
         cancel: &Arc<AtomicBool>,
         keep: bool,
-        mut on_row: impl FnMut(PointResult),
+        on_row: impl FnMut(PointResult),
     ) -> Result<(), String> {
+        self.run_par(
+            indices.par_iter().copied(),
+            indices.len(),
+            threads,
+            cancel,
+            on_row,
+            |i| self.run_point_with(i, Some(cancel), keep),
+        )
+    }
+
+    /// [`Study::run_many_with`] over points already resolved (`(index, resolution)`), as a
+    /// resumed study has them: each runs without being resolved again.
+    pub(crate) fn run_resolved_with(
+        &self,
+        jobs: Vec<(usize, Resolution)>,
+        threads: usize,
+        cancel: &Arc<AtomicBool>,
+        keep: bool,
+        on_row: impl FnMut(PointResult),
+    ) -> Result<(), String> {
+        let n = jobs.len();
+        self.run_par(
+            jobs.into_par_iter(),
+            n,
+            threads,
+            cancel,
+            on_row,
+            |(i, r)| self.run_job(i, r, Some(cancel), keep),
+        )
+    }
+
+    /// Runs `run` on each of the `n` `items` on a pool of worker threads, handing each
+    /// row to `on_row` on the calling thread as it finishes; items not yet started when
+    /// `cancel` is set are skipped.
+    fn run_par<I>(
+        &self,
+        items: I,
+        n: usize,
+        threads: usize,
+        cancel: &Arc<AtomicBool>,
+        mut on_row: impl FnMut(PointResult),
+        run: impl Fn(I::Item) -> Option<PointResult> + Sync + Send,
+    ) -> Result<(), String>
+    where
+        I: IndexedParallelIterator,
+    {
         let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(worker_threads(threads, indices.len()))
+            .num_threads(worker_threads(threads, n))
             .stack_size(8 << 20)
             .thread_name(|i| format!("ellipsoid-study-{i}"))
             .build()
@@ -273,17 +330,14 @@ impl Study {
         std::thread::scope(|scope| {
             let worker = scope.spawn(move || {
                 pool.install(|| {
-                    indices
-                        .par_iter()
-                        .with_max_len(1)
-                        .for_each_with(tx, |tx, &i| {
-                            if cancel.load(Ordering::Relaxed) {
-                                return;
-                            }
-                            if let Some(r) = self.run_point_with(i, Some(cancel), keep) {
-                                let _ = tx.send(r);
-                            }
-                        });
+                    items.with_max_len(1).for_each_with(tx, |tx, item| {
+                        if cancel.load(Ordering::Relaxed) {
+                            return;
+                        }
+                        if let Some(r) = run(item) {
+                            let _ = tx.send(r);
+                        }
+                    });
                 });
             });
             for r in rx {

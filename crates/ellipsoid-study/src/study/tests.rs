@@ -91,9 +91,13 @@ fn an_element_of_an_array_and_tied_keys_change_together() {
     .unwrap();
     let r = s.resolve(1).unwrap();
     assert!(
-        r.overrides.last().unwrap().starts_with("body.inertia=["),
+        r.draft
+            .overrides
+            .last()
+            .unwrap()
+            .starts_with("body.inertia=["),
         "{:?}",
-        r.overrides
+        r.draft.overrides
     );
     let sc = s.scenario(&r).unwrap();
     let i = sc.scene.body.inertia();
@@ -210,11 +214,14 @@ fn a_resumed_study_gives_the_table_of_an_uninterrupted_one() {
     }
     drop(journal);
     let mut seen = Tally::default();
+    s.resolves.store(0, std::sync::atomic::Ordering::Relaxed);
     let r = execute(&s, Some(&j), 2, &Arc::new(AtomicBool::new(false)), |t| {
         seen = *t
     })
     .unwrap();
     assert_eq!((seen.done, seen.resumed, seen.total), (6, 3, 6));
+    // Each point resolved once: its key found the journal's row, or its run used it.
+    assert_eq!(s.resolves.load(std::sync::atomic::Ordering::Relaxed), 6);
     let resumed = s.rows(r);
     let wall = s
         .columns
@@ -434,4 +441,46 @@ fn every_rejected_study_file_names_its_line_and_column() {
         let e = study(&doc).unwrap_err();
         assert!(e.contains(expected), "expected {expected:?} in {e:?}");
     }
+}
+
+/// An axis column's unit is the scenario schema's, for every key the format has.
+#[test]
+fn axis_columns_take_their_units_from_the_scenario_schema() {
+    let s = study(
+        "combine = \"zip\"\n\
+         [[axis]]\nkey = \"contact.contact_radius\"\nvalues = [0.0]\n\
+         [[axis]]\nkey = \"contact.restitution\"\nvalues = [0.5]\n\
+         [[axis]]\nkey = \"initial.height\"\nvalues = [0.0]\n",
+    )
+    .unwrap();
+    assert_eq!(
+        &header(&s)[1..4],
+        [
+            "contact.contact_radius [m]",
+            "contact.restitution [1]",
+            "initial.height [m]"
+        ]
+    );
+}
+
+/// The row keys of studies run before the values were set on the parsed document (by
+/// `--set` text): the same, so their journals resume. The keys were written by that
+/// implementation for this study (an index axis with its `also` key, and a string axis).
+#[test]
+fn row_keys_are_those_of_existing_journals() {
+    let s = study(
+        "[[axis]]\nkey = \"body.inertia[0]\"\nalso = [\"body.inertia[1]\"]\nvalues = [6e-7, 9e-7]\n\
+         [[axis]]\nkey = \"contact.model\"\nvalues = [\"coulomb\", \"sliding\"]\n",
+    )
+    .unwrap();
+    let keys: Vec<String> = (0..4).map(|i| s.resolve(i).unwrap().key).collect();
+    assert_eq!(
+        keys,
+        [
+            "30fe60aa2b2b8739af55f22a4768fe9a",
+            "12afb2bd4621d9cf28ceabcc8219d493",
+            "c427a48a1ffea43b492caae4e63ecdb9",
+            "5dc80532da170c32b296bfe348a5a25e"
+        ]
+    );
 }
