@@ -400,3 +400,26 @@ fn a_body_rocking_between_two_surfaces_never_passes_through_the_plane() {
         other => panic!("{other:?}"),
     }
 }
+
+/// A sphere's name names output columns: one that is not a word of at most 24 ASCII
+/// letters, digits or underscores is refused at its TOML value, with the rule.
+#[test]
+fn a_sphere_name_that_cannot_name_a_column_is_refused_at_its_line() {
+    let stem = std::fs::read_to_string(root().join("scenarios/tippe-top-stem.toml")).unwrap();
+    let line = 1 + stem.lines().position(|l| l == "name = \"stem\"").unwrap();
+    for bad in ["st em", "stem,2", "\u{e9}tige", &"s".repeat(25)] {
+        let text = stem.replace("name = \"stem\"", &format!("name = {bad:?}"));
+        let err = ellipsoid_core::scenario::parse(&text, "s.toml", &[] as &[&str])
+            .err()
+            .unwrap_or_else(|| panic!("{bad:?} accepted"))
+            .to_string();
+        assert!(err.contains(&format!("s.toml:{line}:")), "{err}");
+        assert!(err.contains("body.sphere[0].name"), "{err}");
+        assert!(
+            err.contains("1 to 24 ASCII letters, digits or underscores"),
+            "{err}"
+        );
+    }
+    let ok = stem.replace("name = \"stem\"", "name = \"stem_2\"");
+    assert!(ellipsoid_core::scenario::parse(&ok, "s.toml", &[] as &[&str]).is_ok());
+}

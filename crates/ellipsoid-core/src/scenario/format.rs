@@ -90,6 +90,12 @@ pub(super) fn read_body(ctx: &Ctx<'_>, tree: &Node, root: &Sec<'_>) -> Result<Bo
         .map_err(|e| ctx.model(tree, &e))
 }
 
+/// Whether `s` is a contact sphere's name: 1 to [`MAX_NAME`] ASCII letters, digits or
+/// underscores (`Body::with_spheres`' rule, checked here to point at the TOML value).
+fn is_sphere_name(s: &str) -> bool {
+    (1..=MAX_NAME).contains(&s.len()) && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
 /// The `[[body.sphere]]` array of tables: contact spheres fixed in the body
 /// (docs/scenarios.md, "Contact spheres").
 fn read_spheres(ctx: &Ctx<'_>, body: &Sec<'_>) -> Result<Vec<Sphere>> {
@@ -128,7 +134,7 @@ fn read_spheres(ctx: &Ctx<'_>, body: &Sec<'_>) -> Result<Vec<Sphere>> {
                 ));
             }
             Some(g) => match &g.node().value {
-                Value::Str(s) if !s.is_empty() && s.len() <= 100 => {
+                Value::Str(s) if is_sphere_name(s) => {
                     if s == "ellipsoid" || out.iter().any(|o| &o.name == s) {
                         return Err(ctx.bad(
                             ErrorKind::Invalid,
@@ -140,7 +146,15 @@ fn read_spheres(ctx: &Ctx<'_>, body: &Sec<'_>) -> Result<Vec<Sphere>> {
                     s.clone()
                 }
                 Value::Str(_) => {
-                    return Err(ctx.bad(ErrorKind::Invalid, &sec, g, "a name of 1 to 100 bytes"));
+                    return Err(ctx.bad(
+                        ErrorKind::Invalid,
+                        &sec,
+                        g,
+                        format!(
+                            "a sphere's name is 1 to {MAX_NAME} ASCII letters, digits or \
+                             underscores (it names output columns, e.g. normal_force_stem)"
+                        ),
+                    ));
                 }
                 _ => return Err(ctx.wrong_type(&sec, g, "a string: the sphere's name")),
             },

@@ -158,7 +158,7 @@ pub const SCHEMA: &[Key] = &[
     key("body", "com_offset_vector", M, Numbers(3), Means("[0, 0, 0]"), "G − C0 in body axes (exclusive with com_offset)"),
     key("body", "inertia", Some("kg m^2"), Inertia, Required, "about G in body axes: [I1, I2, I3], a symmetric 3×3 array, or \"uniform\""),
     key("body", "sphere", None, Tables, Unset, "contact spheres fixed in the body, at most 8"),
-    key("body.sphere", "name", None, Text, Required, "unique, not \"ellipsoid\""),
+    key("body.sphere", "name", None, Text, Required, "1 to 24 ASCII letters, digits or _ (it names output columns); unique, not \"ellipsoid\""),
     key("body.sphere", "center", M, Numbers(3), Required, "the sphere's centre in body axes, from the ellipsoid's centre C0"),
     key("body.sphere", "radius", M, Number, Required, "the sphere's radius"),
     key("initial", "theta", RAD, Number, Value(0.0), "θ, the tilt of the symmetry axis from the vertical"),
