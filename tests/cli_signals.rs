@@ -378,7 +378,7 @@ fn sigterm_while_a_resumed_study_prepares_exits_at_once() {
     assert!(!d.join("big.csv").exists());
     let after = std::fs::read_to_string(&journal).unwrap();
     assert!(
-        after.starts_with(&before) && after.lines().count() - 1 >= rows,
+        after.starts_with(&before) && after.lines().count() > rows,
         "the journal's rows are kept as they were"
     );
 }
