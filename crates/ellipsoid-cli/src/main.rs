@@ -28,12 +28,7 @@ static ALLOCATOR: oom::CleanOom = oom::CleanOom;
 fn main() -> ExitCode {
     // A bug must still end in one readable line, never a panic dump.
     std::panic::set_hook(Box::new(|info| {
-        let msg = info
-            .payload()
-            .downcast_ref::<&str>()
-            .map(|s| s.to_string())
-            .or_else(|| info.payload().downcast_ref::<String>().cloned())
-            .unwrap_or_default();
+        let msg = ellipsoid_core::error::panic_message(info.payload());
         let place = info
             .location()
             .map(|l| format!(" ({}:{})", l.file(), l.line()))

@@ -439,10 +439,7 @@ fn main() {
             Ok(r) => check(text.as_deref(), r, took),
             Err(p) => Err(format!(
                 "panic: {}",
-                p.downcast_ref::<&str>()
-                    .map(|s| s.to_string())
-                    .or_else(|| p.downcast_ref::<String>().cloned())
-                    .unwrap_or_default()
+                ellipsoid_core::error::panic_message(p)
             )),
         };
         if let Err(why) = verdict {

@@ -97,6 +97,16 @@ pub fn shorten_numbers(text: &str) -> String {
     out
 }
 
+/// The message of a panic's payload (from `std::panic::catch_unwind`, a thread's `join` or
+/// a panic hook): its `&str` or `String`, else "a panic without a message".
+pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+    payload
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| payload.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic without a message".into())
+}
+
 #[cfg(test)]
 mod tests {
     use super::{number, shorten_numbers};

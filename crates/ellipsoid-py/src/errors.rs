@@ -365,8 +365,12 @@ fn errno_of(py: Python<'_>, kind: std::io::ErrorKind) -> Option<i32> {
 /// Runs `f`, turning a panic into `ellipsoid.InternalError` (pyo3 would raise its
 /// `PanicException`, a BaseException that `except Exception` does not catch).
 pub fn guard<T>(py: Python<'_>, f: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
-    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f))
-        .unwrap_or_else(|p| Err(internal_error(py, &crate::run::panic_message(&*p))))
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|p| {
+        Err(internal_error(
+            py,
+            &ellipsoid_core::error::panic_message(&*p),
+        ))
+    })
 }
 
 /// A caught panic, as `ellipsoid.InternalError`.

@@ -93,15 +93,7 @@ pub fn run_caught(
     cancel: &Arc<AtomicBool>,
 ) -> Result<Run, Failure> {
     catch_unwind(AssertUnwindSafe(|| run(scenario, keep_samples, cancel)))
-        .unwrap_or_else(|p| Err(Failure::Panic(panic_message(&*p))))
-}
-
-pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    payload
-        .downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| payload.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "a panic without a message".into())
+        .unwrap_or_else(|p| Err(Failure::Panic(ellipsoid_core::error::panic_message(&*p))))
 }
 
 /// Runs `work` on a worker thread while the caller, detached from Python, checks for
@@ -122,7 +114,7 @@ pub fn detached<T: Send>(
                 .stack_size(STACK)
                 .spawn_scoped(scope, move || {
                     let r = catch_unwind(AssertUnwindSafe(|| work(cancel)))
-                        .map_err(|p| panic_message(&*p));
+                        .map_err(|p| ellipsoid_core::error::panic_message(&*p));
                     let _ = tx.send(r);
                 });
             if let Err(e) = spawned {

@@ -118,7 +118,7 @@ impl Study {
         }))
         .unwrap_or_else(|p| {
             Some((
-                self.failed(INTERNAL_ERROR, crate::study::panic_message(&*p)),
+                self.failed(INTERNAL_ERROR, ellipsoid_core::error::panic_message(&*p)),
                 None,
             ))
         })?;
@@ -343,7 +343,9 @@ impl Study {
             for r in rx {
                 on_row(r);
             }
-            worker.join().map_err(|p| crate::study::panic_message(&*p))
+            worker
+                .join()
+                .map_err(|p| ellipsoid_core::error::panic_message(&*p))
         })
     }
 }
