@@ -423,3 +423,47 @@ fn a_sphere_name_that_cannot_name_a_column_is_refused_at_its_line() {
     let ok = stem.replace("name = \"stem\"", "name = \"stem_2\"");
     assert!(ellipsoid_core::scenario::parse(&ok, "s.toml", &[] as &[&str]).is_ok());
 }
+
+/// An observable may watch a per-surface column: the stem's gap falling through 1 mm while
+/// the ball is in contact is located where the geometry puts it, r1 + 13 mm·cos θ − r2 =
+/// 1 mm (docs/physics.md, "Contact spheres"), before the stem touches.
+#[test]
+fn an_observable_watches_a_surface_s_own_column() {
+    let stem = std::fs::read_to_string(root().join("scenarios/tippe-top-stem.toml")).unwrap();
+    let text = stem.replace(
+        "[check]",
+        "[[observe]]\nname = \"near\"\ncolumn = \"gap_stem\"\ncrosses = 0.001\ndirection = \"down\"\n\n[check]",
+    );
+    let sc = ellipsoid_core::scenario::parse(&text, "near.toml", &["output.t_end=1.5"]).unwrap();
+    let (out, _) = run(&sc.scene);
+    let near = out
+        .events
+        .iter()
+        .find_map(|e| match &e.kind {
+            EventKind::Observed { index, sample } if sc.scene.observe[*index].name == "near" => {
+                Some((e.t, sample.angles.theta))
+            }
+            _ => None,
+        })
+        .expect("the stem comes within 1 mm");
+    let touch = out
+        .events
+        .iter()
+        .find(|e| matches!(e.kind, EventKind::ContactSurface { .. }))
+        .expect("the stem touches")
+        .t;
+    assert!(near.0 < touch, "{} {touch}", near.0);
+    let theta = ((0.001_f64 - 0.015 + 0.005) / 0.013).acos();
+    assert!(
+        (near.1 - theta).abs() < 1e-8,
+        "θ = {} against {theta}",
+        near.1
+    );
+    // A column the body lacks is refused with the columns it has.
+    let bad = text.replace("\"gap_stem\"", "\"gap_peg\"");
+    let err = ellipsoid_core::scenario::parse(&bad, "near.toml", &[] as &[&str])
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(err.contains("gap_peg") && err.contains("gap_stem"), "{err}");
+}

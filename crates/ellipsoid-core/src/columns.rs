@@ -242,6 +242,16 @@ impl Layout {
         }
     }
 
+    /// The value in `s` of numeric column `k` (the layout's order).
+    pub fn value(&self, s: &Sample, k: usize) -> f64 {
+        if k < NUMERIC {
+            return values(s)[k];
+        }
+        let mut extra = Vec::with_capacity(self.extra());
+        self.surface_values(s, &mut extra);
+        extra[k - NUMERIC]
+    }
+
     /// The `mode` column of `s`: the contact phase's name, and for a body with contact
     /// spheres the surfaces in contact after `@`, in the body's order (the ellipsoid
     /// first), joined by `+` (`flight` alone).

@@ -263,7 +263,7 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
             format!(
                 "observable {:?} ({} crossed {}) at t = {t} s, where the scene asked the run to end",
                 o.name,
-                columns::NUMERIC_COLUMNS[o.column].0,
+                columns::Layout::of(&scene.body).numeric_columns()[o.column].0,
                 o.crosses
             )
         }

@@ -34,9 +34,9 @@ pub(super) fn build_all(
         ctx.table_of("", t, &t.origin, &keys(""), "the scenario")
             .map(|_| ())
     });
-    retry(ctx, &mut clean, &mut found, |t| {
-        read_body(ctx, t, &root(t)).map(|_| ())
-    });
+    let body = retry(ctx, &mut clean, &mut found, |t| read_body(ctx, t, &root(t)));
+    // The observables' columns are the body's (its per-surface ones).
+    let layout = body.as_ref().map_or_else(Layout::fixed, Layout::of);
     let contact = retry(ctx, &mut clean, &mut found, |t| read_contact(ctx, &root(t)));
     if let Some(contact) = contact {
         retry(ctx, &mut clean, &mut found, |t| {
@@ -60,7 +60,7 @@ pub(super) fn build_all(
         read_check(ctx, &root(t)).map(|_| ())
     });
     retry(ctx, &mut clean, &mut found, |t| {
-        read_observe(ctx, &root(t)).map(|_| ())
+        read_observe(ctx, &root(t), &layout).map(|_| ())
     });
     // A key missing from a table that had an unknown key is most likely that key,
     // misspelt (`mas` for `mass`): not an error of its own. (The first error, `build`'s,

@@ -20,7 +20,7 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
     let solver = read_solver(ctx, &root)?;
     let (t_end, sample_times) = read_output(ctx, &root)?;
     let check = read_check(ctx, &root)?;
-    let observe = read_observe(ctx, &root)?;
+    let observe = read_observe(ctx, &root, &Layout::of(&body))?;
     let scene = Scene {
         body,
         gravity,
@@ -897,7 +897,9 @@ pub(super) fn read_check(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Check> {
 
 /// The `[[observe]]` array of tables: events on output columns (docs/scenarios.md,
 /// "Observables").
-pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Vec<Observe>> {
+/// The `[[observe]]` entries; a column is one of `layout`'s numeric columns (a body with
+/// contact spheres adds its per-surface columns).
+pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>, layout: &Layout) -> Result<Vec<Observe>> {
     let Some(got) = root.get("observe") else {
         return Ok(Vec::new());
     };
@@ -912,10 +914,8 @@ pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Vec<Observe>
             format!("{} entries; at most {MAX_OBSERVE} observables", items.len()),
         ));
     }
-    let columns: Vec<&'static str> = crate::columns::NUMERIC_COLUMNS
-        .iter()
-        .map(|c| c.0)
-        .collect();
+    let numeric = layout.numeric_columns();
+    let columns: Vec<&str> = numeric.iter().map(|c| &*c.0).collect();
     let mut out: Vec<Observe> = Vec::with_capacity(items.len());
     for (k, item) in items.iter().enumerate() {
         let sec = ctx.table_of(
@@ -980,7 +980,7 @@ pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Vec<Observe>
                 }
             },
         };
-        let column = crate::columns::index(column).expect("a column name from the list");
+        let column = layout.index(column).expect("a column name from the list");
         out.push(Observe {
             name,
             column,

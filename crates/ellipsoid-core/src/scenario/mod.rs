@@ -29,6 +29,7 @@ use serde::Serialize;
 use toml::de::{DeTable, DeValue};
 
 use crate::body::{Body, MAX_NAME, MAX_SPHERES, Sphere, uniform_inertia};
+use crate::columns::Layout;
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
 use crate::integrate::{Direction, Method};

@@ -360,12 +360,12 @@ impl<'a> Ctx<'a> {
     }
 
     /// A string that must be one of `choices`, if present.
-    pub(super) fn choice<'t>(
+    pub(super) fn choice<'t, 'c>(
         &self,
         sec: &Sec<'t>,
         key: &str,
-        choices: &[&'static str],
-    ) -> Result<Option<(&'static str, Got<'t>)>> {
+        choices: &[&'c str],
+    ) -> Result<Option<(&'c str, Got<'t>)>> {
         let Some(got) = sec.get(key) else {
             return Ok(None);
         };

@@ -214,7 +214,7 @@ pub const SCHEMA: &[Key] = &[
     key("check", "axial_spin", ONE, Number, Unset, DRIFT),
     key("check", "jellett", ONE, Number, Unset, DRIFT),
     key("observe", "name", None, Text, Required, "a unique name, reported with the event"),
-    key("observe", "column", None, Column, Required, "the numeric output column watched"),
+    key("observe", "column", None, Column, Required, "the numeric output column watched (a body with contact spheres: its per-surface columns too)"),
     key("observe", "crosses", None, Number, Required, "the value crossed, in the column's unit"),
     key("observe", "direction", None, Choice(&DIRECTIONS), Means("either"), "up (increasing through the value), down or either"),
     key("observe", "terminal", None, Bool, Means("false"), "whether the run ends at the first crossing (status observed)"),

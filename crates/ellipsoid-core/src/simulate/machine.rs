@@ -214,7 +214,8 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
     // row per state.
     let angles = Cell::new(rec.angles);
     let gauge = rec.gauge();
-    let observed: Memo<(Key, EulerAngles), [f64; columns::NUMERIC]> = Memo::default();
+    let observed: Memo<(Key, EulerAngles), Sample> = Memo::default();
+    let layout = &columns::Layout::of(&scene.body);
     let (angles_ref, observed) = (&angles, &observed);
     let events: Vec<Event<'_, { state::DIM }>> = watches
         .iter()
@@ -229,10 +230,10 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
                                 let (mut sample, inv) =
                                     ctx.sample(law, P::MODE, t, y, ev, Some(&prev));
                                 sample.drift = gauge.of(&inv);
-                                columns::values(&sample)
+                                sample
                             })
                         };
-                        observed.with(((t, (*y).into()), prev), row, |row| row[o.column])
+                        observed.with(((t, (*y).into()), prev), row, |s| layout.value(s, o.column))
                             - o.crosses
                     }),
                     direction: o.direction,

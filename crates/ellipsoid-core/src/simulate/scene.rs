@@ -4,7 +4,7 @@
 use nalgebra::{Vector2, Vector3};
 
 use crate::body::Body;
-use crate::columns::{self, NUMERIC_COLUMNS};
+use crate::columns;
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
 use crate::integrate::{self, Direction, Method};
@@ -121,7 +121,7 @@ pub struct SolverSettings {
 pub struct Observe {
     /// The user's name for it, unique in the scene.
     pub name: String,
-    /// Index of the column in [`NUMERIC_COLUMNS`].
+    /// Index of the column among the body's numeric columns (`columns::Layout`).
     pub column: usize,
     /// The value crossed, in the column's unit.
     pub crosses: f64,
@@ -500,11 +500,17 @@ impl Scene {
                     "observable names must be unique",
                 ));
             }
-            if o.column >= NUMERIC_COLUMNS.len() {
+            let layout = columns::Layout::of(&self.body);
+            if o.column >= layout.numeric() {
+                let names: Vec<String> = layout
+                    .numeric_columns()
+                    .into_iter()
+                    .map(|c| c.0.into_owned())
+                    .collect();
                 return Err(ModelError::invalid(
                     "observe.column",
                     o.column,
-                    format!("not a numeric column (one of {})", columns_list()),
+                    format!("not a numeric column (one of {})", names.join(", ")),
                 ));
             }
             if !o.crosses.is_finite() {
@@ -517,13 +523,4 @@ impl Scene {
         }
         Ok(())
     }
-}
-
-/// The numeric column names, comma-separated (for messages).
-pub(crate) fn columns_list() -> String {
-    columns::NUMERIC_COLUMNS
-        .iter()
-        .map(|c| c.0)
-        .collect::<Vec<_>>()
-        .join(", ")
 }
