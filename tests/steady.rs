@@ -3,12 +3,14 @@
 //! against runs of the simulator started on the steady motion (an independent path: the
 //! integrator and the full state, not the reduced field's Jacobian).
 
-use std::ops::ControlFlow;
+mod common;
+
+use common::{assert_spectrum, completed as run, first_reaching};
 
 use nalgebra::{Complex, Vector3};
 
 use ellipsoid_core::scenario;
-use ellipsoid_core::simulate::{self, Sample, Scene, Status};
+use ellipsoid_core::simulate::{Sample, Scene};
 use ellipsoid_core::steady::{self, Analysis, Family, ReducedField, reduce};
 
 const G: f64 = 9.81;
@@ -26,25 +28,6 @@ fn sleeping_eigenvalues(big_a: f64, big_c: f64, k: f64, n: f64) -> Vec<Complex<f
         out.push(-lambda);
     }
     out
-}
-
-/// Each expected eigenvalue has its own computed one within `tol` of the scale.
-fn assert_spectrum(computed: &[Complex<f64>], expected: &[Complex<f64>], tol: f64, what: &str) {
-    let scale = expected.iter().map(|z| z.norm()).fold(0.0, f64::max);
-    let mut left: Vec<Complex<f64>> = computed.to_vec();
-    for e in expected {
-        let (k, d) = left
-            .iter()
-            .enumerate()
-            .map(|(k, z)| (k, (z - e).norm()))
-            .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-        assert!(
-            d <= tol * scale,
-            "{what}: expected {e} not found (nearest off by {:.3e} of {scale:.3e}); computed {computed:?}",
-            d / scale
-        );
-        left.remove(k);
-    }
 }
 
 #[derive(Clone, Copy)]
@@ -197,28 +180,6 @@ fn zeta1(s: &Sample) -> f64 {
     s.angles.theta.sin() * s.angles.psi.sin()
 }
 
-/// Runs `scene` and returns its samples; the run must complete.
-fn run(scene: &Scene) -> Vec<Sample> {
-    let mut samples = Vec::new();
-    let out = simulate::simulate(scene, &mut |s| {
-        samples.push(*s);
-        ControlFlow::Continue(())
-    })
-    .unwrap();
-    assert_eq!(out.status, Status::Completed, "{:?}", out.status);
-    samples
-}
-
-/// The time at which ln θ first reaches ln `level`, interpolated linearly in ln θ.
-fn first_reaching(samples: &[Sample], level: f64) -> f64 {
-    let w = samples
-        .windows(2)
-        .find(|w| w[0].angles.theta < level && w[1].angles.theta >= level)
-        .expect("the tilt reaches the level");
-    let (l0, l1) = (w[0].angles.theta.ln(), w[1].angles.theta.ln());
-    w[0].t + (level.ln() - l0) / (l1 - l0) * (w[1].t - w[0].t)
-}
-
 /// Starts a run on the steady motion displaced by 1e-6 along the unstable mode and fits
 /// the growth of the tilt over a decade (1e-5 to 1e-4 rad): it must be the mode's Re λ
 /// within 1e-6 (the issue asks 1 %; the nonlinear terms are ~θ² = 1e-8 there).
@@ -233,8 +194,8 @@ fn assert_growth(scene: &Scene, an: &Analysis, what: &str) {
         .map(|i| i as f64 * start.t_end / 4000.0)
         .collect();
     let samples = run(&start);
-    let t1 = first_reaching(&samples, 1e-5);
-    let t2 = first_reaching(&samples, 1e-4);
+    let t1 = first_reaching(&samples, 0.0, 1e-5);
+    let t2 = first_reaching(&samples, 0.0, 1e-4);
     let fitted = 10f64.ln() / (t2 - t1);
     eprintln!("{what}: growth {fitted} against Re λ = {rate}");
     assert!(

@@ -5,12 +5,14 @@
 //! steady motion (an independent path) staying on it, and started 1e-6 along a mode
 //! following the predicted spectrum; the spectrum's invariance under the symmetries.
 
-use std::ops::ControlFlow;
+mod common;
+
+use common::{assert_spectrum, completed as run, first_reaching};
 
 use nalgebra::{Complex, Matrix3, Vector3};
 
 use ellipsoid_core::scenario::{self, Scenario};
-use ellipsoid_core::simulate::{self, Sample, Scene, Status};
+use ellipsoid_core::simulate::{Sample, Scene};
 use ellipsoid_core::steady::{self, Analysis, Family};
 
 const G: f64 = 9.81;
@@ -189,18 +191,6 @@ fn val_routh_relation_against_newton_euler() {
     eprintln!("largest relative difference of the spin: {worst:.2e}");
 }
 
-/// Runs `scene` and returns its samples; the run must complete.
-fn run(scene: &Scene) -> Vec<Sample> {
-    let mut samples = Vec::new();
-    let out = simulate::simulate(scene, &mut |s| {
-        samples.push(*s);
-        ControlFlow::Continue(())
-    })
-    .unwrap();
-    assert_eq!(out.status, Status::Completed, "{:?}", out.status);
-    samples
-}
-
 /// `scene` started at the analysis's steady motion displaced by `epsilon` along mode
 /// `k` (0: not displaced), sampled `count` times up to `t_end`.
 fn started(scene: &Scene, an: &Analysis, k: usize, epsilon: f64, t_end: f64) -> Scene {
@@ -265,17 +255,6 @@ fn val_runs_stay_on_the_steady_motion() {
         let scale = speed0.max((G * body.a).sqrt());
         assert!(dspeed <= 1e-9 * scale, "{what}: |v_G| drifts by {dspeed:e}");
     }
-}
-
-/// The time at which |θ − θ0| first reaches `level`, interpolated in ln |θ − θ0|.
-fn first_reaching(samples: &[Sample], theta0: f64, level: f64) -> f64 {
-    let dev = |s: &Sample| (s.angles.theta - theta0).abs();
-    let w = samples
-        .windows(2)
-        .find(|w| dev(&w[0]) < level && dev(&w[1]) >= level)
-        .expect("the tilt's deviation reaches the level");
-    let (l0, l1) = (dev(&w[0]).ln(), dev(&w[1]).ln());
-    w[0].t + (level.ln() - l0) / (l1 - l0) * (w[1].t - w[0].t)
 }
 
 /// The angular frequency of θ − θ0 from its upward zero crossings.
@@ -346,25 +325,6 @@ fn unstable_cases() -> Vec<(Body, &'static str, Family, f64, f64)> {
         (lens(), "rolling", Family::RollingCircle, 1.7, 3.0),
         (lens(), "frictionless", Family::Precession, 1.7, 6.0),
     ]
-}
-
-/// Each expected eigenvalue has its own computed one within `tol` of the scale.
-fn assert_spectrum(computed: &[Complex<f64>], expected: &[Complex<f64>], tol: f64, what: &str) {
-    let scale = expected.iter().map(|z| z.norm()).fold(0.0, f64::max);
-    let mut left: Vec<Complex<f64>> = computed.to_vec();
-    for e in expected {
-        let (k, d) = left
-            .iter()
-            .enumerate()
-            .map(|(k, z)| (k, (z - e).norm()))
-            .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
-        assert!(
-            d <= tol * scale,
-            "{what}: expected {e} not found (nearest off by {:.3e} of {scale:.3e}); computed {computed:?}",
-            d / scale
-        );
-        left.remove(k);
-    }
 }
 
 /// The spectrum is invariant under the plane's symmetries and the body's: turning the

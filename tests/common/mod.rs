@@ -136,3 +136,51 @@ pub fn slip_stop_times(out: &Outcome) -> Vec<f64> {
         .map(|e| e.t)
         .collect()
 }
+
+/// A run of `scene` that must reach t_end: its samples.
+pub fn completed(scene: &Scene) -> Vec<Sample> {
+    let (out, samples) = run(scene);
+    assert_eq!(
+        out.status,
+        ellipsoid_core::simulate::Status::Completed,
+        "{:?}",
+        out.status
+    );
+    samples
+}
+
+/// The time at which θ's deviation from `theta0` first reaches `level`, interpolated
+/// in its logarithm between samples (an exponential growth is a straight line there).
+pub fn first_reaching(samples: &[Sample], theta0: f64, level: f64) -> f64 {
+    let dev = |s: &Sample| (s.angles.theta - theta0).abs();
+    let w = samples
+        .windows(2)
+        .find(|w| dev(&w[0]) < level && dev(&w[1]) >= level)
+        .expect("the tilt's deviation reaches the level");
+    let (l0, l1) = (dev(&w[0]).ln(), dev(&w[1]).ln());
+    w[0].t + (level.ln() - l0) / (l1 - l0) * (w[1].t - w[0].t)
+}
+
+/// Each expected eigenvalue has its own computed one within `tol` of the scale.
+pub fn assert_spectrum(
+    computed: &[nalgebra::Complex<f64>],
+    expected: &[nalgebra::Complex<f64>],
+    tol: f64,
+    what: &str,
+) {
+    let scale = expected.iter().map(|z| z.norm()).fold(0.0, f64::max);
+    let mut left: Vec<nalgebra::Complex<f64>> = computed.to_vec();
+    for e in expected {
+        let (k, d) = left
+            .iter()
+            .enumerate()
+            .map(|(k, z)| (k, (z - e).norm()))
+            .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+        assert!(
+            d <= tol * scale,
+            "{what}: expected {e} not found (nearest off by {:.3e} of {scale:.3e}); computed {computed:?}",
+            d / scale
+        );
+        left.remove(k);
+    }
+}

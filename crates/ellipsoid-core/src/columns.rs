@@ -30,7 +30,7 @@
 use std::borrow::Cow;
 use std::sync::Arc;
 
-use nalgebra::Vector3;
+use nalgebra::{UnitQuaternion, Vector3};
 
 use crate::body::{Body, Surface};
 use crate::geometry::{self, Contact};
@@ -214,42 +214,31 @@ impl Layout {
     }
 
     /// Appends the per-surface values of `s` to `out` ([`SURFACE_COLUMNS`] of each
-    /// surface; nothing for a one-surface body). The geometry is the surface's support
-    /// point at the sample's attitude (docs/physics.md, "Contact spheres"); a surface in
-    /// contact has gap 0 and its normal force from the contact law.
+    /// surface; nothing for a one-surface body).
     pub fn surface_values(&self, s: &Sample, out: &mut Vec<f64>) {
         let Some(body) = &self.body else { return };
         let rot = s.angles.rotation();
-        let zeta = rot.inverse_transform_vector(&Vector3::z());
         for surface in body.surfaces() {
-            let normal = s.touching.iter().flatten().find(|t| t.0 == surface);
-            let c = Contact::of(body, surface, zeta, s.omega);
-            let arm = rot * c.r;
-            let point = s.position + arm;
-            let slip = s.velocity + rot * s.omega.cross(&c.r);
-            let gap = if normal.is_some() {
-                0.0
-            } else {
-                s.position.z - geometry::height(body, surface, zeta)
-            };
-            out.extend([
-                normal.map_or(0.0, |t| t.1),
-                slip.xy().norm(),
-                gap,
-                point.x,
-                point.y,
-            ]);
+            out.extend(surface_row(body, &rot, s, surface));
         }
     }
 
     /// The value in `s` of numeric column `k` (the layout's order).
     pub fn value(&self, s: &Sample, k: usize) -> f64 {
-        if k < NUMERIC {
-            return values(s)[k];
+        match &self.body {
+            Some(body) if k >= NUMERIC => {
+                let (surface, q) = (
+                    (k - NUMERIC) / SURFACE_COLUMNS.len(),
+                    (k - NUMERIC) % SURFACE_COLUMNS.len(),
+                );
+                let surface = body
+                    .surfaces()
+                    .nth(surface)
+                    .expect("a column of the layout");
+                surface_row(body, &s.angles.rotation(), s, surface)[q]
+            }
+            _ => values(s)[k],
         }
-        let mut extra = Vec::with_capacity(self.extra());
-        self.surface_values(s, &mut extra);
-        extra[k - NUMERIC]
     }
 
     /// The `mode` column of `s`: the contact phase's name, and for a body with contact
@@ -286,6 +275,29 @@ impl Layout {
         let mode = Mode::ALL.into_iter().find(|m| m.name() == phase)?;
         Some((mode, surfaces))
     }
+}
+
+/// The [`SURFACE_COLUMNS`] of `surface` in sample `s`, `rot` its attitude: the surface's
+/// support point at that attitude (docs/physics.md, "Contact spheres"); a surface in
+/// contact has gap 0 and its normal force from the contact law.
+fn surface_row(body: &Body, rot: &UnitQuaternion<f64>, s: &Sample, surface: Surface) -> [f64; 5] {
+    let zeta = rot.inverse_transform_vector(&Vector3::z());
+    let normal = s.touching.iter().flatten().find(|t| t.0 == surface);
+    let c = Contact::of(body, surface, zeta, s.omega);
+    let point = s.position + rot * c.r;
+    let slip = s.velocity + rot * s.omega.cross(&c.r);
+    let gap = if normal.is_some() {
+        0.0
+    } else {
+        s.position.z - geometry::height(body, surface, zeta)
+    };
+    [
+        normal.map_or(0.0, |t| t.1),
+        slip.xy().norm(),
+        gap,
+        point.x,
+        point.y,
+    ]
 }
 
 /// The index in [`NUMERIC_COLUMNS`] of the numeric column called `name`.
