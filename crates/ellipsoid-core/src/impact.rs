@@ -16,7 +16,10 @@
 
 use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 
+mod pair;
 mod slip;
+
+pub use pair::{PairImpact, resolve_pair};
 
 use slip::{Drive, SlipEnd};
 
