@@ -1,6 +1,6 @@
 //! Impact at two contacts at once (docs/physics.md, "Contact spheres", "Impact at two
-//! contacts"): Newton's law at each contact with Coulomb friction, the event-driven
-//! impact of Pfeiffer & Glocker (*Multibody Dynamics with Unilateral Contacts*, 1996,
+//! contacts"; not yet called by the hybrid machine): Newton's law at each contact with
+//! Coulomb friction, the event-driven impact of Pfeiffer & Glocker (*Multibody Dynamics with Unilateral Contacts*, 1996,
 //! ch. 7), in world axes, with impulses P_i = (P_t,i, Λ_i) at the contact points C_i:
 //! ```text
 //!   v_i⁺ = v_i⁻ + Σ_j W_ij P_j,    W_ij = 𝟙/m − [r_i]× I⁻¹ [r_j]×
@@ -68,14 +68,13 @@ impl Pair {
         let r = [body.r, *second];
         let mut w = Matrix6::zeros();
         let mut v0 = Vector6::zeros();
-        for i in 0..2 {
-            let ri = r[i].cross_matrix();
-            for j in 0..2 {
-                let block =
-                    Matrix3::identity() / body.mass - ri * body.inertia_inv * r[j].cross_matrix();
+        for (i, ri) in r.iter().enumerate() {
+            for (j, rj) in r.iter().enumerate() {
+                let block = Matrix3::identity() / body.mass
+                    - ri.cross_matrix() * body.inertia_inv * rj.cross_matrix();
                 w.fixed_view_mut::<3, 3>(3 * i, 3 * j).copy_from(&block);
             }
-            let v = body.v_g + body.omega.cross(&r[i]);
+            let v = body.v_g + body.omega.cross(ri);
             v0.fixed_rows_mut::<3>(3 * i).copy_from(&v);
         }
         let w = (w + w.transpose()) * 0.5;
@@ -230,10 +229,10 @@ mod tests {
     fn assert_law(body: &Approach, second: Vector3<f64>, hit: &PairImpact, mu: f64, tol: f64) {
         let r = [body.r, second];
         let scale = body.v_g.norm() + body.omega.norm() * 0.2;
-        for i in 0..2 {
-            let v = hit.v_g + hit.omega.cross(&r[i]);
+        for (i, ri) in r.iter().enumerate() {
+            let v = hit.v_g + hit.omega.cross(ri);
             let p = hit.impulse[i];
-            let v_before = body.v_g + body.omega.cross(&r[i]);
+            let v_before = body.v_g + body.omega.cross(ri);
             let xi_n = v.z + hit.restitution * v_before.z.min(0.0);
             assert!(p.z >= 0.0, "Λ_{i} = {}", p.z);
             assert!(xi_n >= -tol * scale, "ξ_n,{i} = {xi_n}");
