@@ -1,7 +1,7 @@
 //! Impact at two contacts at once (docs/physics.md, "Contact spheres", "Impact at two
 //! contacts"; not yet called by the hybrid machine): Newton's law at each contact with
-//! Coulomb friction, the event-driven impact of Pfeiffer & Glocker (*Multibody Dynamics with Unilateral Contacts*, 1996,
-//! ch. 7), in world axes, with impulses P_i = (P_t,i, Λ_i) at the contact points C_i:
+//! Coulomb friction, the event-driven impact of Pfeiffer & Glocker (*Multibody Dynamics
+//! with Unilateral Contacts*, 1996, ch. 7), in world axes, with impulses P_i = (P_t,i, Λ_i) at the contact points C_i:
 //! ```text
 //!   v_i⁺ = v_i⁻ + Σ_j W_ij P_j,    W_ij = 𝟙/m − [r_i]× I⁻¹ [r_j]×
 //!   ξ_i  = v_i⁺ + e min(v_n,i⁻, 0) e3                          (normal restitution only)
