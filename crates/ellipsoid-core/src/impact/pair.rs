@@ -26,8 +26,8 @@ type Vector6 = SVector<f64, 6>;
 type Matrix6 = SMatrix<f64, 6, 6>;
 
 /// Most block Gauss–Seidel sweeps; the iteration converges linearly at a rate set by
-/// W's coupling of the two contacts: a median of 143 and at most 18,893 sweeps over the
-/// module's 300 random impacts.
+/// W's coupling of the two contacts: medians of about 140 and at most 18,893 sweeps in
+/// two sets of 300 random impacts (the module's test and a milder one).
 const MAX_SWEEPS: u32 = 200_000;
 
 /// The fixed point is reached where a sweep moves P by less than this, relative to the
