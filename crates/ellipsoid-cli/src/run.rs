@@ -45,7 +45,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     // Directories made for the outputs are removed again if the run ends in an error,
     // and the files appear only when all of them are complete.
     let mut made = Vec::new();
-    let result = (|| -> Result<(Summary, bool), CliError> {
+    let result = (|| -> Result<Summary, CliError> {
         for path in [Some(&output), summary_path].into_iter().flatten() {
             make_parent(path, &mut made)?;
         }
@@ -53,7 +53,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
         let summary_file = summary_path
             .map(|p| atomic::AtomicFile::create(p))
             .transpose()?;
-        let (trajectory, summary, finished) = simulate_to(&scenario, &output, &interrupt)?;
+        let (trajectory, summary) = simulate_to(&scenario, &output, &interrupt)?;
         let mut files = vec![trajectory];
         if let (Some(mut file), Some(path)) = (summary_file, summary_path) {
             file.write_all(summary.to_json().as_bytes())
@@ -75,7 +75,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
                 })?;
         }
         atomic::commit_all(files)?;
-        Ok((summary, finished))
+        Ok(summary)
     })();
     // A signal during the writing (or during an error) still ends as an interruption.
     let result = match (result, interrupt.received()) {
@@ -91,7 +91,9 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
             let _ = std::fs::remove_dir(dir);
         }
     }
-    let (summary, finished) = result?;
+    let summary = result?;
+    // The run ended where the scene asked (t_end or a terminal observable).
+    let finished = summary.status.finished();
 
     if !args.quiet || !finished {
         report(&summary, &output, finished);
@@ -115,8 +117,8 @@ fn stop_if_interrupted(
     };
     let t_end = scenario.scene.t_end;
     let at = summary
-        .and_then(|s| s.final_state.get("t"))
-        .and_then(|v| v.as_f64())
+        .map(|s| s.final_sample.t)
+        .filter(|t| t.is_finite())
         .map_or_else(String::new, |t| {
             format!(" at t = {} s of {} s", number(t), number(t_end))
         });
@@ -175,12 +177,12 @@ fn identity(path: &Path) -> PathBuf {
 }
 
 /// Runs the scene, writing the trajectory for `output` (complete, not yet in place);
-/// returns it, the summary and, if the run was stopped for a non-finite value, why.
+/// returns it and the summary.
 fn simulate_to(
     scenario: &Scenario,
     output: &Path,
     interrupt: &Interrupt,
-) -> Result<(atomic::Prepared, Summary, bool), CliError> {
+) -> Result<(atomic::Prepared, Summary), CliError> {
     let mut writer = TrajectoryWriter::for_scenario(output, scenario)?;
     let mut progress = Progress::new(scenario.scene.t_end);
     let cancel = Some(std::sync::Arc::clone(&interrupt.any));
@@ -207,11 +209,7 @@ fn simulate_to(
         scenario_text: &scenario.text,
         summary: &finished.summary,
     })?;
-    Ok((
-        trajectory,
-        finished.summary,
-        finished.outcome.status.finished(),
-    ))
+    Ok((trajectory, finished.summary))
 }
 
 /// Creates the parent directories of `path`, recording the ones it made.
@@ -237,43 +235,39 @@ fn make_parent(path: &Path, made: &mut Vec<PathBuf>) -> Result<(), CliError> {
 /// A few lines on standard error: how the run ended, where the output is, the drifts.
 /// `finished`: the run ended where the scene asked (t_end or a terminal observable).
 fn report(summary: &Summary, output: &Path, finished: bool) {
-    let t = summary
-        .final_state
-        .get("t")
-        .and_then(|v| v.as_f64())
-        .unwrap_or(f64::NAN);
+    let t = summary.final_sample.t;
     let s = &summary.stats;
     let work = format!(
         "{} samples, {} steps ({} rejected), {:.3} s",
         summary.samples, s.accepted, s.rejected, summary.wall_time_s
     );
     let mut lines = Vec::new();
-    if summary.status == "completed" {
+    let status = summary.status.name();
+    if summary.status.completed() {
         lines.push(format!(
             "ellipsoid: completed at t = {t} s: {work} -> {}",
             output.display()
         ));
     } else if finished {
         lines.push(format!(
-            "ellipsoid: ended ({}): {} [{work} -> {}]",
-            summary.status,
+            "ellipsoid: ended ({status}): {} [{work} -> {}]",
             summary.message,
             output.display()
         ));
     } else {
         lines.push(format!(
-            "ellipsoid: stopped early ({}): {} [{work} -> {}]",
-            summary.status,
+            "ellipsoid: stopped early ({status}): {} [{work} -> {}]",
             summary.message,
             output.display()
         ));
     }
-    let drifts: Vec<String> = serde_json::to_value(summary.drift)
-        .ok()
-        .and_then(|v| v.as_object().cloned())
-        .into_iter()
-        .flatten()
-        .filter_map(|(k, v)| v.as_f64().map(|d| format!("{k} {d:.2e}")))
+    let drifts: Vec<String> = summary
+        .drift
+        .iter()
+        .filter_map(|(which, d)| {
+            d.filter(|d| d.is_finite())
+                .map(|d| format!("{} {d:.2e}", which.name()))
+        })
         .collect();
     if !drifts.is_empty() {
         lines.push(format!("ellipsoid: relative drift: {}", drifts.join(", ")));

@@ -1,5 +1,10 @@
 //! Errors of the physics layer. Every message names the quantity, its value and the rule.
 
+use crate::integrate::IntegrateError;
+
+/// The rule of [`ModelError::Solver`].
+const SOLVER_RULE: &str = "the integrator rejected these settings";
+
 /// Invalid input to the physics layer (body, initial state, settings).
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ModelError {
@@ -17,6 +22,10 @@ pub enum ModelError {
         /// The rule it breaks.
         rule: String,
     },
+    /// The integrator rejected the solver settings (its error kept whole), placed at the
+    /// `solver` table: `solver = <the integrator's message>: <rule>`.
+    #[error("solver = {0}: {SOLVER_RULE}")]
+    Solver(IntegrateError),
 }
 
 impl ModelError {
@@ -48,6 +57,38 @@ impl ModelError {
             quantity: quantity.into(),
             value: value.to_string(),
             rule: rule.into(),
+        }
+    }
+
+    /// The scenario key at fault as a dotted path, or the table of a derived quantity.
+    pub fn key(&self) -> &str {
+        match self {
+            ModelError::Invalid { key, .. } => key,
+            ModelError::Solver(_) => "solver",
+        }
+    }
+
+    /// The quantity's name in the message.
+    pub fn quantity(&self) -> &str {
+        match self {
+            ModelError::Invalid { quantity, .. } => quantity,
+            ModelError::Solver(_) => "solver",
+        }
+    }
+
+    /// The offending value, formatted (the integrator's message for [`ModelError::Solver`]).
+    pub fn value(&self) -> String {
+        match self {
+            ModelError::Invalid { value, .. } => value.clone(),
+            ModelError::Solver(e) => e.to_string(),
+        }
+    }
+
+    /// The rule broken.
+    pub fn rule(&self) -> &str {
+        match self {
+            ModelError::Invalid { rule, .. } => rule,
+            ModelError::Solver(_) => SOLVER_RULE,
         }
     }
 }

@@ -63,10 +63,7 @@ impl Contact {
     /// The ellipsoid's contact geometry (the right-hand side's path: kept inline).
     #[inline(always)]
     fn ellipsoid(body: &Body, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
-        let a = body.semi_axes();
-        let a2 = a.component_mul(&a);
-        let a2z = a2.component_mul(&zeta);
-        let s = zeta.dot(&a2z).sqrt();
+        let (a2, a2z, s) = support(body.semi_axes(), zeta);
         let zeta_dot = zeta.cross(&omega);
         // H ζ̇ without forming H: A²ζ̇/s − A²ζ (A²ζ·ζ̇)/s³.
         let h_zd = a2.component_mul(&zeta_dot) / s - a2z * (a2z.dot(&zeta_dot) / (s * s * s));
@@ -162,10 +159,7 @@ impl Contact {
 #[inline]
 pub fn height(body: &Body, surface: Surface, zeta: Vector3<f64>) -> f64 {
     let s = match surface {
-        Surface::Ellipsoid => {
-            let a = body.semi_axes();
-            zeta.dot(&a.component_mul(&a).component_mul(&zeta)).sqrt()
-        }
+        Surface::Ellipsoid => support(body.semi_axes(), zeta).2,
         Surface::Sphere(k) => {
             let sphere = &body.spheres()[k];
             sphere.radius * zeta.norm() - sphere.center.dot(&zeta)
@@ -174,13 +168,29 @@ pub fn height(body: &Body, surface: Surface, zeta: Vector3<f64>) -> f64 {
     s + zeta.dot(&body.com_offset())
 }
 
-/// The Hessian H = A²/s − (A²ζ)(A²ζ)ᵀ/s³ (used by tests and diagnostics; the
-/// right-hand side applies it to a vector without forming it).
-pub fn hessian(body: &Body, zeta: Vector3<f64>) -> Matrix3<f64> {
-    let a = body.semi_axes();
+/// The support map of the ellipsoid with semi-axes `a` at `zeta` (any length): A², A²ζ
+/// and s = √(ζᵀA²ζ) \[m\], the height of the centre C0 above the ellipsoid's lowest point
+/// when ζ is world up in body axes (docs/physics.md, "Contact geometry").
+#[inline(always)]
+fn support(a: Vector3<f64>, zeta: Vector3<f64>) -> (Vector3<f64>, Vector3<f64>, f64) {
     let a2 = a.component_mul(&a);
     let a2z = a2.component_mul(&zeta);
     let s = zeta.dot(&a2z).sqrt();
+    (a2, a2z, s)
+}
+
+/// The support point of the ellipsoid with semi-axes `a` \[m\] for world up `zeta` in
+/// body axes: its lowest point, p_c = −A²ζ/√(ζᵀA²ζ), from its centre C0, in body axes
+/// \[m\] (docs/physics.md, "Contact geometry"; the contact point of [`Contact`]).
+pub fn support_point(a: Vector3<f64>, zeta: Vector3<f64>) -> Vector3<f64> {
+    let (_, a2z, s) = support(a, zeta);
+    -a2z / s
+}
+
+/// The Hessian H = A²/s − (A²ζ)(A²ζ)ᵀ/s³ (used by tests and diagnostics; the
+/// right-hand side applies it to a vector without forming it).
+pub fn hessian(body: &Body, zeta: Vector3<f64>) -> Matrix3<f64> {
+    let (a2, a2z, s) = support(body.semi_axes(), zeta);
     Matrix3::from_diagonal(&a2) / s - a2z * a2z.transpose() / (s * s * s)
 }
 
@@ -208,6 +218,7 @@ mod tests {
         let zeta = Vector3::new(0.3, -0.5, 0.8).normalize();
         let c = Contact::new(&b, zeta, Vector3::zeros());
         let a = b.semi_axes();
+        assert_eq!(c.p_c, support_point(a, zeta));
         let q = c.p_c.component_div(&a);
         assert!((q.norm_squared() - 1.0).abs() < 1e-14);
         let normal = c.p_c.component_div(&a.component_mul(&a));

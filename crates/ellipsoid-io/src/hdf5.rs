@@ -218,7 +218,7 @@ impl Hdf5File {
             str_attr(&file, "version", &summary.version).map_err(fail)?;
             str_attr(&file, "scenario", meta.scenario_text).map_err(fail)?;
             str_attr(&file, "scenario_path", &summary.scenario).map_err(fail)?;
-            str_attr(&file, "status", summary.status).map_err(fail)?;
+            str_attr(&file, "status", summary.status.name()).map_err(fail)?;
             str_attr(&file, "message", &summary.message).map_err(fail)?;
             str_attr(&file, "columns", &self.layout.names().join(",")).map_err(fail)?;
             str_attr(&file, "summary", &summary.to_json()).map_err(fail)?;

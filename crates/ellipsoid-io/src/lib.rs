@@ -13,6 +13,7 @@ pub mod csv;
 #[cfg(feature = "hdf5")]
 pub mod hdf5;
 pub mod panels;
+pub mod restore;
 pub mod run;
 pub mod summary;
 pub mod table;

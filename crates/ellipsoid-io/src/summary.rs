@@ -2,8 +2,9 @@
 //! invariants held. Serialised as JSON by the CLI (`--summary`) and stored in HDF5 files.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
-use ellipsoid_core::body::Surface;
+use ellipsoid_core::body::{Body, Surface};
 use ellipsoid_core::error::number;
 use ellipsoid_core::integrate::Stats;
 use ellipsoid_core::invariants::Invariants;
@@ -12,29 +13,30 @@ use ellipsoid_core::simulate::{
     Chatter, Drift, EventKind, EventRecord, Outcome, RunWarning, Sample, Scene, Status,
 };
 use serde::Serialize;
+use serde::ser::SerializeStruct;
 use serde_json::{Map, Value};
 
 use crate::columns;
 
-/// Everything a run reports besides its trajectory.
-#[derive(Debug, Clone, Serialize)]
+/// Everything a run reports besides its trajectory. The status, events and final state
+/// are the core's typed values; they become JSON only in [`Summary::to_json`] (whose
+/// field order and spelling the serialisation below fixes).
+#[derive(Debug, Clone)]
 pub struct Summary {
-    /// One of `Status::NAMES`: completed | observed | lost_contact | slip_stopped |
-    /// painleve | inconsistent_contact | solver_failure | chattering | non_finite | cancelled.
-    pub status: &'static str,
+    /// Why the run ended (its name is one of `Status::NAMES`).
+    pub status: Status,
     /// Why, in a sentence.
     pub message: String,
-    /// Located events, each `{kind, t, …}`; observables add `name` and the full `state`.
-    pub events: Vec<Value>,
+    /// The located events; serialised each as `{kind, t, …}` ([`event_json`]).
+    pub events: Vec<EventRecord>,
     /// Solver work: accepted and rejected steps, right-hand-side calls, events.
     pub stats: Stats,
     /// Wall-clock time of the simulation \[s\].
     pub wall_time_s: f64,
     /// Trajectory rows written.
     pub samples: u64,
-    /// The state where the run ended, by CSV column name.
-    #[serde(rename = "final")]
-    pub final_state: Map<String, Value>,
+    /// The output row where the run ended (serialised as `final`, by column name).
+    pub final_sample: Sample,
     /// Largest relative deviation of each invariant; null where it is not conserved.
     pub drift: Drift,
     pub initial_invariants: Invariants,
@@ -42,8 +44,6 @@ pub struct Summary {
     pub warnings: Vec<String>,
     /// The scenario's `[check]` expectations and whether the run met them.
     pub checks: BTreeMap<String, CheckResult>,
-    /// Column → unit.
-    pub units: Map<String, Value>,
     /// The scenario file.
     pub scenario: String,
     /// `--set` overrides applied to it.
@@ -52,6 +52,27 @@ pub struct Summary {
     pub output: Option<String>,
     /// Version of the program that ran.
     pub version: String,
+    /// The columns of the run (serialised as `units`, and naming the `final` state's).
+    pub layout: columns::Layout,
+    /// What the events are named by: the body's surfaces and the scene's observables.
+    pub(crate) names: Names,
+}
+
+/// The names an event's JSON uses: the body's surfaces (by name, for a body with contact
+/// spheres) and the scene's observables.
+#[derive(Debug, Clone)]
+pub(crate) struct Names {
+    pub(crate) body: Arc<Body>,
+    pub(crate) observables: Vec<String>,
+}
+
+impl Names {
+    pub(crate) fn of(scene: &Scene) -> Names {
+        Names {
+            body: Arc::new(scene.body.clone()),
+            observables: scene.observe.iter().map(|o| o.name.clone()).collect(),
+        }
+    }
 }
 
 /// One `[check]` expectation against what the run did.
@@ -76,12 +97,6 @@ impl Summary {
     ) -> Summary {
         let status = outcome.status.name();
         let s = &outcome.final_sample;
-        let layout = columns::Layout::of(&scenario.scene.body);
-        let final_state = state_map(&layout, s);
-        let drift_map = match serde_json::to_value(outcome.drift) {
-            Ok(Value::Object(m)) => m,
-            _ => Map::new(),
-        };
         let mut checks = BTreeMap::new();
         if let Some(expected) = &scenario.check.status {
             checks.insert(
@@ -94,43 +109,39 @@ impl Summary {
             );
         }
         for (name, tol) in &scenario.check.drift {
-            let actual = drift_map.get(name).cloned().unwrap_or(Value::Null);
-            let passed = actual.as_f64().is_some_and(|d| d <= *tol);
+            let actual = outcome
+                .drift
+                .iter()
+                .find(|(which, _)| which.name() == name)
+                .and_then(|(_, d)| d);
             checks.insert(
                 name.clone(),
                 CheckResult {
                     expected: Value::from(*tol),
-                    actual,
-                    passed,
+                    actual: actual.map_or(Value::Null, finite_or_null),
+                    passed: actual.is_some_and(|d| d <= *tol),
                 },
             );
         }
         Summary {
-            status,
+            status: outcome.status.clone(),
             message: status_message(&scenario.scene, &outcome.status, s.t),
-            events: outcome
-                .events
-                .iter()
-                .map(|e| event_json(&scenario.scene, e))
-                .collect(),
+            events: outcome.events.clone(),
             stats: outcome.stats,
             wall_time_s,
             samples,
-            final_state,
+            final_sample: *s,
             drift: outcome.drift,
             initial_invariants: outcome.initial_invariants,
             final_invariants: outcome.final_invariants,
             warnings: warning_messages(&outcome.warnings),
             checks,
-            units: layout
-                .units()
-                .into_iter()
-                .map(|(c, u)| (c.into_owned(), Value::from(u)))
-                .collect(),
             scenario: scenario.source.clone(),
             overrides: scenario.overrides.clone(),
             output,
             version: version.to_owned(),
+            layout: columns::Layout::of(&scenario.scene.body),
+            names: Names::of(&scenario.scene),
         }
     }
 
@@ -142,6 +153,14 @@ impl Summary {
         s
     }
 
+    /// The events as their JSON list (`events` of [`Summary::to_json`]).
+    pub fn events_json(&self) -> Vec<Value> {
+        self.events
+            .iter()
+            .map(|e| event_json(&self.names, &self.layout, e))
+            .collect()
+    }
+
     /// The checks that failed, as `name (expected …, got …)`.
     pub fn failed_checks(&self) -> Vec<String> {
         self.checks
@@ -149,6 +168,37 @@ impl Summary {
             .filter(|(_, c)| !c.passed)
             .map(|(n, c)| format!("{n} (expected {}, got {})", c.expected, c.actual))
             .collect()
+    }
+}
+
+/// The JSON of `ellipsoid run --summary`: the typed values serialised here, once.
+impl Serialize for Summary {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let units: Map<String, Value> = self
+            .layout
+            .units()
+            .into_iter()
+            .map(|(c, u)| (c.into_owned(), Value::from(u)))
+            .collect();
+        let mut m = serializer.serialize_struct("Summary", 17)?;
+        m.serialize_field("status", self.status.name())?;
+        m.serialize_field("message", &self.message)?;
+        m.serialize_field("events", &self.events_json())?;
+        m.serialize_field("stats", &self.stats)?;
+        m.serialize_field("wall_time_s", &self.wall_time_s)?;
+        m.serialize_field("samples", &self.samples)?;
+        m.serialize_field("final", &state_map(&self.layout, &self.final_sample))?;
+        m.serialize_field("drift", &self.drift)?;
+        m.serialize_field("initial_invariants", &self.initial_invariants)?;
+        m.serialize_field("final_invariants", &self.final_invariants)?;
+        m.serialize_field("warnings", &self.warnings)?;
+        m.serialize_field("checks", &self.checks)?;
+        m.serialize_field("units", &units)?;
+        m.serialize_field("scenario", &self.scenario)?;
+        m.serialize_field("overrides", &self.overrides)?;
+        m.serialize_field("output", &self.output)?;
+        m.serialize_field("version", &self.version)?;
+        m.end()
     }
 }
 
@@ -171,23 +221,21 @@ pub fn state_map(layout: &columns::Layout, s: &Sample) -> Map<String, Value> {
 
 /// Adds the `surface` an event happened at, by name, for a body with contact spheres (a
 /// one-surface body's events have none).
-fn surface_name(scene: &Scene, m: &mut Map<String, Value>, surface: Surface) {
-    if !scene.body.spheres().is_empty() {
-        m.insert(
-            "surface".into(),
-            Value::from(scene.body.surface_name(surface)),
-        );
+fn surface_name(body: &Body, m: &mut Map<String, Value>, surface: Surface) {
+    if !body.spheres().is_empty() {
+        m.insert("surface".into(), Value::from(body.surface_name(surface)));
     }
 }
 
 /// An event as the summary lists it: `{kind, t}` (a touchdown and an impact of a body with
 /// contact spheres name their `surface`), with `from` and `to` for a mode switch
 /// (and, by name, for a change of the surface in contact),
-/// `name` and the full `state` for an observable, the approach `speed` (m/s) for a
-/// touchdown, and for an impact its `impulse` (N s, world axes), `energy_loss` (J),
-/// whether the contact `stuck`, the `rebound` speed (m/s) and whether contact became
-/// `persistent`.
-pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
+/// `name` and the full `state` (the columns of `layout`) for an observable, the approach
+/// `speed` (m/s) for a touchdown, and for an impact its `impulse` (N s, world axes),
+/// `energy_loss` (J), whether the contact `stuck`, the `rebound` speed (m/s) and whether
+/// contact became `persistent`.
+fn event_json(names: &Names, layout: &columns::Layout, e: &EventRecord) -> Value {
+    let body = &names.body;
     let mut m = Map::new();
     m.insert("kind".into(), Value::from(e.kind.name()));
     m.insert("t".into(), finite_or_null(e.t));
@@ -199,14 +247,13 @@ pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
         EventKind::Observed { index, sample } => {
             m.insert(
                 "name".into(),
-                Value::from(scene.observe[*index].name.as_str()),
+                Value::from(names.observables[*index].as_str()),
             );
-            let layout = columns::Layout::of(&scene.body);
-            m.insert("state".into(), Value::Object(state_map(&layout, sample)));
+            m.insert("state".into(), Value::Object(state_map(layout, sample)));
         }
         EventKind::Touchdown { speed, surface } => {
             m.insert("speed".into(), finite_or_null(*speed));
-            surface_name(scene, &mut m, *surface);
+            surface_name(body, &mut m, *surface);
         }
         EventKind::Impact(hit) => {
             let p = &hit.impulse;
@@ -222,11 +269,11 @@ pub fn event_json(scene: &Scene, e: &EventRecord) -> Value {
             m.insert("stuck".into(), Value::from(hit.stuck));
             m.insert("rebound".into(), finite_or_null(hit.rebound));
             m.insert("persistent".into(), Value::from(hit.persistent));
-            surface_name(scene, &mut m, hit.surface);
+            surface_name(body, &mut m, hit.surface);
         }
         EventKind::ContactSurface { from, to } => {
-            m.insert("from".into(), Value::from(scene.body.surface_name(*from)));
-            m.insert("to".into(), Value::from(scene.body.surface_name(*to)));
+            m.insert("from".into(), Value::from(body.surface_name(*from)));
+            m.insert("to".into(), Value::from(body.surface_name(*to)));
         }
         EventKind::SlipStop | EventKind::LostContact | EventKind::LiftOff | EventKind::Painleve => {
         }

@@ -17,7 +17,9 @@ use std::path::{Path, PathBuf};
 
 use ellipsoid_core::body::MAX_NAME;
 use ellipsoid_core::columns::{NUMERIC_COLUMNS, SURFACE_COLUMNS};
+use ellipsoid_core::geometry;
 use ellipsoid_core::scenario::{self, MAX_SAMPLES};
+use ellipsoid_core::state::EulerAngles;
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
 
@@ -101,24 +103,25 @@ impl Shape {
     /// (docs/physics.md, "Contact geometry").
     pub fn contact_point(&self, g: [f64; 3], theta: f64, phi: f64, psi: f64) -> [f64; 3] {
         let r = euler_rotation(theta, phi, psi);
-        let a = Vector3::from(self.semi_axes);
-        let a2 = a.component_mul(&a);
         let zeta = r.transpose() * Vector3::z();
-        let a2z = a2.component_mul(&zeta);
-        let p_c = -a2z / zeta.dot(&a2z).sqrt();
+        let p_c = geometry::support_point(Vector3::from(self.semi_axes), zeta);
         let c = Vector3::from(g) + r * (p_c - Vector3::from(self.com_offset));
         [c.x, c.y, c.z]
     }
 }
 
-/// R = Rz(φ) Rx(θ) Rz(ψ), body → world (paper eq. 1).
+/// R = Rz(φ) Rx(θ) Rz(ψ), body → world (paper eq. 1), as the core makes it
+/// ([`EulerAngles::rotation`]).
 pub fn euler_rotation(theta: f64, phi: f64, psi: f64) -> Matrix3<f64> {
-    let rz = |a: f64| {
-        let (s, c) = a.sin_cos();
-        Matrix3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
-    };
-    let (s, c) = theta.sin_cos();
-    rz(phi) * Matrix3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c) * rz(psi)
+    EulerAngles {
+        theta,
+        phi,
+        psi,
+        ..EulerAngles::default()
+    }
+    .rotation()
+    .to_rotation_matrix()
+    .into_inner()
 }
 
 /// A trajectory as columns.

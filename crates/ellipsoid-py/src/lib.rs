@@ -18,7 +18,6 @@ mod args;
 mod convert;
 mod errors;
 mod parameter_study;
-mod pickle;
 mod run;
 mod scenario;
 mod steady;

@@ -16,7 +16,7 @@ use std::sync::mpsc;
 use std::time::Duration;
 
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
-use ellipsoid_core::simulate::{Sample, Status};
+use ellipsoid_core::simulate::Sample;
 use ellipsoid_io::Summary;
 use ellipsoid_io::run as io_run;
 use pyo3::prelude::*;
@@ -39,7 +39,6 @@ pub struct Run {
     /// The samples, unless only the summary was asked for.
     pub samples: Vec<Sample>,
     pub summary: Summary,
-    pub status: Status,
 }
 
 /// Why a run produced no result.
@@ -82,7 +81,6 @@ pub fn run(
         scenario,
         samples,
         summary: finished.summary,
-        status: finished.outcome.status,
     })
 }
 

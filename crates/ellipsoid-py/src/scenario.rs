@@ -262,7 +262,7 @@ impl PyScenario {
     /// The contact model: "frictionless", "sliding", "rolling" or "coulomb".
     #[getter]
     fn contact_model(&self) -> &'static str {
-        ellipsoid_core::scenario::schema::contact_name(&self.inner.scene.contact)
+        self.inner.scene.contact.name()
     }
 
     fn __repr__(&self, py: Python<'_>) -> PyResult<String> {

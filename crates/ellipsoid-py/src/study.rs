@@ -184,12 +184,11 @@ fn study_error(py: Python<'_>, scenario: &Scenario, e: StudyError) -> PyErr {
         ),
         StudyError::Reference { message, outcome } => {
             let summary = Summary::new(scenario, &outcome, 0.0, 0, None, VERSION);
-            let status = summary.status;
+            let status = summary.status.name();
             let trajectory = Trajectory::new(Run {
                 scenario: scenario.clone(),
                 samples: Vec::new(),
                 summary,
-                status: outcome.status.clone(),
             });
             let attrs = (|| -> PyResult<Vec<(&str, Py<PyAny>)>> {
                 Ok(vec![

@@ -5,7 +5,9 @@ use std::path::{Path, PathBuf};
 
 use ellipsoid_core::simulate::{Mode, Sample, Status};
 use ellipsoid_io::columns::{self, Layout};
-use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, csv::CsvFile};
+use ellipsoid_io::{
+    Format, Metadata, OutputError, Summary, TrajectoryWriter, csv::CsvFile, restore,
+};
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
@@ -41,8 +43,6 @@ pub struct Trajectory {
     samples: Vec<Sample>,
     summary: Summary,
     scenario: PyScenario,
-    /// Whether the run ended as a run may ([`succeeded`]).
-    success: bool,
     /// The columns of a run of the scenario's body.
     layout: Layout,
     numeric: PyOnceLock<Vec<Py<PyArray1<f64>>>>,
@@ -51,29 +51,21 @@ pub struct Trajectory {
 
 impl Trajectory {
     pub fn new(run: Run) -> Self {
-        let success = succeeded(&run.status);
         Self::from_parts(
             run.samples,
             run.summary,
             PyScenario {
                 inner: run.scenario,
             },
-            success,
         )
     }
 
-    fn from_parts(
-        samples: Vec<Sample>,
-        summary: Summary,
-        scenario: PyScenario,
-        success: bool,
-    ) -> Self {
+    fn from_parts(samples: Vec<Sample>, summary: Summary, scenario: PyScenario) -> Self {
         Trajectory {
             layout: Layout::of(&scenario.inner.scene.body),
             samples,
             summary,
             scenario,
-            success,
             numeric: PyOnceLock::new(),
             mode: PyOnceLock::new(),
         }
@@ -82,12 +74,7 @@ impl Trajectory {
     /// Where the run ended [s] (its last state, which a trajectory sampled at explicit
     /// times may not hold as a row).
     fn t_final(&self) -> f64 {
-        self.summary
-            .final_state
-            .get("t")
-            .and_then(serde_json::Value::as_f64)
-            .or_else(|| self.samples.last().map(|s| s.t))
-            .unwrap_or(0.0)
+        self.summary.final_sample.t
     }
 
     /// Numeric column `index` (the layout's order). Every column is made on the first
@@ -445,7 +432,7 @@ impl Trajectory {
     /// `message` says why.
     #[getter]
     fn success(&self) -> bool {
-        self.success
+        succeeded(&self.summary.status)
     }
 
     /// solve_ivp's integer status: 0 reached t_end, 1 stopped at a terminal event (an
@@ -453,7 +440,7 @@ impl Trajectory {
     #[getter]
     fn status_code(&self) -> i32 {
         match self.summary.status {
-            "completed" => 0,
+            Status::Completed => 0,
             _ if self.success() => 1,
             _ => -1,
         }
@@ -604,7 +591,7 @@ impl Trajectory {
             pyo3::types::PyBytes::new(py, &values),
             modes,
             self.summary.to_json(),
-            self.success,
+            restore::status_text(&self.summary.status, &self.scenario.inner.scene.body),
         );
         (rebuild, args).into_pyobject(py).map(Bound::into_any)
     }
@@ -617,7 +604,7 @@ impl Trajectory {
         values: &[u8],
         modes: Vec<String>,
         summary: &str,
-        success: bool,
+        status: &str,
     ) -> PyResult<Trajectory> {
         let bad = |what: String| {
             Class::Internal.error(py, &format!("cannot unpickle a Trajectory: {what}"), &[])
@@ -639,16 +626,14 @@ impl Trajectory {
                     .chunks_exact(8)
                     .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of 8 bytes")))
                     .collect();
-                crate::pickle::sample(&layout, &v, m)
-                    .ok_or_else(|| bad(format!("unknown mode {m:?}")))
+                restore::sample(&layout, &v, m).ok_or_else(|| bad(format!("unknown mode {m:?}")))
             })
             .collect::<PyResult<Vec<_>>>()?;
-        let summary = crate::pickle::summary(summary).map_err(bad)?;
+        let summary = restore::summary(summary, status, &scenario.get().inner).map_err(bad)?;
         Ok(Trajectory::from_parts(
             samples,
             summary,
             scenario.get().clone(),
-            success,
         ))
     }
 
@@ -685,7 +670,7 @@ impl Trajectory {
     /// trajectory).
     #[getter]
     fn status(&self) -> &'static str {
-        self.summary.status
+        self.summary.status.name()
     }
 
     /// Why the run ended, in a sentence.
@@ -697,7 +682,7 @@ impl Trajectory {
     /// Whether the run reached t_end.
     #[getter]
     fn completed(&self) -> bool {
-        self.summary.status == "completed"
+        self.summary.status.completed()
     }
 
     /// Located events, in time order: dicts `{"kind": ..., "t": [s]}`, kind one of
@@ -708,7 +693,7 @@ impl Trajectory {
     /// `surface` struck.
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let json = serde_json::to_string(&self.summary.events)
+        let json = serde_json::to_string(&self.summary.events_json())
             .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))?;
         py.import("json")?.getattr("loads")?.call1((json,))
     }
@@ -734,7 +719,7 @@ impl Trajectory {
             self.scenario.inner.source,
             self.samples.len(),
             self.t_final(),
-            self.summary.status,
+            self.summary.status.name(),
             if self.success() { "success" } else { "failure" },
             value("theta"),
             value("omega_world_z"),

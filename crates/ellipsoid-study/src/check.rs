@@ -197,10 +197,7 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
     let mut moments: Vec<f64> = i.symmetric_eigenvalues().iter().copied().collect();
     moments.sort_by(f64::total_cmp);
     let radial = g.component_div(&ax).norm();
-    let (model, friction) = (
-        ellipsoid_core::scenario::schema::contact_name(&scene.contact),
-        scene.contact.friction(),
-    );
+    let (model, friction) = (scene.contact.name(), scene.contact.friction());
     let e = &scene.effects;
     let init = &scene.initial;
     let a = &init.angles;

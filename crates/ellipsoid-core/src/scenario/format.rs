@@ -235,7 +235,7 @@ pub(super) fn read_inertia(
 }
 
 pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel> {
-    let models = quoted(&CONTACT_MODELS);
+    let models = quoted(&ContactModel::NAMES);
     let sec = ctx
         .section(root, "contact", &keys("contact"), "model and friction")?
         .ok_or_else(|| {
@@ -245,13 +245,15 @@ pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel
                 format!("a scenario needs a [contact] table with model = {models}"),
             )
         })?;
-    let (model, _) = ctx.choice(&sec, "model", &CONTACT_MODELS)?.ok_or_else(|| {
-        ctx.missing(
-            &sec,
-            "model",
-            format!("give the contact model, one of {models}"),
-        )
-    })?;
+    let (model, _) = ctx
+        .choice(&sec, "model", &ContactModel::NAMES)?
+        .ok_or_else(|| {
+            ctx.missing(
+                &sec,
+                "model",
+                format!("give the contact model, one of {models}"),
+            )
+        })?;
     let friction = ctx.checked(
         &sec,
         "friction",
@@ -274,7 +276,7 @@ pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel
         None => Ok(()),
     }
     };
-    Ok(match schema::contact_kind(model) {
+    Ok(match ContactModel::named(model) {
         Some(ContactModel::Frictionless) => {
             no_friction("the plane exerts no friction")?;
             ContactModel::Frictionless
@@ -289,7 +291,7 @@ pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel
         Some(ContactModel::Coulomb { .. }) => ContactModel::Coulomb {
             friction: friction.ok_or_else(need)?,
         },
-        None => return Err(unknown_name(ctx, &sec, "model", &CONTACT_MODELS)),
+        None => return Err(unknown_name(ctx, &sec, "model", &ContactModel::NAMES)),
     })
 }
 

@@ -56,7 +56,7 @@ pub use file::{MAX_SCENARIO_BYTES, open_regular, read_bounded};
 use format::*;
 pub use path::{KEY_RULE, KeyPath, MAX_INDEX, PathError, Seg};
 use reader::*;
-use schema::{CONTACT_MODELS, DIRECTIONS, ROTATION_AXES, keys};
+use schema::{DIRECTIONS, ROTATION_AXES, keys};
 use tree::*;
 pub use tree::{Blocked, SetError};
 

@@ -92,18 +92,12 @@ impl Ctx<'_> {
     /// A physics-layer error, placed at the key it names.
     pub(super) fn model(&self, tree: &Node, err: &ModelError) -> ScenarioError {
         let scenario_like = Locator { tree };
-        let ModelError::Invalid {
-            key,
-            quantity,
-            value,
-            rule,
-        } = err;
         self.error(
             ErrorKind::Invalid,
-            &scenario_like.origin_of(key),
-            Some(quantity.clone()),
-            Some(value.clone()),
-            rule.clone(),
+            &scenario_like.origin_of(err.key()),
+            Some(err.quantity().to_owned()),
+            Some(err.value()),
+            err.rule().to_owned(),
         )
     }
 }

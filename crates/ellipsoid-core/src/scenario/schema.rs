@@ -71,37 +71,6 @@ pub struct Key {
     pub doc: &'static str,
 }
 
-/// The contact models, each at placeholder parameters, in the order of [`CONTACT_MODELS`].
-const CONTACT_KINDS: [ContactModel; 4] = [
-    ContactModel::Frictionless,
-    ContactModel::Sliding { friction: 0.0 },
-    ContactModel::Rolling,
-    ContactModel::Coulomb { friction: 0.0 },
-];
-
-/// A contact model's name in scenario files (`[contact] model`).
-pub const fn contact_name(model: &ContactModel) -> &'static str {
-    match model {
-        ContactModel::Frictionless => "frictionless",
-        ContactModel::Sliding { .. } => "sliding",
-        ContactModel::Rolling => "rolling",
-        ContactModel::Coulomb { .. } => "coulomb",
-    }
-}
-
-/// The names of the contact models, in declaration order.
-pub const CONTACT_MODELS: [&str; 4] = [
-    contact_name(&CONTACT_KINDS[0]),
-    contact_name(&CONTACT_KINDS[1]),
-    contact_name(&CONTACT_KINDS[2]),
-    contact_name(&CONTACT_KINDS[3]),
-];
-
-/// The contact model named `name` (one of [`CONTACT_MODELS`]) at placeholder parameters.
-pub(super) fn contact_kind(name: &str) -> Option<ContactModel> {
-    CONTACT_KINDS.into_iter().find(|m| contact_name(m) == name)
-}
-
 /// `[[observe]] direction` values.
 pub const DIRECTIONS: [&str; 3] = ["up", "down", "either"];
 /// `axis` values of `initial.rotation` entries.
@@ -182,7 +151,7 @@ pub const SCHEMA: &[Key] = &[
     key("initial.rotation", "axis", None, Choice(&ROTATION_AXES), Required, "the axis of this elementary rotation"),
     key("initial.rotation", "angle", RAD, Number, Required, "its angle"),
     key("initial.rotation", "angle_deg", DEG, Number, Unset, "its angle in degrees (instead of angle)"),
-    key("contact", "model", None, Choice(&CONTACT_MODELS), Required, "the contact model (docs/physics.md)"),
+    key("contact", "model", None, Choice(&ContactModel::NAMES), Required, "the contact model (docs/physics.md)"),
     key("contact", "friction", ONE, Number, Unset, "μ, the Coulomb coefficient: required by sliding and coulomb, rejected by the others"),
     key("contact", "restitution", ONE, Number, Value(0.0), "e ∈ [0, 1], the energetic coefficient of restitution at touchdowns"),
     key("contact", "on_lift_off", None, Choice(&LiftOff::NAMES), Means("fly"), "what happens when the normal force reaches zero"),
@@ -413,11 +382,11 @@ mod tests {
     #[test]
     fn every_method_and_contact_model_name_reads_as_itself() {
         for method in Method::NAMES {
-            for model in CONTACT_MODELS {
+            for model in ContactModel::NAMES {
                 let text = scenario(model, method);
                 let s = parse(&text, "x.toml", &[] as &[&str]).unwrap_or_else(|e| panic!("{e}"));
                 assert_eq!(s.scene.solver.method.name(), method);
-                assert_eq!(contact_name(&s.scene.contact), model);
+                assert_eq!(s.scene.contact.name(), model);
                 assert_eq!(
                     s.scene.contact.friction().is_some(),
                     text.contains("friction = ")

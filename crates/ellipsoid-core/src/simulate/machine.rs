@@ -290,13 +290,7 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
             flow
         },
     )
-    .map_err(|e| {
-        ModelError::invalid(
-            "solver",
-            e.to_string(),
-            "the integrator rejected these settings",
-        )
-    })?;
+    .map_err(ModelError::Solver)?;
     Ok(Segment { solution, watches })
 }
 

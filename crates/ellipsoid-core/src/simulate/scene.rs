@@ -25,6 +25,37 @@ pub enum ContactModel {
 }
 
 impl ContactModel {
+    /// Every model, at placeholder parameters (μ = 0), in the order of
+    /// [`ContactModel::NAMES`].
+    pub const ALL: [ContactModel; 4] = [
+        ContactModel::Frictionless,
+        ContactModel::Sliding { friction: 0.0 },
+        ContactModel::Rolling,
+        ContactModel::Coulomb { friction: 0.0 },
+    ];
+    /// Their names in scenario files (`[contact] model`).
+    pub const NAMES: [&'static str; 4] = [
+        ContactModel::ALL[0].name(),
+        ContactModel::ALL[1].name(),
+        ContactModel::ALL[2].name(),
+        ContactModel::ALL[3].name(),
+    ];
+
+    /// Its name in scenario files (`[contact] model`).
+    pub const fn name(&self) -> &'static str {
+        match self {
+            ContactModel::Frictionless => "frictionless",
+            ContactModel::Sliding { .. } => "sliding",
+            ContactModel::Rolling => "rolling",
+            ContactModel::Coulomb { .. } => "coulomb",
+        }
+    }
+
+    /// The model called `name` (one of [`ContactModel::NAMES`]) at placeholder parameters.
+    pub fn named(name: &str) -> Option<ContactModel> {
+        ContactModel::ALL.into_iter().find(|m| m.name() == name)
+    }
+
     /// μ of the models with Coulomb friction.
     pub fn friction(&self) -> Option<f64> {
         match *self {

@@ -127,9 +127,9 @@ def study_to_xarray(table: Any) -> Any:
     return ds
 
 
-def _trajectory(scenario: Scenario, values: bytes, modes: list[str], summary: str, success: bool) -> Trajectory:
+def _trajectory(scenario: Scenario, values: bytes, modes: list[str], summary: str, status: str) -> Trajectory:
     """Unpickles a Trajectory (`Trajectory.__reduce__`)."""
-    return Trajectory._from_pickle(scenario, values, modes, summary, success)  # type: ignore[attr-defined]
+    return Trajectory._from_pickle(scenario, values, modes, summary, status)  # type: ignore[attr-defined]
 
 
 def _scenario(text: str, source: str, overrides: list[str]) -> Scenario:

@@ -209,7 +209,7 @@ impl Study {
         let cells = cols
             .iter()
             .map(|c| match &c.role {
-                Role::Status => Cell::Text(finished.summary.status.to_owned()),
+                Role::Status => Cell::Text(finished.summary.status.name().to_owned()),
                 Role::Message => Cell::Text(finished.summary.message.clone()),
                 Role::TFinal => finite(outcome.final_sample.t),
                 Role::Observed(name) => outcome
