@@ -137,8 +137,11 @@ def test_trajectory_and_scenario_pickle_and_cross_processes(tmp_path: Path) -> N
     traj.to_csv(tmp_path / "a.csv")
     back.to_csv(tmp_path / "b.csv")
     assert (tmp_path / "a.csv").read_bytes() == (tmp_path / "b.csv").read_bytes()
-    failed = pickle.loads(pickle.dumps(ellipsoid.simulate(SCENARIOS / "nutation.toml", solver={"max_steps": 5})))
-    assert not failed.success
+    original = ellipsoid.simulate(SCENARIOS / "nutation.toml", solver={"max_steps": 5})
+    failed = pickle.loads(pickle.dumps(original))
+    assert not failed.success and failed.status == original.status == "solver_failure"
+    assert failed.status_code == original.status_code == -1 and failed.summary == original.summary
+    assert failed.events == original.events and failed.message == original.message
     with ProcessPoolExecutor(2) as pool:
         got = list(pool.map(_run, [str(SCENARIOS / "nutation.toml"), str(SCENARIOS / "billiard.toml")]))
     assert [g.completed for g in got] == [True, True]
