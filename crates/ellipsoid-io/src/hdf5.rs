@@ -314,7 +314,8 @@ impl Hdf5Groups {
     /// Adds the group `name` (no `/`) holding one trajectory: the numeric columns
     /// `names` (name, unit: a [`Layout::numeric_columns`]) with their data `columns` (all
     /// of one length), `modes` (mode labels) of the same length, and the group attributes
-    /// `text` (strings) and `numbers` (float64).
+    /// `text` (strings) and `numbers` (float64), and the attribute `columns` (the column
+    /// names in file order, `mode` included, comma-separated, as a trajectory file's).
     #[allow(clippy::too_many_arguments)]
     pub fn add(
         &mut self,
@@ -336,6 +337,10 @@ impl Hdf5Groups {
         }
         let g = file.create_group(name).map_err(fail)?;
         write_columns(&g, names, |k| Cow::Borrowed(&columns[k]), &codes).map_err(fail)?;
+        // The columns in file order, as a trajectory file's root lists them.
+        let mut list: Vec<&str> = names.iter().map(|c| &*c.0).collect();
+        list.insert(columns::MODE_POSITION.min(list.len()), columns::MODE);
+        str_attr(&g, "columns", &list.join(",")).map_err(fail)?;
         for (k, v) in text {
             str_attr(&g, &k.replace('/', "∕"), v).map_err(fail)?;
         }
@@ -445,8 +450,8 @@ fn read_in(path: &Path, group: Option<&str>) -> Result<Hdf5Trajectory, OutputErr
         Some(g) => file.group(g).map_err(fail)?,
         None => file.group("/").map_err(fail)?,
     };
-    // A trajectory file's `columns` attribute lists its columns (a study's groups hold
-    // the fixed ones).
+    // A trajectory file's `columns` attribute lists its columns, as does a study's group
+    // (one without it holds the fixed ones).
     let listed: Option<VarLenUnicode> = loc.attr("columns").and_then(|a| a.read_scalar()).ok();
     let names: Vec<String> = match &listed {
         Some(list) => list
