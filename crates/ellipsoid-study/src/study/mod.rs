@@ -331,7 +331,7 @@ fn run_points(
             break;
         }
     }
-    if let Some(j) = journal.as_deref_mut() {
+    if let Some(j) = journal {
         j.sync()?;
     }
     outcome.map_err(ExecError::Internal)?;
