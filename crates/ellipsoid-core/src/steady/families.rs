@@ -276,9 +276,9 @@ pub fn started_at(scene: &Scene, at: &Phase, delta: &Phase) -> Scene {
     init.height = 0.0;
     init.velocity_z = None;
     init.velocity = match scene.contact {
-        ContactModel::Frictionless | ContactModel::Sliding { .. } => {
-            Some(nalgebra::Vector2::zeros())
-        }
+        ContactModel::Frictionless
+        | ContactModel::Sliding { .. }
+        | ContactModel::Viscous { .. } => Some(nalgebra::Vector2::zeros()),
         ContactModel::Rolling | ContactModel::Coulomb { .. } => None,
     };
     scene

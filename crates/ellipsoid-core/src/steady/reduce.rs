@@ -78,6 +78,13 @@ impl ReducedField {
                 },
                 Some(friction),
             ),
+            ContactModel::Viscous { .. } => {
+                return Err(ModelError::invalid(
+                    "contact.model",
+                    "\"viscous\"",
+                    "the viscous model's steady motions are not analysed yet",
+                ));
+            }
             ContactModel::Sliding { .. } => {
                 return Err(ModelError::invalid(
                     "contact.model",
