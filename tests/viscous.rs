@@ -157,3 +157,117 @@ fn bad_viscous_friction_is_refused_naming_key_value_and_rule() {
         "{e}"
     );
 }
+
+// ---------------------------------------------------------------- steady spins
+
+use ellipsoid_core::body::Body;
+use ellipsoid_core::simulate::Scene;
+use ellipsoid_core::steady::{Family, viscous};
+
+/// A tippe top: a sphere of radius 15 mm, G a distance α R below its centre, m = 6 g,
+/// I3 = 7e-7 kg m², I1 = I2 = ratio I3, under viscous friction μ_v, spinning at `spin`
+/// about the upward vertical in the `family`'s attitude.
+fn tippe(alpha: f64, ratio: f64, mu_v: f64, spin: f64, family: Family) -> Scene {
+    let (r, i3) = (0.015, 7e-7);
+    let body = Body::of_revolution(r, r, 6e-3, ratio * i3, i3, alpha * r).unwrap();
+    let (theta, psi_dot) = match family {
+        Family::Inverted => (std::f64::consts::PI, -spin),
+        _ => (0.0, spin),
+    };
+    scene(
+        body,
+        ContactModel::Viscous {
+            viscous_friction: mu_v,
+        },
+        angles(theta, 0.0, 0.0, 0.0, 0.0, psi_dot),
+        Some(Vector2::zeros()),
+        1.0,
+        1e-3,
+        1e-12,
+    )
+}
+
+/// The stability boundary in I1/I3 of `family` at spin n, bisected on the verdict
+/// between `lo` and `hi` (whose verdicts differ) to 1e-12.
+fn boundary(family: Family, alpha: f64, n: f64, mut lo: f64, mut hi: f64) -> f64 {
+    let stable = |ratio: f64| {
+        viscous::analyse(&tippe(alpha, ratio, 1.0, n, family), family)
+            .unwrap()
+            .stable()
+    };
+    let at_lo = stable(lo);
+    assert_ne!(
+        at_lo,
+        stable(hi),
+        "{family:?} n = {n}: no change in [{lo}, {hi}]"
+    );
+    while hi - lo > 1e-12 {
+        let mid = 0.5 * (lo + hi);
+        if stable(mid) == at_lo {
+            lo = mid
+        } else {
+            hi = mid
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The tippe top's criterion under viscous friction: at large spin the upright spin is
+/// unstable and the inverted one stable exactly for 1 − α < I1/I3 < 1 + α (Bou-Rabee,
+/// Marsden & Romero 2004). Upright is stable below its boundary and unstable above it,
+/// inverted stable below its boundary; the boundaries tend to 1 − α and 1 + α as 1/n²
+/// (each doubling of n divides the distance by 4, within 0.5 %), for α = 0.2 and 0.4.
+#[test]
+fn val_tippe_top_criterion_is_the_large_spin_limit() {
+    for alpha in [0.2, 0.4] {
+        for (family, limit, lo, hi) in [
+            (Family::Upright, 1.0 - alpha, 0.55, 1.0),
+            (Family::Inverted, 1.0 + alpha, 1.0, 1.0 + 2.0 * alpha),
+        ] {
+            let spins = [100.0, 200.0, 400.0, 800.0];
+            let distance: Vec<f64> = spins
+                .iter()
+                .map(|&n| boundary(family, alpha, n, lo, hi) - limit)
+                .collect();
+            eprintln!("α = {alpha} {family:?}: boundary − limit at n = {spins:?}: {distance:?}");
+            for w in distance.windows(2) {
+                let ratio = w[0] / w[1];
+                assert!(
+                    (ratio - 4.0).abs() < 0.2,
+                    "{family:?} α = {alpha}: {distance:?}"
+                );
+            }
+            assert!(distance[3].abs() < 2e-3, "{distance:?}");
+            // Stable on the side of smaller I1/I3 for both.
+            let below = viscous::analyse(&tippe(alpha, limit - 0.05, 1.0, 800.0, family), family);
+            let above = viscous::analyse(&tippe(alpha, limit + 0.05, 1.0, 800.0, family), family);
+            assert!(below.unwrap().stable() && !above.unwrap().stable());
+        }
+    }
+}
+
+/// A run started on the upright spin of the Leine–Glocker tippe top (I1/I3 = 8/7,
+/// α = 0.2) at n = 200 rad/s, displaced by 1e-6 along the unstable mode, tilts from
+/// 1e-5 to 1e-4 rad at the predicted Re λ within 1 %.
+#[test]
+fn val_perturbed_upright_spin_grows_at_the_predicted_rate() {
+    let base = tippe(0.2, 8.0 / 7.0, 1.0, 200.0, Family::Upright);
+    let an = viscous::analyse(&base, Family::Upright).unwrap();
+    let rate = an.eigenvalues[0].re;
+    assert!(rate > 0.0 && !an.stable(), "{:?}", an.eigenvalues);
+    let mut start = viscous::started_at(&base, &an.at(), &an.perturbation(0, 1e-6));
+    start.t_end = 14.0 / rate;
+    start.sample_times = (0..=8000)
+        .map(|i| i as f64 * start.t_end / 8000.0)
+        .collect();
+    let (out, samples) = run(&start);
+    assert_eq!(out.status, Status::Completed, "{:?}", out.status);
+    let t1 = common::first_reaching(&samples, 0.0, 1e-5);
+    let t2 = common::first_reaching(&samples, 0.0, 1e-4);
+    let fitted = 10f64.ln() / (t2 - t1);
+    eprintln!("upright tippe top: growth {fitted} /s against Re λ = {rate} /s");
+    assert!(
+        (fitted / rate - 1.0).abs() < 0.01,
+        "{fitted} against {rate}"
+    );
+}
