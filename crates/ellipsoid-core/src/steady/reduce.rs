@@ -69,7 +69,7 @@ impl ReducedField {
                 return Err(ModelError::invalid(
                     "contact.model",
                     "\"viscous\"",
-                    "the viscous model's steady spins have a reduced state of their own (G's horizontal velocity): they are analysed by `steady::viscous`",
+                    "the viscous model's upright and inverted spins are analysed one at a time (`ellipsoid steady` without --vary; Rust: steady::viscous); sweeps and the tilted families do not take it",
                 ));
             }
             ContactModel::Sliding { .. } => {
