@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use ellipsoid_core::error::{ModelError, number};
 use ellipsoid_core::scenario::{self, Scenario};
+use ellipsoid_core::simulate::ContactModel;
 use ellipsoid_core::steady::{self, Analysis, Family, Solve, Sweep, sweep::MAX_VALUES};
 use ellipsoid_io::atomic;
 
@@ -21,6 +22,14 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         atomic::check_target(path)?;
     }
     let located = |e: ModelError| CliError::from(scenario.locate(&e));
+    if matches!(scenario.scene.contact, ContactModel::Viscous { .. }) && args.vary.is_none() {
+        let spin = steady::viscous::analyse(&scenario.scene, family).map_err(located)?;
+        print!("{}", describe_viscous(&spin));
+        if let Some(path) = &args.output {
+            atomic::write(path, viscous_table(&spin).as_bytes())?;
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
     let table = match &args.vary {
         None => {
             let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
@@ -39,6 +48,65 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         atomic::write(path, table.as_bytes())?;
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A steady spin under the viscous law in words (docs/steady.md, "Under viscous sliding").
+fn describe_viscous(spin: &steady::viscous::ViscousSpin) -> String {
+    let mut o = String::new();
+    let z = spin.zeta.map(|x| x + 0.0);
+    let _ = writeln!(
+        o,
+        "family               {} (viscous sliding)",
+        spin.family.name()
+    );
+    let _ = writeln!(
+        o,
+        "spin n               {} rad/s (about the upward vertical)",
+        spin.spin + 0.0
+    );
+    let _ = writeln!(o, "zeta (up, body axes) [{}, {}, {}]", z.x, z.y, z.z);
+    let _ = writeln!(o, "normal force N       {} N", spin.normal_force);
+    let verdict = if spin.stable() { "stable" } else { "unstable" };
+    let _ = writeln!(o, "verdict              {verdict}");
+    let _ = writeln!(
+        o,
+        "modes (eigenvalue lambda in 1/s, body frame; eigenvector in {}):",
+        steady::viscous::COORDINATES.join(", ")
+    );
+    for (lambda, v) in spin.eigenvalues.iter().zip(&spin.vectors) {
+        let v: Vec<String> = v
+            .iter()
+            .map(|c| format!("{:.6}{:+.6}i", c.re, c.im))
+            .collect();
+        let _ = writeln!(
+            o,
+            "  {:+.10e} {:+.10e}i   [{}]",
+            lambda.re,
+            lambda.im,
+            v.join(", ")
+        );
+    }
+    o
+}
+
+/// The table of a viscous steady spin: spin, theta, normal_force, stable, max_real and
+/// lambdaK_re, lambdaK_im (K = 1…6).
+fn viscous_table(spin: &steady::viscous::ViscousSpin) -> String {
+    let mut header: Vec<String> = ["spin", "theta", "normal_force", "stable", "max_real"]
+        .map(String::from)
+        .to_vec();
+    let mut cells = vec![
+        number(spin.spin + 0.0),
+        number(spin.zeta.xy().norm().atan2(spin.zeta.z)),
+        number(spin.normal_force),
+        spin.stable().to_string(),
+        number(spin.max_real()),
+    ];
+    for (k, lambda) in spin.eigenvalues.iter().enumerate() {
+        header.extend([format!("lambda{}_re", k + 1), format!("lambda{}_im", k + 1)]);
+        cells.extend([number(lambda.re), number(lambda.im)]);
+    }
+    format!("{}\n{}\n", header.join(","), cells.join(","))
 }
 
 /// `KEY=a:b:n`: n values from a to b, evenly spaced (n = 1: a alone).

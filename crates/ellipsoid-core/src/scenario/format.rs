@@ -274,7 +274,37 @@ pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel
         None => Ok(()),
     }
     };
+    let viscous = ctx.checked(
+        &sec,
+        "viscous_friction",
+        "μ_v, the viscous coefficient (s/m)",
+        |v| (0.0..=MAX_VISCOUS_FRICTION).contains(&v),
+        &format!(
+            "the viscous coefficient must be finite and within [0, {}] s/m",
+            number(MAX_VISCOUS_FRICTION)
+        ),
+    )?;
+    if let (Some(got), false) = (sec.get("viscous_friction"), model == "viscous") {
+        return Err(ctx.bad(
+            ErrorKind::Invalid,
+            &sec,
+            got,
+            format!("the {model} model takes no viscous coefficient; remove it, or use model = \"viscous\""),
+        ));
+    }
     Ok(match schema::contact_kind(model) {
+        Some(ContactModel::Viscous { .. }) => {
+            no_friction("its friction is viscous: give viscous_friction")?;
+            ContactModel::Viscous {
+                viscous_friction: viscous.ok_or_else(|| {
+                    ctx.missing(
+                        &sec,
+                        "viscous_friction",
+                        "the viscous model needs μ_v, the viscous coefficient in s/m (e.g. viscous_friction = 0.5)",
+                    )
+                })?,
+            }
+        }
         Some(ContactModel::Frictionless) => {
             no_friction("the plane exerts no friction")?;
             ContactModel::Frictionless

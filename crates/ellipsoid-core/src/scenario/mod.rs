@@ -35,8 +35,8 @@ use crate::error::{ModelError, number};
 use crate::integrate::{Direction, Method};
 use crate::model::{ContactDisc, contensou};
 use crate::simulate::{
-    ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, Observe, Scene,
-    SolverSettings,
+    ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, MAX_VISCOUS_FRICTION,
+    Observe, Scene, SolverSettings,
 };
 use crate::state::EulerAngles;
 

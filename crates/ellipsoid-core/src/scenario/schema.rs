@@ -72,11 +72,14 @@ pub struct Key {
 }
 
 /// The contact models, each at placeholder parameters, in the order of [`CONTACT_MODELS`].
-const CONTACT_KINDS: [ContactModel; 4] = [
+const CONTACT_KINDS: [ContactModel; 5] = [
     ContactModel::Frictionless,
     ContactModel::Sliding { friction: 0.0 },
     ContactModel::Rolling,
     ContactModel::Coulomb { friction: 0.0 },
+    ContactModel::Viscous {
+        viscous_friction: 0.0,
+    },
 ];
 
 /// A contact model's name in scenario files (`[contact] model`).
@@ -86,15 +89,17 @@ pub const fn contact_name(model: &ContactModel) -> &'static str {
         ContactModel::Sliding { .. } => "sliding",
         ContactModel::Rolling => "rolling",
         ContactModel::Coulomb { .. } => "coulomb",
+        ContactModel::Viscous { .. } => "viscous",
     }
 }
 
 /// The names of the contact models, in declaration order.
-pub const CONTACT_MODELS: [&str; 4] = [
+pub const CONTACT_MODELS: [&str; 5] = [
     contact_name(&CONTACT_KINDS[0]),
     contact_name(&CONTACT_KINDS[1]),
     contact_name(&CONTACT_KINDS[2]),
     contact_name(&CONTACT_KINDS[3]),
+    contact_name(&CONTACT_KINDS[4]),
 ];
 
 /// The contact model named `name` (one of [`CONTACT_MODELS`]) at placeholder parameters.
@@ -184,6 +189,7 @@ pub const SCHEMA: &[Key] = &[
     key("initial.rotation", "angle_deg", DEG, Number, Unset, "its angle in degrees (instead of angle)"),
     key("contact", "model", None, Choice(&CONTACT_MODELS), Required, "the contact model (docs/physics.md)"),
     key("contact", "friction", ONE, Number, Unset, "μ, the Coulomb coefficient: required by sliding and coulomb, rejected by the others"),
+    key("contact", "viscous_friction", Some("s/m"), Number, Unset, "μ_v, the viscous coefficient (tangential force −μ_v N v_C): required by viscous, rejected by the others"),
     key("contact", "restitution", ONE, Number, Value(0.0), "e ∈ [0, 1], the energetic coefficient of restitution at touchdowns"),
     key("contact", "on_lift_off", None, Choice(&LiftOff::NAMES), Means("fly"), "what happens when the normal force reaches zero"),
     key("contact", "contact_radius", M, Number, Value(0.0), "R, the radius of a flat contact disc (0: a point contact)"),
@@ -335,10 +341,10 @@ mod tests {
 
     /// A scenario of `model` and `method`, with what each needs (μ, rk4's step).
     fn scenario(model: &str, method: &str) -> String {
-        let friction = if matches!(model, "sliding" | "coulomb") {
-            "friction = 0.3\n"
-        } else {
-            ""
+        let friction = match model {
+            "sliding" | "coulomb" => "friction = 0.3\n",
+            "viscous" => "viscous_friction = 0.5\n",
+            _ => "",
         };
         format!(
             "[body]\na = 0.025\nc = 0.0175\nmass = 0.05\ninertia = \"uniform\"\n\
@@ -420,7 +426,7 @@ mod tests {
                 assert_eq!(contact_name(&s.scene.contact), model);
                 assert_eq!(
                     s.scene.contact.friction().is_some(),
-                    text.contains("friction = ")
+                    text.contains("\nfriction = ")
                 );
             }
         }

@@ -22,6 +22,9 @@ pub enum ContactModel {
     Rolling,
     /// Sliding and rolling with transitions; `friction` is μ.
     Coulomb { friction: f64 },
+    /// Viscous sliding friction F_t = −μ_v N v_C (docs/physics.md, "Viscous sliding");
+    /// `viscous_friction` is μ_v [s/m].
+    Viscous { viscous_friction: f64 },
 }
 
 impl ContactModel {
@@ -31,7 +34,9 @@ impl ContactModel {
             ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } => {
                 Some(friction)
             }
-            ContactModel::Frictionless | ContactModel::Rolling => None,
+            ContactModel::Frictionless | ContactModel::Rolling | ContactModel::Viscous { .. } => {
+                None
+            }
         }
     }
 }
@@ -135,6 +140,11 @@ pub struct Observe {
 /// (ε z_G) far below the body's size.
 pub const MAX_HEIGHT_SIZES: f64 = 1e6;
 
+/// Largest viscous friction coefficient μ_v [s/m]: with g = 9.81 m/s² the slip of a ball
+/// relaxes in 1/(3.5 μ_v g) ≈ 3e-7 s at this bound, already a stiff scale for an explicit
+/// integrator.
+pub const MAX_VISCOUS_FRICTION: f64 = 1e5;
+
 /// Most observables a scene may name.
 pub const MAX_OBSERVE: usize = 64;
 
@@ -201,6 +211,9 @@ impl Scene {
                 number(friction),
                 "the Coulomb coefficient must be finite and non-negative",
             ));
+        }
+        if let ContactModel::Viscous { viscous_friction } = self.contact {
+            self.validate_viscous(viscous_friction)?;
         }
         if let Some(disc) = &self.disc {
             self.validate_disc(disc)?;
@@ -429,6 +442,32 @@ impl Scene {
                     number(size),
                     number(self.gravity)
                 ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The viscous model: μ_v finite, in [0, [`MAX_VISCOUS_FRICTION`]], on a body without
+    /// contact spheres (contact on two surfaces is simulated with Coulomb friction only).
+    fn validate_viscous(&self, viscous_friction: f64) -> Result<(), ModelError> {
+        if !(viscous_friction.is_finite()
+            && (0.0..=MAX_VISCOUS_FRICTION).contains(&viscous_friction))
+        {
+            return Err(ModelError::invalid(
+                "contact.viscous_friction",
+                number(viscous_friction),
+                format!(
+                    "the viscous coefficient μ_v must be finite and within [0, {}] s/m \
+                     (the slip relaxes at a rate ~ μ_v g: beyond that bound its time is below a microsecond)",
+                    number(MAX_VISCOUS_FRICTION)
+                ),
+            ));
+        }
+        if !self.body.spheres().is_empty() {
+            return Err(ModelError::invalid(
+                "contact.model",
+                "\"viscous\"",
+                "the viscous model is simulated with one contact: a body with contact spheres needs model = \"sliding\" or \"coulomb\"",
             ));
         }
         Ok(())
