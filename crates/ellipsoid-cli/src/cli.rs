@@ -130,6 +130,11 @@ pub struct RunArgs {
     /// Write the run summary as JSON to this file, or to standard output with `-`.
     #[arg(long, value_name = "FILE.json|-")]
     pub summary: Option<PathBuf>,
+    /// Write the points of the scenario's Poincaré sections (`[[section]]`) to this CSV
+    /// file: one table, a `section` column naming each point's section, then every
+    /// output column (SI units, listed in the comment line).
+    #[arg(long, value_name = "OUT.csv")]
+    pub sections: Option<PathBuf>,
     /// Override a scenario value before validation, e.g. `--set output.t_end=1`
     /// (TOML syntax; a bare word is a string). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
