@@ -91,12 +91,10 @@ fn val_section_points_lie_on_the_section() {
         .iter()
         .map(|r| value(r, "omega_world_x").abs())
         .fold(0.0, f64::max);
-    for (k, (column, crosses, tol)) in [
-        ("omega_world_x", 0.3, 1e-10 * scale),
-        ("theta", mid, 1e-10),
-    ]
-    .into_iter()
-    .enumerate()
+    for (k, (column, crosses, tol)) in
+        [("omega_world_x", 0.3, 1e-10 * scale), ("theta", mid, 1e-10)]
+            .into_iter()
+            .enumerate()
     {
         let points = &out.sections[k];
         assert!(points.len() > 10, "{column}: {} points", points.len());
