@@ -223,7 +223,7 @@ pub const SCHEMA: &[Key] = &[
     key("section", "column", None, Column, Required, "the numeric output column whose crossing defines the section"),
     key("section", "crosses", None, Number, Required, "the value crossed, in the column's unit"),
     key("section", "direction", None, Choice(&DIRECTIONS), Means("either"), "up (increasing through the value), down or either"),
-    key("section", "max_points", None, Count, Value(crate::simulate::MAX_SECTION_POINTS as f64), "the most points kept: the run ends at the last one (status section_full); 1 to 1000000"),
+    key("section", "max_points", None, Count, Means("1000000"), "the most points kept: the run ends at the last one (status section_full); 1 to 1000000"),
 ];
 
 /// The keys the table at `table` (a dotted path without indexes) accepts, in order.
