@@ -5,8 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use ellipsoid_core::scenario::{self, Scenario};
-use ellipsoid_core::simulate::Sample;
-use ellipsoid_io::run::Failure;
+use ellipsoid_io::run::{Failure, Finished};
 use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, atomic};
 
 use crate::cli::RunArgs;
@@ -66,11 +65,11 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
         let summary_file = summary_path
             .map(|p| atomic::AtomicFile::create(p))
             .transpose()?;
-        let (trajectory, summary, finished, sections) =
-            simulate_to(&scenario, &output, &interrupt)?;
+        let (trajectory, done) = simulate_to(&scenario, &output, &interrupt)?;
+        let (summary, finished) = (done.summary, done.outcome.status.finished());
         let mut files = vec![trajectory];
         if let Some(path) = &args.sections {
-            let table = ellipsoid_io::csv::sections_table(&scenario, &sections);
+            let table = ellipsoid_io::csv::sections_table(&scenario, &done.outcome.sections);
             files.push(atomic::prepare(path, &table)?);
         }
         if let (Some(mut file), Some(path)) = (summary_file, summary_path) {
@@ -193,13 +192,12 @@ fn identity(path: &Path) -> PathBuf {
 }
 
 /// Runs the scene, writing the trajectory for `output` (complete, not yet in place);
-/// returns it, the summary, whether the run ended where the scene asked, and the points
-/// of its Poincaré sections.
+/// returns it and the run's summary and outcome (its status and its Poincaré sections).
 fn simulate_to(
     scenario: &Scenario,
     output: &Path,
     interrupt: &Interrupt,
-) -> Result<(atomic::Prepared, Summary, bool, Vec<Vec<Sample>>), CliError> {
+) -> Result<(atomic::Prepared, Finished), CliError> {
     let mut writer = TrajectoryWriter::for_scenario(output, scenario)?;
     let mut progress = Progress::new(scenario.scene.t_end);
     let cancel = Some(std::sync::Arc::clone(&interrupt.any));
@@ -226,12 +224,7 @@ fn simulate_to(
         scenario_text: &scenario.text,
         summary: &finished.summary,
     })?;
-    Ok((
-        trajectory,
-        finished.summary,
-        finished.outcome.status.finished(),
-        finished.outcome.sections,
-    ))
+    Ok((trajectory, finished))
 }
 
 /// Creates the parent directories of `path`, recording the ones it made.
