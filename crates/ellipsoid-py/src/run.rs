@@ -40,6 +40,8 @@ pub struct Run {
     pub samples: Vec<Sample>,
     pub summary: Summary,
     pub status: Status,
+    /// The points of the scene's Poincaré sections (`Outcome::sections`).
+    pub sections: Vec<Vec<Sample>>,
 }
 
 /// Why a run produced no result.
@@ -83,6 +85,7 @@ pub fn run(
         samples,
         summary: finished.summary,
         status: finished.outcome.status,
+        sections: finished.outcome.sections,
     })
 }
 

@@ -190,6 +190,7 @@ fn study_error(py: Python<'_>, scenario: &Scenario, e: StudyError) -> PyErr {
                 samples: Vec::new(),
                 summary,
                 status: outcome.status.clone(),
+                sections: outcome.sections.clone(),
             });
             let attrs = (|| -> PyResult<Vec<(&str, Py<PyAny>)>> {
                 Ok(vec![

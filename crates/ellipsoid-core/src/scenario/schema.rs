@@ -155,6 +155,7 @@ pub const SCHEMA: &[Key] = &[
     key("", "output", None, Table, Required, "the end time and the sampling"),
     key("", "check", None, Table, Unset, "what a run is expected to achieve (changes nothing in the run)"),
     key("", "observe", None, Tables, Unset, "events on output columns, at most 64"),
+    key("", "section", None, Tables, Unset, "Poincaré sections: the full state at each crossing, at most 16"),
     key("body", "a", M, Number, Required, "the semi-axis along body x"),
     key("body", "b", M, Number, Means("a"), "the semi-axis along body y"),
     key("body", "c", M, Number, Required, "the semi-axis along the symmetry axis, body z"),
@@ -224,6 +225,11 @@ pub const SCHEMA: &[Key] = &[
     key("observe", "crosses", None, Number, Required, "the value crossed, in the column's unit"),
     key("observe", "direction", None, Choice(&DIRECTIONS), Means("either"), "up (increasing through the value), down or either"),
     key("observe", "terminal", None, Bool, Means("false"), "whether the run ends at the first crossing (status observed)"),
+    key("section", "name", None, Text, Required, "a unique name (the `section` column of the sections table)"),
+    key("section", "column", None, Column, Required, "the numeric output column whose crossing defines the section"),
+    key("section", "crosses", None, Number, Required, "the value crossed, in the column's unit"),
+    key("section", "direction", None, Choice(&DIRECTIONS), Means("either"), "up (increasing through the value), down or either"),
+    key("section", "max_points", None, Count, Means("1000000"), "the most points kept: the run ends at the last one (status section_full); 1 to 1000000"),
 ];
 
 /// The keys the table at `table` (a dotted path without indexes) accepts, in order.
@@ -317,7 +323,7 @@ pub fn reference() -> String {
             (t, _) => {
                 let t = match t {
                     "body.sphere" | "initial.rotation" => format!("{t}[i]"),
-                    "observe" => "observe[i]".to_owned(),
+                    "observe" | "section" => format!("{t}[i]"),
                     t => t.to_owned(),
                 };
                 format!("`{t}.{}`", k.name)

@@ -135,6 +135,26 @@ pub struct Observe {
     pub terminal: bool,
 }
 
+/// A Poincaré section (`[[section]]`): the full state (every output column) at each
+/// crossing of `crossing` (never terminal), located on the dense output like every event
+/// (docs/physics.md, "Poincaré sections"). The run stops at the `max_points`-th point
+/// (status `section_full`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Section {
+    /// The column, value and direction crossed, and the section's name (unique among the
+    /// scene's sections).
+    pub crossing: Observe,
+    /// Most points kept, 1 to [`MAX_SECTION_POINTS`].
+    pub max_points: u64,
+}
+
+/// Most sections a scene may name.
+pub const MAX_SECTIONS: usize = 16;
+
+/// Most points a section keeps (the default of `section.max_points`): 10⁶ rows of a few
+/// dozen columns, some 200 MB in memory.
+pub const MAX_SECTION_POINTS: u64 = 1_000_000;
+
 /// Highest start above the plane, in body sizes (largest semi-axis): a fall from
 /// 10⁶ sizes lasts √(2·10⁶ L/g), ample for any experiment, and keeps z_G's round-off
 /// (ε z_G) far below the body's size.
@@ -184,6 +204,8 @@ pub struct Scene {
     pub sample_times: Vec<f64>,
     /// Events on output columns to locate and report.
     pub observe: Vec<Observe>,
+    /// Poincaré sections to record.
+    pub sections: Vec<Section>,
 }
 
 impl Scene {
@@ -517,49 +539,92 @@ impl Scene {
     }
 
     fn validate_observe(&self) -> Result<(), ModelError> {
-        if self.observe.len() > MAX_OBSERVE {
-            return Err(ModelError::invalid(
-                "observe",
-                format!("{} entries", self.observe.len()),
-                format!("at most {MAX_OBSERVE} observables"),
-            ));
-        }
-        for (k, o) in self.observe.iter().enumerate() {
-            if o.name.is_empty() || o.name.len() > 100 {
+        validate_crossings(
+            &self.body,
+            "observe",
+            "observable",
+            MAX_OBSERVE,
+            self.observe.iter(),
+        )?;
+        validate_crossings(
+            &self.body,
+            "section",
+            "section",
+            MAX_SECTIONS,
+            self.sections.iter().map(|s| &s.crossing),
+        )?;
+        for s in &self.sections {
+            if !(1..=MAX_SECTION_POINTS).contains(&s.max_points) {
                 return Err(ModelError::invalid(
-                    "observe.name",
-                    format!("{:?}", o.name),
-                    "an observable needs a name of 1 to 100 bytes",
+                    "section.max_points",
+                    s.max_points,
+                    format!("a section keeps 1 to {MAX_SECTION_POINTS} points"),
                 ));
             }
-            if self.observe[..k].iter().any(|p| p.name == o.name) {
+            if s.crossing.terminal {
                 return Err(ModelError::invalid(
-                    "observe.name",
-                    format!("{:?}", o.name),
-                    "observable names must be unique",
-                ));
-            }
-            let layout = columns::Layout::of(&self.body);
-            if o.column >= layout.numeric() {
-                let names: Vec<String> = layout
-                    .numeric_columns()
-                    .into_iter()
-                    .map(|c| c.0.into_owned())
-                    .collect();
-                return Err(ModelError::invalid(
-                    "observe.column",
-                    o.column,
-                    format!("not a numeric column (one of {})", names.join(", ")),
-                ));
-            }
-            if !o.crosses.is_finite() {
-                return Err(ModelError::invalid(
-                    "observe.crosses",
-                    number(o.crosses),
-                    "the value crossed must be finite",
+                    "section.terminal",
+                    "true",
+                    "a section's crossings never end the run (max_points bounds it)",
                 ));
             }
         }
         Ok(())
     }
+}
+
+/// Checks the crossings of `[[observe]]` or `[[section]]` entries (`table`; each a `what`):
+/// at most `max`, unique names of 1 to 100 bytes, numeric columns, finite values.
+fn validate_crossings<'a>(
+    body: &Body,
+    table: &str,
+    what: &str,
+    max: usize,
+    list: impl ExactSizeIterator<Item = &'a Observe> + Clone,
+) -> Result<(), ModelError> {
+    if list.len() > max {
+        return Err(ModelError::invalid(
+            table,
+            format!("{} entries", list.len()),
+            format!("at most {max} entries"),
+        ));
+    }
+    let field = |key: &str| format!("{table}.{key}");
+    for (k, o) in list.clone().enumerate() {
+        if o.name.is_empty() || o.name.len() > 100 {
+            return Err(ModelError::invalid(
+                field("name"),
+                format!("{:?}", o.name),
+                format!("a {what} needs a name of 1 to 100 bytes"),
+            ));
+        }
+        if list.clone().take(k).any(|p| p.name == o.name) {
+            return Err(ModelError::invalid(
+                field("name"),
+                format!("{:?}", o.name),
+                format!("{what} names must be unique"),
+            ));
+        }
+        let layout = columns::Layout::of(body);
+        if o.column >= layout.numeric() {
+            let names: Vec<String> = layout
+                .numeric_columns()
+                .into_iter()
+                .map(|c| c.0.into_owned())
+                .collect();
+            return Err(ModelError::invalid(
+                field("column"),
+                o.column,
+                format!("not a numeric column (one of {})", names.join(", ")),
+            ));
+        }
+        if !o.crosses.is_finite() {
+            return Err(ModelError::invalid(
+                field("crosses"),
+                number(o.crosses),
+                "the value crossed must be finite",
+            ));
+        }
+    }
+    Ok(())
 }

@@ -11,6 +11,7 @@
 
 pub mod families;
 pub mod linearize;
+pub mod perturb;
 pub mod reduce;
 pub mod spectrum;
 pub mod sweep;
@@ -19,6 +20,7 @@ pub mod viscous;
 
 pub use families::{Circles, Family, SteadyMotion, started_at};
 pub use linearize::{COORDINATES, Linearization, Reduced, linearize};
+pub use perturb::perturbed;
 pub use reduce::{Phase, ReducedField};
 pub use spectrum::{Mode, STABLE_TOLERANCE, Shape, Spectrum};
 pub use sweep::{Critical, CriticalKind, Sweep, sweep, sweep_solving};

@@ -142,11 +142,12 @@ fn closing<E>(ctx: &Context<'_, E>, ev: &Evaluation, surface: Surface) -> bool {
 }
 
 /// An event function of a segment: one of its phase's watches (by its index in
-/// [`Phase::watches`]), or an observable of the scene.
+/// [`Phase::watches`]), an observable of the scene, or a section of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Slot {
     Phase(usize),
     Observe(usize),
+    Section(usize),
 }
 
 /// What a phase's event leads to.
