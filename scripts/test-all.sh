@@ -3,10 +3,11 @@
 # rustup, Python 3.10+, a C compiler): runs the Rust tests (release: the physics tests
 # integrate for real), a fixed 60 s fuzzing budget on the scenario parser, builds the
 # manylinux Python wheel (scripts/build-wheel.sh), installs it into a fresh venv and runs
-# pytest, and the README's quick start in a venv of its own; then the viewer's browser
-# tests, then the documentation's checks: no engineering record in the user docs, the
-# tutorial notebooks executed, the gallery current, the API reference built. Exits
-# non-zero on the first failure.
+# pytest, and the README's quick start in a venv of its own; builds the sdist, checks its
+# contents, installs it from source in a fresh venv and runs the quick start with it; then
+# the viewer's browser tests, then the documentation's checks: no engineering record in
+# the user docs, the tutorial notebooks executed, the gallery current, the API reference
+# built. Exits non-zero on the first failure.
 #
 # HDF5 is built from source (HDF5 2.x, linked statically) by the default build: that needs
 # CMake >= 3.26. If the system's is older or missing, one comes from PyPI into the venv.
@@ -96,6 +97,25 @@ open(sys.argv[1], "w", encoding="utf-8").write(re.findall(r"```python\n(.*?)```"
 EOF_QS
 ln -s "$PWD/scenarios" "$qs/scenarios"
 (cd "$qs" && venv/bin/python quickstart.py)
+
+# 4c. The source distribution (maturin sdist): its contents checked (scripts/check-sdist.py:
+#     every file the build needs, no build output), then built from source by pip in a
+#     fresh venv (maturin and CMake from PyPI, HDF5 compiled by the build) and the README's
+#     quick start run with it. The build shares this target directory, so the dependencies
+#     (HDF5's C library included) are compiled already; the workspace's own crates are
+#     cleaned first, so that they do compile from the sdist's sources.
+echo "== the sdist, built from source in a fresh venv"
+sd="$target/sdist"
+rm -rf "$sd" && mkdir -p "$sd"
+.venv/bin/maturin sdist -m crates/ellipsoid-py/Cargo.toml -o "$sd"
+.venv/bin/python scripts/check-sdist.py "$sd"/ellipsoid-*.tar.gz
+cargo clean --release -p ellipsoid-core -p ellipsoid-io -p ellipsoid-study -p ellipsoid-py
+python3 -m venv "$sd/venv"
+CARGO_TARGET_DIR="$target" "$sd/venv/bin/python" -m pip install --quiet --disable-pip-version-check \
+  "$sd"/ellipsoid-*.tar.gz matplotlib pandas
+cp "$qs/quickstart.py" "$sd/quickstart.py"
+ln -s "$PWD/scenarios" "$sd/scenarios"
+(cd "$sd" && venv/bin/python quickstart.py)
 
 # 5. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
 echo "== browser"

@@ -1030,7 +1030,7 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
             Some(edit("\"frictionless\"", "\"roling\"").into()),
             vec![],
             Expect::Exact(
-                "error: bad.toml:13:1: contact.model = \"roling\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"; did you mean \"rolling\"?",
+                "error: bad.toml:13:1: contact.model = \"roling\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\", \"viscous\"; did you mean \"rolling\"?",
             ),
         ),
         (
@@ -1149,7 +1149,7 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
             vec![],
             Expect::Exact(
                 "error: bad.toml:1:1: body is missing: a scenario needs a [body] table (semi-axes a and c, mass, inertia)\n\
-                 error: bad.toml:1:1: contact is missing: a scenario needs a [contact] table with model = \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"\n\
+                 error: bad.toml:1:1: contact is missing: a scenario needs a [contact] table with model = \"frictionless\", \"sliding\", \"rolling\", \"coulomb\", \"viscous\"\n\
                  error: bad.toml:1:1: output is missing: a scenario needs an [output] table with t_end and dt (or times)",
             ),
         ),
@@ -1277,4 +1277,84 @@ fn repeated_stiffness_warnings_are_said_once_with_their_count() {
         said[0].contains("34 times") && said[0].contains("from t = 0 s to t = 0.33 s"),
         "{said:?}"
     );
+}
+
+/// `--sections` writes the scenario's Poincaré sections as one table: the comment line
+/// with each column's SI unit, the header `section,` + the trajectory's, rows naming
+/// their section; each point on its section (θ̇ = 0 rising: the bottom of each nutation
+/// swing, θ̇ to 1e-10 of its scale, θ the same least tilt at each) with the energy of the
+/// run. Without `[[section]]`,
+/// `--sections` is refused and nothing is written.
+#[test]
+fn run_writes_the_poincare_sections_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = scenarios().join("nutation.toml");
+    let scene = scene.to_str().unwrap();
+    let set = "section=[{ name = \"bottom\", column = \"theta_dot\", crosses = 0, direction = \"up\" }, { name = \"half\", column = \"theta\", crosses = 0.17 }]";
+    let o = ellipsoid(
+        dir.path(),
+        &[
+            "run",
+            scene,
+            "-q",
+            "-o",
+            "t.csv",
+            "--set",
+            set,
+            "--set",
+            "output.t_end=3",
+            "--sections",
+            "out/s.csv",
+        ],
+    );
+    assert_eq!(code(&o), 0, "{}", stderr(&o));
+    let path = dir.path().join("out/s.csv");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let comment = text.lines().next().unwrap();
+    let head: Value = serde_json::from_str(comment.strip_prefix("# ellipsoid ").unwrap()).unwrap();
+    assert_eq!(head["units"]["t"], "s");
+    assert_eq!(head["units"]["theta_dot"], "rad/s");
+    assert_eq!(head["units"]["energy"], "J");
+    let (header, rows) = read_csv(&path);
+    assert_eq!(header.join(","), format!("section,{HEADER}"));
+    let names = column_text(&header, &rows, "section");
+    let bottom: Vec<usize> = (0..rows.len()).filter(|&i| names[i] == "bottom").collect();
+    assert!(bottom.len() >= 5, "{} points", bottom.len());
+    assert!(names.iter().all(|n| *n == "bottom" || *n == "half"));
+    assert!(names.contains(&"half"));
+    let (traj_header, traj) = read_csv(&dir.path().join("t.csv"));
+    let rates = column(&traj_header, &traj, "theta_dot");
+    let scale = rates.iter().fold(0.0_f64, |m, r| m.max(r.abs()));
+    let e0 = column(&traj_header, &traj, "energy")[0];
+    let theta_dot = column(&header, &rows, "theta_dot");
+    let energy = column(&header, &rows, "energy");
+    let theta = column(&header, &rows, "theta");
+    let least = theta[bottom[0]];
+    assert!(
+        least < 0.16,
+        "the bottom of the swing is its least tilt: {least}"
+    );
+    for &i in &bottom {
+        assert!(theta_dot[i].abs() < 1e-10 * scale, "θ̇ = {}", theta_dot[i]);
+        assert!((energy[i] - e0).abs() < 1e-9 * e0.abs());
+        assert!(
+            (theta[i] - least).abs() < 1e-8,
+            "θ = {} vs {least}",
+            theta[i]
+        );
+    }
+
+    let o = ellipsoid(
+        dir.path(),
+        &["run", scene, "-q", "-o", "u.csv", "--sections", "none.csv"],
+    );
+    assert_ne!(code(&o), 0);
+    assert!(
+        stderr(&o).contains("--sections none.csv: the scenario has no [[section]]"),
+        "{}",
+        stderr(&o)
+    );
+    assert_no_panic(&o);
+    assert!(!dir.path().join("none.csv").exists());
+    assert!(!dir.path().join("u.csv").exists());
 }

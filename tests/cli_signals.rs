@@ -318,12 +318,13 @@ fn exits_within(child: &mut Child, limit: Duration, what: &str) -> Option<i32> {
     }
 }
 
-/// A rerun of a 10⁷-point study whose journal holds finished rows computes the points'
-/// keys to find what is done (a minute of CPU for 10⁷ points), a chunk at a time, running
-/// each chunk's missing points before the next; SIGTERM then used to wait for all of the
-/// keys. Now the rerun reads the cancel flag between chunks: SIGTERM one second into it
-/// exits 143 at once, the journal's earlier rows kept as they were (rows the rerun
-/// finished before the signal follow them).
+/// A rerun of a 10⁷-point study whose journal holds finished rows used to compute every
+/// point's key to find what is done (a minute of CPU for 10⁷ points) and honour SIGTERM
+/// only after it. Now a journal of the same study file skips its points by index: SIGTERM
+/// one second into the rerun exits 143 at once, the journal's earlier rows kept as they
+/// were (rows the rerun finished before the signal follow them). After the study file is
+/// edited the rows are matched by key, a chunk of points resolved at a time with the
+/// cancel flag read between chunks: SIGTERM exits at once too, the rows kept.
 #[test]
 fn sigterm_while_a_resumed_study_prepares_exits_at_once() {
     let dir = tempfile::tempdir().unwrap();
@@ -380,5 +381,27 @@ fn sigterm_while_a_resumed_study_prepares_exits_at_once() {
     assert!(
         after.starts_with(&before) && after.lines().count() > rows,
         "the journal's rows are kept as they were"
+    );
+
+    // The study file edited (one axis stretched): matched by key, resolving every point.
+    let text = std::fs::read_to_string(d.join("big.toml")).unwrap();
+    std::fs::write(
+        d.join("big.toml"),
+        text.replace("80.0, 10000", "81.0, 10000"),
+    )
+    .unwrap();
+    let kept = after.lines().count() - 1;
+    let mut edited = start();
+    std::thread::sleep(Duration::from_secs(1));
+    signal(&edited, "TERM");
+    let code = exits_within(&mut edited, Duration::from_secs(5), "the edited study");
+    let out = edited.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(code, Some(143), "{stderr}");
+    assert!(!d.join("big.csv").exists());
+    let rewritten = std::fs::read_to_string(&journal).unwrap();
+    assert!(
+        rewritten.lines().count() > kept,
+        "the rows are kept, now by key"
     );
 }

@@ -408,3 +408,114 @@ fn trajectories_of_points_running_the_same_scenario_share_one_group() {
     assert_eq!(g.numbers["initial.psi_dot"], 20.0);
     assert_eq!(g.column("t").unwrap().len(), 21);
 }
+
+/// A body with contact spheres: the study's outcomes and trajectories follow its column
+/// list (`gap_stem`, `normal_force_stem`, …, and its mode labels), bit for bit as
+/// `ellipsoid run` writes the same point; a column the body lacks is refused, named.
+#[test]
+fn outcomes_and_trajectories_follow_the_columns_of_a_body_with_spheres() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = scenarios().join("tippe-top-stem.toml");
+    let study_text = |outcomes: &str| {
+        format!(
+            "base = {base:?}\n[set]\n\"output.t_end\" = 0.2\n\"output.dt\" = 0.01\n\
+             [[axis]]\nkey = \"initial.theta\"\nvalues = [0.1, 1.2]\n\
+             [outcomes]\nwall_time = false\n{outcomes}\n"
+        )
+    };
+    std::fs::write(
+        dir.path().join("stem.toml"),
+        study_text(
+            "final = [\"gap_stem\", \"normal_force_stem\", \"mode\", \"theta\"]\nmin = [\"gap_stem\"]\nmax = [\"slip_speed_ellipsoid\"]",
+        ),
+    )
+    .unwrap();
+    let out = study(
+        dir.path(),
+        &["stem.toml", "-o", "t.csv", "--trajectories", "t.h5", "-q"],
+    );
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = std::fs::read_to_string(dir.path().join("t.csv")).unwrap();
+    let header: Vec<&str> = table.lines().next().unwrap().split(',').collect();
+    for h in [
+        "final.gap_stem [m]",
+        "final.normal_force_stem [N]",
+        "min.gap_stem [m]",
+        "max.slip_speed_ellipsoid [m/s]",
+    ] {
+        assert!(header.contains(&h), "{header:?}");
+    }
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let h5 = dir.path().join("t.h5");
+    for line in table.lines().skip(1) {
+        let row: Vec<&str> = line.split(',').collect();
+        let cell = |name: &str| row[col(name)].parse::<f64>().unwrap();
+        let theta = cell("initial.theta [rad]");
+        let single = dir.path().join(format!("single-{theta}.h5"));
+        let o = Command::new(BIN)
+            .args(["run", base.to_str().unwrap(), "-q"])
+            .args(["--set", "output.t_end=0.2", "--set", "output.dt=0.01"])
+            .args(["--set", &format!("initial.theta={theta:?}")])
+            .arg("-o")
+            .arg(&single)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let run = ellipsoid_io::hdf5::read(&single).unwrap();
+        let column = |name: &str| run.column(name).unwrap();
+        let last = |name: &str| *column(name).last().unwrap();
+        assert_eq!(row[col("status")], "completed");
+        assert_eq!(
+            cell("final.gap_stem [m]").to_bits(),
+            last("gap_stem").to_bits()
+        );
+        assert_eq!(
+            cell("final.normal_force_stem [N]").to_bits(),
+            last("normal_force_stem").to_bits()
+        );
+        assert_eq!(cell("final.theta [rad]").to_bits(), last("theta").to_bits());
+        assert_eq!(row[col("final.mode")], run.modes.last().unwrap());
+        assert!(run.modes.last().unwrap().contains('@'), "{:?}", run.modes);
+        let min = column("gap_stem")
+            .iter()
+            .copied()
+            .fold(f64::INFINITY, f64::min);
+        assert_eq!(cell("min.gap_stem [m]").to_bits(), min.to_bits());
+        assert!(min > 0.0, "the stem stays clear of the plane in 0.2 s");
+        let max = column("slip_speed_ellipsoid")
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max);
+        assert_eq!(
+            cell("max.slip_speed_ellipsoid [m/s]").to_bits(),
+            max.to_bits()
+        );
+        // The trajectory's group: every column of the run, per-surface ones included.
+        let g = ellipsoid_io::hdf5::read_group(&h5, row[col("key")]).unwrap();
+        assert!(g.column("normal_force_stem").is_some());
+        assert_eq!(g.columns, run.columns, "theta {theta}: columns and units");
+        assert_eq!(g.modes, run.modes);
+    }
+
+    // A column this body lacks: refused at once, named, with the body's columns.
+    std::fs::write(
+        dir.path().join("bad.toml"),
+        study_text("final = [\"gap_peg\"]"),
+    )
+    .unwrap();
+    let out = study(dir.path(), &["bad.toml", "-o", "bad.csv", "-q"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("outcomes.final")
+            && stderr.contains("\"gap_peg\"")
+            && stderr.contains("gap_stem"),
+        "{stderr}"
+    );
+    assert!(!dir.path().join("bad.csv").exists());
+}

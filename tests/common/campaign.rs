@@ -164,6 +164,7 @@ pub fn scene(rng: &mut Rng, method: Method) -> Option<Scene> {
         t_end: T_END,
         sample_times: (0..=n).map(|k| T_END * k as f64 / n as f64).collect(),
         observe: Vec::new(),
+        sections: Vec::new(),
     };
     scene.initial_state().ok()?;
     Some(scene)

@@ -114,6 +114,7 @@ pub fn scene(
         t_end,
         sample_times: (0..=n).map(|k| (k as f64 * dt).min(t_end)).collect(),
         observe: Vec::new(),
+        sections: Vec::new(),
     }
 }
 

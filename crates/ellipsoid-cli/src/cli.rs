@@ -89,6 +89,18 @@ pub struct SteadyArgs {
     /// modeK for K = 1..4 (tilted: 1..2), error).
     #[arg(short, long, value_name = "OUT.csv")]
     pub output: Option<PathBuf>,
+    /// Instead of the analysis, the scenario started on the steady motion displaced by
+    /// EPS along mode MODE (its number K in the table, 1 = the least stable, or its name:
+    /// tilt, nutation, roll, pitch, wobble, spin; the first of that name): printed as
+    /// TOML, or written to -o OUT.toml. `ellipsoid run` of it shows the mode grow (Re λ
+    /// > 0) or oscillate. |EPS| at most 0.1 (rad of tilt).
+    #[arg(
+        long,
+        value_name = "MODE=EPS",
+        allow_hyphen_values = true,
+        conflicts_with = "vary"
+    )]
+    pub perturb: Option<String>,
     /// Override a scenario value before validation (as for `run`). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -130,6 +142,11 @@ pub struct RunArgs {
     /// Write the run summary as JSON to this file, or to standard output with `-`.
     #[arg(long, value_name = "FILE.json|-")]
     pub summary: Option<PathBuf>,
+    /// Write the points of the scenario's Poincaré sections (`[[section]]`) to this CSV
+    /// file: one table, a `section` column naming each point's section, then every
+    /// output column (SI units, listed in the comment line).
+    #[arg(long, value_name = "OUT.csv")]
+    pub sections: Option<PathBuf>,
     /// Override a scenario value before validation, e.g. `--set output.t_end=1`
     /// (TOML syntax; a bare word is a string). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use ellipsoid_core::scenario::{self, Scenario};
-use ellipsoid_io::run::Failure;
+use ellipsoid_io::run::{Failure, Finished};
 use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, atomic};
 
 use crate::cli::RunArgs;
@@ -37,6 +37,15 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
         (output_name, output.as_path()),
     ];
     named.extend(summary_path.map(|p| ("--summary", p.as_path())));
+    if let Some(path) = &args.sections {
+        if scenario.scene.sections.is_empty() {
+            return Err(CliError::Usage(format!(
+                "--sections {}: the scenario has no [[section]] (docs/scenarios.md, \"Poincaré sections\")",
+                path.display()
+            )));
+        }
+        named.push(("--sections", path.as_path()));
+    }
     distinct(&named)?;
     for (_, path) in &named[1..] {
         atomic::check_target(path)?;
@@ -46,15 +55,23 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     // and the files appear only when all of them are complete.
     let mut made = Vec::new();
     let result = (|| -> Result<Summary, CliError> {
-        for path in [Some(&output), summary_path].into_iter().flatten() {
+        for path in [Some(&output), summary_path, args.sections.as_ref()]
+            .into_iter()
+            .flatten()
+        {
             make_parent(path, &mut made)?;
         }
         // Reserved first, so an unwritable summary fails before the run.
         let summary_file = summary_path
             .map(|p| atomic::AtomicFile::create(p))
             .transpose()?;
-        let (trajectory, summary) = simulate_to(&scenario, &output, &interrupt)?;
+        let (trajectory, done) = simulate_to(&scenario, &output, &interrupt)?;
+        let summary = done.summary;
         let mut files = vec![trajectory];
+        if let Some(path) = &args.sections {
+            let table = ellipsoid_io::csv::sections_table(&scenario, &done.outcome.sections);
+            files.push(atomic::prepare(path, &table)?);
+        }
         if let (Some(mut file), Some(path)) = (summary_file, summary_path) {
             file.write_all(summary.to_json().as_bytes())
                 .map_err(|e| OutputError::Io {
@@ -177,12 +194,12 @@ fn identity(path: &Path) -> PathBuf {
 }
 
 /// Runs the scene, writing the trajectory for `output` (complete, not yet in place);
-/// returns it and the summary.
+/// returns it and the run's summary and outcome (its status and its Poincaré sections).
 fn simulate_to(
     scenario: &Scenario,
     output: &Path,
     interrupt: &Interrupt,
-) -> Result<(atomic::Prepared, Summary), CliError> {
+) -> Result<(atomic::Prepared, Finished), CliError> {
     let mut writer = TrajectoryWriter::for_scenario(output, scenario)?;
     let mut progress = Progress::new(scenario.scene.t_end);
     let cancel = Some(std::sync::Arc::clone(&interrupt.any));
@@ -209,7 +226,7 @@ fn simulate_to(
         scenario_text: &scenario.text,
         summary: &finished.summary,
     })?;
-    Ok((trajectory, finished.summary))
+    Ok((trajectory, finished))
 }
 
 /// Creates the parent directories of `path`, recording the ones it made.

@@ -7,8 +7,12 @@ use std::process::ExitCode;
 
 use ellipsoid_core::error::{ModelError, number};
 use ellipsoid_core::scenario::{self, Scenario};
+use ellipsoid_core::simulate::ContactModel;
 use ellipsoid_core::steady::{self, Analysis, Family, Solve, Sweep, sweep::MAX_VALUES};
 use ellipsoid_io::atomic;
+use ellipsoid_study::study::plan::Role;
+use ellipsoid_study::study::table::{self, TableFormat};
+use ellipsoid_study::study::{Cell, Column, Type};
 
 use crate::cli::SteadyArgs;
 use crate::error::CliError;
@@ -21,6 +25,40 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         atomic::check_target(path)?;
     }
     let located = |e: ModelError| CliError::from(scenario.locate(&e));
+    if matches!(scenario.scene.contact, ContactModel::Viscous { .. }) && args.vary.is_none() {
+        let spin = steady::viscous::analyse(&scenario.scene, family).map_err(located)?;
+        print!("{}", describe_viscous(&spin));
+        if let Some(path) = &args.output {
+            atomic::write(path, viscous_table(&spin).as_bytes())?;
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    if let Some(spec) = &args.perturb {
+        let (k, epsilon) = parse_perturb(spec)?;
+        let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
+        let k = match k {
+            Mode::Number(k) => k,
+            Mode::Name(name) => an
+                .spectrum
+                .modes
+                .iter()
+                .position(|m| m.name == name)
+                .ok_or_else(|| {
+                    let names: Vec<&str> = an.spectrum.modes.iter().map(|m| m.name).collect();
+                    CliError::Usage(format!(
+                        "--perturb {spec:?}: the {} motion has no mode {name:?} (its modes: {})",
+                        family.name(),
+                        names.join(", ")
+                    ))
+                })?,
+        };
+        let start = steady::perturbed(&scenario, &an, k, epsilon)?;
+        match &args.output {
+            Some(path) => atomic::write(path, start.text.as_bytes())?,
+            None => print!("{}", start.text),
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
     let table = match &args.vary {
         None => {
             let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
@@ -36,9 +74,99 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         }
     };
     if let Some(path) = &args.output {
-        atomic::write(path, table.as_bytes())?;
+        let (columns, rows) = table;
+        if TableFormat::from_path(path) == Ok(TableFormat::Parquet) {
+            table::write(path, &columns, &rows, &scenario.source)?;
+        } else {
+            atomic::write(path, csv_of(&columns, &rows).as_bytes())?;
+        }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// A steady spin under the viscous law in words (docs/steady.md, "Under viscous sliding").
+fn describe_viscous(spin: &steady::viscous::ViscousSpin) -> String {
+    let mut o = String::new();
+    let z = spin.zeta.map(|x| x + 0.0);
+    let _ = writeln!(
+        o,
+        "family               {} (viscous sliding)",
+        spin.family.name()
+    );
+    let _ = writeln!(
+        o,
+        "spin n               {} rad/s (about the upward vertical)",
+        spin.spin + 0.0
+    );
+    let _ = writeln!(o, "zeta (up, body axes) [{}, {}, {}]", z.x, z.y, z.z);
+    let _ = writeln!(o, "normal force N       {} N", spin.normal_force);
+    let verdict = if spin.stable() { "stable" } else { "unstable" };
+    let _ = writeln!(o, "verdict              {verdict}");
+    let _ = writeln!(
+        o,
+        "modes (eigenvalue lambda in 1/s, body frame; eigenvector in {}):",
+        steady::viscous::COORDINATES.join(", ")
+    );
+    for (lambda, v) in spin.eigenvalues.iter().zip(&spin.vectors) {
+        let v: Vec<String> = v
+            .iter()
+            .map(|c| format!("{:.6}{:+.6}i", c.re, c.im))
+            .collect();
+        let _ = writeln!(
+            o,
+            "  {:+.10e} {:+.10e}i   [{}]",
+            lambda.re,
+            lambda.im,
+            v.join(", ")
+        );
+    }
+    o
+}
+
+/// The table of a viscous steady spin: spin, theta, normal_force, stable, max_real and
+/// lambdaK_re, lambdaK_im (K = 1…6).
+fn viscous_table(spin: &steady::viscous::ViscousSpin) -> String {
+    let mut header: Vec<String> = ["spin", "theta", "normal_force", "stable", "max_real"]
+        .map(String::from)
+        .to_vec();
+    let mut cells = vec![
+        number(spin.spin + 0.0),
+        number(spin.zeta.xy().norm().atan2(spin.zeta.z)),
+        number(spin.normal_force),
+        spin.stable().to_string(),
+        number(spin.max_real()),
+    ];
+    for (k, lambda) in spin.eigenvalues.iter().enumerate() {
+        header.extend([format!("lambda{}_re", k + 1), format!("lambda{}_im", k + 1)]);
+        cells.extend([number(lambda.re), number(lambda.im)]);
+    }
+    format!("{}\n{}\n", header.join(","), cells.join(","))
+}
+
+/// A mode of `--perturb`: its number (1-based, as in the table) or its name.
+enum Mode {
+    Number(usize),
+    Name(String),
+}
+
+/// `MODE=EPS` of `--perturb`: the mode (0-based if a number) and ε.
+fn parse_perturb(spec: &str) -> Result<(Mode, f64), CliError> {
+    let rule = "--perturb takes MODE=EPS: a mode's number in the table (1 = the least stable) or its name, and the displacement, e.g. 1=1e-6";
+    let bad = |why: String| CliError::Usage(format!("--perturb {spec:?}: {why}{rule}"));
+    let (mode, eps) = spec.split_once('=').ok_or_else(|| bad(String::new()))?;
+    let epsilon = eps
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .filter(|e| e.is_finite())
+        .ok_or_else(|| bad(format!("{eps:?} is not a finite number; ")))?;
+    let mode = mode.trim();
+    let mode = match mode.parse::<usize>() {
+        Ok(0) => return Err(bad("modes are numbered from 1; ".into())),
+        Ok(k) => Mode::Number(k - 1),
+        Err(_) => Mode::Name(mode.to_owned()),
+    };
+    Ok((mode, epsilon))
 }
 
 /// `KEY=a:b:n`: n values from a to b, evenly spaced (n = 1: a alone).
@@ -242,62 +370,110 @@ fn summarise(scenario: &Scenario, sw: &Sweep) -> String {
     o
 }
 
-/// The CSV table: the varied key, the steady state (a tilted family's also its
-/// precession rate and circles), the verdict and the eigenvalues (four, or two for a
-/// tilted family) with their modes' names; a value without a steady motion has its
-/// message in `error`.
-fn table_of(family: Family, key: &str, values: &[f64], rows: &[steady::sweep::Row]) -> String {
-    let mut o = String::new();
-    let mut header = vec![
-        key.to_owned(),
-        "spin".into(),
-        "theta".into(),
-        "normal_force".into(),
+/// The table of the analyses (`values` of `key`, each row's analysis or why there is
+/// none): the columns (name, SI unit, type) and the rows of cells, `None` where a row has
+/// no value.
+fn table_of(
+    family: Family,
+    key: &str,
+    values: &[f64],
+    rows: &[steady::sweep::Row],
+) -> (Vec<Column>, Vec<Vec<Cell>>) {
+    let column = |name: &str, unit: Option<&str>, ty: Type| Column {
+        name: name.to_owned(),
+        unit: unit.map(str::to_owned),
+        ty,
+        nullable: true,
+        role: Role::Key,
+    };
+    let mut columns = vec![
+        column(key, scenario::schema::unit(key), Type::Float),
+        column("spin", Some("rad/s"), Type::Float),
+        column("theta", Some("rad"), Type::Float),
+        column("normal_force", Some("N"), Type::Float),
     ];
     if family.tilted() {
-        header.extend(["phi_dot".into(), "radius_g".into(), "radius_contact".into()]);
-    }
-    header.extend(["stable".into(), "max_real".into()]);
-    for k in 1..=family.modes() {
-        header.extend([
-            format!("lambda{k}_re"),
-            format!("lambda{k}_im"),
-            format!("mode{k}"),
+        columns.extend([
+            column("phi_dot", Some("rad/s"), Type::Float),
+            column("radius_g", Some("m"), Type::Float),
+            column("radius_contact", Some("m"), Type::Float),
         ]);
     }
-    header.push("error".into());
-    let _ = writeln!(o, "{}", header.join(","));
-    for (v, row) in values.iter().zip(rows) {
-        let mut cells = vec![number(*v)];
-        match row {
-            Ok(an) => {
-                let m = &an.motion;
-                cells.extend([
-                    number(m.spin + 0.0),
-                    number(m.theta),
-                    number(m.normal_force),
-                ]);
-                if let (Some(precession), Some(c)) = (m.precession, m.circles) {
-                    cells.extend([number(precession), number(c.center), number(c.contact)]);
-                }
-                cells.extend([
-                    an.spectrum.stable().to_string(),
-                    number(an.spectrum.max_real()),
-                ]);
-                for mode in &an.spectrum.modes {
+    columns.extend([
+        column("stable", None, Type::Text),
+        column("max_real", Some("1/s"), Type::Float),
+    ]);
+    for k in 1..=family.modes() {
+        columns.extend([
+            column(&format!("lambda{k}_re"), Some("1/s"), Type::Float),
+            column(&format!("lambda{k}_im"), Some("1/s"), Type::Float),
+            column(&format!("mode{k}"), None, Type::Text),
+        ]);
+    }
+    columns.push(column("error", None, Type::Text));
+    let cells = values
+        .iter()
+        .zip(rows)
+        .map(|(v, row)| {
+            let mut cells = vec![Cell::Float(*v)];
+            match row {
+                Ok(an) => {
+                    let m = &an.motion;
                     cells.extend([
-                        number(mode.eigenvalue.re),
-                        number(mode.eigenvalue.im),
-                        mode.name.to_owned(),
+                        Cell::Float(m.spin + 0.0),
+                        Cell::Float(m.theta),
+                        Cell::Float(m.normal_force),
                     ]);
+                    if let (Some(precession), Some(c)) = (m.precession, m.circles) {
+                        cells.extend([
+                            Cell::Float(precession),
+                            Cell::Float(c.center),
+                            Cell::Float(c.contact),
+                        ]);
+                    }
+                    cells.extend([
+                        Cell::Text(an.spectrum.stable().to_string()),
+                        Cell::Float(an.spectrum.max_real()),
+                    ]);
+                    for mode in &an.spectrum.modes {
+                        cells.extend([
+                            Cell::Float(mode.eigenvalue.re),
+                            Cell::Float(mode.eigenvalue.im),
+                            Cell::Text(mode.name.to_owned()),
+                        ]);
+                    }
+                    cells.push(Cell::Null);
                 }
-                cells.push(String::new());
+                Err(e) => {
+                    cells.extend(std::iter::repeat_n(Cell::Null, columns.len() - 2));
+                    cells.push(Cell::Text(e.to_string()));
+                }
             }
-            Err(e) => {
-                cells.extend(std::iter::repeat_n(String::new(), header.len() - 2));
-                cells.push(format!("\"{}\"", e.to_string().replace('"', "\"\"")));
-            }
-        }
+            cells
+        })
+        .collect();
+    (columns, cells)
+}
+
+/// The table as CSV text: a header of the column names (without units), numbers in
+/// their shortest round-trip form, the error quoted (RFC 4180), empty cells where there
+/// is no value.
+fn csv_of(columns: &[Column], rows: &[Vec<Cell>]) -> String {
+    let mut o = String::new();
+    let header: Vec<&str> = columns.iter().map(|c| c.name.as_str()).collect();
+    let _ = writeln!(o, "{}", header.join(","));
+    for row in rows {
+        let cells: Vec<String> = row
+            .iter()
+            .zip(columns)
+            .map(|(cell, c)| match cell {
+                Cell::Null => String::new(),
+                Cell::Float(v) => number(*v),
+                Cell::Int(v) => v.to_string(),
+                Cell::Text(t) if c.name == "error" => format!("\"{}\"", t.replace('"', "\"\"")),
+                Cell::Text(t) => t.clone(),
+            })
+            .collect();
         let _ = writeln!(o, "{}", cells.join(","));
     }
     o

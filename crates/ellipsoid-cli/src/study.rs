@@ -15,7 +15,7 @@ use std::time::{Duration, Instant};
 
 use ellipsoid_io::OutputError;
 use ellipsoid_study::study::{
-    self, ExecError, JournalError, PointResult, Study, TableFormat, Tally, Trajectory, spec, table,
+    self, ExecError, JournalError, PointResult, Study, TableFormat, Tally, Trajectory, spec,
 };
 
 use crate::cli::StudyArgs;
@@ -82,7 +82,7 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
     };
     let result = study::execute_with(
         &study,
-        Some(&journal),
+        &journal,
         args.jobs.unwrap_or(0),
         &interrupt.any,
         args.trajectories
@@ -94,8 +94,8 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
         },
     );
     bar.finish();
-    let results = match result {
-        Ok(r) => r,
+    let mut finished = match result {
+        Ok(f) => f,
         Err(ExecError::Interrupted { done, total }) => {
             let (signal, name) = interrupt.received().unwrap_or((2, "SIGINT"));
             return Err(CliError::Interrupted {
@@ -120,8 +120,8 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
             )));
         }
     };
-    let rows = study.rows(results);
-    table::write(&args.output, &study.columns, &rows, &study.plan.source)?;
+    // Streamed from the journal in point order: the rows are never all held.
+    finished.write_table(&study, &args.output)?;
     if let Some(f) = traj_file {
         f.commit()?;
     }

@@ -122,8 +122,11 @@ impl EulerAngles {
 
     /// Angles and rates from a rotation and the body angular velocity.
     ///
-    /// θ = atan2(√(R13² + R23²), R33), φ = atan2(R13, −R23), ψ = atan2(R31, R32).
-    /// φ and ψ are unwrapped to lie within π of `previous` (continuous over a run).
+    /// θ = atan2(√(R13² + R23²), R33), φ = atan2(R13, −R23), ψ = atan2(R31, R32); the
+    /// rates θ̇ = (ω1 R32 − ω2 R31)/sin θ, φ̇ = (ω1 R31 + ω2 R32)/sin²θ, ψ̇ = ω3 − φ̇ R33
+    /// (ω_b = (φ̇ sθ sψ + θ̇ cψ, φ̇ sθ cψ − θ̇ sψ, φ̇ cθ + ψ̇) solved, with R31 = sθ sψ,
+    /// R32 = sθ cψ, R33 = cθ: the inverse of [`EulerAngles::omega_body`]). φ and ψ are
+    /// unwrapped to lie within π of `previous` (continuous over a run).
     /// Upright (sin θ below round-off) only φ + ψ is defined: φ keeps its previous value,
     /// and the rates are reported as φ̇ = 0, ψ̇ = ω·e3*.
     pub fn from_rotation(
@@ -151,13 +154,19 @@ impl EulerAngles {
                 unwrap(r[(2, 0)].atan2(r[(2, 1)]), prev_psi),
             )
         };
-        let (sp, cp) = psi.sin_cos();
-        let theta_dot = omega_b.x * cp - omega_b.y * sp;
-        let (phi_dot, psi_dot) = if upright {
-            (0.0, omega_b.z)
+        let (theta_dot, phi_dot, psi_dot) = if upright {
+            let (sp, cp) = psi.sin_cos();
+            (omega_b.x * cp - omega_b.y * sp, 0.0, omega_b.z)
         } else {
-            let phi_dot = (omega_b.x * sp + omega_b.y * cp) / sin_theta;
-            (phi_dot, omega_b.z - phi_dot * theta.cos())
+            // sin ψ sin θ = R31, cos ψ sin θ = R32 and cos θ = R33: the rates from the
+            // rotation's entries, without evaluating sin ψ, cos ψ, cos θ again.
+            let (sp_st, cp_st) = (r[(2, 0)], r[(2, 1)]);
+            let phi_dot = (omega_b.x * sp_st + omega_b.y * cp_st) / (sin_theta * sin_theta);
+            (
+                (omega_b.x * cp_st - omega_b.y * sp_st) / sin_theta,
+                phi_dot,
+                omega_b.z - phi_dot * r[(2, 2)],
+            )
         };
         EulerAngles {
             theta,
@@ -206,6 +215,77 @@ mod tests {
                 assert!((p - q).abs() < 1e-9 * (1.0 + p.abs()), "{a:?} -> {b:?}");
             }
         }
+    }
+
+    /// The rates read from the rotation's entries are the rates through sin ψ, cos ψ and
+    /// cos θ of the angles (ψ = atan2(R31, R32), θ = atan2(sin θ, R33)) to round-off:
+    /// within a few ulps of |ω|/sin θ (θ̇), |ω|/sin²θ (φ̇) and |ω3| + |φ̇| (ψ̇), from near
+    /// upright to near inverted, for rotations made from unit quaternions as a run makes them.
+    #[test]
+    fn rates_from_entries_are_the_trigonometric_rates_to_round_off() {
+        let eps = f64::EPSILON;
+        let mut worst = [0.0f64; 3];
+        for k in 0..2000 {
+            let x = k as f64;
+            let q = UnitQuaternion::new_normalize(nalgebra::Quaternion::new(
+                (1.3 * x).sin(),
+                (0.7 * x).cos(),
+                (2.9 * x + 0.3).sin(),
+                (0.11 * x * x).cos(),
+            ));
+            // Every tenth one near upright or inverted (sin θ from 1e-11 to 1e-3).
+            let q = if k % 10 == 0 {
+                let tilt = 10f64.powf(-11.0 + 8.0 * (0.37 * x).sin().abs());
+                let flip = if k % 20 == 0 {
+                    std::f64::consts::PI
+                } else {
+                    0.0
+                };
+                UnitQuaternion::from_axis_angle(&Vector3::z_axis(), x)
+                    * UnitQuaternion::from_axis_angle(&Vector3::x_axis(), flip + tilt)
+            } else {
+                q
+            };
+            let r = q.to_rotation_matrix().into_inner();
+            let w = Vector3::new(
+                3.0 * (0.3 * x).sin(),
+                -40.0 * (0.5 * x).cos(),
+                180.0 * (0.9 * x).sin(),
+            );
+            let a = EulerAngles::from_rotation(&r, &w, None);
+            let st = r[(0, 2)].hypot(r[(1, 2)]);
+            if st < UPRIGHT_SIN {
+                continue;
+            }
+            let (sp, cp) = a.psi.sin_cos();
+            let theta_dot = w.x * cp - w.y * sp;
+            let phi_dot = (w.x * sp + w.y * cp) / st;
+            let psi_dot = w.z - phi_dot * a.theta.cos();
+            let scale = [
+                w.norm() / st,
+                w.norm() / (st * st),
+                w.z.abs() + phi_dot.abs(),
+            ];
+            for (i, (p, q)) in [
+                (a.theta_dot, theta_dot),
+                (a.phi_dot, phi_dot),
+                (a.psi_dot, psi_dot),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let ulps = (p - q).abs() / (eps * scale[i]);
+                worst[i] = worst[i].max(ulps);
+                assert!(
+                    ulps < 16.0,
+                    "rate {i} at {r:?}, {w:?}: {p} against {q} ({ulps} ulps)"
+                );
+            }
+        }
+        assert!(
+            worst.iter().all(|&u| u > 0.0),
+            "{worst:?}: no difference at all"
+        );
     }
 
     /// Upright, only φ + ψ is defined: φ keeps its previous value, ψ takes the rest, the

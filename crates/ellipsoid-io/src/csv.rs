@@ -120,6 +120,47 @@ impl<W: Write> CsvWriter<W> {
     }
 }
 
+/// The Poincaré sections of a run (`outcome.sections`, in the scene's order) as one CSV
+/// table: a comment line (the trajectory's, see [`comment`], with `"units"`: each column's
+/// SI unit), the header `section,` and the trajectory's columns, then one row per point,
+/// each starting with its section's name, sections in the scene's order, points in time
+/// order.
+pub fn sections_table(scenario: &Scenario, sections: &[Vec<Sample>]) -> Vec<u8> {
+    let layout = Layout::of(&scenario.scene.body);
+    let mut head: serde_json::Value =
+        serde_json::from_str(&comment(scenario)[COMMENT.len()..]).expect("the comment is JSON");
+    let mut units = serde_json::Map::new();
+    units.insert("section".into(), "".into());
+    for (name, unit) in layout.units() {
+        units.insert(name.into_owned(), unit.into());
+    }
+    head["units"] = units.into();
+    let mut out = format!("{COMMENT}{head}\nsection,{}\n", layout.names().join(",")).into_bytes();
+    for (section, points) in scenario.scene.sections.iter().zip(sections) {
+        let mut writer = CsvWriter {
+            out: Vec::new(),
+            extra: Vec::with_capacity(layout.extra()),
+            layout: layout.clone(),
+            rows: 0,
+            line: Vec::with_capacity(1024),
+            digits: zmij::Buffer::new(),
+        };
+        let name = &section.crossing.name;
+        // A name with a comma, a quote or a line break is quoted (RFC 4180).
+        let label = if name.contains([',', '"', '\n', '\r']) {
+            format!("\"{}\",", name.replace('"', "\"\""))
+        } else {
+            format!("{name},")
+        };
+        for p in points {
+            out.extend_from_slice(label.as_bytes());
+            writer.write(p).expect("writing to memory");
+            out.append(&mut writer.out);
+        }
+    }
+    out
+}
+
 /// Rows handed to the formatting thread at a time.
 const BATCH: usize = 512;
 

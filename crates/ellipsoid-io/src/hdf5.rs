@@ -212,7 +212,8 @@ impl Hdf5File {
             let width = self.layout.numeric();
             let column =
                 |k: usize| Cow::Owned(self.rows.iter().skip(k).step_by(width).copied().collect());
-            write_columns(&file, &self.layout, column, &self.modes).map_err(fail)?;
+            write_columns(&file, &self.layout.numeric_columns(), column, &self.modes)
+                .map_err(fail)?;
 
             let summary = meta.summary;
             str_attr(&file, "version", &summary.version).map_err(fail)?;
@@ -253,16 +254,16 @@ impl Hdf5File {
 }
 
 /// The numeric datasets (attribute `units`) and `mode` of one trajectory in `loc`;
-/// `column(k)` is the data of the `k`-th of `layout`'s numeric columns (made one at a
-/// time, so a row-major buffer needs one column's worth of memory more, not a copy of
-/// itself).
+/// `column(k)` is the data of the `k`-th of the numeric columns `names` (name, unit; a
+/// [`Layout::numeric_columns`]), made one at a time, so a row-major buffer needs one
+/// column's worth of memory more, not a copy of itself.
 fn write_columns<'c>(
     loc: &h5::Group,
-    layout: &Layout,
+    names: &[(Cow<'static, str>, &'static str)],
     column: impl Fn(usize) -> Cow<'c, [f64]>,
     modes: &Modes,
 ) -> h5::Result<()> {
-    for (k, (name, unit)) in layout.numeric_columns().iter().enumerate() {
+    for (k, (name, unit)) in names.iter().enumerate() {
         let ds = loc
             .new_dataset_builder()
             .with_data(&*column(k))
@@ -310,14 +311,18 @@ impl Hdf5Groups {
         })
     }
 
-    /// Adds the group `name` (no `/`) holding one trajectory: `columns` in
-    /// [`NUMERIC_COLUMNS`] order (all of one length), `modes` (mode names) of the same
-    /// length, and the group attributes `text` (strings) and `numbers` (float64).
+    /// Adds the group `name` (no `/`) holding one trajectory: the numeric columns
+    /// `names` (name, unit: a [`Layout::numeric_columns`]) with their data `columns` (all
+    /// of one length), `modes` (mode labels) of the same length, and the group attributes
+    /// `text` (strings) and `numbers` (float64), and the attribute `columns` (the column
+    /// names in file order, `mode` included, comma-separated, as a trajectory file's).
+    #[allow(clippy::too_many_arguments)]
     pub fn add(
         &mut self,
         name: &str,
+        names: &[(Cow<'static, str>, &'static str)],
         columns: &[Vec<f64>],
-        modes: &[&str],
+        modes: &[Cow<'_, str>],
         text: &[(&str, &str)],
         numbers: &[(&str, f64)],
     ) -> Result<(), OutputError> {
@@ -331,8 +336,11 @@ impl Hdf5Groups {
             codes.push(m);
         }
         let g = file.create_group(name).map_err(fail)?;
-        write_columns(&g, &Layout::fixed(), |k| Cow::Borrowed(&columns[k]), &codes)
-            .map_err(fail)?;
+        write_columns(&g, names, |k| Cow::Borrowed(&columns[k]), &codes).map_err(fail)?;
+        // The columns in file order, as a trajectory file's root lists them.
+        let mut list: Vec<&str> = names.iter().map(|c| &*c.0).collect();
+        list.insert(columns::MODE_POSITION.min(list.len()), columns::MODE);
+        str_attr(&g, "columns", &list.join(",")).map_err(fail)?;
         for (k, v) in text {
             str_attr(&g, &k.replace('/', "∕"), v).map_err(fail)?;
         }
@@ -442,8 +450,8 @@ fn read_in(path: &Path, group: Option<&str>) -> Result<Hdf5Trajectory, OutputErr
         Some(g) => file.group(g).map_err(fail)?,
         None => file.group("/").map_err(fail)?,
     };
-    // A trajectory file's `columns` attribute lists its columns (a study's groups hold
-    // the fixed ones).
+    // A trajectory file's `columns` attribute lists its columns, as does a study's group
+    // (one without it holds the fixed ones).
     let listed: Option<VarLenUnicode> = loc.attr("columns").and_then(|a| a.read_scalar()).ok();
     let names: Vec<String> = match &listed {
         Some(list) => list
@@ -494,14 +502,16 @@ fn read_in(path: &Path, group: Option<&str>) -> Result<Hdf5Trajectory, OutputErr
     })
 }
 
-/// The values of one column of a table written by [`write_table`].
-pub enum TableData {
-    F64(Vec<f64>),
-    I64(Vec<i64>),
-    Text(Vec<String>),
+/// The type of a column of a table written by [`TableWriter`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TableType {
+    F64,
+    I64,
+    /// Variable-length UTF-8 strings (NUL bytes dropped).
+    Text,
 }
 
-/// One column of a table written by [`write_table`].
+/// One column of a table written by [`TableWriter`].
 pub struct TableColumn {
     /// Dataset name (any UTF-8 without `/`; `/` is replaced by `∕`).
     pub name: String,
@@ -509,47 +519,85 @@ pub struct TableColumn {
     pub unit: String,
     /// What marks a cell without a value, if some have none (its `missing` attribute).
     pub missing: Option<String>,
-    pub data: TableData,
+    pub ty: TableType,
 }
 
-/// Writes a table (a parameter study's results) as one dataset per column at the root,
-/// each with a `units` attribute (and `missing` where some cells have no value), plus
-/// the root string attributes `attrs` and `columns` (the dataset names in order, as a JSON
-/// list);
-/// atomically (a temporary beside `path`, renamed into place).
-pub fn write_table(
-    path: &Path,
-    columns: &[TableColumn],
-    attrs: &[(&str, &str)],
-) -> Result<(), OutputError> {
-    let tmp = atomic::temporary(path)?.into_temp_path();
-    let fail = |e: h5::Error| OutputError::Hdf5 {
-        path: path.to_owned(),
-        message: e.to_string(),
-    };
-    {
+/// A cell given to [`TableWriter::push`], of its column's type.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum TableValue<'a> {
+    F64(f64),
+    I64(i64),
+    Text(&'a str),
+}
+
+/// Rows buffered before they are written (a block of each column).
+const TABLE_BLOCK: usize = 1 << 14;
+
+/// A block of one column's values.
+enum Block {
+    F64(Vec<f64>),
+    I64(Vec<i64>),
+    Text(Vec<VarLenUnicode>),
+}
+
+/// A table (a parameter study's results) written a block of rows at a time: one
+/// dataset per column at the root, of the table's number of rows (known when it is
+/// created), each with a `units` attribute (and `missing` where some cells have no
+/// value), plus root string attributes and `columns` (the dataset names in order, as a
+/// JSON list); into a temporary beside the target that [`TableWriter::commit`] renames
+/// into place once every row is written. Memory holds one block of rows, whatever the
+/// table's length.
+pub struct TableWriter {
+    path: PathBuf,
+    tmp: TempPath,
+    file: Option<h5::File>,
+    datasets: Vec<(h5::Dataset, Block)>,
+    rows: usize,
+    written: usize,
+}
+
+impl TableWriter {
+    /// Creates the temporary with the datasets of `columns`, `rows` rows each, and the
+    /// root string attributes `attrs`.
+    pub fn create(
+        path: &Path,
+        columns: &[TableColumn],
+        rows: usize,
+        attrs: &[(&str, &str)],
+    ) -> Result<Self, OutputError> {
+        let tmp = atomic::temporary(path)?.into_temp_path();
+        let fail = |e: h5::Error| OutputError::Hdf5 {
+            path: path.to_owned(),
+            message: e.to_string(),
+        };
         let file = create(&tmp).map_err(fail)?;
         let mut names = Vec::new();
+        let mut datasets = Vec::new();
         for c in columns {
             let name = c.name.replace('/', "∕");
-            let builder = file.new_dataset_builder();
-            let ds = match &c.data {
-                TableData::F64(v) => builder.with_data(v.as_slice()).create(name.as_str()),
-                TableData::I64(v) => builder.with_data(v.as_slice()).create(name.as_str()),
-                TableData::Text(v) => {
-                    let v: Vec<VarLenUnicode> = v
-                        .iter()
-                        .map(|s| s.replace('\0', "").parse().unwrap_or_default())
-                        .collect();
-                    builder.with_data(v.as_slice()).create(name.as_str())
-                }
-            }
-            .map_err(fail)?;
+            let (ds, block) = match c.ty {
+                TableType::F64 => (
+                    file.new_dataset::<f64>().shape(rows).create(name.as_str()),
+                    Block::F64(Vec::new()),
+                ),
+                TableType::I64 => (
+                    file.new_dataset::<i64>().shape(rows).create(name.as_str()),
+                    Block::I64(Vec::new()),
+                ),
+                TableType::Text => (
+                    file.new_dataset::<VarLenUnicode>()
+                        .shape(rows)
+                        .create(name.as_str()),
+                    Block::Text(Vec::new()),
+                ),
+            };
+            let ds = ds.map_err(fail)?;
             str_attr(&ds, "units", &c.unit).map_err(fail)?;
             if let Some(m) = &c.missing {
                 str_attr(&ds, "missing", m).map_err(fail)?;
             }
             names.push(serde_json::Value::from(name));
+            datasets.push((ds, block));
         }
         str_attr(
             &file,
@@ -560,9 +608,121 @@ pub fn write_table(
         for (k, v) in attrs {
             str_attr(&file, k, v).map_err(fail)?;
         }
-        file.close().map_err(fail)?;
+        Ok(TableWriter {
+            path: path.to_owned(),
+            tmp,
+            file: Some(file),
+            datasets,
+            rows,
+            written: 0,
+        })
     }
-    atomic::Prepared::new(tmp, path).commit()
+
+    /// Adds a row: one value per column, each of its column's type (a value of another
+    /// type is an error).
+    pub fn push<'a>(
+        &mut self,
+        row: impl IntoIterator<Item = TableValue<'a>>,
+    ) -> Result<(), OutputError> {
+        let buffered = self.buffered();
+        if self.written + buffered >= self.rows {
+            return Err(self.error(format!("more than the {} rows declared", self.rows)));
+        }
+        let row: Vec<TableValue<'a>> = row.into_iter().collect();
+        let typed = row.len() == self.datasets.len()
+            && self.datasets.iter().zip(&row).all(|((_, block), v)| {
+                matches!(
+                    (block, v),
+                    (Block::F64(_), TableValue::F64(_))
+                        | (Block::I64(_), TableValue::I64(_))
+                        | (Block::Text(_), TableValue::Text(_))
+                )
+            });
+        if !typed {
+            return Err(self.error(format!(
+                "row {}: not one value of its column's type per column",
+                self.written + buffered
+            )));
+        }
+        for ((_, block), v) in self.datasets.iter_mut().zip(row) {
+            match (block, v) {
+                (Block::F64(b), TableValue::F64(x)) => b.push(x),
+                (Block::I64(b), TableValue::I64(x)) => b.push(x),
+                (Block::Text(b), TableValue::Text(s)) => {
+                    b.push(s.replace('\0', "").parse().unwrap_or_default())
+                }
+                _ => unreachable!("checked above"),
+            }
+        }
+        if buffered + 1 == TABLE_BLOCK {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    /// Rows held in the blocks, not yet written.
+    fn buffered(&self) -> usize {
+        match self.datasets.first().map(|d| &d.1) {
+            Some(Block::F64(b)) => b.len(),
+            Some(Block::I64(b)) => b.len(),
+            Some(Block::Text(b)) => b.len(),
+            None => 0,
+        }
+    }
+
+    fn error(&self, message: String) -> OutputError {
+        OutputError::Hdf5 {
+            path: self.path.clone(),
+            message,
+        }
+    }
+
+    /// Writes the blocks at their place in the datasets and empties them.
+    fn flush(&mut self) -> Result<(), OutputError> {
+        let n = self.buffered();
+        if n == 0 {
+            return Ok(());
+        }
+        let at = self.written..self.written + n;
+        for (ds, block) in &mut self.datasets {
+            match block {
+                Block::F64(b) => ds.write_slice(b.as_slice(), at.clone()),
+                Block::I64(b) => ds.write_slice(b.as_slice(), at.clone()),
+                Block::Text(b) => ds.write_slice(b.as_slice(), at.clone()),
+            }
+            .map_err(|e| OutputError::Hdf5 {
+                path: self.path.clone(),
+                message: e.to_string(),
+            })?;
+            match block {
+                Block::F64(b) => b.clear(),
+                Block::I64(b) => b.clear(),
+                Block::Text(b) => b.clear(),
+            }
+        }
+        self.written += n;
+        Ok(())
+    }
+
+    /// Writes the last block, closes the file and renames it into place; an error if
+    /// fewer rows than declared were pushed.
+    pub fn commit(mut self) -> Result<(), OutputError> {
+        self.flush()?;
+        if self.written != self.rows {
+            return Err(self.error(format!(
+                "{} rows written of the {} declared",
+                self.written, self.rows
+            )));
+        }
+        self.datasets.clear();
+        if let Some(f) = self.file.take() {
+            f.close().map_err(|e| OutputError::Hdf5 {
+                path: self.path.clone(),
+                message: e.to_string(),
+            })?;
+        }
+        atomic::Prepared::new(self.tmp, &self.path).commit()
+    }
 }
 
 #[cfg(test)]
@@ -579,5 +739,74 @@ mod tests {
         create(&path).unwrap().close().unwrap();
         open(&path).unwrap();
         assert_eq!(plugin_state(), (false, 0));
+    }
+
+    /// A table of several blocks reads back cell for cell (the last block partial), and
+    /// a writer given more or fewer rows than declared leaves no file.
+    #[test]
+    fn a_table_is_written_a_block_at_a_time_and_reads_back_cell_for_cell() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("t.h5");
+        let n = 2 * TABLE_BLOCK + 123;
+        let columns = [
+            ("x", TableType::F64),
+            ("count", TableType::I64),
+            ("a/b", TableType::Text),
+        ]
+        .map(|(name, ty)| TableColumn {
+            name: name.into(),
+            unit: "1".into(),
+            missing: None,
+            ty,
+        });
+        let x = |i: usize| (i as f64).sqrt() * 1e-300 + f64::from(i == 7) * f64::NAN;
+        let text = |i: usize| format!("row {i}, \"quoted\"\0é");
+        let mut w = TableWriter::create(&path, &columns, n, &[("study", "s")]).unwrap();
+        for i in 0..n {
+            let t = text(i);
+            w.push([
+                TableValue::F64(x(i)),
+                TableValue::I64(i as i64 - 5),
+                TableValue::Text(&t),
+            ])
+            .unwrap();
+        }
+        assert!(w.push([]).is_err(), "one row more than declared");
+        w.commit().unwrap();
+        let f = open(&path).unwrap();
+        let xs: Vec<f64> = f.dataset("x").unwrap().read_raw().unwrap();
+        let counts: Vec<i64> = f.dataset("count").unwrap().read_raw().unwrap();
+        let texts: Vec<VarLenUnicode> = f.dataset("a∕b").unwrap().read_raw().unwrap();
+        assert_eq!(xs.len(), n);
+        for i in 0..n {
+            assert_eq!(xs[i].to_bits(), x(i).to_bits(), "row {i}");
+            assert_eq!(counts[i], i as i64 - 5);
+            assert_eq!(texts[i].as_str(), text(i).replace('\0', ""));
+        }
+        let names: String = f
+            .attr("columns")
+            .unwrap()
+            .read_scalar::<VarLenUnicode>()
+            .unwrap()
+            .to_string();
+        assert_eq!(names, r#"["x","count","a∕b"]"#);
+        drop(f);
+        // Fewer rows than declared: refused, the old table kept, no temporary left.
+        let before = std::fs::read(&path).unwrap();
+        let mut w = TableWriter::create(&path, &columns, 3, &[]).unwrap();
+        w.push([
+            TableValue::F64(1.0),
+            TableValue::I64(1),
+            TableValue::Text(""),
+        ])
+        .unwrap();
+        assert!(
+            w.push([TableValue::I64(1), TableValue::I64(1), TableValue::Text("")])
+                .is_err(),
+            "a value of another type"
+        );
+        assert!(w.commit().is_err());
+        assert_eq!(std::fs::read(&path).unwrap(), before);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 }

@@ -300,7 +300,7 @@ pub fn status_text(status: &Status, body: &Body) -> String {
         Status::Completed | Status::LostContact | Status::SlipStopped | Status::Cancelled => {
             json!([name])
         }
-        Status::Observed { index } => json!([name, index]),
+        Status::Observed { index } | Status::SectionFull { index } => json!([name, index]),
         Status::Painleve { denominator, error } => {
             json!([
                 name,
@@ -372,6 +372,7 @@ pub fn status(text: &str, body: &Body) -> Result<Status, String> {
         "slip_stopped" => Status::SlipStopped,
         "cancelled" => Status::Cancelled,
         "observed" => Status::Observed { index: f.index()? },
+        "section_full" => Status::SectionFull { index: f.index()? },
         "painleve" => Status::Painleve {
             denominator: f.float()?,
             error: match f.next()? {
@@ -580,6 +581,7 @@ mod tests {
         let mut all = vec![
             Status::Completed,
             Status::Observed { index: 3 },
+            Status::SectionFull { index: 2 },
             Status::LostContact,
             Status::SlipStopped,
             Status::Painleve {

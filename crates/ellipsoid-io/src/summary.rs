@@ -314,6 +314,13 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
                 o.crosses
             )
         }
+        Status::SectionFull { index } => {
+            let s = &scene.sections[*index];
+            format!(
+                "section {:?} reached its max_points = {} points at t = {t} s, where the scene asked the run to end",
+                s.crossing.name, s.max_points
+            )
+        }
         Status::LostContact => format!(
             "the normal force reached zero at t = {t} s: the body leaves the plane (the run stops there: contact.on_lift_off = \"stop\")"
         ),

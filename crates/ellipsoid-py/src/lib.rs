@@ -55,6 +55,7 @@ fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(study::precision, m)?)?;
     m.add_function(wrap_pyfunction!(study::check, m)?)?;
     m.add_function(wrap_pyfunction!(steady::steady_raw, m)?)?;
+    m.add_function(wrap_pyfunction!(steady::steady_start, m)?)?;
     m.add_function(wrap_pyfunction!(steady::linearize, m)?)?;
     m.add_function(wrap_pyfunction!(hdf5_plugins, m)?)?;
     m.add_function(wrap_pyfunction!(parameter_study::study_workers, m)?)?;

@@ -39,6 +39,8 @@ pub struct Run {
     /// The samples, unless only the summary was asked for.
     pub samples: Vec<Sample>,
     pub summary: Summary,
+    /// The points of the scene's Poincaré sections (`Outcome::sections`).
+    pub sections: Vec<Vec<Sample>>,
 }
 
 /// Why a run produced no result.
@@ -81,6 +83,7 @@ pub fn run(
         scenario,
         samples,
         summary: finished.summary,
+        sections: finished.outcome.sections,
     })
 }
 

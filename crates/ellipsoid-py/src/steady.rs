@@ -10,7 +10,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors;
-use crate::scenario::resolve;
+use crate::scenario::{PyScenario, resolve};
 
 /// A model error placed at its scenario key, as ScenarioError.
 fn located(py: Python<'_>, scenario: &Scenario, e: &ModelError) -> PyErr {
@@ -131,6 +131,39 @@ pub fn steady_raw<'py>(
         .collect::<PyResult<Vec<_>>>()?;
     out.set_item("critical", crit)?;
     Ok(out)
+}
+
+/// The scenario started on the steady motion of `family` that `scenario` defines (with
+/// `key` set to `value`, if given), displaced by `epsilon` along mode `mode` (0-based,
+/// its column in the eigenvalues): `steady::perturbed`, as `ellipsoid steady --perturb`.
+#[pyfunction]
+#[pyo3(signature = (scenario, family, mode, epsilon, key = None, value = None, solve = "spin"))]
+#[allow(clippy::too_many_arguments)]
+pub fn steady_start(
+    py: Python<'_>,
+    scenario: &Bound<'_, PyAny>,
+    family: &str,
+    mode: usize,
+    epsilon: f64,
+    key: Option<String>,
+    value: Option<f64>,
+    solve: &str,
+) -> PyResult<PyScenario> {
+    let mut scenario = resolve(py, scenario, Vec::new())?.inner;
+    let family = Family::parse(family).map_err(|e| located(py, &scenario, &e))?;
+    let solve = Solve::parse(solve).map_err(|e| located(py, &scenario, &e))?;
+    if let (Some(key), Some(value)) = (key, value) {
+        let mut draft = scenario.draft();
+        draft
+            .change(&key, &toml::Value::Float(value), &format!("{key}={value}"))
+            .map_err(|e| errors::scenario_error(py, &e))?;
+        scenario = draft.build().map_err(|e| errors::scenario_errors(py, &e))?;
+    }
+    let an = steady::analyse_solving(&scenario.scene, family, solve)
+        .map_err(|e| located(py, &scenario, &e))?;
+    let inner = steady::perturbed(&scenario, &an, mode, epsilon)
+        .map_err(|e| errors::scenario_errors(py, &e))?;
+    Ok(PyScenario { inner })
 }
 
 /// The Jacobian (5 × 5) of the reduced dynamics of `scenario` at `state` = (ζ1, ζ2, ζ3,

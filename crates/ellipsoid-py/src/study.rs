@@ -189,6 +189,7 @@ fn study_error(py: Python<'_>, scenario: &Scenario, e: StudyError) -> PyErr {
                 scenario: scenario.clone(),
                 samples: Vec::new(),
                 summary,
+                sections: outcome.sections.clone(),
             });
             let attrs = (|| -> PyResult<Vec<(&str, Py<PyAny>)>> {
                 Ok(vec![

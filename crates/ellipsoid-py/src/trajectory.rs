@@ -47,9 +47,29 @@ pub struct Trajectory {
     layout: Layout,
     numeric: PyOnceLock<Vec<Py<PyArray1<f64>>>>,
     mode: PyOnceLock<Py<PyAny>>,
+    /// The points of the scene's Poincaré sections, in its order.
+    sections: Vec<Vec<Sample>>,
 }
 
 impl Trajectory {
+    /// `samples` as pickled: every numeric column's float64 values, row by row, and the
+    /// modes by label.
+    fn encode(&self, samples: &[Sample]) -> (Vec<u8>, Vec<String>) {
+        let mut row = Vec::with_capacity(self.layout.numeric());
+        let mut values: Vec<u8> = Vec::with_capacity(8 * row.capacity() * samples.len());
+        for s in samples {
+            row.clear();
+            row.extend(columns::values(s));
+            self.layout.surface_values(s, &mut row);
+            values.extend(row.iter().flat_map(|v| v.to_le_bytes()));
+        }
+        let modes = samples
+            .iter()
+            .map(|s| self.layout.mode(s).into_owned())
+            .collect();
+        (values, modes)
+    }
+
     pub fn new(run: Run) -> Self {
         Self::from_parts(
             run.samples,
@@ -57,11 +77,18 @@ impl Trajectory {
             PyScenario {
                 inner: run.scenario,
             },
+            run.sections,
         )
     }
 
-    fn from_parts(samples: Vec<Sample>, summary: Summary, scenario: PyScenario) -> Self {
+    fn from_parts(
+        samples: Vec<Sample>,
+        summary: Summary,
+        scenario: PyScenario,
+        sections: Vec<Vec<Sample>>,
+    ) -> Self {
         Trajectory {
+            sections,
             layout: Layout::of(&scenario.inner.scene.body),
             samples,
             summary,
@@ -572,18 +599,14 @@ impl Trajectory {
     /// summary JSON and the scenario; unpickled, the trajectory is the same in every column
     /// and writes the same files.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        let mut row = Vec::with_capacity(self.layout.numeric());
-        let mut values: Vec<u8> = Vec::with_capacity(8 * row.capacity() * self.samples.len());
-        for s in &self.samples {
-            row.clear();
-            row.extend(columns::values(s));
-            self.layout.surface_values(s, &mut row);
-            values.extend(row.iter().flat_map(|v| v.to_le_bytes()));
-        }
-        let modes: Vec<String> = self
-            .samples
+        let (values, modes) = self.encode(&self.samples);
+        let sections: Vec<(Bound<'py, pyo3::types::PyBytes>, Vec<String>)> = self
+            .sections
             .iter()
-            .map(|s| self.layout.mode(s).into_owned())
+            .map(|points| {
+                let (v, m) = self.encode(points);
+                (pyo3::types::PyBytes::new(py, &v), m)
+            })
             .collect();
         let rebuild = py.import("ellipsoid._result")?.getattr("_trajectory")?;
         let args = (
@@ -592,12 +615,14 @@ impl Trajectory {
             modes,
             self.summary.to_json(),
             restore::status_text(&self.summary.status, &self.scenario.inner.scene.body),
+            sections,
         );
         (rebuild, args).into_pyobject(py).map(Bound::into_any)
     }
 
     /// The inverse of `__reduce__`.
     #[staticmethod]
+    #[pyo3(signature = (scenario, values, modes, summary, status, sections=Vec::new()))]
     fn _from_pickle(
         py: Python<'_>,
         scenario: &Bound<'_, PyScenario>,
@@ -605,36 +630,83 @@ impl Trajectory {
         modes: Vec<String>,
         summary: &str,
         status: &str,
+        sections: Vec<(Vec<u8>, Vec<String>)>,
     ) -> PyResult<Trajectory> {
         let bad = |what: String| {
             Class::Internal.error(py, &format!("cannot unpickle a Trajectory: {what}"), &[])
         };
         let layout = Layout::of(&scenario.get().inner.scene.body);
-        let row = layout.numeric() * 8;
-        if values.len() != modes.len() * row {
-            return Err(bad(format!(
-                "{} bytes for {} samples",
-                values.len(),
-                modes.len()
-            )));
-        }
-        let samples = values
-            .chunks_exact(row)
-            .zip(&modes)
-            .map(|(chunk, m)| {
-                let v: Vec<f64> = chunk
-                    .chunks_exact(8)
-                    .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of 8 bytes")))
-                    .collect();
-                restore::sample(&layout, &v, m).ok_or_else(|| bad(format!("unknown mode {m:?}")))
-            })
-            .collect::<PyResult<Vec<_>>>()?;
+        let samples = decode(&layout, values, &modes).map_err(bad)?;
+        let sections = sections
+            .iter()
+            .map(|(v, m)| decode(&layout, v, m))
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(bad)?;
         let summary = restore::summary(summary, status, &scenario.get().inner).map_err(bad)?;
         Ok(Trajectory::from_parts(
             samples,
             summary,
             scenario.get().clone(),
+            sections,
         ))
+    }
+
+    /// The points of each Poincaré section of the scenario (`[[section]]`; docs/scenarios.md,
+    /// "Poincaré sections"): section name → a dict of read-only numpy arrays named like the
+    /// trajectory's columns (`mode` a str array), one element per crossing, in time order.
+    /// `ellipsoid run --sections` writes the same points.
+    #[getter]
+    fn sections<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = PyDict::new(py);
+        let numpy = py.import("numpy")?;
+        let names = self.layout.names();
+        for (section, points) in self
+            .scenario
+            .inner
+            .scene
+            .sections
+            .iter()
+            .zip(&self.sections)
+        {
+            let table = PyDict::new(py);
+            let data = columns::column_major(&self.layout, points);
+            let modes: Vec<String> = points
+                .iter()
+                .map(|p| self.layout.mode(p).into_owned())
+                .collect();
+            let mut data = data.into_iter();
+            for name in &names {
+                if name == columns::MODE {
+                    table.set_item(
+                        name.as_ref(),
+                        numpy.call_method1("array", (modes.clone(),))?,
+                    )?;
+                } else {
+                    let arr = PyArray1::from_vec(py, data.next().expect("a numeric column"));
+                    readonly(arr.as_any())?;
+                    table.set_item(name.as_ref(), arr)?;
+                }
+            }
+            out.set_item(&section.crossing.name, table)?;
+        }
+        Ok(out)
+    }
+
+    /// Plots section `name`'s points (`sections[name]`): column `y` against column `x`,
+    /// one marker per crossing, the axes labelled with the columns' units. With `ax` (a
+    /// matplotlib Axes) it draws there. Returns the Figure (needs matplotlib).
+    #[pyo3(signature = (name, x, y, ax=None))]
+    fn plot_section<'py>(
+        slf: &Bound<'py, Self>,
+        name: Bound<'py, PyAny>,
+        x: Bound<'py, PyAny>,
+        y: Bound<'py, PyAny>,
+        ax: Option<Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        slf.py()
+            .import("ellipsoid._plot")?
+            .getattr("plot_section")?
+            .call1((slf, name, x, y, ax))
     }
 
     /// Column names in the CSV file's order: `ellipsoid.COLUMNS`, and for a body with
@@ -960,4 +1032,27 @@ impl Trajectory {
             Format::Hdf5 => self.to_hdf5(py, path),
         }
     }
+}
+
+/// The inverse of [`Trajectory::encode`].
+fn decode(layout: &Layout, values: &[u8], modes: &[String]) -> Result<Vec<Sample>, String> {
+    let row = layout.numeric() * 8;
+    if values.len() != modes.len() * row {
+        return Err(format!(
+            "{} bytes for {} samples",
+            values.len(),
+            modes.len()
+        ));
+    }
+    values
+        .chunks_exact(row)
+        .zip(modes)
+        .map(|(chunk, m)| {
+            let v: Vec<f64> = chunk
+                .chunks_exact(8)
+                .map(|b| f64::from_le_bytes(b.try_into().expect("chunks of 8 bytes")))
+                .collect();
+            restore::sample(layout, &v, m).ok_or_else(|| format!("unknown mode {m:?}"))
+        })
+        .collect()
 }

@@ -111,6 +111,7 @@ pub fn integrate<S: OdeSystem<N>, const N: usize>(
         t_before: f64::NAN,
         scan: [(0.0, SVector::zeros()); SCAN_POINTS],
         found: Vec::with_capacity(events.len()),
+        crossings: vec![0; events.len()],
         sol: Solution {
             t: t0,
             y: y0,
@@ -149,6 +150,8 @@ struct Run<'r, 'e, S, const N: usize> {
     scan: [(f64, SVector<f64, N>); SCAN_POINTS],
     /// (time, index) of the crossings located in the current step.
     found: Vec<(f64, usize)>,
+    /// Crossings recorded so far, per event (for [`Action::StopAfter`]).
+    crossings: Vec<u64>,
     sol: Solution<N>,
 }
 
@@ -450,7 +453,13 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                     y: ye,
                 });
                 self.sol.stats.events += 1;
-                if events[index].action == Action::Stop {
+                self.crossings[index] += 1;
+                let stop = match events[index].action {
+                    Action::Continue => false,
+                    Action::Stop => true,
+                    Action::StopAfter(n) => self.crossings[index] >= n,
+                };
+                if stop {
                     return Some((te, ye, StopReason::Event { index }));
                 }
             }

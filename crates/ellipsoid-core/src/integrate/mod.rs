@@ -72,6 +72,10 @@ pub enum Action {
     Continue,
     /// Record it and end the integration at the event time.
     Stop,
+    /// Record it and go on, except at its n-th crossing of this integration (n ≥ 1):
+    /// record that one and end there, as [`Action::Stop`] (a bound on the crossings
+    /// kept, e.g. the points of a Poincaré section).
+    StopAfter(u64),
 }
 
 /// g(t, y), boxed so that events of different closures share one list.

@@ -19,6 +19,7 @@ mod frictionless;
 mod rolling;
 pub mod sliding;
 mod two_contacts;
+mod viscous;
 
 pub use contensou::ContactDisc;
 pub use flight::Flight;
@@ -26,6 +27,7 @@ pub use frictionless::Frictionless;
 pub use rolling::Rolling;
 pub use sliding::{Sliding, SlipBand};
 pub use two_contacts::TwoContacts;
+pub use viscous::Viscous;
 
 use nalgebra::{Matrix3, Vector2, Vector3};
 
@@ -284,7 +286,8 @@ impl<C: ContactLaw, E: Effect> OdeSystem<{ state::DIM }> for System<C, E> {
 /// ```text
 ///   N (1 + m u·I⁻¹ℓ) = m g − f_z − m u·I⁻¹T − m κ
 /// ```
-/// (docs/physics.md, models 1 and 2; d = e3 gives the frictionless law.)
+/// (docs/physics.md, models 1 and 2; d = e3 gives the frictionless law, d = e3 − μ_v v_C
+/// the viscous one.)
 #[inline(always)]
 pub(crate) fn unilateral(
     body: &Body,

@@ -21,6 +21,7 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
     let (t_end, sample_times) = read_output(ctx, &root)?;
     let check = read_check(ctx, &root)?;
     let observe = read_observe(ctx, &root, &Layout::of(&body))?;
+    let sections = read_sections(ctx, &root, &Layout::of(&body))?;
     let scene = Scene {
         body,
         gravity,
@@ -33,6 +34,7 @@ pub(super) fn build(ctx: &Ctx<'_>, tree: &Node) -> Result<(Scene, Check)> {
         t_end,
         sample_times,
         observe,
+        sections,
     };
     scene.validate().map_err(|e| ctx.model(tree, &e))?;
     Ok((scene, check))
@@ -276,7 +278,37 @@ pub(super) fn read_contact(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<ContactModel
         None => Ok(()),
     }
     };
+    let viscous = ctx.checked(
+        &sec,
+        "viscous_friction",
+        "μ_v, the viscous coefficient (s/m)",
+        |v| (0.0..=MAX_VISCOUS_FRICTION).contains(&v),
+        &format!(
+            "the viscous coefficient must be finite and within [0, {}] s/m",
+            number(MAX_VISCOUS_FRICTION)
+        ),
+    )?;
+    if let (Some(got), false) = (sec.get("viscous_friction"), model == "viscous") {
+        return Err(ctx.bad(
+            ErrorKind::Invalid,
+            &sec,
+            got,
+            format!("the {model} model takes no viscous coefficient; remove it, or use model = \"viscous\""),
+        ));
+    }
     Ok(match ContactModel::named(model) {
+        Some(ContactModel::Viscous { .. }) => {
+            no_friction("its friction is viscous: give viscous_friction")?;
+            ContactModel::Viscous {
+                viscous_friction: viscous.ok_or_else(|| {
+                    ctx.missing(
+                        &sec,
+                        "viscous_friction",
+                        "the viscous model needs μ_v, the viscous coefficient in s/m (e.g. viscous_friction = 0.5)",
+                    )
+                })?,
+            }
+        }
         Some(ContactModel::Frictionless) => {
             no_friction("the plane exerts no friction")?;
             ContactModel::Frictionless
@@ -898,45 +930,124 @@ pub(super) fn read_check(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Check> {
 }
 
 /// The `[[observe]]` array of tables: events on output columns (docs/scenarios.md,
-/// "Observables").
-/// The `[[observe]]` entries; a column is one of `layout`'s numeric columns (a body with
-/// contact spheres adds its per-surface columns).
+/// "Observables"); a column is one of `layout`'s numeric columns (a body with contact
+/// spheres adds its per-surface columns).
 pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>, layout: &Layout) -> Result<Vec<Observe>> {
-    let Some(got) = root.get("observe") else {
+    read_crossings(
+        ctx,
+        root,
+        layout,
+        ("observe", "observable", MAX_OBSERVE),
+        "an observable: name, column, crosses, direction, terminal",
+        |sec| match sec.get("terminal") {
+            None => Ok(false),
+            Some(g) => match g.node().value {
+                Value::Bool(b) => Ok(b),
+                _ => Err(ctx.wrong_type(
+                    sec,
+                    g,
+                    "true or false: whether the run ends at the first crossing",
+                )),
+            },
+        },
+    )
+    .map(|list| {
+        list.into_iter()
+            .map(|(o, terminal)| Observe { terminal, ..o })
+            .collect()
+    })
+}
+
+/// The `[[section]]` array of tables: Poincaré sections (docs/scenarios.md, "Poincaré
+/// sections"), each a crossing as an observable's and the most points it keeps.
+pub(super) fn read_sections(
+    ctx: &Ctx<'_>,
+    root: &Sec<'_>,
+    layout: &Layout,
+) -> Result<Vec<Section>> {
+    let list = read_crossings(
+        ctx,
+        root,
+        layout,
+        ("section", "section", MAX_SECTIONS),
+        "a Poincaré section: name, column, crosses, direction, max_points",
+        |sec| {
+            Ok(ctx
+                .checked(
+                    sec,
+                    "max_points",
+                    "the most points the section keeps",
+                    |v| v >= 1.0 && v.fract() == 0.0 && v <= MAX_SECTION_POINTS as f64,
+                    &format!("must be a whole number from 1 to {MAX_SECTION_POINTS}"),
+                )?
+                .map_or(MAX_SECTION_POINTS, |v| v as u64))
+        },
+    )?;
+    Ok(list
+        .into_iter()
+        .map(|(crossing, max_points)| Section {
+            crossing,
+            max_points,
+        })
+        .collect())
+}
+
+/// The entries of the array of tables `table` (`[[observe]]` or `[[section]]`, at most
+/// `max`, each a `what` with a unique name), each a column of `layout` crossing a value
+/// in a direction (`terminal` false), with what `extra` reads of the entry's other keys.
+fn read_crossings<T>(
+    ctx: &Ctx<'_>,
+    root: &Sec<'_>,
+    layout: &Layout,
+    (table, what, max): (&str, &str, usize),
+    keys_hint: &str,
+    mut extra: impl FnMut(&Sec<'_>) -> Result<T>,
+) -> Result<Vec<(Observe, T)>> {
+    let Some(got) = root.get(table) else {
         return Ok(Vec::new());
     };
     let Value::Array(items) = &got.node().value else {
-        return Err(ctx.wrong_type(root, got, "an array of tables ([[observe]] entries)"));
+        return Err(ctx.wrong_type(
+            root,
+            got,
+            &format!("an array of tables ([[{table}]] entries)"),
+        ));
     };
-    if items.len() > MAX_OBSERVE {
+    if items.len() > max {
         return Err(ctx.bad(
             ErrorKind::Invalid,
             root,
             got,
-            format!("{} entries; at most {MAX_OBSERVE} observables", items.len()),
+            format!("{} entries; at most {max} {what}s", items.len()),
         ));
     }
     let numeric = layout.numeric_columns();
     let columns: Vec<&str> = numeric.iter().map(|c| &*c.0).collect();
-    let mut out: Vec<Observe> = Vec::with_capacity(items.len());
+    let mut out: Vec<(Observe, T)> = Vec::with_capacity(items.len());
     for (k, item) in items.iter().enumerate() {
         let sec = ctx.table_of(
-            &format!("observe[{k}]"),
+            &format!("{table}[{k}]"),
             item,
             &item.origin,
-            &keys("observe"),
-            "an observable: name, column, crosses, direction, terminal",
+            &keys(table),
+            keys_hint,
         )?;
         let name = match sec.get("name") {
-            None => return Err(ctx.missing(&sec, "name", "give the observable a name (a string)")),
+            None => {
+                return Err(ctx.missing(
+                    &sec,
+                    "name",
+                    format!("give the {what} a name (a string)"),
+                ));
+            }
             Some(g) => match &g.node().value {
                 Value::Str(s) if !s.is_empty() && s.len() <= 100 => {
-                    if out.iter().any(|o| &o.name == s) {
+                    if out.iter().any(|(o, _)| &o.name == s) {
                         return Err(ctx.bad(
                             ErrorKind::Invalid,
                             &sec,
                             g,
-                            "observable names must be unique",
+                            format!("{what} names must be unique"),
                         ));
                     }
                     s.clone()
@@ -944,7 +1055,9 @@ pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>, layout: &Layout) -> Re
                 Value::Str(_) => {
                     return Err(ctx.bad(ErrorKind::Invalid, &sec, g, "a name of 1 to 100 bytes"));
                 }
-                _ => return Err(ctx.wrong_type(&sec, g, "a string: the observable's name")),
+                _ => {
+                    return Err(ctx.wrong_type(&sec, g, &format!("a string: the {what}'s name")));
+                }
             },
         };
         let (column, _) = ctx.choice(&sec, "column", &columns)?.ok_or_else(|| {
@@ -969,27 +1082,18 @@ pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>, layout: &Layout) -> Re
             Some("down") => Direction::Falling,
             _ => Direction::Either,
         };
-        let terminal = match sec.get("terminal") {
-            None => false,
-            Some(g) => match g.node().value {
-                Value::Bool(b) => b,
-                _ => {
-                    return Err(ctx.wrong_type(
-                        &sec,
-                        g,
-                        "true or false: whether the run ends at the first crossing",
-                    ));
-                }
-            },
-        };
+        let more = extra(&sec)?;
         let column = layout.index(column).expect("a column name from the list");
-        out.push(Observe {
-            name,
-            column,
-            crosses,
-            direction,
-            terminal,
-        });
+        out.push((
+            Observe {
+                name,
+                column,
+                crosses,
+                direction,
+                terminal: false,
+            },
+            more,
+        ));
     }
     Ok(out)
 }

@@ -35,8 +35,8 @@ use crate::error::{ModelError, number};
 use crate::integrate::{Direction, Method};
 use crate::model::{ContactDisc, contensou};
 use crate::simulate::{
-    ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, Observe, Scene,
-    SolverSettings,
+    ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, MAX_SECTION_POINTS,
+    MAX_SECTIONS, MAX_VISCOUS_FRICTION, Observe, Scene, Section, SolverSettings,
 };
 use crate::state::EulerAngles;
 
@@ -77,7 +77,7 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 /// The invariants a `[check]` table may bound (declared in `invariants::Invariant`).
 pub const DRIFT_NAMES: [&str; 6] = crate::invariants::Invariant::NAMES;
 /// The run statuses a `[check]` table may expect (declared in `simulate::Status`).
-pub const STATUS_NAMES: [&str; 11] = crate::simulate::Status::NAMES;
+pub const STATUS_NAMES: [&str; 12] = crate::simulate::Status::NAMES;
 /// A parsed, validated scenario.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scenario {

@@ -119,6 +119,7 @@ pub const SCHEMA: &[Key] = &[
     key("", "output", None, Table, Required, "the end time and the sampling"),
     key("", "check", None, Table, Unset, "what a run is expected to achieve (changes nothing in the run)"),
     key("", "observe", None, Tables, Unset, "events on output columns, at most 64"),
+    key("", "section", None, Tables, Unset, "Poincaré sections: the full state at each crossing, at most 16"),
     key("body", "a", M, Number, Required, "the semi-axis along body x"),
     key("body", "b", M, Number, Means("a"), "the semi-axis along body y"),
     key("body", "c", M, Number, Required, "the semi-axis along the symmetry axis, body z"),
@@ -153,6 +154,7 @@ pub const SCHEMA: &[Key] = &[
     key("initial.rotation", "angle_deg", DEG, Number, Unset, "its angle in degrees (instead of angle)"),
     key("contact", "model", None, Choice(&ContactModel::NAMES), Required, "the contact model (docs/physics.md)"),
     key("contact", "friction", ONE, Number, Unset, "μ, the Coulomb coefficient: required by sliding and coulomb, rejected by the others"),
+    key("contact", "viscous_friction", Some("s/m"), Number, Unset, "μ_v, the viscous coefficient (tangential force −μ_v N v_C): required by viscous, rejected by the others"),
     key("contact", "restitution", ONE, Number, Value(0.0), "e ∈ [0, 1], the energetic coefficient of restitution at touchdowns"),
     key("contact", "on_lift_off", None, Choice(&LiftOff::NAMES), Means("fly"), "what happens when the normal force reaches zero"),
     key("contact", "contact_radius", M, Number, Value(0.0), "R, the radius of a flat contact disc (0: a point contact)"),
@@ -187,6 +189,11 @@ pub const SCHEMA: &[Key] = &[
     key("observe", "crosses", None, Number, Required, "the value crossed, in the column's unit"),
     key("observe", "direction", None, Choice(&DIRECTIONS), Means("either"), "up (increasing through the value), down or either"),
     key("observe", "terminal", None, Bool, Means("false"), "whether the run ends at the first crossing (status observed)"),
+    key("section", "name", None, Text, Required, "a unique name (the `section` column of the sections table)"),
+    key("section", "column", None, Column, Required, "the numeric output column whose crossing defines the section"),
+    key("section", "crosses", None, Number, Required, "the value crossed, in the column's unit"),
+    key("section", "direction", None, Choice(&DIRECTIONS), Means("either"), "up (increasing through the value), down or either"),
+    key("section", "max_points", None, Count, Means("1000000"), "the most points kept: the run ends at the last one (status section_full); 1 to 1000000"),
 ];
 
 /// The keys the table at `table` (a dotted path without indexes) accepts, in order.
@@ -280,7 +287,7 @@ pub fn reference() -> String {
             (t, _) => {
                 let t = match t {
                     "body.sphere" | "initial.rotation" => format!("{t}[i]"),
-                    "observe" => "observe[i]".to_owned(),
+                    "observe" | "section" => format!("{t}[i]"),
                     t => t.to_owned(),
                 };
                 format!("`{t}.{}`", k.name)
@@ -304,10 +311,10 @@ mod tests {
 
     /// A scenario of `model` and `method`, with what each needs (μ, rk4's step).
     fn scenario(model: &str, method: &str) -> String {
-        let friction = if matches!(model, "sliding" | "coulomb") {
-            "friction = 0.3\n"
-        } else {
-            ""
+        let friction = match model {
+            "sliding" | "coulomb" => "friction = 0.3\n",
+            "viscous" => "viscous_friction = 0.5\n",
+            _ => "",
         };
         format!(
             "[body]\na = 0.025\nc = 0.0175\nmass = 0.05\ninertia = \"uniform\"\n\
@@ -389,7 +396,7 @@ mod tests {
                 assert_eq!(s.scene.contact.name(), model);
                 assert_eq!(
                     s.scene.contact.friction().is_some(),
-                    text.contains("friction = ")
+                    text.contains("\nfriction = ")
                 );
             }
         }

@@ -116,7 +116,7 @@ fn errors_name_file_line_column_key_value_and_rule() {
         ),
         (
             edit("\"frictionless\"", "\"frictionles\""),
-            "x.toml:14:1: contact.model = \"frictionles\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"; did you mean \"frictionless\"?",
+            "x.toml:14:1: contact.model = \"frictionles\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\", \"viscous\"; did you mean \"frictionless\"?",
         ),
         (
             edit("\"frictionless\"", "\"sliding\""),

@@ -1,7 +1,8 @@
 //! The hybrid machine: runs a scene's contact phases one segment at a time, each
 //! integrated until t_end or a terminal event, and moves between them as the phases
 //! direct (docs/physics.md, models 1–5; `phase` for the phases themselves). Observables
-//! (`Scene::observe`) are watched in every phase.
+//! (`Scene::observe`) and Poincaré sections (`Scene::sections`) are watched in every
+//! phase.
 
 use std::cell::{Cell, RefCell};
 use std::ops::ControlFlow;
@@ -23,13 +24,16 @@ use super::numerics::MAX_SWITCHES;
 use super::outcome::{Chatter, EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
 use super::phase::{Next, Phase, Slot, phase};
 use super::recorder::Recorder;
-use super::scene::{ContactModel, LiftOff};
+use super::scene::{ContactModel, LiftOff, Observe};
 use super::start::Start;
 
 /// Where a segment ended, with the watch list it used.
 pub(super) struct Segment {
     pub(super) solution: integrate::Solution<{ state::DIM }>,
     pub(super) watches: Vec<Slot>,
+    /// (t, Euler angles) of the rows the segment emitted, when the scene has observables
+    /// or sections (their events' φ and ψ are unwrapped against the row before them).
+    pub(super) rows: Vec<(f64, EulerAngles)>,
 }
 
 impl<E: Effect + Copy + 'static> Context<'_, E> {
@@ -57,6 +61,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         let mut stats = Stats::default();
         let mut warnings = Vec::new();
         let mut switches = 0usize;
+        rec.sections = vec![Vec::new(); self.scene.sections.len()];
 
         let status = match stopped {
             Some(status) => status,
@@ -68,6 +73,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                 let next = if let Some(watch) = current.overdue(self, &y) {
                     current.on_event(self, watch, &mut t, &mut y, &mut events)
                 } else {
+                    let start_angles = rec.angles;
                     let seg = current.segment(self, t, y, &mut rec)?;
                     let sol = seg.solution;
                     add_stats(&mut stats, &sol.stats);
@@ -77,10 +83,21 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                     t = sol.t;
                     y = sol.y;
                     for record in &sol.events {
-                        if let Slot::Observe(index) = seg.watches[record.index] {
-                            let (mut sample, inv) =
-                                current.sample(self, record.t, &record.y, Some(&rec.angles));
-                            sample.drift = rec.relative_drift(&inv);
+                        let slot = seg.watches[record.index];
+                        let (Slot::Observe(index) | Slot::Section(index)) = slot else {
+                            continue;
+                        };
+                        // φ and ψ unwrapped against the last row at or before the event.
+                        let before = seg.rows.partition_point(|r| r.0 <= record.t);
+                        let prev = before
+                            .checked_sub(1)
+                            .map_or(start_angles, |i| seg.rows[i].1);
+                        let (mut sample, inv) =
+                            current.sample(self, record.t, &record.y, Some(&prev));
+                        sample.drift = rec.relative_drift(&inv);
+                        if let Slot::Section(_) = slot {
+                            rec.sections[index].push(sample);
+                        } else {
                             events.push(EventRecord {
                                 kind: EventKind::Observed {
                                     index,
@@ -101,6 +118,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                         }
                         StopReason::Event { index } => match seg.watches[index] {
                             Slot::Observe(index) => Next::Stop(Status::Observed { index }, mode),
+                            Slot::Section(index) => Next::Stop(Status::SectionFull { index }, mode),
                             Slot::Phase(watch) => {
                                 current.on_event(self, watch, &mut t, &mut y, &mut events)
                             }
@@ -149,6 +167,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             final_sample,
             initial_invariants,
             final_invariants,
+            sections: std::mem::take(&mut rec.sections),
         })
     }
 
@@ -209,6 +228,7 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
     let watches: Vec<Slot> = (0..phase_watches.len())
         .map(Slot::Phase)
         .chain((0..scene.observe.len()).map(Slot::Observe))
+        .chain((0..scene.sections.len()).map(Slot::Section))
         .collect();
     // Observables unwrap φ and ψ against the last emitted row; they share one output
     // row per state.
@@ -217,32 +237,45 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
     let observed: Memo<(Key, EulerAngles), Sample> = Memo::default();
     let layout = &columns::Layout::of(&scene.body);
     let (angles_ref, observed) = (&angles, &observed);
+    // The event of an observable or a section: its column crossing its value.
+    let crossing = |o: &Observe, action| {
+        let (column, crosses) = (o.column, o.crosses);
+        Event {
+            g: Box::new(move |t, y: &State| {
+                let prev = angles_ref.get();
+                let row = || {
+                    sys.with(t, y, |ev| {
+                        let (mut sample, inv) = ctx.sample(law, P::MODE, t, y, ev, Some(&prev));
+                        sample.drift = gauge.of(&inv);
+                        sample
+                    })
+                };
+                observed.with(((t, (*y).into()), prev), row, |s| layout.value(s, column)) - crosses
+            }),
+            direction: o.direction,
+            action,
+        }
+    };
     let events: Vec<Event<'_, { state::DIM }>> = watches
         .iter()
         .map(|&w| match w {
             Slot::Observe(k) => {
                 let o = &scene.observe[k];
-                Event {
-                    g: Box::new(move |t, y: &State| {
-                        let prev = angles_ref.get();
-                        let row = || {
-                            sys.with(t, y, |ev| {
-                                let (mut sample, inv) =
-                                    ctx.sample(law, P::MODE, t, y, ev, Some(&prev));
-                                sample.drift = gauge.of(&inv);
-                                sample
-                            })
-                        };
-                        observed.with(((t, (*y).into()), prev), row, |s| layout.value(s, o.column))
-                            - o.crosses
-                    }),
-                    direction: o.direction,
-                    action: if o.terminal {
+                crossing(
+                    o,
+                    if o.terminal {
                         Action::Stop
                     } else {
                         Action::Continue
                     },
-                }
+                )
+            }
+            Slot::Section(k) => {
+                let s = &scene.sections[k];
+                // The points still to take before the section is full (≥ 1: a full
+                // section ended the run).
+                let kept = rec.sections[k].len() as u64;
+                crossing(&s.crossing, Action::StopAfter(s.max_points - kept))
             }
             Slot::Phase(i) => {
                 let w = phase_watches[i];
@@ -273,6 +306,8 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
     options.time_scale = scene.gravity_time();
     options.cancel = ctx.cancel.clone();
     let samples = &scene.sample_times[rec.next_sample..];
+    let keep_rows = !(scene.observe.is_empty() && scene.sections.is_empty());
+    let mut rows = Vec::new();
     let solution = integrate::integrate(
         scene.solver.method,
         sys,
@@ -287,11 +322,18 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
             rec.next_sample += 1;
             let flow = rec.emit(sample, inv);
             angles.set(rec.angles);
+            if keep_rows {
+                rows.push((t, rec.angles));
+            }
             flow
         },
     )
     .map_err(ModelError::Solver)?;
-    Ok(Segment { solution, watches })
+    Ok(Segment {
+        solution,
+        watches,
+        rows,
+    })
 }
 
 /// The last value of a function and its argument, so that calls in turn with the same

@@ -32,8 +32,8 @@ pub use outcome::{
     Chatter, EventKind, EventRecord, ImpactReport, Mode, Outcome, RunWarning, Sample, Status,
 };
 pub use scene::{
-    ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, Observe, Scene,
-    SolverSettings,
+    ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, MAX_SECTION_POINTS,
+    MAX_SECTIONS, MAX_VISCOUS_FRICTION, Observe, Scene, Section, SolverSettings,
 };
 
 use context::Context;

@@ -116,6 +116,9 @@ pub enum Status {
     Completed,
     /// A terminal observable (`Scene::observe[index]`) crossed its value.
     Observed { index: usize },
+    /// Section `index` (`Scene::sections[index]`) reached its `max_points`-th point (an
+    /// outcome the scene asked for; the run ends there).
+    SectionFull { index: usize },
     /// N reached zero (an outcome, not an error).
     LostContact,
     /// The pure sliding model's slip reached zero (an outcome).
@@ -161,7 +164,7 @@ pub enum Status {
 
 impl Status {
     /// The names of every status, as summaries and `[check]` tables spell them.
-    pub const NAMES: [&'static str; 11] = [
+    pub const NAMES: [&'static str; 12] = [
         "completed",
         "observed",
         "lost_contact",
@@ -173,6 +176,7 @@ impl Status {
         "cancelled",
         "inconsistent_contact",
         "several_contacts",
+        "section_full",
     ];
 
     /// Its name in summaries (`status` field).
@@ -189,6 +193,7 @@ impl Status {
             Status::Cancelled => 8,
             Status::InconsistentContact { .. } => 9,
             Status::SeveralContacts { .. } => 10,
+            Status::SectionFull { .. } => 11,
         }]
     }
 
@@ -197,10 +202,13 @@ impl Status {
         matches!(self, Status::Completed)
     }
 
-    /// Whether the run ended where the scene asked it to: at t_end or at a terminal
-    /// observable.
+    /// Whether the run ended where the scene asked it to: at t_end, at a terminal
+    /// observable or at a full section.
     pub fn finished(&self) -> bool {
-        matches!(self, Status::Completed | Status::Observed { .. })
+        matches!(
+            self,
+            Status::Completed | Status::Observed { .. } | Status::SectionFull { .. }
+        )
     }
 
     /// Whether the run ended on an error (not an outcome of the physics or a request).
@@ -248,4 +256,7 @@ pub struct Outcome {
     pub initial_invariants: Invariants,
     pub final_invariants: Invariants,
     pub drift: Drift,
+    /// The points of each Poincaré section (`Scene::sections`, in its order): the full
+    /// state at each crossing, in time order.
+    pub sections: Vec<Vec<Sample>>,
 }

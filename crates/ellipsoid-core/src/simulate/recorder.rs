@@ -47,6 +47,8 @@ pub(super) struct Recorder<'o> {
     lost: [bool; 6],
     /// Why the recorder stopped the run, if it did (a non-finite sample).
     pub(super) stopped: Option<Status>,
+    /// The points of each Poincaré section so far (`Scene::sections`).
+    pub(super) sections: Vec<Vec<Sample>>,
 }
 
 impl<'o> Recorder<'o> {
@@ -76,6 +78,7 @@ impl<'o> Recorder<'o> {
             deviation: [0.0; 6],
             lost: [false; 6],
             stopped: None,
+            sections: Vec::new(),
         }
     }
 

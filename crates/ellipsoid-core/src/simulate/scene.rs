@@ -22,23 +22,30 @@ pub enum ContactModel {
     Rolling,
     /// Sliding and rolling with transitions; `friction` is μ.
     Coulomb { friction: f64 },
+    /// Viscous sliding friction F_t = −μ_v N v_C (docs/physics.md, "Viscous sliding");
+    /// `viscous_friction` is μ_v [s/m].
+    Viscous { viscous_friction: f64 },
 }
 
 impl ContactModel {
-    /// Every model, at placeholder parameters (μ = 0), in the order of
+    /// Every model, at placeholder parameters (μ = 0, μ_v = 0), in the order of
     /// [`ContactModel::NAMES`].
-    pub const ALL: [ContactModel; 4] = [
+    pub const ALL: [ContactModel; 5] = [
         ContactModel::Frictionless,
         ContactModel::Sliding { friction: 0.0 },
         ContactModel::Rolling,
         ContactModel::Coulomb { friction: 0.0 },
+        ContactModel::Viscous {
+            viscous_friction: 0.0,
+        },
     ];
     /// Their names in scenario files (`[contact] model`).
-    pub const NAMES: [&'static str; 4] = [
+    pub const NAMES: [&'static str; 5] = [
         ContactModel::ALL[0].name(),
         ContactModel::ALL[1].name(),
         ContactModel::ALL[2].name(),
         ContactModel::ALL[3].name(),
+        ContactModel::ALL[4].name(),
     ];
 
     /// Its name in scenario files (`[contact] model`).
@@ -48,6 +55,7 @@ impl ContactModel {
             ContactModel::Sliding { .. } => "sliding",
             ContactModel::Rolling => "rolling",
             ContactModel::Coulomb { .. } => "coulomb",
+            ContactModel::Viscous { .. } => "viscous",
         }
     }
 
@@ -62,7 +70,9 @@ impl ContactModel {
             ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } => {
                 Some(friction)
             }
-            ContactModel::Frictionless | ContactModel::Rolling => None,
+            ContactModel::Frictionless | ContactModel::Rolling | ContactModel::Viscous { .. } => {
+                None
+            }
         }
     }
 }
@@ -161,10 +171,35 @@ pub struct Observe {
     pub terminal: bool,
 }
 
+/// A Poincaré section (`[[section]]`): the full state (every output column) at each
+/// crossing of `crossing` (never terminal), located on the dense output like every event
+/// (docs/physics.md, "Poincaré sections"). The run stops at the `max_points`-th point
+/// (status `section_full`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Section {
+    /// The column, value and direction crossed, and the section's name (unique among the
+    /// scene's sections).
+    pub crossing: Observe,
+    /// Most points kept, 1 to [`MAX_SECTION_POINTS`].
+    pub max_points: u64,
+}
+
+/// Most sections a scene may name.
+pub const MAX_SECTIONS: usize = 16;
+
+/// Most points a section keeps (the default of `section.max_points`): 10⁶ rows of a few
+/// dozen columns, some 200 MB in memory.
+pub const MAX_SECTION_POINTS: u64 = 1_000_000;
+
 /// Highest start above the plane, in body sizes (largest semi-axis): a fall from
 /// 10⁶ sizes lasts √(2·10⁶ L/g), ample for any experiment, and keeps z_G's round-off
 /// (ε z_G) far below the body's size.
 pub const MAX_HEIGHT_SIZES: f64 = 1e6;
+
+/// Largest viscous friction coefficient μ_v [s/m]: with g = 9.81 m/s² the slip of a ball
+/// relaxes in 1/(3.5 μ_v g) ≈ 3e-7 s at this bound, already a stiff scale for an explicit
+/// integrator.
+pub const MAX_VISCOUS_FRICTION: f64 = 1e5;
 
 /// Most observables a scene may name.
 pub const MAX_OBSERVE: usize = 64;
@@ -205,6 +240,8 @@ pub struct Scene {
     pub sample_times: Vec<f64>,
     /// Events on output columns to locate and report.
     pub observe: Vec<Observe>,
+    /// Poincaré sections to record.
+    pub sections: Vec<Section>,
 }
 
 impl Scene {
@@ -232,6 +269,9 @@ impl Scene {
                 number(friction),
                 "the Coulomb coefficient must be finite and non-negative",
             ));
+        }
+        if let ContactModel::Viscous { viscous_friction } = self.contact {
+            self.validate_viscous(viscous_friction)?;
         }
         if let Some(disc) = &self.disc {
             self.validate_disc(disc)?;
@@ -465,6 +505,32 @@ impl Scene {
         Ok(())
     }
 
+    /// The viscous model: μ_v finite, in [0, [`MAX_VISCOUS_FRICTION`]], on a body without
+    /// contact spheres (contact on two surfaces is simulated with Coulomb friction only).
+    fn validate_viscous(&self, viscous_friction: f64) -> Result<(), ModelError> {
+        if !(viscous_friction.is_finite()
+            && (0.0..=MAX_VISCOUS_FRICTION).contains(&viscous_friction))
+        {
+            return Err(ModelError::invalid(
+                "contact.viscous_friction",
+                number(viscous_friction),
+                format!(
+                    "the viscous coefficient μ_v must be finite and within [0, {}] s/m \
+                     (the slip relaxes at a rate ~ μ_v g: beyond that bound its time is below a microsecond)",
+                    number(MAX_VISCOUS_FRICTION)
+                ),
+            ));
+        }
+        if !self.body.spheres().is_empty() {
+            return Err(ModelError::invalid(
+                "contact.model",
+                "\"viscous\"",
+                "the viscous model is simulated with one contact: a body with contact spheres needs model = \"sliding\" or \"coulomb\"",
+            ));
+        }
+        Ok(())
+    }
+
     /// A contact disc: R finite and positive, smaller than the body, under a friction
     /// model, and not doubled by the regularised spin friction.
     fn validate_disc(&self, disc: &ContactDisc) -> Result<(), ModelError> {
@@ -509,49 +575,92 @@ impl Scene {
     }
 
     fn validate_observe(&self) -> Result<(), ModelError> {
-        if self.observe.len() > MAX_OBSERVE {
-            return Err(ModelError::invalid(
-                "observe",
-                format!("{} entries", self.observe.len()),
-                format!("at most {MAX_OBSERVE} observables"),
-            ));
-        }
-        for (k, o) in self.observe.iter().enumerate() {
-            if o.name.is_empty() || o.name.len() > 100 {
+        validate_crossings(
+            &self.body,
+            "observe",
+            "observable",
+            MAX_OBSERVE,
+            self.observe.iter(),
+        )?;
+        validate_crossings(
+            &self.body,
+            "section",
+            "section",
+            MAX_SECTIONS,
+            self.sections.iter().map(|s| &s.crossing),
+        )?;
+        for s in &self.sections {
+            if !(1..=MAX_SECTION_POINTS).contains(&s.max_points) {
                 return Err(ModelError::invalid(
-                    "observe.name",
-                    format!("{:?}", o.name),
-                    "an observable needs a name of 1 to 100 bytes",
+                    "section.max_points",
+                    s.max_points,
+                    format!("a section keeps 1 to {MAX_SECTION_POINTS} points"),
                 ));
             }
-            if self.observe[..k].iter().any(|p| p.name == o.name) {
+            if s.crossing.terminal {
                 return Err(ModelError::invalid(
-                    "observe.name",
-                    format!("{:?}", o.name),
-                    "observable names must be unique",
-                ));
-            }
-            let layout = columns::Layout::of(&self.body);
-            if o.column >= layout.numeric() {
-                let names: Vec<String> = layout
-                    .numeric_columns()
-                    .into_iter()
-                    .map(|c| c.0.into_owned())
-                    .collect();
-                return Err(ModelError::invalid(
-                    "observe.column",
-                    o.column,
-                    format!("not a numeric column (one of {})", names.join(", ")),
-                ));
-            }
-            if !o.crosses.is_finite() {
-                return Err(ModelError::invalid(
-                    "observe.crosses",
-                    number(o.crosses),
-                    "the value crossed must be finite",
+                    "section.terminal",
+                    "true",
+                    "a section's crossings never end the run (max_points bounds it)",
                 ));
             }
         }
         Ok(())
     }
+}
+
+/// Checks the crossings of `[[observe]]` or `[[section]]` entries (`table`; each a `what`):
+/// at most `max`, unique names of 1 to 100 bytes, numeric columns, finite values.
+fn validate_crossings<'a>(
+    body: &Body,
+    table: &str,
+    what: &str,
+    max: usize,
+    list: impl ExactSizeIterator<Item = &'a Observe> + Clone,
+) -> Result<(), ModelError> {
+    if list.len() > max {
+        return Err(ModelError::invalid(
+            table,
+            format!("{} entries", list.len()),
+            format!("at most {max} entries"),
+        ));
+    }
+    let field = |key: &str| format!("{table}.{key}");
+    for (k, o) in list.clone().enumerate() {
+        if o.name.is_empty() || o.name.len() > 100 {
+            return Err(ModelError::invalid(
+                field("name"),
+                format!("{:?}", o.name),
+                format!("a {what} needs a name of 1 to 100 bytes"),
+            ));
+        }
+        if list.clone().take(k).any(|p| p.name == o.name) {
+            return Err(ModelError::invalid(
+                field("name"),
+                format!("{:?}", o.name),
+                format!("{what} names must be unique"),
+            ));
+        }
+        let layout = columns::Layout::of(body);
+        if o.column >= layout.numeric() {
+            let names: Vec<String> = layout
+                .numeric_columns()
+                .into_iter()
+                .map(|c| c.0.into_owned())
+                .collect();
+            return Err(ModelError::invalid(
+                field("column"),
+                o.column,
+                format!("not a numeric column (one of {})", names.join(", ")),
+            ));
+        }
+        if !o.crosses.is_finite() {
+            return Err(ModelError::invalid(
+                field("crosses"),
+                number(o.crosses),
+                "the value crossed must be finite",
+            ));
+        }
+    }
+    Ok(())
 }

@@ -74,15 +74,21 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         };
         let response = phase::<E>(mode).response(self, &y);
         self.check_finite(mode, &y)?;
-        if let Some(mu) = scene.contact.friction()
+        let coefficient = match scene.contact {
+            ContactModel::Viscous { viscous_friction } => {
+                Some(("contact.viscous_friction", viscous_friction))
+            }
+            model => model.friction().map(|mu| ("contact.friction", mu)),
+        };
+        if let Some((key, mu)) = coefficient
             && !(response.painleve > 0.0)
         {
             return Err(ModelError::invalid(
-                "contact.friction",
+                key,
                 number(mu),
                 format!(
                     "Painlevé inconsistency at t = 0: with this coefficient the sliding normal-force denominator \
-                     1 + m u·I⁻¹(r × d) = {} is not positive, so Coulomb sliding has no consistent contact force (reduce the friction)",
+                     1 + m u·I⁻¹(r × d) = {} is not positive, so sliding has no consistent contact force (reduce the friction)",
                     number(response.painleve)
                 ),
             ));

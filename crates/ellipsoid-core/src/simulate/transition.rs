@@ -71,6 +71,7 @@ pub(super) enum Placed {
 /// The phase a state on the plane enters, with its state map — the one rule for the
 /// start, a landing and a slip stop:
 /// - frictionless: frictionless;
+/// - viscous: viscous (its law is smooth at zero slip: there is nothing to stop);
 /// - rolling: rolling, on the constraint (the residual slip removed by the sticking
 ///   impulse, `Rolling::stick`, except at the start, where v_G follows from ω);
 /// - a contact disc (sliding or Coulomb): stopped when slip and spin have both stopped
@@ -94,6 +95,7 @@ pub(super) fn on_plane<E: Effect + Copy + 'static>(
     };
     match ctx.scene.contact {
         ContactModel::Frictionless => Placed::In(Mode::Frictionless),
+        ContactModel::Viscous { .. } => Placed::In(Mode::Viscous),
         ContactModel::Rolling => {
             if arrival != Arrival::Start {
                 Rolling::stick(&ctx.body(), y);
@@ -621,10 +623,12 @@ fn settling_speed<E: Effect + Copy + 'static>(
 }
 
 /// The impact law of the scene's contact model: frictionless, Coulomb (sliding and
-/// Coulomb models) or its no-slip limit (rolling).
+/// Coulomb models) or its no-slip limit (rolling). The viscous model's impact is taken
+/// frictionless: its tangential impulse −μ_v ∫ v_C dp is neglected (docs/physics.md,
+/// "Viscous sliding").
 fn tangential(contact: ContactModel) -> Tangential {
     match contact {
-        ContactModel::Frictionless => Tangential::Frictionless,
+        ContactModel::Frictionless | ContactModel::Viscous { .. } => Tangential::Frictionless,
         ContactModel::Sliding { friction } | ContactModel::Coulomb { friction } => {
             Tangential::Coulomb { friction }
         }

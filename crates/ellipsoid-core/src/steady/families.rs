@@ -159,6 +159,20 @@ pub fn steady_motion(
     };
     let body = field.body();
     let zeta = rest_attitude(body, start)?;
+    check_principal(body, family, &zeta)?;
+    let init = &scene.initial;
+    let omega_init = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
+    let spin = omega_init.dot(&zeta);
+    upright_motion(field, family, zeta, spin)
+}
+
+/// Refuses a rest attitude ζ0 that is not a principal axis of inertia: spinning about the
+/// vertical there is not steady (the gyroscopic torque n² ζ0 × Iζ0 ≠ 0).
+pub(super) fn check_principal(
+    body: &Body,
+    family: Family,
+    zeta: &Vector3<f64>,
+) -> Result<(), ModelError> {
     let inertia = body.inertia();
     let gyro = zeta.cross(&(inertia * zeta)).norm();
     if gyro > 1e-12 * inertia.norm() {
@@ -174,10 +188,7 @@ pub fn steady_motion(
             ),
         ));
     }
-    let init = &scene.initial;
-    let omega_init = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
-    let spin = omega_init.dot(&zeta);
-    upright_motion(field, family, zeta, spin)
+    Ok(())
 }
 
 /// The steady spin at `spin` in the rest attitude `zeta` (see the module docs).
@@ -276,9 +287,9 @@ pub fn started_at(scene: &Scene, at: &Phase, delta: &Phase) -> Scene {
     init.height = 0.0;
     init.velocity_z = None;
     init.velocity = match scene.contact {
-        ContactModel::Frictionless | ContactModel::Sliding { .. } => {
-            Some(nalgebra::Vector2::zeros())
-        }
+        ContactModel::Frictionless
+        | ContactModel::Sliding { .. }
+        | ContactModel::Viscous { .. } => Some(nalgebra::Vector2::zeros()),
         ContactModel::Rolling | ContactModel::Coulomb { .. } => None,
     };
     scene

@@ -6,17 +6,21 @@
 //! (the Jacobian in tangent coordinates), [`spectrum`] (eigenvalues with the family's
 //! zeros removed, eigenvectors named by what moves), [`sweep`] (a family against a
 //! parameter and its critical values), [`tilted`] (the tilted families of a body of
-//! revolution: frictionless precession and Routh's rolling circles).
+//! revolution: frictionless precession and Routh's rolling circles), [`viscous`] (the
+//! upright and inverted spins under the viscous sliding law).
 
 pub mod families;
 pub mod linearize;
+pub mod perturb;
 pub mod reduce;
 pub mod spectrum;
 pub mod sweep;
 pub mod tilted;
+pub mod viscous;
 
 pub use families::{Circles, Family, SteadyMotion, started_at};
 pub use linearize::{COORDINATES, Linearization, Reduced, linearize};
+pub use perturb::perturbed;
 pub use reduce::{Phase, ReducedField};
 pub use spectrum::{Mode, STABLE_TOLERANCE, Shape, Spectrum};
 pub use sweep::{Critical, CriticalKind, Sweep, sweep, sweep_solving};

@@ -37,20 +37,7 @@ impl ReducedField {
     /// disc, and the pure sliding model (which stops where the slip does, so it has no
     /// motion without slip to linearise about) are refused.
     pub fn from_scene(scene: &Scene) -> Result<Self, ModelError> {
-        if scene.effects.any() {
-            return Err(ModelError::invalid(
-                "effects",
-                "present",
-                "steady motions are analysed without effects (air_drag, rolling_resistance, spin_friction): remove them",
-            ));
-        }
-        if let Some(disc) = &scene.disc {
-            return Err(ModelError::invalid(
-                "contact.contact_radius",
-                number(disc.radius),
-                "steady motions are analysed with a point contact (contact_radius = 0)",
-            ));
-        }
+        plain(scene)?;
         let body = scene.body.clone();
         let gravity = scene.gravity;
         Ok(match scene.contact {
@@ -78,6 +65,13 @@ impl ReducedField {
                 },
                 Some(friction),
             ),
+            ContactModel::Viscous { .. } => {
+                return Err(ModelError::invalid(
+                    "contact.model",
+                    "\"viscous\"",
+                    "the viscous model's upright and inverted spins are analysed one at a time (`ellipsoid steady` without --vary; Rust: steady::viscous); sweeps and the tilted families do not take it",
+                ));
+            }
             ContactModel::Sliding { .. } => {
                 return Err(ModelError::invalid(
                     "contact.model",
@@ -132,6 +126,25 @@ impl ReducedField {
             ReducedField::Rolling(s, _) => response(s, &zeta, &omega).force,
         }
     }
+}
+
+/// Refuses what no steady analysis takes: effects and a contact disc.
+pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
+    if scene.effects.any() {
+        return Err(ModelError::invalid(
+            "effects",
+            "present",
+            "steady motions are analysed without effects (air_drag, rolling_resistance, spin_friction): remove them",
+        ));
+    }
+    if let Some(disc) = &scene.disc {
+        return Err(ModelError::invalid(
+            "contact.contact_radius",
+            number(disc.radius),
+            "steady motions are analysed with a point contact (contact_radius = 0)",
+        ));
+    }
+    Ok(())
 }
 
 /// The contact law's response at (ζ, ω).

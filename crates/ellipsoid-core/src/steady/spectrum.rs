@@ -10,7 +10,7 @@
 //! that of the (5 − k)×(5 − k) block B. An eigenvector u of B lifts to Q ((λ − N)⁻¹ T u, u),
 //! an eigenvector of J.
 
-use nalgebra::{Complex, DMatrix, DVector, Matrix5, SVector, Vector3};
+use nalgebra::{Complex, DMatrix, DVector, SVector, Vector3};
 
 use super::linearize::{Linearization, Reduced};
 
@@ -91,15 +91,49 @@ pub struct Shape {
 /// The spectrum of `lin` with the zeros along `removed` (reduced directions, linearly
 /// independent, at most 4) taken out; `floor` as [`Spectrum::floor`].
 pub fn spectrum(lin: &Linearization, removed: &[Reduced], shape: &Shape, floor: f64) -> Spectrum {
+    let jacobian = DMatrix::from_fn(5, 5, |i, j| lin.jacobian[(i, j)]);
+    let removed: Vec<DVector<f64>> = removed
+        .iter()
+        .map(|d| DVector::from_column_slice(d.as_slice()))
+        .collect();
+    let mut modes: Vec<Mode> = reduced_modes(&jacobian, &removed)
+        .into_iter()
+        .map(|(lambda, v)| {
+            let vector = normalise(SVector::<Complex<f64>, 5>::from_column_slice(v.as_slice()));
+            Mode {
+                eigenvalue: lambda,
+                vector,
+                name: name(lin, &vector, shape),
+            }
+        })
+        .collect();
+    modes.sort_by(|x, y| by_real_part(&x.eigenvalue, &y.eigenvalue));
+    Spectrum { modes, floor }
+}
+
+/// Decreasing real part, then decreasing imaginary part.
+pub(super) fn by_real_part(x: &Complex<f64>, y: &Complex<f64>) -> std::cmp::Ordering {
+    y.re.total_cmp(&x.re).then(y.im.total_cmp(&x.im))
+}
+
+/// The eigenvalues of the square `jacobian` with the zeros along `removed` (linearly
+/// independent directions, fewer than its size) taken out, each with its eigenvector
+/// lifted back to the full coordinates (see the module docs); unsorted, unscaled.
+pub(super) fn reduced_modes(
+    jacobian: &DMatrix<f64>,
+    removed: &[DVector<f64>],
+) -> Vec<(Complex<f64>, DVector<Complex<f64>>)> {
+    let n = jacobian.nrows();
     let k = removed.len();
-    let rest = 5 - k;
-    let q = completion(removed);
-    let b = q.transpose() * lin.jacobian * q;
+    let rest = n - k;
+    let q = completion(n, removed);
+    let b = q.transpose() * jacobian * &q;
     let block = DMatrix::from_fn(rest, rest, |i, j| b[(k + i, k + j)]);
     let complex = |m: DMatrix<f64>| m.map(|x| Complex::new(x, 0.0));
     let nil = complex(DMatrix::from_fn(k, k, |i, j| b[(i, j)]));
     let top = complex(DMatrix::from_fn(k, rest, |i, j| b[(i, k + j)]));
-    let mut modes: Vec<Mode> = block
+    let qc = complex(q);
+    block
         .clone()
         .complex_eigenvalues()
         .iter()
@@ -114,31 +148,17 @@ pub fn spectrum(lin: &Linearization, removed: &[Reduced], shape: &Shape, floor: 
             } else {
                 DVector::zeros(k)
             };
-            let lifted =
-                SVector::<Complex<f64>, 5>::from_fn(|i, _| if i < k { y[i] } else { u[i - k] });
-            let v = q.map(|x| Complex::new(x, 0.0)) * lifted;
-            let vector = normalise(v);
-            Mode {
-                eigenvalue: lambda,
-                vector,
-                name: name(lin, &vector, shape),
-            }
+            let lifted = DVector::from_fn(n, |i, _| if i < k { y[i] } else { u[i - k] });
+            (lambda, &qc * lifted)
         })
-        .collect();
-    modes.sort_by(|x, y| {
-        y.eigenvalue
-            .re
-            .total_cmp(&x.eigenvalue.re)
-            .then(y.eigenvalue.im.total_cmp(&x.eigenvalue.im))
-    });
-    Spectrum { modes, floor }
+        .collect()
 }
 
-/// An orthogonal Q whose first k columns span `removed` (k vectors): the Householder QR
-/// of [removed | 𝟙].
-fn completion(removed: &[Reduced]) -> Matrix5<f64> {
+/// An orthogonal n×n Q whose first k columns span `removed` (k vectors): the Householder
+/// QR of [removed | 𝟙].
+fn completion(n: usize, removed: &[DVector<f64>]) -> DMatrix<f64> {
     let k = removed.len();
-    let m = DMatrix::from_fn(5, k + 5, |i, j| {
+    let m = DMatrix::from_fn(n, k + n, |i, j| {
         if j < k {
             removed[j][i]
         } else if i == j - k {
@@ -147,8 +167,7 @@ fn completion(removed: &[Reduced]) -> Matrix5<f64> {
             0.0
         }
     });
-    let q = m.qr().q();
-    Matrix5::from_fn(|i, j| q[(i, j)])
+    m.qr().q()
 }
 
 /// A unit u with (B − λ) u ≈ 0: the right singular vector of the smallest singular value.

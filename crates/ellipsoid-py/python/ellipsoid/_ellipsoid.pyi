@@ -37,6 +37,7 @@ __all__ = [
     "precision",
     "simulate",
     "steady_raw",
+    "steady_start",
     "sweep",
 ]
 
@@ -279,7 +280,7 @@ class Trajectory:
         """The dense interpolant at times `t` [s] (a rerun with them as output times)."""
     def __reduce__(self) -> tuple[Any, tuple[Any, ...]]: ...
     @staticmethod
-    def _from_pickle(scenario: Scenario, values: bytes, modes: list[str], summary: str, status: str) -> Trajectory: ...
+    def _from_pickle(scenario: Scenario, values: bytes, modes: list[str], summary: str, status: str, sections: list[tuple[bytes, list[str]]] = ...) -> Trajectory: ...
     def __len__(self) -> int: ...
     def to_dict(self) -> dict[str, npt.NDArray[Any]]: ...
     def to_pandas(self) -> Any:
@@ -300,6 +301,11 @@ class Trajectory:
         """Writes the run as an animated GIF (no browser needed), or MP4 for a `.mp4` path (needs ffmpeg); returns the frame count."""
     def plot(self, panels: str | Sequence[str] | None = None, *, columns: str | Sequence[str] | None = None, ax: Any = None) -> Any:
         """The panels of `ellipsoid plot`, or any columns, as a matplotlib Figure (needs matplotlib)."""
+    @property
+    def sections(self) -> dict[str, dict[str, _FloatArray | npt.NDArray[np.str_]]]:
+        """The points of each Poincaré section (`[[section]]`): name → a dict of read-only numpy arrays named like the columns (`mode` a str array), one element per crossing, in time order."""
+    def plot_section(self, name: str, x: str, y: str, ax: Any = None) -> Any:
+        """Section `name`'s column `y` against column `x`, one marker per crossing, as a matplotlib Figure (needs matplotlib)."""
 
 @final
 class Study:
@@ -491,6 +497,16 @@ def steady_raw(
     solve: str = "spin",
 ) -> dict[str, Any]:
     """The arrays behind `ellipsoid.steady` (use that)."""
+def steady_start(
+    scenario: Scenario | _Path,
+    family: str,
+    mode: int,
+    epsilon: float,
+    key: str | None = None,
+    value: float | None = None,
+    solve: str = "spin",
+) -> Scenario:
+    """The scenario behind `Steady.scenario` (use that)."""
 def linearize(scenario: Scenario | _Path, state: Sequence[float] | None = None) -> tuple[npt.NDArray[np.float64], list[str]]:
     """The Jacobian (5 × 5) of the reduced dynamics (ζ·t1, ζ·t2, ω1, ω2, ω3) of `scenario` at
     `state` = (ζ1, ζ2, ζ3, ω1, ω2, ω3) (world up and ω in body axes), or at the scenario's

@@ -347,3 +347,31 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None, columns: str | Se
             axes = [fig.add_subplot(grid[row, 0]), fig.add_subplot(grid[row, 1])]
         _draw_panel(axes, traj, name, labels=name == first_time)
     return fig
+
+
+def plot_section(traj: Any, name: Any, x: Any, y: Any, ax: Any = None) -> Any:
+    """`Trajectory.plot_section`: section `name`'s column `y` against column `x`, one
+    marker per crossing, the axes labelled with the columns' SI units."""
+    if ax is not None and not (callable(getattr(ax, "plot", None)) and hasattr(ax, "figure")):
+        raise _bad("ax", ax, f"expected a matplotlib Axes, found {type(ax).__name__}", True)
+    sections = traj.sections
+    if not isinstance(name, str):
+        raise _bad("name", name, f"expected the name of a section (str), found {type(name).__name__}", True)
+    if name not in sections:
+        known = ", ".join(sections) or "none: the scenario has no [[section]]"
+        raise _bad("name", name, f"not a section of the scenario (its sections: {known})")
+    points = sections[name]
+    for key, column in (("x", x), ("y", y)):
+        if not isinstance(column, str):
+            raise _bad(key, column, f"expected a column name (str), found {type(column).__name__}", True)
+        if column not in points or column == "mode":
+            raise _bad(key, column, "not a numeric column (one of Trajectory.columns but mode)")
+    if ax is None:
+        fig = _figure(figsize=(6, 5), layout="constrained")
+        fig.suptitle(f"{_suptitle(traj)}: section {name}")
+        ax = fig.subplots()
+    ax.plot(points[x], points[y], ".", ms=3, label=f"{name} ({len(points[x])} points)")
+    ax.set_xlabel(f"{x} ({traj.units[x]})")
+    ax.set_ylabel(f"{y} ({traj.units[y]})")
+    ax.grid(alpha=0.3)
+    return ax.figure

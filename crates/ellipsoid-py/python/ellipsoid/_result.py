@@ -127,9 +127,16 @@ def study_to_xarray(table: Any) -> Any:
     return ds
 
 
-def _trajectory(scenario: Scenario, values: bytes, modes: list[str], summary: str, status: str) -> Trajectory:
-    """Unpickles a Trajectory (`Trajectory.__reduce__`)."""
-    return Trajectory._from_pickle(scenario, values, modes, summary, status)  # type: ignore[attr-defined]
+def _trajectory(
+    scenario: Scenario,
+    values: bytes,
+    modes: list[str],
+    summary: str,
+    status: str,
+    sections: list[tuple[bytes, list[str]]] | None = None,
+) -> Trajectory:
+    """Unpickles a Trajectory (`Trajectory.__reduce__`), with its sections' points."""
+    return Trajectory._from_pickle(scenario, values, modes, summary, status, sections or [])  # type: ignore[attr-defined]
 
 
 def _scenario(text: str, source: str, overrides: list[str]) -> Scenario:

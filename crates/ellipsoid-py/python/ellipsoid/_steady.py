@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from ellipsoid._ellipsoid import Scenario, ScenarioError, steady_raw
+from ellipsoid._ellipsoid import Scenario, ScenarioError, steady_raw, steady_start
 
 
 class Steady:
@@ -59,9 +59,30 @@ class Steady:
         """Whether each steady motion is linearly stable (max_real ≤ 0 to round-off)."""
         self.critical: list[dict[str, Any]] = raw["critical"]
         """The critical values: dicts with ``value``, ``kind`` ("collision", "hopf", "real"), ``stable_side`` ("above" or "below") and ``eigenvalue``."""
+        self._source: tuple[Any, str] = (None, "spin")
 
     def __len__(self) -> int:
         return len(self.values)
+
+    def scenario(self, mode: int | str, eps: float, index: int = 0) -> Scenario:
+        """The scenario started on steady motion ``index`` (a row of ``eigenvalues``)
+        displaced by ``eps`` along ``mode`` (its column in ``eigenvalues``, 0 = the least
+        stable, or its name in ``modes``: the first of that name), as ``ellipsoid steady
+        --perturb`` writes it: its ``[initial]`` table the displaced state, every other
+        table the scenario's. ``simulate`` of it shows the mode grow (Re λ > 0) or
+        oscillate. |eps| at most 0.1 (rad of tilt)."""
+        if not isinstance(index, int) or not 0 <= index < len(self):
+            raise ScenarioError(f"index = {index!r}: must be a row number from 0 to {len(self) - 1}")
+        names = self.modes[index]
+        if isinstance(mode, str):
+            if mode not in names:
+                raise ScenarioError(f"mode = {mode!r}: not a mode of this motion (its modes: {', '.join(names)})")
+            mode = names.index(mode)
+        if not isinstance(mode, int) or not 0 <= mode < len(names):
+            raise ScenarioError(f"mode = {mode!r}: must be a column from 0 to {len(names) - 1} or a mode's name")
+        scenario, solve = self._source
+        value = None if self.key is None else float(self.values[index])
+        return steady_start(scenario, self.family, mode, float(eps), self.key, value, solve)
 
     def __repr__(self) -> str:
         crit = ", ".join(f"{c['value']:.10g} ({c['kind']})" for c in self.critical) or "none"
@@ -115,7 +136,9 @@ def steady(
     maps one scenario key to a 1-D array of values. Raises ScenarioError for a bad
     scenario, family, unknown or key, or a value without a steady motion."""
     if vary is None:
-        return Steady(steady_raw(scenario, family, solve=solve))
+        res = Steady(steady_raw(scenario, family, solve=solve))
+        res._source = (scenario, solve)
+        return res
     if not isinstance(vary, Mapping) or len(vary) != 1:
         raise ScenarioError(
             f"vary = {vary!r}: must map exactly one scenario key to a 1-D array of values"
@@ -124,4 +147,6 @@ def steady(
     array = np.asarray(values, dtype=float)
     if array.ndim != 1:
         raise ScenarioError(f"vary[{key!r}]: must be a 1-D array of values (got shape {array.shape})")
-    return Steady(steady_raw(scenario, family, str(key), [float(v) for v in array], solve))
+    res = Steady(steady_raw(scenario, family, str(key), [float(v) for v in array], solve))
+    res._source = (scenario, solve)
+    return res

@@ -5,8 +5,9 @@
 //!   study file ──spec──▶ Plan ──Study::new──▶ Study ──resolve(i)──▶ changed document, key
 //!   (or Python)          (data, JSON)          (columns)   └──run_point(i)──▶ outcome cells
 //!                                                              (ellipsoid_io::run::run)
-//!   execute: journal (done rows by key) ─▶ run the rest on a rayon pool ─▶ journal each row
-//!            ─▶ rows in point order ─▶ table (CSV / Parquet / HDF5, atomic)
+//!   execute: journal (done rows by point) ─▶ run the rest on a rayon pool ─▶ journal each
+//!            row ─▶ rows read back from the journal in point order ─▶ table (CSV /
+//!            Parquet / HDF5, atomic, streamed)
 //! ```
 //! Layout: [`axes`] (value generators), [`plan`] (the study as data, its points and
 //! columns), [`spec`] (study files), [`run`] (one point, many in parallel), [`journal`]
@@ -93,46 +94,161 @@ pub fn execute(
     cancel: &Arc<AtomicBool>,
     progress: impl FnMut(&Tally),
 ) -> Result<Vec<PointResult>, ExecError> {
-    execute_with(study, journal, threads, cancel, None, progress)
+    let n = study.len();
+    let Some(path) = journal else {
+        let mut results = Vec::with_capacity(n);
+        let mut tally = Tally {
+            total: n,
+            ..Tally::default()
+        };
+        run_points(
+            study,
+            None,
+            threads,
+            cancel,
+            None,
+            progress,
+            &mut tally,
+            Some(&mut results),
+        )?;
+        return Ok(results);
+    };
+    let mut j = execute_with(study, path, threads, cancel, None, progress)?.journal;
+    (0..n)
+        .map(|index| {
+            let (key, cells) = j.row(index)?.ok_or_else(|| {
+                ExecError::Internal(format!("point {index} has no row in the journal"))
+            })?;
+            Ok(PointResult {
+                index,
+                key,
+                cells,
+                trajectory: None,
+            })
+        })
+        .collect()
 }
 
-/// [`execute`], handing every run's trajectory to `trajectories` (if given) as it
-/// finishes; the results returned hold none. A journal that already holds rows is then
-/// refused ([`ExecError::Resumed`]): those rows have no trajectory to give.
+/// A study whose every row is in its journal: the table is written from it
+/// ([`Finished::write_table`]), a row at a time.
+pub struct Finished {
+    pub journal: Journal,
+    pub tally: Tally,
+}
+
+impl Finished {
+    /// Writes the table of `study` to `path` (format by extension, atomically), reading
+    /// the rows from the journal in point order: memory does not grow with the rows.
+    pub fn write_table(
+        &mut self,
+        study: &Study,
+        path: &Path,
+    ) -> Result<(), ellipsoid_io::OutputError> {
+        let journal = &mut self.journal;
+        let rows = (0..study.len()).map(|index| {
+            let fail = |m: String| ellipsoid_io::OutputError::Io {
+                path: path.to_owned(),
+                source: std::io::Error::other(m),
+            };
+            let (key, cells) = journal
+                .row(index)
+                .map_err(|e| fail(e.to_string()))?
+                .ok_or_else(|| fail(format!("point {index} has no row in the journal")))?;
+            Ok(study.row(index, key, cells))
+        });
+        table::write_rows(path, &study.columns, rows, &study.plan.source)
+    }
+}
+
+/// Runs every point of `study` whose row is not in the journal at `journal` yet, as
+/// [`execute`] does, handing every run's trajectory to `trajectories` (if given) as it
+/// finishes, and returns the journal, which then holds a row for every point. A journal
+/// that already holds rows is refused when trajectories are asked for
+/// ([`ExecError::Resumed`]): those rows have no trajectory to give.
+///
+/// Resuming with a journal of this very study (its plan fingerprint) skips its points
+/// by index, without resolving them; rows of another plan or of the first journal
+/// format are matched by key, which resolves every point not done ([`Journal`]).
 pub fn execute_with(
     study: &Study,
-    journal: Option<&Path>,
+    journal: &Path,
     threads: usize,
     cancel: &Arc<AtomicBool>,
-    mut trajectories: Option<TrajectorySink<'_>>,
-    mut progress: impl FnMut(&Tally),
-) -> Result<Vec<PointResult>, ExecError> {
+    trajectories: Option<TrajectorySink<'_>>,
+    progress: impl FnMut(&Tally),
+) -> Result<Finished, ExecError> {
     let n = study.len();
-    let cells = study.outcome_columns().len();
     let mut tally = Tally {
         total: n,
         ..Tally::default()
     };
-    let journal_path = journal.map(Path::to_path_buf);
-    let (mut journal, done) = match journal {
-        Some(p) => {
-            let (j, d) = Journal::open(p, &study.outcome_fingerprint(), cells)?;
-            (Some(j), d)
-        }
-        None => (None, Default::default()),
+    let whom = journal::For {
+        outcomes: &study.outcome_fingerprint(),
+        plan: &study.plan_fingerprint(),
+        cells: study.outcome_columns().len(),
+        points: n,
     };
-    if trajectories.is_some() && !done.is_empty() {
+    let mut j = match Journal::open(journal, whom, cancel) {
+        Err(JournalError::Interrupted { .. }) => {
+            return Err(ExecError::Interrupted { done: 0, total: n });
+        }
+        r => r?,
+    };
+    let found = j.indexed() + j.keyed();
+    if trajectories.is_some() && found > 0 {
         return Err(ExecError::Resumed {
-            journal: journal_path.unwrap_or_default(),
-            resumed: done.len(),
+            journal: journal.to_owned(),
+            resumed: found,
         });
     }
-    let mut results: Vec<PointResult> = Vec::with_capacity(n);
+    run_points(
+        study,
+        Some(&mut j),
+        threads,
+        cancel,
+        trajectories,
+        progress,
+        &mut tally,
+        None,
+    )?;
+    Ok(Finished { journal: j, tally })
+}
+
+/// Points handled a chunk at a time: the cancel flag is read between chunks, and a chunk's
+/// pending points (as `u32`: 4 bytes each) are all that is held.
+const CHUNK: usize = 1 << 16;
+/// Points resolved together when rows are matched by key (a resolve is tens of
+/// microseconds: 10⁷ points take a minute of CPU): a chunk's resolved scenarios are held,
+/// and the cancel flag is read between chunks.
+const KEY_CHUNK: usize = 1 << 12;
+
+/// Runs the points of `study` that have no row in `journal` (all, without one), each
+/// finished row to the journal, the trajectory sink, the tally and `results` (if given).
+#[allow(clippy::too_many_arguments)]
+fn run_points(
+    study: &Study,
+    mut journal: Option<&mut Journal>,
+    threads: usize,
+    cancel: &Arc<AtomicBool>,
+    mut trajectories: Option<TrajectorySink<'_>>,
+    mut progress: impl FnMut(&Tally),
+    tally: &mut Tally,
+    mut results: Option<&mut Vec<PointResult>>,
+) -> Result<(), ExecError> {
+    let n = study.len();
+    let keep = trajectories.is_some();
+    if let Some(j) = journal.as_deref() {
+        tally.done = j.indexed();
+        tally.resumed = j.indexed();
+        tally.failed = j.failed();
+    }
     let mut journal_error = None;
     let mut sink_error = None;
-    let keep = trajectories.is_some();
-    // A finished run: its trajectory to the sink, its row to the journal and the tally.
-    let mut finish = |mut r: PointResult, tally: &mut Tally, results: &mut Vec<PointResult>| {
+    // A finished row: its trajectory to the sink, the row to the journal and the tally.
+    let mut finish = |mut r: PointResult,
+                      tally: &mut Tally,
+                      journal: &mut Option<&mut Journal>,
+                      resumed: bool| {
         // A point that never ran (invalid) gets an empty trajectory: still a group.
         let t = r.trajectory.take().unwrap_or_default();
         if let Some(sink) = trajectories.as_mut()
@@ -142,7 +258,7 @@ pub fn execute_with(
             sink_error = Some(e);
             cancel.store(true, Ordering::Relaxed);
         }
-        if let Some(j) = journal.as_mut()
+        if let Some(j) = journal.as_deref_mut()
             && journal_error.is_none()
             && let Err(e) = j.append(&r)
         {
@@ -150,133 +266,86 @@ pub fn execute_with(
             cancel.store(true, Ordering::Relaxed);
         }
         tally.done += 1;
+        tally.resumed += usize::from(resumed);
         if matches!(r.cells.first(), Some(Cell::Text(s)) if is_failure(s)) {
             tally.failed += 1;
         }
-        results.push(r);
+        if let Some(out) = results.as_deref_mut() {
+            out.push(r);
+        }
     };
-    if done.is_empty() {
-        progress(&tally);
-        let all: Vec<usize> = (0..n).collect();
-        study
-            .run_many_with(&all, threads, cancel, keep, |r| {
-                finish(r, &mut tally, &mut results);
-                progress(&tally);
+    progress(tally);
+    let by_key = journal.as_deref().is_some_and(|j| j.keyed() > 0);
+    let mut outcome = Ok(());
+    let chunk = if by_key { KEY_CHUNK } else { CHUNK };
+    for start in (0..n).step_by(chunk) {
+        if cancel.load(Ordering::Relaxed) {
+            break;
+        }
+        let end = n.min(start + chunk);
+        let pending: Vec<u32> = (start..end)
+            .filter(|&i| !journal.as_deref().is_some_and(|j| j.has(i)))
+            .map(|i| u32::try_from(i).expect("at most MAX_POINTS points"))
+            .collect();
+        if pending.is_empty() {
+            continue;
+        }
+        outcome = if by_key {
+            // Rows known by key only: each pending point resolved (in parallel) and
+            // matched, the others run with the scenarios resolved for their keys.
+            let resolved: Vec<_> = pending
+                .into_par_iter()
+                .map(|i| (i as usize, study.resolve(i as usize)))
+                .collect();
+            let mut run = Vec::new();
+            for (index, r) in resolved {
+                let known = r.as_ref().ok().and_then(|r| {
+                    let j = journal.as_deref()?;
+                    j.by_key(&r.key).map(|cells| (r.key.clone(), cells.clone()))
+                });
+                match known {
+                    Some((key, cells)) => {
+                        let row = PointResult {
+                            index,
+                            key,
+                            cells,
+                            trajectory: None,
+                        };
+                        finish(row, tally, &mut journal, true);
+                    }
+                    None => run.push((index, r)),
+                }
+            }
+            progress(tally);
+            study.run_resolved_with(run, threads, cancel, keep, |r| {
+                finish(r, tally, &mut journal, false);
+                progress(tally);
             })
-            .map_err(ExecError::Internal)?;
-    } else {
-        let mut rows = Rows {
-            tally: &mut tally,
-            results: &mut results,
-            finish: &mut finish,
-            progress: &mut progress,
+        } else {
+            study.run_indices_with(&pending, threads, cancel, keep, |r| {
+                finish(r, tally, &mut journal, false);
+                progress(tally);
+            })
         };
-        resume(study, done, threads, cancel, keep, &mut rows)?;
+        if outcome.is_err() {
+            break;
+        }
     }
-    if let Some(j) = journal.as_mut() {
+    if let Some(j) = journal {
         j.sync()?;
     }
+    outcome.map_err(ExecError::Internal)?;
     if let Some(e) = journal_error {
         return Err(e.into());
     }
     if let Some(e) = sink_error {
         return Err(ExecError::Trajectories(e));
     }
-    if results.len() < n {
+    if tally.done < n {
         return Err(ExecError::Interrupted {
-            done: results.len(),
+            done: tally.done,
             total: n,
         });
-    }
-    Ok(results)
-}
-
-/// Points resolved together while resuming: the cancel flag is read between such chunks,
-/// and only one chunk's resolved scenarios are held.
-const RESUME_CHUNK: usize = 1 << 12;
-
-/// Where the rows of a resumed study go: the tally, the results, what is done with a
-/// finished run, and the progress display.
-struct Rows<'a, F, P> {
-    tally: &'a mut Tally,
-    results: &'a mut Vec<PointResult>,
-    finish: &'a mut F,
-    progress: &'a mut P,
-}
-
-/// Resumes a study: the points whose rows the journal holds (`done`) are moved into the
-/// results and counted as resumed, the others run. Each point is resolved once, in
-/// parallel, a chunk at a time (a resolve is tens of microseconds: 10⁷ points take a
-/// minute of CPU), and a chunk's pending points run with the scenarios resolved for their
-/// keys; [`ExecError::Interrupted`] as soon as `cancel` is set.
-fn resume<F, P>(
-    study: &Study,
-    mut done: journal::Done,
-    threads: usize,
-    cancel: &Arc<AtomicBool>,
-    keep: bool,
-    rows: &mut Rows<'_, F, P>,
-) -> Result<(), ExecError>
-where
-    F: FnMut(PointResult, &mut Tally, &mut Vec<PointResult>),
-    P: FnMut(&Tally),
-{
-    let n = study.len();
-    // Rows already moved into `results`, by key (32 hexadecimal digits), for points that
-    // run the same scenario: 24 bytes a row, not a second copy of the key and cells.
-    let id = |k: &str| u128::from_str_radix(k, 16).ok();
-    let mut taken: std::collections::HashMap<u128, usize> = Default::default();
-    for start in (0..n).step_by(RESUME_CHUNK) {
-        if cancel.load(Ordering::Relaxed) {
-            return Err(ExecError::Interrupted {
-                done: rows.tally.done,
-                total: n,
-            });
-        }
-        let resolved: Vec<_> = (start..n.min(start + RESUME_CHUNK))
-            .into_par_iter()
-            .map(|i| (i, study.resolve(i)))
-            .collect();
-        let mut pending = Vec::new();
-        for (i, r) in resolved {
-            let key = r.as_ref().ok().map(|r| r.key.as_str());
-            let cells = key.and_then(|k| match done.remove(k) {
-                Some(cells) => {
-                    if let Some(id) = id(k) {
-                        taken.insert(id, rows.results.len());
-                    }
-                    Some(cells)
-                }
-                None => id(k)
-                    .and_then(|id| taken.get(&id))
-                    .map(|&r| rows.results[r].cells.clone()),
-            });
-            let (Ok(r), Some(cells)) = (&r, cells) else {
-                pending.push((i, r));
-                continue;
-            };
-            rows.tally.done += 1;
-            rows.tally.resumed += 1;
-            if matches!(cells.first(), Some(Cell::Text(s)) if is_failure(s)) {
-                rows.tally.failed += 1;
-            }
-            rows.results.push(PointResult {
-                index: i,
-                key: r.key.clone(),
-                cells,
-                trajectory: None,
-            });
-        }
-        (rows.progress)(rows.tally);
-        if pending.is_empty() {
-            continue;
-        }
-        study
-            .run_resolved_with(pending, threads, cancel, keep, |r| {
-                (rows.finish)(r, rows.tally, rows.results);
-                (rows.progress)(rows.tally);
-            })
-            .map_err(ExecError::Internal)?;
     }
     Ok(())
 }

@@ -15,7 +15,7 @@
 use std::fmt::Write as _;
 use std::hash::Hasher;
 
-use ellipsoid_core::columns::NUMERIC_COLUMNS;
+use ellipsoid_core::columns::Layout;
 use ellipsoid_core::invariants::Invariant;
 pub use ellipsoid_core::scenario::KEY_RULE;
 use ellipsoid_core::scenario::{
@@ -208,13 +208,20 @@ pub enum Type {
 #[derive(Debug, Clone, PartialEq)]
 pub enum Role {
     Point,
-    Axis { axis: usize, dim: usize },
+    Axis {
+        axis: usize,
+        dim: usize,
+    },
     Status,
     Message,
     TFinal,
     Observed(String),
+    /// The final value of a numeric output column: its index among the base scenario's
+    /// `Layout::numeric_columns` (the per-surface columns of a body with spheres after the
+    /// fixed ones); a point whose body lacks the column gets no value.
     Final(usize),
     FinalMode,
+    /// The smallest or largest sampled value of a numeric output column (as `Final`).
     Min(usize),
     Max(usize),
     Drift(Invariant),
@@ -512,7 +519,9 @@ impl Study {
             .iter()
             .map(|o| o.name.clone())
             .collect();
-        let columns = columns(&plan, &observables).map_err(|(k, v, r)| err(Some(k), Some(v), r))?;
+        let layout = Layout::of(&base_scenario.scene.body);
+        let columns =
+            columns(&plan, &observables, &layout).map_err(|(k, v, r)| err(Some(k), Some(v), r))?;
         let outcome_start = columns
             .iter()
             .position(|c| c.role == Role::Status)
@@ -686,6 +695,17 @@ impl Study {
         &self.columns[self.outcome_start..self.columns.len() - 1]
     }
 
+    /// A fingerprint of the study as data: SipHash-1-3 of its [`Plan`] as JSON (exact
+    /// floats), without its source's name. A journal of another plan (an edited study
+    /// file) is not trusted by point index.
+    pub fn plan_fingerprint(&self) -> String {
+        let plan = Plan {
+            source: String::new(),
+            ..self.plan.clone()
+        };
+        hash_hex(&serde_json::to_string(&plan).unwrap_or_default())
+    }
+
     /// A fingerprint of the outcome columns (names and types): a journal made for other
     /// outcomes is not reused.
     pub fn outcome_fingerprint(&self) -> String {
@@ -704,8 +724,15 @@ pub fn hash_hex(text: &str) -> String {
     format!("{:032x}", h.finish128().as_u128())
 }
 
-/// The table's columns: point, the axis values, then the outcomes, then the key.
-fn columns(plan: &Plan, observables: &[String]) -> Result<Vec<Column>, (String, String, String)> {
+/// The table's columns: point, the axis values, then the outcomes, then the key. The
+/// `final`, `min` and `max` columns are the base scenario's output columns (`layout`:
+/// for a body with contact spheres, the per-surface ones too).
+fn columns(
+    plan: &Plan,
+    observables: &[String],
+    layout: &Layout,
+) -> Result<Vec<Column>, (String, String, String)> {
+    let named = layout.numeric_columns();
     let col = |name: String, unit: Option<&str>, ty: Type, nullable: bool, role: Role| Column {
         name,
         unit: unit.map(str::to_owned),
@@ -758,13 +785,13 @@ fn columns(plan: &Plan, observables: &[String]) -> Result<Vec<Column>, (String, 
         }
     }
     let numeric = |list: &str, name: &str| -> Result<usize, (String, String, String)> {
-        ellipsoid_core::columns::index(name).ok_or_else(|| {
+        layout.index(name).ok_or_else(|| {
             (
                 format!("outcomes.{list}"),
                 format!("{name:?}"),
                 format!(
-                    "expected the name of a numeric output column: {}",
-                    NUMERIC_COLUMNS.map(|c| c.0).join(", ")
+                    "expected the name of a numeric output column of the base scenario's body: {}",
+                    named.iter().map(|c| &*c.0).collect::<Vec<_>>().join(", ")
                 ),
             )
         })
@@ -782,7 +809,7 @@ fn columns(plan: &Plan, observables: &[String]) -> Result<Vec<Column>, (String, 
             let i = numeric("final", name)?;
             cols.push(col(
                 format!("final.{name}"),
-                Some(NUMERIC_COLUMNS[i].1),
+                Some(named[i].1),
                 Type::Float,
                 true,
                 Role::Final(i),
@@ -793,7 +820,7 @@ fn columns(plan: &Plan, observables: &[String]) -> Result<Vec<Column>, (String, 
         let i = numeric("min", name)?;
         cols.push(col(
             format!("min.{name}"),
-            Some(NUMERIC_COLUMNS[i].1),
+            Some(named[i].1),
             Type::Float,
             true,
             Role::Min(i),
@@ -803,7 +830,7 @@ fn columns(plan: &Plan, observables: &[String]) -> Result<Vec<Column>, (String, 
         let i = numeric("max", name)?;
         cols.push(col(
             format!("max.{name}"),
-            Some(NUMERIC_COLUMNS[i].1),
+            Some(named[i].1),
             Type::Float,
             true,
             Role::Max(i),

@@ -7,12 +7,13 @@
 //! run that stops on an error (Painlevé, solver failure, …) a row with that status, its
 //! message and the outcomes up to the stop. Only a cancelled run (Ctrl-C) gives none.
 
+use std::borrow::Cow;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 
-use ellipsoid_core::columns;
+use ellipsoid_core::columns::{self, Layout};
 use ellipsoid_core::simulate::{EventKind, Sample, Status};
 use rayon::prelude::*;
 
@@ -38,12 +39,15 @@ pub struct PointResult {
     pub trajectory: Option<Trajectory>,
 }
 
-/// A run's samples, by column: the numeric columns in `ellipsoid_core::columns::NUMERIC_COLUMNS`
-/// order, and the mode names.
+/// A run's samples, by column: the numeric columns of its body's layout
+/// (`ellipsoid_core::columns::Layout::numeric_columns`: the fixed ones, then a body's
+/// per-surface ones), named with their units in `names`, and the mode labels, all as
+/// `ellipsoid run` writes them.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Trajectory {
+    pub names: Vec<(Cow<'static, str>, &'static str)>,
     pub columns: Vec<Vec<f64>>,
-    pub modes: Vec<&'static str>,
+    pub modes: Vec<Cow<'static, str>>,
 }
 
 impl Trajectory {
@@ -141,11 +145,30 @@ impl Study {
             Err(e) => return Some((self.failed(INVALID, e.first().to_string()), None)),
         };
         let cols = self.outcome_columns();
-        let extremes: Vec<(usize, bool)> = cols
+        let layout = Layout::of(&scenario.scene.body);
+        // Column `c`'s output column (`Final`, `Min`, `Max` of the base layout's column
+        // `i`) in this point's layout: the same name, `None` if this body lacks it.
+        let at = |c: &super::plan::Column, i: usize| {
+            if i < columns::NUMERIC {
+                Some(i)
+            } else {
+                c.name.split_once('.').and_then(|(_, n)| layout.index(n))
+            }
+        };
+        // The value of this layout's numeric column `k` in a sample whose fixed columns
+        // are `v`.
+        let value = |s: &Sample, v: &[f64; columns::NUMERIC], k: usize| {
+            if k < columns::NUMERIC {
+                v[k]
+            } else {
+                layout.value(s, k)
+            }
+        };
+        let extremes: Vec<(Option<usize>, bool)> = cols
             .iter()
             .filter_map(|c| match c.role {
-                Role::Min(i) => Some((i, false)),
-                Role::Max(i) => Some((i, true)),
+                Role::Min(i) => Some((at(c, i), false)),
+                Role::Max(i) => Some((at(c, i), true)),
                 _ => None,
             })
             .collect();
@@ -163,25 +186,32 @@ impl Study {
         let mut traj = keep.then(|| {
             let n = scenario.scene.sample_times.len();
             Trajectory {
-                columns: (0..columns::NUMERIC)
+                names: layout.numeric_columns(),
+                columns: (0..layout.numeric())
                     .map(|_| Vec::with_capacity(n))
                     .collect(),
                 modes: Vec::with_capacity(n),
             }
         });
+        let mut surface = Vec::with_capacity(layout.extra());
         let finished =
             ellipsoid_io::run::run(&scenario, None, VERSION, cancel.cloned(), |s: &Sample| {
                 samples += 1;
                 if !extremes.is_empty() || traj.is_some() {
                     let v = columns::values(s);
-                    for ((i, max), e) in extremes.iter().zip(ext.iter_mut()) {
-                        *e = if *max { e.max(v[*i]) } else { e.min(v[*i]) };
+                    for ((k, max), e) in extremes.iter().zip(ext.iter_mut()) {
+                        if let Some(k) = *k {
+                            let x = value(s, &v, k);
+                            *e = if *max { e.max(x) } else { e.min(x) };
+                        }
                     }
                     if let Some(t) = traj.as_mut() {
-                        for (c, x) in t.columns.iter_mut().zip(v) {
-                            c.push(x);
+                        surface.clear();
+                        layout.surface_values(s, &mut surface);
+                        for (c, x) in t.columns.iter_mut().zip(v.iter().chain(&surface)) {
+                            c.push(*x);
                         }
-                        t.modes.push(s.mode.name());
+                        t.modes.push(layout.mode(s));
                     }
                 }
                 Ok::<(), std::convert::Infallible>(())
@@ -204,7 +234,8 @@ impl Study {
                 Cell::Null
             }
         };
-        let fin = columns::values(&outcome.final_sample);
+        let last = &outcome.final_sample;
+        let fin = columns::values(last);
         let mut e = 0;
         let cells = cols
             .iter()
@@ -220,12 +251,16 @@ impl Study {
                         if scenario.scene.observe.get(*index).is_some_and(|o| &o.name == name))
                     })
                     .map_or(Cell::Null, |ev| finite(ev.t)),
-                Role::Final(i) => finite(fin[*i]),
-                Role::FinalMode => Cell::Text(outcome.final_sample.mode.name().to_owned()),
+                Role::Final(i) => at(c, *i).map_or(Cell::Null, |k| finite(value(last, &fin, k))),
+                Role::FinalMode => Cell::Text(layout.mode(last).into_owned()),
                 Role::Min(_) | Role::Max(_) => {
-                    let v = ext[e];
+                    let (v, k) = (ext[e], extremes[e].0);
                     e += 1;
-                    if samples > 0 { finite(v) } else { Cell::Null }
+                    if samples > 0 && k.is_some() {
+                        finite(v)
+                    } else {
+                        Cell::Null
+                    }
                 }
                 Role::Drift(inv) => outcome.drift.get(*inv).map_or(Cell::Null, finite),
                 Role::WallTime => finite(finished.summary.wall_time_s),
@@ -276,6 +311,26 @@ impl Study {
     ) -> Result<(), String> {
         self.run_par(
             indices.par_iter().copied(),
+            indices.len(),
+            threads,
+            cancel,
+            on_row,
+            |i| self.run_point_with(i, Some(cancel), keep),
+        )
+    }
+
+    /// [`Study::run_many_with`] over point indices held as `u32` (a resumed study's
+    /// pending points: half the memory).
+    pub(crate) fn run_indices_with(
+        &self,
+        indices: &[u32],
+        threads: usize,
+        cancel: &Arc<AtomicBool>,
+        keep: bool,
+        on_row: impl FnMut(PointResult),
+    ) -> Result<(), String> {
+        self.run_par(
+            indices.par_iter().map(|&i| i as usize),
             indices.len(),
             threads,
             cancel,

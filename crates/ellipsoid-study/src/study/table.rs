@@ -61,15 +61,18 @@ impl Study {
         results.sort_by_key(|r| r.index);
         results
             .into_iter()
-            .map(|r| {
-                let mut row = Vec::with_capacity(self.columns.len());
-                row.push(Cell::Int(r.index as i64));
-                row.extend(self.axis_cells(r.index));
-                row.extend(r.cells);
-                row.push(Cell::Text(r.key));
-                row
-            })
+            .map(|r| self.row(r.index, r.key, r.cells))
             .collect()
+    }
+
+    /// The table row of point `index` with its key and outcome cells.
+    pub fn row(&self, index: usize, key: String, cells: Vec<Cell>) -> Vec<Cell> {
+        let mut row = Vec::with_capacity(self.columns.len());
+        row.push(Cell::Int(index as i64));
+        row.extend(self.axis_cells(index));
+        row.extend(cells);
+        row.push(Cell::Text(key));
+        row
     }
 }
 
@@ -78,6 +81,18 @@ pub fn write(
     path: &Path,
     columns: &[Column],
     rows: &[Vec<Cell>],
+    source: &str,
+) -> Result<(), OutputError> {
+    write_rows(path, columns, rows.iter().map(|r| Ok(r.clone())), source)
+}
+
+/// Writes the table of `columns` whose rows `rows` gives in order, a row at a time
+/// (memory holds at most a Parquet row group or an HDF5 block of rows), to `path`,
+/// format by extension, atomically; an error of `rows` stops the writing.
+pub fn write_rows(
+    path: &Path,
+    columns: &[Column],
+    rows: impl ExactSizeIterator<Item = Result<Vec<Cell>, OutputError>>,
     source: &str,
 ) -> Result<(), OutputError> {
     let _ = source; // recorded by the Parquet and HDF5 writers only
@@ -90,34 +105,35 @@ pub fn write(
             let mut f = AtomicFile::create(path)?;
             // Streamed: the table's text is never held whole.
             let mut out = std::io::BufWriter::new(f.file());
-            write_csv(&mut out, columns, rows)
-                .and_then(|()| out.flush())
-                .map_err(io)?;
+            write_csv(&mut out, columns, rows, io)?;
+            out.flush().map_err(io)?;
             drop(out);
             f.commit()
         }
         #[cfg(feature = "parquet")]
         Ok(TableFormat::Parquet) => {
             let mut f = AtomicFile::create(path)?;
-            parquet_table::write(f.file(), columns, rows, source).map_err(|e| OutputError::Io {
-                path: path.to_owned(),
-                source: std::io::Error::other(format!("Parquet: {e}")),
-            })?;
+            parquet_table::write(f.file(), columns, rows, source, path)?;
             f.commit()
         }
         #[cfg(feature = "hdf5")]
         Ok(TableFormat::Hdf5) => {
             let headers: Vec<String> = columns.iter().map(Column::header).collect();
             let headers = serde_json::Value::from(headers).to_string();
-            ellipsoid_io::hdf5::write_table(
+            let mut w = ellipsoid_io::hdf5::TableWriter::create(
                 path,
-                &hdf5_columns(columns, rows),
+                &hdf5_columns(columns),
+                rows.len(),
                 &[
                     ("study", source),
                     ("headers", &headers),
                     ("units", &units_json(columns)),
                 ],
-            )
+            )?;
+            for row in rows {
+                w.push(hdf5_row(columns, &row?))?;
+            }
+            w.commit()
         }
         #[allow(unreachable_patterns)] // formats this build lacks are refused by from_path
         Ok(_) => unreachable!("TableFormat::from_path refuses formats this build lacks"),
@@ -128,29 +144,36 @@ pub fn write(
     }
 }
 
-/// Writes the table as CSV text to `out`, row by row.
+/// Writes the table as CSV text to `out`, row by row (`io` makes a write error an
+/// output error).
 pub fn write_csv(
     out: &mut impl Write,
     columns: &[Column],
-    rows: &[Vec<Cell>],
-) -> std::io::Result<()> {
+    rows: impl Iterator<Item = Result<Vec<Cell>, OutputError>>,
+    io: impl Fn(std::io::Error) -> OutputError,
+) -> Result<(), OutputError> {
     let header: Vec<String> = columns.iter().map(|c| quote(&c.header())).collect();
-    writeln!(out, "{}", header.join(","))?;
+    writeln!(out, "{}", header.join(",")).map_err(&io)?;
     for row in rows {
-        for (i, c) in row.iter().enumerate() {
-            if i > 0 {
-                out.write_all(b",")?;
-            }
-            match c {
-                Cell::Null => {}
-                Cell::Int(v) => write!(out, "{v}")?,
-                Cell::Float(v) => write!(out, "{v:e}")?,
-                Cell::Text(s) => out.write_all(quote(s).as_bytes())?,
-            }
-        }
-        out.write_all(b"\n")?;
+        write_csv_row(out, &row?).map_err(&io)?;
     }
     Ok(())
+}
+
+/// One CSV line.
+fn write_csv_row(out: &mut impl Write, row: &[Cell]) -> std::io::Result<()> {
+    for (i, c) in row.iter().enumerate() {
+        if i > 0 {
+            out.write_all(b",")?;
+        }
+        match c {
+            Cell::Null => {}
+            Cell::Int(v) => write!(out, "{v}")?,
+            Cell::Float(v) => write!(out, "{v:e}")?,
+            Cell::Text(s) => out.write_all(quote(s).as_bytes())?,
+        }
+    }
+    out.write_all(b"\n")
 }
 
 /// A CSV field, quoted when it must be (RFC 4180).
@@ -178,51 +201,45 @@ pub fn units_json(columns: &[Column]) -> String {
     serde_json::Value::Object(map).to_string()
 }
 
+/// The HDF5 datasets of `columns`.
 #[cfg(feature = "hdf5")]
-fn hdf5_columns(columns: &[Column], rows: &[Vec<Cell>]) -> Vec<ellipsoid_io::hdf5::TableColumn> {
-    use ellipsoid_io::hdf5::{TableColumn, TableData};
+fn hdf5_columns(columns: &[Column]) -> Vec<ellipsoid_io::hdf5::TableColumn> {
+    use ellipsoid_io::hdf5::{TableColumn, TableType};
     columns
         .iter()
-        .enumerate()
-        .map(|(j, c)| {
-            let data = match c.ty {
-                Type::Float => TableData::F64(
-                    rows.iter()
-                        .map(|r| match r[j] {
-                            Cell::Float(v) => v,
-                            _ => f64::NAN,
-                        })
-                        .collect(),
-                ),
-                Type::Int => TableData::I64(
-                    rows.iter()
-                        .map(|r| match r[j] {
-                            Cell::Int(v) => v,
-                            _ => -1,
-                        })
-                        .collect(),
-                ),
-                Type::Text => TableData::Text(
-                    rows.iter()
-                        .map(|r| match &r[j] {
-                            Cell::Text(s) => s.clone(),
-                            _ => String::new(),
-                        })
-                        .collect(),
-                ),
-            };
-            TableColumn {
-                name: c.name.clone(),
-                unit: c.unit.clone().unwrap_or_else(|| "1".into()),
-                missing: c.nullable.then(|| match c.ty {
-                    Type::Float => "NaN: no value (the run failed before, or never reached it, or the invariant is not conserved)".into(),
-                    Type::Int => "-1: no value (the run failed before it started)".into(),
-                    Type::Text => "empty string: no value".into(),
-                }),
-                data,
-            }
+        .map(|c| TableColumn {
+            name: c.name.clone(),
+            unit: c.unit.clone().unwrap_or_else(|| "1".into()),
+            missing: c.nullable.then(|| match c.ty {
+                Type::Float => "NaN: no value (the run failed before, or never reached it, or the invariant is not conserved)".into(),
+                Type::Int => "-1: no value (the run failed before it started)".into(),
+                Type::Text => "empty string: no value".into(),
+            }),
+            ty: match c.ty {
+                Type::Float => TableType::F64,
+                Type::Int => TableType::I64,
+                Type::Text => TableType::Text,
+            },
         })
         .collect()
+}
+
+/// A row's HDF5 values: a cell without a value is NaN, −1 or the empty string by its
+/// column's type (HDF5 has no null).
+#[cfg(feature = "hdf5")]
+fn hdf5_row<'a>(
+    columns: &'a [Column],
+    row: &'a [Cell],
+) -> impl Iterator<Item = ellipsoid_io::hdf5::TableValue<'a>> {
+    use ellipsoid_io::hdf5::TableValue;
+    columns.iter().zip(row).map(|(c, cell)| match (c.ty, cell) {
+        (Type::Float, Cell::Float(v)) => TableValue::F64(*v),
+        (Type::Float, _) => TableValue::F64(f64::NAN),
+        (Type::Int, Cell::Int(v)) => TableValue::I64(*v),
+        (Type::Int, _) => TableValue::I64(-1),
+        (Type::Text, Cell::Text(s)) => TableValue::Text(s),
+        (Type::Text, _) => TableValue::Text(""),
+    })
 }
 
 #[cfg(feature = "parquet")]
@@ -244,9 +261,14 @@ mod parquet_table {
     pub fn write(
         file: &mut std::fs::File,
         columns: &[Column],
-        rows: &[Vec<Cell>],
+        mut rows: impl Iterator<Item = Result<Vec<Cell>, OutputError>>,
         source: &str,
-    ) -> parquet::errors::Result<()> {
+        path: &Path,
+    ) -> Result<(), OutputError> {
+        let fail = |e: parquet::errors::ParquetError| OutputError::Io {
+            path: path.to_owned(),
+            source: std::io::Error::other(format!("Parquet: {e}")),
+        };
         let fields = columns
             .iter()
             .map(|c| {
@@ -265,11 +287,13 @@ mod parquet_table {
                     .build()
                     .map(Arc::new)
             })
-            .collect::<parquet::errors::Result<Vec<_>>>()?;
+            .collect::<parquet::errors::Result<Vec<_>>>()
+            .map_err(fail)?;
         let schema = Arc::new(
             Schema::group_type_builder("study")
                 .with_fields(fields)
-                .build()?,
+                .build()
+                .map_err(fail)?,
         );
         let props = Arc::new(
             WriterProperties::builder()
@@ -280,53 +304,75 @@ mod parquet_table {
                 ]))
                 .build(),
         );
-        let mut w = SerializedFileWriter::new(file.try_clone()?, schema, props)?;
-        for group in rows.chunks(GROUP) {
-            let mut rg = w.next_row_group()?;
-            for (j, c) in columns.iter().enumerate() {
-                let mut col = rg.next_column()?.expect("one writer per schema column");
-                let defs: Vec<i16> = group
-                    .iter()
-                    .map(|r| i16::from(r[j] != Cell::Null))
-                    .collect();
-                let defs = c.nullable.then_some(defs.as_slice());
-                match c.ty {
-                    Type::Int => {
-                        let v: Vec<i64> = group
-                            .iter()
-                            .filter_map(|r| match r[j] {
-                                Cell::Int(v) => Some(v),
-                                _ => None,
-                            })
-                            .collect();
-                        col.typed::<Int64Type>().write_batch(&v, defs, None)?;
-                    }
-                    Type::Float => {
-                        let v: Vec<f64> = group
-                            .iter()
-                            .filter_map(|r| match r[j] {
-                                Cell::Float(v) => Some(v),
-                                _ => None,
-                            })
-                            .collect();
-                        col.typed::<DoubleType>().write_batch(&v, defs, None)?;
-                    }
-                    Type::Text => {
-                        let v: Vec<ByteArray> = group
-                            .iter()
-                            .filter_map(|r| match &r[j] {
-                                Cell::Text(s) => Some(ByteArray::from(s.as_str())),
-                                _ => None,
-                            })
-                            .collect();
-                        col.typed::<ByteArrayType>().write_batch(&v, defs, None)?;
-                    }
-                }
-                col.close()?;
+        let handle = file.try_clone().map_err(|e| OutputError::Io {
+            path: path.to_owned(),
+            source: e,
+        })?;
+        let mut w = SerializedFileWriter::new(handle, schema, props).map_err(fail)?;
+        let mut group = Vec::with_capacity(GROUP);
+        loop {
+            group.clear();
+            for row in rows.by_ref().take(GROUP) {
+                group.push(row?);
             }
-            rg.close()?;
+            if group.is_empty() {
+                break;
+            }
+            write_group(&mut w, columns, &group).map_err(fail)?;
         }
-        w.close()?;
+        w.close().map_err(fail)?;
+        Ok(())
+    }
+
+    /// One row group.
+    fn write_group(
+        w: &mut SerializedFileWriter<std::fs::File>,
+        columns: &[Column],
+        group: &[Vec<Cell>],
+    ) -> parquet::errors::Result<()> {
+        let mut rg = w.next_row_group()?;
+        for (j, c) in columns.iter().enumerate() {
+            let mut col = rg.next_column()?.expect("one writer per schema column");
+            let defs: Vec<i16> = group
+                .iter()
+                .map(|r| i16::from(r[j] != Cell::Null))
+                .collect();
+            let defs = c.nullable.then_some(defs.as_slice());
+            match c.ty {
+                Type::Int => {
+                    let v: Vec<i64> = group
+                        .iter()
+                        .filter_map(|r| match r[j] {
+                            Cell::Int(v) => Some(v),
+                            _ => None,
+                        })
+                        .collect();
+                    col.typed::<Int64Type>().write_batch(&v, defs, None)?;
+                }
+                Type::Float => {
+                    let v: Vec<f64> = group
+                        .iter()
+                        .filter_map(|r| match r[j] {
+                            Cell::Float(v) => Some(v),
+                            _ => None,
+                        })
+                        .collect();
+                    col.typed::<DoubleType>().write_batch(&v, defs, None)?;
+                }
+                Type::Text => {
+                    let v: Vec<ByteArray> = group
+                        .iter()
+                        .filter_map(|r| match &r[j] {
+                            Cell::Text(s) => Some(ByteArray::from(s.as_str())),
+                            _ => None,
+                        })
+                        .collect();
+                    col.typed::<ByteArrayType>().write_batch(&v, defs, None)?;
+                }
+            }
+            col.close()?;
+        }
+        rg.close()?;
         Ok(())
     }
 }

@@ -27,6 +27,17 @@ fn run_all(s: &Study) -> Vec<Vec<Cell>> {
     s.rows(r)
 }
 
+/// The journal of study `s` at `j`, as `execute` opens it.
+fn open_journal(s: &Study, j: &Path) -> Journal {
+    let whom = journal::For {
+        outcomes: &s.outcome_fingerprint(),
+        plan: &s.plan_fingerprint(),
+        cells: s.outcome_columns().len(),
+        points: s.len(),
+    };
+    Journal::open(j, whom, &AtomicBool::new(false)).unwrap()
+}
+
 fn header(s: &Study) -> Vec<String> {
     s.columns.iter().map(Column::header).collect()
 }
@@ -207,8 +218,7 @@ fn a_resumed_study_gives_the_table_of_an_uninterrupted_one() {
     let full = run_all(&s);
     // Half the rows already in the journal, as an interrupted study leaves them.
     let j = dir.path().join("j");
-    let (mut journal, _) =
-        Journal::open(&j, &s.outcome_fingerprint(), s.outcome_columns().len()).unwrap();
+    let mut journal = open_journal(&s, &j);
     for i in [0, 2, 5] {
         journal.append(&s.run_point(i, None).unwrap()).unwrap();
     }
@@ -220,8 +230,9 @@ fn a_resumed_study_gives_the_table_of_an_uninterrupted_one() {
     })
     .unwrap();
     assert_eq!((seen.done, seen.resumed, seen.total), (6, 3, 6));
-    // Each point resolved once: its key found the journal's row, or its run used it.
-    assert_eq!(s.resolves.load(std::sync::atomic::Ordering::Relaxed), 6);
+    // The journal is this plan's: its points are skipped by index, never resolved; only
+    // the three that run are.
+    assert_eq!(s.resolves.load(std::sync::atomic::Ordering::Relaxed), 3);
     let resumed = s.rows(r);
     let wall = s
         .columns
@@ -353,15 +364,21 @@ fn study_file_messages_name_the_field_and_place() {
 }
 
 /// Points that run the same scenario (a repeated axis value) all resume from its one
-/// journal row; a cancel flag already set when a resumed study prepares stops it before
+/// journal row when rows are matched by key (a journal of an edited study); a cancel flag already set when a resumed study prepares stops it before
 /// any run, with nothing appended.
 #[test]
 fn repeated_points_resume_from_one_row_and_a_cancelled_prepare_runs_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let s = study("[[axis]]\nkey = \"contact.friction\"\nvalues = [0.2, 0.3, 0.2, 0.2]\n").unwrap();
     let j = dir.path().join("j");
-    let (mut journal, _) =
-        Journal::open(&j, &s.outcome_fingerprint(), s.outcome_columns().len()).unwrap();
+    // A journal of another plan (an edited study file): matched by key.
+    let whom = journal::For {
+        outcomes: &s.outcome_fingerprint(),
+        plan: "edited",
+        cells: s.outcome_columns().len(),
+        points: s.len(),
+    };
+    let mut journal = Journal::open(&j, whom, &AtomicBool::new(false)).unwrap();
     journal.append(&s.run_point(0, None).unwrap()).unwrap();
     drop(journal);
     let before = std::fs::read(&j).unwrap();
@@ -482,5 +499,98 @@ fn row_keys_are_those_of_existing_journals() {
             "c427a48a1ffea43b492caae4e63ecdb9",
             "5dc80532da170c32b296bfe348a5a25e"
         ]
+    );
+}
+
+/// The table of `s` run uninterrupted, as CSV text, and the journal-streamed table of a
+/// study resumed from `journal` (whatever its rows), as CSV text, with the resumed
+/// tally. Wall times are left out of the study (they differ from run to run).
+fn fresh_and_resumed(s: &Study, j: &Path, dir: &Path) -> (String, String, Tally) {
+    let fresh = dir.join("fresh.csv");
+    table::write(&fresh, &s.columns, &run_all(s), "s.toml").unwrap();
+    let mut seen = Tally::default();
+    let mut f = execute_with(s, j, 2, &Arc::new(AtomicBool::new(false)), None, |t| {
+        seen = *t
+    })
+    .unwrap();
+    let resumed = dir.join("resumed.csv");
+    f.write_table(s, &resumed).unwrap();
+    (
+        std::fs::read_to_string(fresh).unwrap(),
+        std::fs::read_to_string(resumed).unwrap(),
+        seen,
+    )
+}
+
+const FRICTION: &str = "[[axis]]\nkey = \"contact.friction\"\nvalues = [0.1, 0.2, 0.3, 0.4, 0.5]\n[outcomes]\nwall_time = false\nfinal = [\"theta\", \"mode\"]\n";
+
+/// A journal written for a study whose file was then edited (the same axis, its values
+/// reversed: point i now runs what point 4 − i ran) is not trusted by index: its rows
+/// are matched by key, every point is resolved, and the table is that of the edited
+/// study run from scratch (trusting the indexes would put each row at the wrong point).
+#[test]
+fn a_journal_of_an_edited_study_is_matched_by_key_not_index() {
+    let dir = tempfile::tempdir().unwrap();
+    let j = dir.path().join("j");
+    let before = study(FRICTION).unwrap();
+    let mut journal = open_journal(&before, &j);
+    for i in 0..4 {
+        journal.append(&before.run_point(i, None).unwrap()).unwrap();
+    }
+    drop(journal);
+    let edited =
+        study(&FRICTION.replace("0.1, 0.2, 0.3, 0.4, 0.5", "0.5, 0.4, 0.3, 0.2, 0.1")).unwrap();
+    assert_ne!(before.plan_fingerprint(), edited.plan_fingerprint());
+    assert_eq!(before.outcome_fingerprint(), edited.outcome_fingerprint());
+    let (fresh, resumed, seen) = fresh_and_resumed(&edited, &j, dir.path());
+    assert_eq!(resumed, fresh);
+    // Points 1..=4 of the edited study are points 3..=0 of the first: found by key.
+    assert_eq!((seen.done, seen.resumed), (5, 4));
+    // Rewritten for the edited plan with every point indexed: resumed again by index.
+    edited
+        .resolves
+        .store(0, std::sync::atomic::Ordering::Relaxed);
+    let (_, again, seen) = fresh_and_resumed(&edited, &j, dir.path());
+    assert_eq!(again, fresh);
+    assert_eq!(seen.resumed, 5);
+    // Only the fresh run's five resolves: the resumed study resolved none.
+    assert_eq!(
+        edited.resolves.load(std::sync::atomic::Ordering::Relaxed),
+        5
+    );
+}
+
+/// A journal of the first format (rows by key, no point index: `<key>\t<cells>\t<crc>`
+/// under `ellipsoid-study-journal 1 <outcome fingerprint>`) still resumes, by key, to the
+/// table of an uninterrupted study.
+#[test]
+fn a_journal_of_the_first_format_still_resumes() {
+    let dir = tempfile::tempdir().unwrap();
+    let j = dir.path().join("j");
+    let s = study(FRICTION).unwrap();
+    let mut text = format!("ellipsoid-study-journal 1 {}\n", s.outcome_fingerprint());
+    for i in [4, 1, 2] {
+        let r = s.run_point(i, None).unwrap();
+        let mut line = String::new();
+        journal::encode(&mut line, None, &r.key, &r.cells);
+        let body = line
+            .strip_prefix("-\t")
+            .unwrap()
+            .rsplit_once('\t')
+            .unwrap()
+            .0;
+        text.push_str(&format!(
+            "{body}\t{:08x}\n",
+            crc32fast::hash(body.as_bytes())
+        ));
+    }
+    std::fs::write(&j, text).unwrap();
+    let (fresh, resumed, seen) = fresh_and_resumed(&s, &j, dir.path());
+    assert_eq!(resumed, fresh);
+    assert_eq!((seen.done, seen.resumed), (5, 3));
+    assert!(
+        std::fs::read_to_string(&j)
+            .unwrap()
+            .starts_with("ellipsoid-study-journal 2 ")
     );
 }

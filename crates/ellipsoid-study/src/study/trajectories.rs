@@ -1,6 +1,7 @@
 //! A study's trajectories (`ellipsoid study --trajectories RUNS.h5`; feature `hdf5`): one
 //! HDF5 file, a group per distinct row key (points that run the same scenario share one),
-//! laid out like `ellipsoid run`'s HDF5 output (`t`, …, `gap` with `units`, `mode`), with
+//! laid out like `ellipsoid run`'s HDF5 output (`t`, …, `gap`, then a body's per-surface
+//! columns such as `gap_stem`, each with `units`, and `mode`), with
 //! the point, axis values, status and message of the first such row to finish as group
 //! attributes. Written group by group as the runs finish, to a temporary renamed into
 //! place by [`TrajectoryFile::commit`]; bounded by [`MAX_ROWS`] samples over all runs.
@@ -8,7 +9,7 @@
 use std::collections::HashSet;
 use std::path::Path;
 
-use ellipsoid_core::columns::NUMERIC;
+use ellipsoid_core::columns::{Layout, NUMERIC};
 use ellipsoid_io::OutputError;
 use ellipsoid_io::hdf5::Hdf5Groups;
 
@@ -82,12 +83,13 @@ impl TrajectoryFile {
                 self.groups.groups() + 1
             ));
         }
+        // A point that never ran: the fixed columns, empty.
         let empty;
-        let columns = if t.columns.is_empty() {
-            empty = vec![Vec::new(); NUMERIC];
-            &empty
+        let (names, columns) = if t.columns.is_empty() {
+            empty = (Layout::fixed().numeric_columns(), vec![Vec::new(); NUMERIC]);
+            (&empty.0, &empty.1)
         } else {
-            &t.columns
+            (&t.names, &t.columns)
         };
         let mut text: Vec<(String, String)> = vec![("key".into(), r.key.clone())];
         let mut numbers: Vec<(String, f64)> = vec![("point".into(), r.index as f64)];
@@ -116,7 +118,7 @@ impl TrajectoryFile {
         let text: Vec<(&str, &str)> = text.iter().map(|(k, v)| (k.as_str(), v.as_str())).collect();
         let numbers: Vec<(&str, f64)> = numbers.iter().map(|(k, v)| (k.as_str(), *v)).collect();
         self.groups
-            .add(&name, columns, &t.modes, &text, &numbers)
+            .add(&name, names, columns, &t.modes, &text, &numbers)
             .map_err(|e| e.to_string())
     }
 

@@ -20,6 +20,7 @@
 //! | sliding | Coulomb, F = N(e3 − μ ŝ) | N, v_C·s_ref, \|v_C\| − floor, Painlevé denominator | slip stop, Painlevé, lift-off |
 //! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left, lift-off |
 //! | flight | F = 0 | gap z_G − h(ζ) + δz of the lowest surface | touchdown |
+//! | viscous | F = N(e3 − μ_v v_C) | N, Painlevé denominator | lift-off, Painlevé |
 //! | two contacts | sliding at two surfaces (`model::TwoContacts`) | N_1, N_2, each slip − floor, Painlevé denominator, a third surface's gap | one surface leaves; stop `several_contacts` or `painleve` |
 //!
 //! With contact spheres every contact phase also watches each other surface's gap
@@ -34,6 +35,7 @@ mod frictionless;
 mod rolling;
 mod sliding;
 mod two_contacts;
+mod viscous;
 
 use std::marker::PhantomData;
 
@@ -58,6 +60,7 @@ pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
 pub(super) use sliding::{SlidingPhase, set_reference, slip_has_stopped, slip_is_zero};
 pub(super) use two_contacts::TwoContactsPhase;
+pub(super) use viscous::ViscousPhase;
 
 /// The contact phase in force (docs/physics.md, models 1–5).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -71,24 +74,28 @@ pub enum Mode {
     /// Two surfaces on the plane at once, both sliding (docs/physics.md, "Contact
     /// spheres").
     TwoContacts,
+    /// Viscous sliding friction (docs/physics.md, "Viscous sliding").
+    Viscous,
 }
 
 impl Mode {
     /// Every mode, in [`Mode::NAMES`] order.
-    pub const ALL: [Mode; 5] = [
+    pub const ALL: [Mode; 6] = [
         Mode::Frictionless,
         Mode::Sliding,
         Mode::Rolling,
         Mode::Flight,
         Mode::TwoContacts,
+        Mode::Viscous,
     ];
     /// Their names in output files.
-    pub const NAMES: [&'static str; 5] = [
+    pub const NAMES: [&'static str; 6] = [
         "frictionless",
         "sliding",
         "rolling",
         "flight",
         "two_contacts",
+        "viscous",
     ];
 
     /// Its name in output files.
@@ -105,6 +112,7 @@ pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyP
         Mode::Rolling => &Registered::<RollingPhase>(PhantomData),
         Mode::Flight => &Registered::<FlightPhase>(PhantomData),
         Mode::TwoContacts => &Registered::<TwoContactsPhase>(PhantomData),
+        Mode::Viscous => &Registered::<ViscousPhase>(PhantomData),
     }
 }
 
@@ -134,11 +142,12 @@ fn closing<E>(ctx: &Context<'_, E>, ev: &Evaluation, surface: Surface) -> bool {
 }
 
 /// An event function of a segment: one of its phase's watches (by its index in
-/// [`Phase::watches`]), or an observable of the scene.
+/// [`Phase::watches`]), an observable of the scene, or a section of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum Slot {
     Phase(usize),
     Observe(usize),
+    Section(usize),
 }
 
 /// What a phase's event leads to.
