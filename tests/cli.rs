@@ -1030,7 +1030,7 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
             Some(edit("\"frictionless\"", "\"roling\"").into()),
             vec![],
             Expect::Exact(
-                "error: bad.toml:13:1: contact.model = \"roling\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"; did you mean \"rolling\"?",
+                "error: bad.toml:13:1: contact.model = \"roling\": expected one of \"frictionless\", \"sliding\", \"rolling\", \"coulomb\", \"viscous\"; did you mean \"rolling\"?",
             ),
         ),
         (
@@ -1149,7 +1149,7 @@ fn malformed_inputs_exit_2_with_one_precise_line_and_write_nothing() {
             vec![],
             Expect::Exact(
                 "error: bad.toml:1:1: body is missing: a scenario needs a [body] table (semi-axes a and c, mass, inertia)\n\
-                 error: bad.toml:1:1: contact is missing: a scenario needs a [contact] table with model = \"frictionless\", \"sliding\", \"rolling\", \"coulomb\"\n\
+                 error: bad.toml:1:1: contact is missing: a scenario needs a [contact] table with model = \"frictionless\", \"sliding\", \"rolling\", \"coulomb\", \"viscous\"\n\
                  error: bad.toml:1:1: output is missing: a scenario needs an [output] table with t_end and dt (or times)",
             ),
         ),
