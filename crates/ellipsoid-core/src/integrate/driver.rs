@@ -111,7 +111,13 @@ pub fn integrate<S: OdeSystem<N>, const N: usize>(
         t_before: f64::NAN,
         scan: [(0.0, SVector::zeros()); SCAN_POINTS],
         found: Vec::with_capacity(events.len()),
-        crossings: vec![0; events.len()],
+        // allocated only when an event needs its count: a run without one allocates
+        // no more than before sections existed (tests/val_integrators.rs counts them)
+        crossings: if events.iter().any(|e| matches!(e.action, Action::StopAfter(_))) {
+            vec![0; events.len()]
+        } else {
+            Vec::new()
+        },
         sol: Solution {
             t: t0,
             y: y0,
@@ -150,7 +156,8 @@ struct Run<'r, 'e, S, const N: usize> {
     scan: [(f64, SVector<f64, N>); SCAN_POINTS],
     /// (time, index) of the crossings located in the current step.
     found: Vec<(f64, usize)>,
-    /// Crossings recorded so far, per event (for [`Action::StopAfter`]).
+    /// Crossings recorded so far, per event (for [`Action::StopAfter`]); empty when no
+    /// event has that action.
     crossings: Vec<u64>,
     sol: Solution<N>,
 }
@@ -453,11 +460,13 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                     y: ye,
                 });
                 self.sol.stats.events += 1;
-                self.crossings[index] += 1;
                 let stop = match events[index].action {
                     Action::Continue => false,
                     Action::Stop => true,
-                    Action::StopAfter(n) => self.crossings[index] >= n,
+                    Action::StopAfter(n) => {
+                        self.crossings[index] += 1;
+                        self.crossings[index] >= n
+                    }
                 };
                 if stop {
                     return Some((te, ye, StopReason::Event { index }));
