@@ -655,6 +655,38 @@ fn out_of_memory_is_a_clean_error_not_an_abort() {
     }
 }
 
+/// `view` and `plot` refuse a CSV of more rows than a run writes (10⁷) at the row past
+/// the limit, naming the file, the line and the limit, and write nothing: the line after
+/// that row is not a number and is never read.
+#[test]
+fn view_and_plot_refuse_more_rows_than_a_run_writes_at_the_row_past_the_limit() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let rows = ellipsoid_io::table::MAX_ROWS + 1;
+    {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(d.join("over.csv")).unwrap());
+        w.write_all(b"t\n").unwrap();
+        for _ in 0..rows {
+            w.write_all(b"0\n").unwrap();
+        }
+        w.write_all(b"not a number\n").unwrap();
+        w.flush().unwrap();
+    }
+    for (cmd, page) in [("view", "p.html"), ("plot", "p.png")] {
+        let out = ellipsoid(d, &[cmd, "over.csv", "-o", page, "-q"]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{cmd}: {err}");
+        assert!(
+            err.contains(&format!("over.csv:{}:", rows + 1))
+                && err.contains("more than 10000000 rows")
+                && !err.contains("not a number"),
+            "{cmd}: {err}"
+        );
+        assert!(!d.join(page).exists(), "{cmd} wrote {page}");
+    }
+}
+
 /// A body with contact spheres (the tippe top with its stem, through the stem's
 /// touchdown at 1.372 s): its CSV (comment line) and its HDF5 file (stored scenario) both
 /// give the stem back with which surface touches, and draw the same figure (the surfaces

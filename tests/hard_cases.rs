@@ -1293,7 +1293,10 @@ fn hard_11b_run_out_of_budget_fails_after_1e5_steps() {
 /// for, which ground through max_steps = 1e7 steps (12–31 s) to `MaxSteps`: each now
 /// ends after at most 1e5 steps, or is refused before any step, with the cause and the
 /// remedy named. The tippe-top disc spun at ψ̇0 = 1e6 rad/s resolves its spin (h·ρ ≈
-/// 0.26; ~1.5e7 steps to t_end); drop.toml under air drag k = 1e3 kg/s, k_ω = 1e3
+/// 0.26; ~1.5e7 steps to t_end), and so does DOPRI5 at rtol 1e-10 and 1e-12 (h·ρ ≈ 0.04
+/// and 0.015, below `FAST_PACE` but above `FAST_FRACTION` of the h·ρ at which DOPRI5
+/// resolves a rate at that rtol; 1.1e8 and 2.9e8 steps), and DOP853 at 1e-12 (h·ρ ≈ 0.2,
+/// 2.1e7 steps); drop.toml under air drag k = 1e3 kg/s, k_ω = 1e3
 /// kg m²/s, and air-drag.toml's body at 1e-13 kg, are stiff (decay rates k_ω/I ≈ 6e7 and
 /// k/m = 1e10 1/s hold the steps at DOP853's stability boundary: 3e7 and 1.6e10 steps);
 /// the tippe top widened to a = 1e7 m (gram-scale mass) spans more semi-axis ratio than
@@ -1305,15 +1308,46 @@ fn hard_11c_steps_held_by_a_fast_rate_end_within_1e5_steps() {
         ellipsoid_core::scenario::load(std::path::Path::new(&format!("{dir}{file}")), set)
             .map_err(|e| e.to_string())
     };
-    let cases: [(&str, &[&str], bool); 3] = [
-        ("tippe-top-disc.toml", &["initial.psi_dot=1e6"], false),
+    let disc = |method: &'static str, rtol: &'static str, atol: &'static str| {
         (
-            "drop.toml",
-            &["effects.air_drag={ linear = 1e3, angular = 1e3 }"],
-            true,
+            "tippe-top-disc.toml",
+            ["initial.psi_dot=1e6", method, rtol, atol],
+        )
+    };
+    let spins = [
+        disc(
+            "solver.method=dop853",
+            "solver.rtol=1e-11",
+            "solver.atol=1e-13",
         ),
-        ("air-drag.toml", &["body.mass=1e-13"], true),
+        disc(
+            "solver.method=dopri5",
+            "solver.rtol=1e-10",
+            "solver.atol=1e-12",
+        ),
+        disc(
+            "solver.method=dopri5",
+            "solver.rtol=1e-12",
+            "solver.atol=1e-14",
+        ),
+        disc(
+            "solver.method=dop853",
+            "solver.rtol=1e-12",
+            "solver.atol=1e-14",
+        ),
     ];
+    let cases: Vec<(&str, &[&str], bool)> = spins
+        .iter()
+        .map(|(file, set)| (*file, &set[..], false))
+        .chain([
+            (
+                "drop.toml",
+                &["effects.air_drag={ linear = 1e3, angular = 1e3 }"][..],
+                true,
+            ),
+            ("air-drag.toml", &["body.mass=1e-13"][..], true),
+        ])
+        .collect();
     for (file, set, stiff) in cases {
         let scenario = load(file, set).unwrap();
         let (out, _) = run(&scenario.scene);

@@ -709,7 +709,9 @@ pub fn read_csv(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> 
             return Err(ReadError::format(
                 path,
                 Some(lineno),
-                format!("more than {MAX_ROWS} rows"),
+                format!(
+                    "more than {MAX_ROWS} rows, the most a run writes; reading stopped at this row"
+                ),
             ));
         }
         let mut fields = text.split(',');
@@ -913,7 +915,7 @@ fn read_hdf5(path: &Path, keep: Option<&[&str]>) -> Result<Table, ReadError> {
                 path,
                 None,
                 format!(
-                    "the column `{name}` has {} rows, more than {MAX_ROWS}",
+                    "the column `{name}` has {} rows, more than {MAX_ROWS}, the most a run writes (refused before reading it)",
                     ds.size()
                 ),
             ));
@@ -1000,6 +1002,75 @@ mod tests {
         let p = dir.join(name);
         std::fs::write(&p, text).unwrap();
         p
+    }
+
+    /// A CSV of `MAX_ROWS` rows is read; one of `MAX_ROWS` + 1 rows is refused at that
+    /// row, naming the limit and the line, without reading further: the line after it is
+    /// not a number, and is never reached.
+    #[test]
+    fn csv_past_the_row_limit_is_refused_at_the_row_after_it() {
+        use std::io::Write;
+        let dir = tempfile::tempdir().unwrap();
+        let make = |name: &str, rows: usize, tail: &str| {
+            let p = dir.path().join(name);
+            let mut w = std::io::BufWriter::new(std::fs::File::create(&p).unwrap());
+            w.write_all(b"t\n").unwrap();
+            for _ in 0..rows {
+                w.write_all(b"0\n").unwrap();
+            }
+            w.write_all(tail.as_bytes()).unwrap();
+            w.flush().unwrap();
+            p
+        };
+        let full = read_csv(&make("full.csv", MAX_ROWS, ""), None).unwrap();
+        assert_eq!(full.rows(), MAX_ROWS);
+        drop(full);
+        let over = make("over.csv", MAX_ROWS + 1, "not a number\n");
+        let ReadError::Format {
+            line: Some(line),
+            message,
+            ..
+        } = read_csv(&over, None).unwrap_err()
+        else {
+            panic!("not a format error")
+        };
+        // the header is line 1, row k is line k + 1
+        assert_eq!(line, MAX_ROWS as u64 + 2);
+        assert!(message.contains("more than 10000000 rows"), "{message}");
+    }
+
+    /// An HDF5 column of `MAX_ROWS` + 1 rows is refused from its shape before any value is
+    /// read: its storage is never written (the file is a few kB) and its fill value is
+    /// NaN, which a read would report as a non-finite value instead.
+    #[cfg(feature = "hdf5")]
+    #[test]
+    fn hdf5_past_the_row_limit_is_refused_from_the_shape() {
+        use hdf5_metno as h5;
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("over.h5");
+        {
+            let f = h5::File::create(&p).unwrap();
+            let names: h5::types::VarLenUnicode = "t,x".parse().unwrap();
+            f.new_attr::<h5::types::VarLenUnicode>()
+                .create("columns")
+                .unwrap()
+                .write_scalar(&names)
+                .unwrap();
+            for name in ["t", "x"] {
+                f.new_dataset::<f64>()
+                    .shape(MAX_ROWS + 1)
+                    .fill_value(f64::NAN)
+                    .create(name)
+                    .unwrap();
+            }
+        }
+        assert!(std::fs::metadata(&p).unwrap().len() < 100_000);
+        let err = read(&p).unwrap_err().to_string();
+        assert!(
+            err.contains("the column `t` has 10000001 rows, more than 10000000")
+                && err.contains("before reading"),
+            "{err}"
+        );
     }
 
     #[test]

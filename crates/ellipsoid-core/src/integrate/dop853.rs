@@ -6,7 +6,7 @@ use nalgebra::SVector;
 
 use super::controller::{ControlParams, DOP853_CONTROL, scale};
 use super::stepper::{Stepper, Trial, all_finite, combine, first_stage, stage_input};
-use super::stiffness::DOP853_LIMIT;
+use super::stiffness::{DOP853_STIFFNESS, StiffnessParams};
 use super::tableau::{DOP853, DOP853_A_EXTRA, DOP853_BHH, DOP853_C_EXTRA, DOP853_D, DOP853_E5};
 use super::{OdeSystem, Options, Stats};
 
@@ -49,7 +49,7 @@ impl<const N: usize> Dop853<N> {
 
 impl<const N: usize> Stepper<N> for Dop853<N> {
     const CONTROL: Option<ControlParams> = Some(DOP853_CONTROL);
-    const STIFF_LIMIT: Option<f64> = Some(DOP853_LIMIT);
+    const STIFFNESS: Option<StiffnessParams> = Some(DOP853_STIFFNESS);
     const LAST_STRETCH: f64 = 1.01;
 
     fn start<S: OdeSystem<N>>(

@@ -5,7 +5,7 @@ use nalgebra::SVector;
 
 use super::controller::{ControlParams, DOPRI5_CONTROL, rms_error};
 use super::stepper::{Stepper, Trial, all_finite, combine, first_stage, stage_input};
-use super::stiffness::DOPRI5_LIMIT;
+use super::stiffness::{DOPRI5_STIFFNESS, StiffnessParams};
 use super::tableau::{DOPRI5, DOPRI5_D, DOPRI5_E};
 use super::{OdeSystem, Options, Stats};
 
@@ -46,7 +46,7 @@ impl<const N: usize> Dopri5<N> {
 
 impl<const N: usize> Stepper<N> for Dopri5<N> {
     const CONTROL: Option<ControlParams> = Some(DOPRI5_CONTROL);
-    const STIFF_LIMIT: Option<f64> = Some(DOPRI5_LIMIT);
+    const STIFFNESS: Option<StiffnessParams> = Some(DOPRI5_STIFFNESS);
     const LAST_STRETCH: f64 = 1.01;
 
     fn start<S: OdeSystem<N>>(

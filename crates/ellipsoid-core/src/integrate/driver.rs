@@ -52,13 +52,22 @@ pub const OVER_BUDGET_FACTOR: f64 = 10.0;
 /// (docs/hard-cases.md row 11b): a DOP853 stick–slip onset 2e-8 to 9e-6 (over at 1.4e4
 /// steps), DOPRI5's onset trap 7e-8 to 1.1e-6 (at rtol 1e-9 and 1e-8, up to 3.7e5 steps).
 pub const MOTION_PACE: f64 = 1e-4;
-/// The smallest h·ρ (the step times the system's fastest rate ρ, from the stiffness
-/// test) at which the steps follow that rate: a stiff decay holds h·ρ at the method's
-/// stability boundary (3.25, 6.1), a fast rotation resolved at a tenth of a radian or
-/// more per step is above it; the step-size collapses of transients such as stick–slip
-/// onsets are set by the accuracy of a short episode, not by ρ.
+/// The h·ρ (the step times the system's fastest rate ρ, from the stiffness test) at and
+/// above which the steps follow that rate, or [`FAST_FRACTION`] of the h·ρ at which the
+/// method's accurate steps resolve a rate to the run's tolerance, if that is smaller: a
+/// stiff decay holds h·ρ at the method's stability boundary (3.25, 6.1); a fast rotation
+/// is resolved at h·ρ ≈ C·rtol^(1/k) (`stiffness::StiffnessParams`: DOP853 0.2–0.36 at
+/// rtol 1e-12 to 1e-10, DOPRI5 0.014–0.041, below this 0.1, hence the fraction); the
+/// step-size collapses of transients such as stick–slip onsets are set by the accuracy
+/// of a short episode, not by ρ.
 pub const FAST_PACE: f64 = 0.1;
-/// A run whose steps follow its fastest rate (h·ρ ≥ [`FAST_PACE`]) and whose pace over
+/// The fraction of the resolving h·ρ (C·rtol^(1/k), rtol the smallest of the run's)
+/// that counts as following the rate when it is below [`FAST_PACE`]: 0.0084 for DOPRI5
+/// at rtol 1e-10 and 0.0033 at 1e-12 (measured 0.04 and 0.014–0.016 on a fast spin),
+/// 0.071 and 0.040 for DOP853 (measured 0.35 and 0.20).
+pub const FAST_FRACTION: f64 = 0.2;
+/// A run whose steps follow its fastest rate (h·ρ ≥ [`FAST_PACE`], or the calibrated
+/// [`FAST_FRACTION`] of the resolving h·ρ) and whose pace over
 /// the last [`PACE_CHECK_STEPS`] steps projects more than this many times `max_steps` to
 /// reach t_end, judged from [`BUDGET_CHECK_STEPS`] steps on, fails at once
 /// ([`IntegrateError::FastRate`]): such a pace is held by the system itself (a decay or a
@@ -204,9 +213,13 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
         }
         let mut h = h_first;
         let mut controller = St::CONTROL.map(PiController::new);
-        let mut stiffness = St::STIFF_LIMIT
+        let mut stiffness = St::STIFFNESS
             .filter(|_| self.options.stiffness_check)
             .map(StiffnessDetector::new);
+        // the h·ρ from which the steps follow the fastest rate (FAST_PACE, FAST_FRACTION)
+        let fast_pace = St::STIFFNESS.map_or(FAST_PACE, |p| {
+            FAST_PACE.min(FAST_FRACTION * p.resolved_pace(self.options.rtol.min()))
+        });
         let mut nonfinite_streak = 0u32;
         let mut since_nonfinite = u64::MAX;
         // (steps, t) at the last pace check: the start of the current window
@@ -270,7 +283,7 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                 if steps >= BUDGET_CHECK_STEPS
                     && let Some(detector) = stiffness.as_ref()
                     && let (h_rho, rate) = detector.last()
-                    && h_rho >= FAST_PACE
+                    && h_rho >= fast_pace
                 {
                     let projected = steps as f64 + (t_end - t) / pace;
                     if !(projected <= FAST_BUDGET_FACTOR * max_steps as f64) {

@@ -61,7 +61,9 @@ pub enum IntegrateError {
         max_steps: u64,
     },
     /// The steps follow the system's fastest rate `rate` = ρ (h·ρ ≥
-    /// [`FAST_PACE`](super::FAST_PACE): held at the stability boundary of a stiff decay
+    /// [`FAST_PACE`](super::FAST_PACE), or [`FAST_FRACTION`](super::FAST_FRACTION) of the
+    /// h·ρ at which the method resolves a rate to the run's rtol if that is smaller: held
+    /// at the stability boundary of a stiff decay
     /// when `stiff`, resolving a fast oscillation or rotation otherwise), and at the pace
     /// `h` of the last steps reaching t_end would take `projected` steps, more than
     /// [`FAST_BUDGET_FACTOR`](super::FAST_BUDGET_FACTOR) times `max_steps`.

@@ -28,7 +28,8 @@ mod stiffness;
 pub mod tableau;
 
 pub use driver::{
-    FAST_BUDGET_FACTOR, FAST_PACE, HOPELESS_FACTOR, MOTION_PACE, OVER_BUDGET_FACTOR, integrate,
+    FAST_BUDGET_FACTOR, FAST_FRACTION, FAST_PACE, HOPELESS_FACTOR, MOTION_PACE, OVER_BUDGET_FACTOR,
+    integrate,
 };
 pub use error::IntegrateError;
 pub use options::{Method, Options};

@@ -3,6 +3,7 @@
 use nalgebra::SVector;
 
 use super::stepper::{Stepper, Trial, all_finite, combine, stage_input};
+use super::stiffness::StiffnessParams;
 use super::tableau::{RK4, rk4_dense_weights};
 use super::{OdeSystem, Options, Stats};
 
@@ -53,7 +54,7 @@ pub(crate) const RK4_LAST_STRETCH: f64 = 1.0 + 1.0e-9;
 
 impl<const N: usize> Stepper<N> for Rk4<N> {
     const CONTROL: Option<super::controller::ControlParams> = None;
-    const STIFF_LIMIT: Option<f64> = None;
+    const STIFFNESS: Option<StiffnessParams> = None;
     const LAST_STRETCH: f64 = RK4_LAST_STRETCH;
 
     fn start<S: OdeSystem<N>>(

@@ -4,6 +4,7 @@
 use nalgebra::SVector;
 
 use super::controller::ControlParams;
+use super::stiffness::StiffnessParams;
 use super::{OdeSystem, Options, Stats};
 
 /// Outcome of one step attempt.
@@ -19,8 +20,8 @@ pub(crate) enum Trial {
 pub(crate) trait Stepper<const N: usize> {
     /// Step-size controller constants; `None` for a fixed step.
     const CONTROL: Option<ControlParams>;
-    /// Hairer's stiffness threshold for h·ρ; `None` if the method has no such test.
-    const STIFF_LIMIT: Option<f64>;
+    /// Hairer's stiffness test's constants; `None` if the method has no such test.
+    const STIFFNESS: Option<StiffnessParams>;
     /// A last step up to `LAST_STRETCH·h` long is stretched to land on t_end rather than
     /// leaving a sliver (1.01 in `dopri5.f`/`dop853.f`).
     const LAST_STRETCH: f64;
