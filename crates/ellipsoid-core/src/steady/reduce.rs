@@ -69,7 +69,7 @@ impl ReducedField {
                 return Err(ModelError::invalid(
                     "contact.model",
                     "\"viscous\"",
-                    "the viscous model's upright and inverted spins are analysed one at a time (`ellipsoid steady` without --vary; Rust: steady::viscous); sweeps and the tilted families do not take it",
+                    "the viscous model's upright and inverted spins are analysed by `ellipsoid steady` and ellipsoid.steady (Rust: steady::viscous); the tilted families, the linearisation in these coordinates and --perturb do not take it",
                 ));
             }
             ContactModel::Sliding { .. } => {
