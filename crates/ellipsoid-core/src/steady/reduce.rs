@@ -137,6 +137,13 @@ pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
             "steady motions are analysed without effects (air_drag, rolling_resistance, spin_friction): remove them",
         ));
     }
+    if let Some(sphere) = scene.body.spheres().first() {
+        return Err(ModelError::invalid(
+            "body.sphere",
+            format!("\"{}\"", sphere.name),
+            "steady motions are analysed on the ellipsoid's own surface: a body with contact spheres is not analysed (its spheres would be ignored)",
+        ));
+    }
     if let Some(disc) = &scene.disc {
         return Err(ModelError::invalid(
             "contact.contact_radius",
