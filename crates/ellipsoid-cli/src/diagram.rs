@@ -25,14 +25,17 @@ const OTHERS: RGBColor = RGBColor(140, 170, 200);
 const FREQUENCY: RGBColor = RGBColor(214, 39, 40);
 const CRITICAL: RGBColor = RGBColor(110, 40, 150);
 
+/// One value's eigenvalues (Re λ, Im λ) by decreasing real part, and its verdict.
+type Row = (Vec<(f64, f64)>, bool);
+
 /// What the diagram draws of a sweep: per value its eigenvalues and verdict (`None`
 /// where the value has no steady motion), and the critical values.
 pub struct Diagram {
     /// The varied key, with its unit if the schema gives one.
     pub axis: String,
     pub values: Vec<f64>,
-    /// Per value its eigenvalues (Re λ, Im λ) by decreasing real part, and its verdict.
-    pub rows: Vec<Option<(Vec<(f64, f64)>, bool)>>,
+    /// Per value its [`Row`] (`None` where it has no steady motion).
+    pub rows: Vec<Option<Row>>,
     pub critical: Vec<Critical>,
 }
 
