@@ -234,7 +234,7 @@ fn chart(
             .map_err(err)?;
         chart
             .draw_series([Text::new(
-                format!("{} ({})", tick(c.value), c.kind.name()),
+                format!("{} ({})", six(c.value), c.kind.name()),
                 (c.value, y1),
                 ("sans-serif", 14).into_font().color(&CRITICAL),
             )])
@@ -285,6 +285,23 @@ fn chart(
         .draw()
         .map_err(err)?;
     Ok(())
+}
+
+/// `v` to 6 significant digits, trailing zeros dropped (a critical value's label).
+fn six(v: f64) -> String {
+    if v == 0.0 || !(1e-3..1e6).contains(&v.abs()) {
+        return format!("{v:.5e}");
+    }
+    let s = format!(
+        "{:.*}",
+        (5 - v.abs().log10().floor() as i32).max(0) as usize,
+        v
+    );
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        s
+    }
 }
 
 /// The diagram in the format of `path`'s extension (svg, png or pdf).
