@@ -19,10 +19,10 @@ class Steady:
     ``values``: the varied values (without ``vary``, the one motion's spin n [rad/s]);
     ``eigenvalues``: complex array, one row per value, four eigenvalues [1/s] (body frame;
     two for the tilted families "precession" and "rolling-circle", in the frame turning
-    with the motion; six under the viscous sliding law) sorted by decreasing real part, the zeros of the symmetries, the
-    constraints and the family removed; ``modes``: the name of each eigenvalue's mode
-    ("tilt", "roll", "pitch", "wobble", "spin", "nutation"; under the viscous law "tilt"
-    or "slip"); ``states``: (ζ1, ζ2, ζ3,
+    with the motion; six under the viscous sliding law) sorted by decreasing real part,
+    the zeros of the symmetries, the constraints and the family removed; ``modes``: the
+    name of each eigenvalue's mode ("tilt", "roll", "pitch", "wobble", "spin",
+    "nutation"; under the viscous law "tilt" or "slip"); ``states``: (ζ1, ζ2, ζ3,
     ω1, ω2, ω3) per value (world up and the angular velocity in body axes [rad/s]);
     ``spin`` [rad/s], ``theta`` [rad], ``normal_force`` [N], ``max_real`` [1/s],
     ``stable``; for the tilted families ``phi_dot`` [rad/s] and ``circles`` [m] (None
@@ -99,7 +99,7 @@ class Steady:
         range ending at a located critical value, else midway between two values), each
         critical value a dashed line labelled with its value and kind, and with
         ``frequencies`` the angular frequencies |Im λ| (one point per pair) on a second
-        y axis at the right (``ax.twin``). As ``ellipsoid steady --vary ... --plot``
+        y axis at the right (``ax.twinx()``). As ``ellipsoid steady --vary ... --plot``
         draws it."""
         from ellipsoid._plot import _bad, _figure
 
