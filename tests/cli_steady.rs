@@ -386,6 +386,10 @@ fn steady_plot_draws_the_stability_diagram() {
             vec!["--vary", "initial.psi_dot=40:160:13", "--plot", "x.gif"],
             "unknown figure format",
         ),
+        (
+            vec!["--vary", "initial.psi_dot=40:160:10001", "--plot", "x.svg"],
+            "at most 10000 values",
+        ),
     ] {
         let out = Command::new(BIN)
             .current_dir(scratch(""))

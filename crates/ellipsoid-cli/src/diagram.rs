@@ -15,6 +15,8 @@ use plotters::prelude::*;
 
 use crate::figure::{self, Area, bounds, err, tick};
 
+/// Most values a diagram draws (its SVG grows by about 0.2 kB per value).
+pub const MAX_VALUES: usize = 10_000;
 const WIDTH: u32 = 1000;
 const ROW: u32 = 330;
 const HEAD: u32 = 40;

@@ -29,14 +29,30 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     if let Some(path) = &args.output {
         atomic::check_target(path)?;
     }
+    let vary = args
+        .vary
+        .as_deref()
+        .map(parse_vary)
+        .transpose()
+        .map_err(CliError::Usage)?;
     let plot = match &args.plot {
-        Some(path) if args.vary.is_none() => {
+        Some(path) if vary.is_none() => {
             return Err(CliError::Usage(format!(
                 "--plot {}: a stability diagram draws a family against a parameter; give --vary KEY=a:b:n",
                 path.display()
             )));
         }
-        Some(path) => Some((path, check_output(path, &["svg", "png", "pdf"], "figure")?)),
+        Some(path) => {
+            let n = vary.as_ref().map_or(0, |v| v.1.len());
+            if n > diagram::MAX_VALUES {
+                return Err(CliError::Usage(format!(
+                    "--plot {}: a diagram draws at most {} values; --vary gives {n}",
+                    path.display(),
+                    diagram::MAX_VALUES
+                )));
+            }
+            Some((path, check_output(path, &["svg", "png", "pdf"], "figure")?))
+        }
         None => None,
     };
     let located = |e: ModelError| CliError::from(scenario.locate(&e));
@@ -72,7 +88,7 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         }
         return Ok(ExitCode::SUCCESS);
     }
-    let (columns, rows) = match (&args.vary, viscous) {
+    let (columns, rows) = match (vary, viscous) {
         (None, true) => {
             let spin = steady::viscous::analyse(&scenario.scene, family).map_err(located)?;
             print!("{}", describe_viscous(&spin));
@@ -83,15 +99,13 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
             print!("{}", describe(&an, solve));
             table_of(family, "spin", &[an.motion.spin], &[Ok(an)])
         }
-        (Some(spec), true) => {
-            let (key, values) = parse_vary(spec).map_err(CliError::Usage)?;
+        (Some((key, values)), true) => {
             let sw = steady::viscous::sweep(&scenario, family, &key, &values).map_err(located)?;
             print!("{}", summarise(&scenario, &sw));
             draw(&scenario, &sw, plot, args.quiet)?;
             viscous_table_of(&sw.key, &sw.values, &sw.rows)
         }
-        (Some(spec), false) => {
-            let (key, values) = parse_vary(spec).map_err(CliError::Usage)?;
+        (Some((key, values)), false) => {
             let sw =
                 steady::sweep_solving(&scenario, family, solve, &key, &values).map_err(located)?;
             print!("{}", summarise(&scenario, &sw));

@@ -110,11 +110,11 @@ class Steady:
         x = np.asarray(self.values, dtype=float)
         order = np.argsort(x, kind="stable")
         x, eig, stable = x[order], self.eigenvalues[order], np.asarray(self.stable)[order]
-        crit = [c["value"] for c in self.critical]
+        crit = [float(c["value"]) for c in self.critical]
         for k in range(len(x)):
             def edge(j: int) -> float:
                 between = [c for c in crit if min(x[k], x[j]) <= c <= max(x[k], x[j])]
-                return between[0] if stable[k] != stable[j] and between else 0.5 * (x[k] + x[j])
+                return between[0] if stable[k] != stable[j] and between else float(0.5 * (x[k] + x[j]))
             lo = x[k] if k == 0 else edge(k - 1)
             hi = x[k] if k == len(x) - 1 else edge(k + 1)
             ax.axvspan(lo, hi, color="#d6f0d6" if stable[k] else "#fad6d6", lw=0, zorder=0)
