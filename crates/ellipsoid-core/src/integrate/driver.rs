@@ -113,7 +113,10 @@ pub fn integrate<S: OdeSystem<N>, const N: usize>(
         found: Vec::with_capacity(events.len()),
         // allocated only when an event needs its count: a run without one allocates
         // no more than before sections existed (tests/val_integrators.rs counts them)
-        crossings: if events.iter().any(|e| matches!(e.action, Action::StopAfter(_))) {
+        crossings: if events
+            .iter()
+            .any(|e| matches!(e.action, Action::StopAfter(_)))
+        {
             vec![0; events.len()]
         } else {
             Vec::new()
