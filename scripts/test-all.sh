@@ -130,6 +130,7 @@ echo "== notebooks, gallery, API reference"
 .venv/bin/python scripts/run-notebooks.py --html "$target/site/examples"
 .venv/bin/python scripts/run-notebooks.py --check-pages docs/tutorials
 .venv/bin/python scripts/gallery.py --check
+.venv/bin/python scripts/steady-diagrams.py --check
 .venv/bin/python scripts/api-docs.py -o "$target/site/api" --check-markdown docs/api.md
 
 echo "all tests passed"

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{assert_spectrum, completed as run, first_reaching};
+use common::{assert_spectrum, completed as run, crossing_frequency, first_reaching};
 
 use nalgebra::{Complex, Vector3};
 
@@ -219,21 +219,8 @@ fn assert_frequency(scene: &Scene, an: &Analysis, k: usize, what: &str) {
         .map(|i| i as f64 * start.t_end / count as f64)
         .collect();
     let samples = run(&start);
-    let crossings: Vec<f64> = samples
-        .windows(2)
-        .filter(|w| zeta1(&w[0]) < 0.0 && zeta1(&w[1]) >= 0.0)
-        .map(|w| {
-            let (a, b) = (zeta1(&w[0]), zeta1(&w[1]));
-            w[0].t - a / (b - a) * (w[1].t - w[0].t)
-        })
-        .collect();
-    assert!(
-        crossings.len() >= 40,
-        "{what}: {} crossings",
-        crossings.len()
-    );
-    let (first, last) = (crossings[0], crossings[crossings.len() - 1]);
-    let measured = std::f64::consts::TAU * (crossings.len() - 1) as f64 / (last - first);
+    let (measured, count) = crossing_frequency(&samples, zeta1);
+    assert!(count >= 40, "{what}: {count} crossings");
     eprintln!(
         "{what}: {measured} against {omega}: {:.2e}",
         measured / omega - 1.0
@@ -286,6 +273,25 @@ fn val_rolling_runs_follow_the_spectrum() {
     assert!(an.spectrum.stable(), "{:?}", an.spectrum);
     for k in [0, 2] {
         assert_frequency(&scene, &an, k, &format!("rolling sphere, mode {k}"));
+    }
+}
+
+/// The bundled diagram of the egg on its end rolling (scripts/steady-diagrams.py: the body
+/// of scenarios/egg.toml, Coulomb's rolling phase, which is the rolling law; critical spin
+/// 49.18 rad/s) at two more spins than [`val_rolling_runs_follow_the_spectrum`]'s
+/// 0.5 n_c = 40.7 rad/s: at 20 rad/s a run grows at Re λ, at 80 rad/s each pair's
+/// frequency is |Im λ|.
+#[test]
+fn val_bundled_rolling_egg_runs_follow_the_spectrum() {
+    let case = egg();
+    let slow = case.scene("rolling", 20.0);
+    let an = steady::analyse(&slow, Family::Upright).unwrap();
+    assert_growth(&slow, &an, "rolling egg at 20 rad/s");
+    let fast = case.scene("rolling", 80.0);
+    let an = steady::analyse(&fast, Family::Upright).unwrap();
+    assert!(an.spectrum.stable(), "{:?}", an.spectrum);
+    for k in [0, 2] {
+        assert_frequency(&fast, &an, k, &format!("rolling egg at 80 rad/s, mode {k}"));
     }
 }
 
@@ -432,7 +438,7 @@ fn val_rattleback_wobble_grows_in_each_direction_of_spin() {
             &format!("n = ±{n}"),
         );
     }
-    for n in [5.0, -5.0] {
+    for n in [5.0, -5.0, -8.0] {
         let scene = rattleback("rolling", n, product);
         let an = steady::analyse(&scene, Family::Upright).unwrap();
         let rate = an.spectrum.modes[0].eigenvalue.re;
@@ -443,7 +449,7 @@ fn val_rattleback_wobble_grows_in_each_direction_of_spin() {
         let period = std::f64::consts::TAU / an.spectrum.modes[0].eigenvalue.im.abs();
         let count = (start.t_end / period * 100.0) as usize;
         start.sample_times = (0..=count)
-            .map(|i| i as f64 * start.t_end / count as f64)
+            .map(|i| (i as f64 * start.t_end / count as f64).min(start.t_end))
             .collect();
         let samples = run(&start);
         let fitted = envelope_growth(&samples, 1e-5, 1e-4);

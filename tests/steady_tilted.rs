@@ -7,12 +7,12 @@
 
 mod common;
 
-use common::{assert_spectrum, completed as run, first_reaching};
+use common::{assert_spectrum, completed as run, crossing_frequency, first_reaching};
 
 use nalgebra::{Complex, Matrix3, Vector3};
 
 use ellipsoid_core::scenario::{self, Scenario};
-use ellipsoid_core::simulate::{Sample, Scene};
+use ellipsoid_core::simulate::Scene;
 use ellipsoid_core::steady::{self, Analysis, Family};
 
 const G: f64 = 9.81;
@@ -257,25 +257,6 @@ fn val_runs_stay_on_the_steady_motion() {
     }
 }
 
-/// The angular frequency of θ − θ0 from its upward zero crossings.
-fn frequency(samples: &[Sample], theta0: f64) -> (f64, usize) {
-    let dev = |s: &Sample| s.angles.theta - theta0;
-    let crossings: Vec<f64> = samples
-        .windows(2)
-        .filter(|w| dev(&w[0]) < 0.0 && dev(&w[1]) >= 0.0)
-        .map(|w| {
-            let (a, b) = (dev(&w[0]), dev(&w[1]));
-            w[0].t - a / (b - a) * (w[1].t - w[0].t)
-        })
-        .collect();
-    let n = crossings.len();
-    assert!(n >= 2, "{n} crossings");
-    (
-        std::f64::consts::TAU * (n - 1) as f64 / (crossings[n - 1] - crossings[0]),
-        n,
-    )
-}
-
 /// Independent path: runs started 1e-6 along the nutation mode. Stable, θ − θ0
 /// oscillates at |Im λ| (zero crossings over 40 periods, within 1e-6); unstable, it
 /// grows from 1e-5 to 1e-4 rad at Re λ (within 1 %).
@@ -284,39 +265,76 @@ fn val_perturbed_runs_follow_the_spectrum() {
     let mut seen = (0, 0);
     for (body, model, family, theta, omega) in cases().into_iter().chain(unstable_cases()) {
         let scene = body.scene(model, theta, omega);
-        let an = steady::analyse(&scene, family).unwrap();
-        let lambda = an.spectrum.modes[0].eigenvalue;
-        let what = format!(
-            "{} {model} θ = {theta} Ω = {omega}: λ = {lambda}",
-            body.name
-        );
-        assert_eq!(an.spectrum.modes[0].name, "nutation");
-        if an.spectrum.stable() {
+        let what = format!("{} {model} θ = {theta} Ω = {omega}", body.name);
+        if assert_follows(&scene, family, theta, &what) {
             seen.0 += 1;
-            let sigma = lambda.im.abs();
-            let t_end = 41.0 * std::f64::consts::TAU / sigma;
-            let samples = run(&started(&scene, &an, 0, 1e-6, t_end));
-            let (measured, count) = frequency(&samples, theta);
-            let err = measured / sigma - 1.0;
-            eprintln!("{what}: θ oscillates at {measured} ({count} crossings): {err:.2e}");
-            assert!(count >= 40, "{what}: {count} crossings");
-            assert!(err.abs() < 1e-6, "{what}: {measured} ({err:.2e})");
         } else {
             seen.1 += 1;
-            let rate = lambda.re;
-            let samples = run(&started(&scene, &an, 0, 1e-6, 8.0 / rate));
-            let t1 = first_reaching(&samples, theta, 1e-5);
-            let t2 = first_reaching(&samples, theta, 1e-4);
-            let fitted = 10f64.ln() / (t2 - t1);
-            let err = fitted / rate - 1.0;
-            eprintln!("{what}: θ grows at {fitted}: {err:.2e}");
-            assert!(err.abs() < 1e-2, "{what}: {fitted} ({err:.2e})");
         }
     }
     assert!(
         seen.0 >= 2 && seen.1 >= 1,
         "stable and unstable cases: {seen:?}"
     );
+}
+
+/// The motion of `family` of `scene` (tilted θ0 = `theta`), and a run started 1e-6 along
+/// its nutation. Stable, θ − θ0 oscillates at |Im λ| (zero crossings over 40 periods,
+/// within 1e-6); unstable, it grows from 1e-5 to 1e-4 rad at Re λ (within 1 %). Returns
+/// whether the motion is stable.
+fn assert_follows(scene: &Scene, family: Family, theta: f64, what: &str) -> bool {
+    let an = steady::analyse(scene, family).unwrap();
+    let lambda = an.spectrum.modes[0].eigenvalue;
+    let what = format!("{what}: λ = {lambda}");
+    assert_eq!(an.spectrum.modes[0].name, "nutation");
+    let stable = an.spectrum.stable();
+    if stable {
+        let sigma = lambda.im.abs();
+        let t_end = 41.0 * std::f64::consts::TAU / sigma;
+        let samples = run(&started(scene, &an, 0, 1e-6, t_end));
+        let (measured, count) = crossing_frequency(&samples, |s| s.angles.theta - theta);
+        let err = measured / sigma - 1.0;
+        eprintln!("{what}: θ oscillates at {measured} ({count} crossings): {err:.2e}");
+        assert!(count >= 40, "{what}: {count} crossings");
+        assert!(err.abs() < 1e-6, "{what}: {measured} ({err:.2e})");
+    } else {
+        let rate = lambda.re;
+        let samples = run(&started(scene, &an, 0, 1e-6, 8.0 / rate));
+        let t1 = first_reaching(&samples, theta, 1e-5);
+        let t2 = first_reaching(&samples, theta, 1e-4);
+        let fitted = 10f64.ln() / (t2 - t1);
+        let err = fitted / rate - 1.0;
+        eprintln!("{what}: θ grows at {fitted}: {err:.2e}");
+        assert!(err.abs() < 1e-2, "{what}: {fitted} ({err:.2e})");
+    }
+    stable
+}
+
+/// The bundled diagram of Routh's rolling circles (scripts/steady-diagrams.py: the disc of
+/// scenarios/disc.toml turning at φ̇ = 3 rad/s against its tilt) at three tilts: 60° and
+/// 120° (stable: the nutation's frequency) and 90° (between the critical tilts 80.93° and
+/// 99.07°: its growth), by runs started 1e-6 along the nutation.
+#[test]
+fn val_bundled_rolling_circles_runs_follow_the_spectrum() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/disc.toml");
+    let mut verdicts = Vec::new();
+    for tilt in [60.0, 90.0, 120.0_f64] {
+        let sets = [
+            format!("initial.theta_deg={tilt:e}"),
+            "initial.phi_dot=3.0".to_owned(),
+            "solver.rtol=1e-12".to_owned(),
+            "solver.atol=1e-15".to_owned(),
+        ];
+        let scene = scenario::load(&path, &sets).unwrap().scene;
+        let what = format!("disc.toml at {tilt}°");
+        verdicts.push(assert_follows(
+            &scene,
+            Family::RollingCircle,
+            tilt.to_radians(),
+            &what,
+        ));
+    }
+    assert_eq!(verdicts, [true, false, true]);
 }
 
 /// Unstable tilted motions (their spectra have a real pair ±α).

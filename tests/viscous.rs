@@ -251,7 +251,13 @@ fn val_tippe_top_criterion_is_the_large_spin_limit() {
 /// 1e-5 to 1e-4 rad at the predicted Re λ within 1 %.
 #[test]
 fn val_perturbed_upright_spin_grows_at_the_predicted_rate() {
-    let base = tippe(0.2, 8.0 / 7.0, 1.0, 200.0, Family::Upright);
+    assert_upright_growth(200.0);
+}
+
+/// A run started on the upright spin at `spin`, displaced by 1e-6 along the unstable
+/// mode, tilts from 1e-5 to 1e-4 rad at the predicted Re λ within 1 %.
+fn assert_upright_growth(spin: f64) {
+    let base = tippe(0.2, 8.0 / 7.0, 1.0, spin, Family::Upright);
     let an = viscous::analyse(&base, Family::Upright).unwrap();
     let rate = an.eigenvalues[0].re;
     assert!(rate > 0.0 && !an.stable(), "{:?}", an.eigenvalues);
@@ -265,9 +271,50 @@ fn val_perturbed_upright_spin_grows_at_the_predicted_rate() {
     let t1 = common::first_reaching(&samples, 0.0, 1e-5);
     let t2 = common::first_reaching(&samples, 0.0, 1e-4);
     let fitted = 10f64.ln() / (t2 - t1);
-    eprintln!("upright tippe top: growth {fitted} /s against Re λ = {rate} /s");
+    eprintln!("upright tippe top at {spin} rad/s: growth {fitted} /s against Re λ = {rate} /s");
     assert!(
         (fitted / rate - 1.0).abs() < 0.01,
         "{fitted} against {rate}"
     );
+}
+
+/// The bundled diagram of the tippe top against spin (scripts/steady-diagrams.py: the
+/// top of scenarios/tippe-top.toml under viscous sliding, μ_v = 1 s/m) at three spins:
+/// upright at 100 and 300 rad/s (unstable above 21.70 rad/s) a run displaced 1e-6 along
+/// the unstable mode grows at Re λ within 1 %; inverted at 200 rad/s (stable above
+/// 79.73 rad/s) ζ1 = sin θ sin ψ of a run displaced 1e-6 along each of the two slowly
+/// damped pairs oscillates at its |Im λ| within 1e-6 (zero crossings over `periods`
+/// periods: fewer for the pair damped at 0.9 /s, whose amplitude must stay well above the
+/// integrator's tolerance).
+#[test]
+fn val_bundled_tippe_top_runs_follow_the_spectrum() {
+    for spin in [100.0, 300.0] {
+        assert_upright_growth(spin);
+    }
+    let base = tippe(0.2, 8.0 / 7.0, 1.0, 200.0, Family::Inverted);
+    let an = viscous::analyse(&base, Family::Inverted).unwrap();
+    assert!(an.stable(), "{:?}", an.eigenvalues);
+    for (k, periods) in [(0, 40.0), (2, 10.0)] {
+        let lambda = an.eigenvalues[k];
+        let omega = lambda.im.abs();
+        let mut start = viscous::started_at(&base, &an.at(), &an.perturbation(k, 1e-6));
+        start.t_end = (periods + 1.0) * std::f64::consts::TAU / omega;
+        let count = ((periods + 1.0) * 400.0) as usize;
+        start.sample_times = (0..=count)
+            .map(|i| (i as f64 * start.t_end / count as f64).min(start.t_end))
+            .collect();
+        let (out, samples) = run(&start);
+        assert_eq!(out.status, Status::Completed, "{:?}", out.status);
+        let (measured, crossings) =
+            common::crossing_frequency(&samples, |s| s.angles.theta.sin() * s.angles.psi.sin());
+        let err = measured / omega - 1.0;
+        eprintln!(
+            "inverted tippe top, mode {k} (λ = {lambda}): ζ1 oscillates at {measured} ({crossings} crossings): {err:.2e}"
+        );
+        assert!(crossings as f64 >= periods, "{crossings} crossings");
+        assert!(
+            err.abs() < 1e-6,
+            "mode {k}: {measured} against {omega} ({err:.2e})"
+        );
+    }
 }

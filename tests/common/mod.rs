@@ -162,6 +162,25 @@ pub fn first_reaching(samples: &[Sample], theta0: f64, level: f64) -> f64 {
     w[0].t + (level.ln() - l0) / (l1 - l0) * (w[1].t - w[0].t)
 }
 
+/// The angular frequency of `f` over the samples from its upward zero crossings (each
+/// interpolated linearly between samples), and how many there are (at least 2).
+pub fn crossing_frequency(samples: &[Sample], f: impl Fn(&Sample) -> f64) -> (f64, usize) {
+    let crossings: Vec<f64> = samples
+        .windows(2)
+        .filter(|w| f(&w[0]) < 0.0 && f(&w[1]) >= 0.0)
+        .map(|w| {
+            let (a, b) = (f(&w[0]), f(&w[1]));
+            w[0].t - a / (b - a) * (w[1].t - w[0].t)
+        })
+        .collect();
+    let n = crossings.len();
+    assert!(n >= 2, "{n} crossings");
+    (
+        std::f64::consts::TAU * (n - 1) as f64 / (crossings[n - 1] - crossings[0]),
+        n,
+    )
+}
+
 /// Each expected eigenvalue has its own computed one within `tol` of the scale.
 pub fn assert_spectrum(
     computed: &[nalgebra::Complex<f64>],

@@ -101,6 +101,14 @@ pub struct SteadyArgs {
         conflicts_with = "vary"
     )]
     pub perturb: Option<String>,
+    /// With --vary, draw the stability diagram: the growth rates Re λ (the largest bold)
+    /// and the angular frequencies |Im λ| against the varied key, the stable and unstable
+    /// ranges shaded, the critical values marked (SVG, PNG or PDF by the extension).
+    #[arg(long, value_name = "OUT.svg|png|pdf")]
+    pub plot: Option<PathBuf>,
+    /// Do not report the diagram written on stderr.
+    #[arg(short, long)]
+    pub quiet: bool,
     /// Override a scenario value before validation (as for `run`). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,

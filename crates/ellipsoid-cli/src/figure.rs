@@ -176,14 +176,14 @@ pub fn check_columns(table: &Table, panels: &[&str]) -> Result<(), String> {
     Ok(())
 }
 
-type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
+pub(crate) type Area<'a> = DrawingArea<SVGBackend<'a>, Shift>;
 type Res = Result<(), String>;
-fn err<E: std::fmt::Display>(e: E) -> String {
+pub(crate) fn err<E: std::fmt::Display>(e: E) -> String {
     e.to_string()
 }
 
 /// A short tick label: at most 4 significant digits, scientific outside 1e-3..1e4.
-fn tick(v: f64) -> String {
+pub(crate) fn tick(v: f64) -> String {
     let a = v.abs();
     if a == 0.0 {
         "0".into()
@@ -200,7 +200,7 @@ fn tick(v: f64) -> String {
 }
 
 /// Bounds of `values` padded by 5 %, never empty.
-fn bounds<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
+pub(crate) fn bounds<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
     let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
         (lo.min(*v), hi.max(*v))
     });

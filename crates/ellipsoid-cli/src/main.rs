@@ -7,6 +7,7 @@
 mod animate;
 mod check;
 mod cli;
+mod diagram;
 mod error;
 mod figure;
 mod interrupt;

@@ -3,19 +3,24 @@
 //! (docs/physics.md, "Steady motions and their stability").
 
 use std::fmt::Write as _;
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use ellipsoid_core::error::{ModelError, number};
 use ellipsoid_core::scenario::{self, Scenario};
 use ellipsoid_core::simulate::ContactModel;
-use ellipsoid_core::steady::{self, Analysis, Family, Solve, Sweep, sweep::MAX_VALUES};
+use ellipsoid_core::steady::sweep::{MAX_VALUES, Stability};
+use ellipsoid_core::steady::viscous::ViscousSpin;
+use ellipsoid_core::steady::{self, Analysis, Family, Solve, Sweep};
 use ellipsoid_io::atomic;
 use ellipsoid_study::study::plan::Role;
 use ellipsoid_study::study::table::{self, TableFormat};
 use ellipsoid_study::study::{Cell, Column, Type};
 
 use crate::cli::SteadyArgs;
+use crate::diagram::{self, Diagram};
 use crate::error::CliError;
+use crate::visual::{check_output, put};
 
 pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     let family = Family::parse(&args.family).map_err(|e| CliError::Usage(format!("--{e}")))?;
@@ -24,16 +29,40 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     if let Some(path) = &args.output {
         atomic::check_target(path)?;
     }
-    let located = |e: ModelError| CliError::from(scenario.locate(&e));
-    if matches!(scenario.scene.contact, ContactModel::Viscous { .. }) && args.vary.is_none() {
-        let spin = steady::viscous::analyse(&scenario.scene, family).map_err(located)?;
-        print!("{}", describe_viscous(&spin));
-        if let Some(path) = &args.output {
-            atomic::write(path, viscous_table(&spin).as_bytes())?;
+    let vary = args
+        .vary
+        .as_deref()
+        .map(parse_vary)
+        .transpose()
+        .map_err(CliError::Usage)?;
+    let plot = match &args.plot {
+        Some(path) if vary.is_none() => {
+            return Err(CliError::Usage(format!(
+                "--plot {}: a stability diagram draws a family against a parameter; give --vary KEY=a:b:n",
+                path.display()
+            )));
         }
-        return Ok(ExitCode::SUCCESS);
-    }
+        Some(path) => {
+            let n = vary.as_ref().map_or(0, |v| v.1.len());
+            if n > diagram::MAX_VALUES {
+                return Err(CliError::Usage(format!(
+                    "--plot {}: a diagram draws at most {} values; --vary gives {n}",
+                    path.display(),
+                    diagram::MAX_VALUES
+                )));
+            }
+            Some((path, check_output(path, &["svg", "png", "pdf"], "figure")?))
+        }
+        None => None,
+    };
+    let located = |e: ModelError| CliError::from(scenario.locate(&e));
+    let viscous = matches!(scenario.scene.contact, ContactModel::Viscous { .. });
     if let Some(spec) = &args.perturb {
+        if viscous {
+            return Err(CliError::Usage(format!(
+                "--perturb {spec:?}: a spin of the viscous model (contact.model = \"viscous\") is not started as a scenario; analyse it without --perturb"
+            )));
+        }
         let (k, epsilon) = parse_perturb(spec)?;
         let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
         let k = match k {
@@ -59,22 +88,32 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         }
         return Ok(ExitCode::SUCCESS);
     }
-    let table = match &args.vary {
-        None => {
+    let (columns, rows) = match (vary, viscous) {
+        (None, true) => {
+            let spin = steady::viscous::analyse(&scenario.scene, family).map_err(located)?;
+            print!("{}", describe_viscous(&spin));
+            viscous_table_of("spin", &[spin.spin + 0.0], &[Ok(spin)])
+        }
+        (None, false) => {
             let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
             print!("{}", describe(&an, solve));
             table_of(family, "spin", &[an.motion.spin], &[Ok(an)])
         }
-        Some(spec) => {
-            let (key, values) = parse_vary(spec).map_err(CliError::Usage)?;
+        (Some((key, values)), true) => {
+            let sw = steady::viscous::sweep(&scenario, family, &key, &values).map_err(located)?;
+            print!("{}", summarise(&scenario, &sw));
+            draw(&scenario, &sw, plot, args.quiet)?;
+            viscous_table_of(&sw.key, &sw.values, &sw.rows)
+        }
+        (Some((key, values)), false) => {
             let sw =
                 steady::sweep_solving(&scenario, family, solve, &key, &values).map_err(located)?;
             print!("{}", summarise(&scenario, &sw));
+            draw(&scenario, &sw, plot, args.quiet)?;
             table_of(family, &sw.key, &sw.values, &sw.rows)
         }
     };
     if let Some(path) = &args.output {
-        let (columns, rows) = table;
         if TableFormat::from_path(path) == Ok(TableFormat::Parquet) {
             table::write(path, &columns, &rows, &scenario.source)?;
         } else {
@@ -82,6 +121,40 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Writes the stability diagram of `sw` to `plot` (its path and format), if asked.
+fn draw<T: Stability>(
+    scenario: &Scenario,
+    sw: &Sweep<T>,
+    plot: Option<(&PathBuf, String)>,
+    quiet: bool,
+) -> Result<(), CliError> {
+    let Some((path, ext)) = plot else {
+        return Ok(());
+    };
+    let d = Diagram::of(sw);
+    let title = format!(
+        "{} family of {} against {}",
+        sw.family.name(),
+        scenario
+            .source
+            .rsplit('/')
+            .next()
+            .unwrap_or(&scenario.source),
+        sw.key
+    );
+    let bytes = diagram::render(&d, &title, &ext).map_err(CliError::Plot)?;
+    put(path, &bytes)?;
+    if !quiet {
+        eprintln!(
+            "wrote {} ({} values, {} critical)",
+            path.display(),
+            sw.values.len(),
+            sw.critical.len()
+        );
+    }
+    Ok(())
 }
 
 /// A steady spin under the viscous law in words (docs/steady.md, "Under viscous sliding").
@@ -123,24 +196,78 @@ fn describe_viscous(spin: &steady::viscous::ViscousSpin) -> String {
     o
 }
 
-/// The table of a viscous steady spin: spin, theta, normal_force, stable, max_real and
-/// lambdaK_re, lambdaK_im (K = 1…6).
-fn viscous_table(spin: &steady::viscous::ViscousSpin) -> String {
-    let mut header: Vec<String> = ["spin", "theta", "normal_force", "stable", "max_real"]
-        .map(String::from)
-        .to_vec();
-    let mut cells = vec![
-        number(spin.spin + 0.0),
-        number(spin.zeta.xy().norm().atan2(spin.zeta.z)),
-        number(spin.normal_force),
-        spin.stable().to_string(),
-        number(spin.max_real()),
+/// The table of viscous steady spins (`values` of `key`, each row's spin or why there is
+/// none): the key, spin, theta, normal_force, stable, max_real and lambdaK_re,
+/// lambdaK_im, modeK (K = 1…6), error, as [`table_of`].
+fn viscous_table_of(
+    key: &str,
+    values: &[f64],
+    rows: &[steady::sweep::Row<ViscousSpin>],
+) -> (Vec<Column>, Vec<Vec<Cell>>) {
+    let mut columns = vec![
+        column(key, scenario::schema::unit(key), Type::Float),
+        column("spin", Some("rad/s"), Type::Float),
+        column("theta", Some("rad"), Type::Float),
+        column("normal_force", Some("N"), Type::Float),
+        column("stable", None, Type::Text),
+        column("max_real", Some("1/s"), Type::Float),
     ];
-    for (k, lambda) in spin.eigenvalues.iter().enumerate() {
-        header.extend([format!("lambda{}_re", k + 1), format!("lambda{}_im", k + 1)]);
-        cells.extend([number(lambda.re), number(lambda.im)]);
+    for k in 1..=steady::viscous::COORDINATES.len() - 1 {
+        columns.extend(mode_columns(k));
     }
-    format!("{}\n{}\n", header.join(","), cells.join(","))
+    columns.push(column("error", None, Type::Text));
+    let cells = values
+        .iter()
+        .zip(rows)
+        .map(|(v, row)| {
+            let mut cells = vec![Cell::Float(*v)];
+            match row {
+                Ok(spin) => {
+                    cells.extend([
+                        Cell::Float(spin.spin + 0.0),
+                        Cell::Float(spin.zeta.xy().norm().atan2(spin.zeta.z)),
+                        Cell::Float(spin.normal_force),
+                        Cell::Text(spin.stable().to_string()),
+                        Cell::Float(spin.max_real()),
+                    ]);
+                    for (lambda, name) in spin.eigenvalues.iter().zip(spin.mode_names()) {
+                        cells.extend([
+                            Cell::Float(lambda.re),
+                            Cell::Float(lambda.im),
+                            Cell::Text(name.to_owned()),
+                        ]);
+                    }
+                    cells.push(Cell::Null);
+                }
+                Err(e) => {
+                    cells.extend(std::iter::repeat_n(Cell::Null, columns.len() - 2));
+                    cells.push(Cell::Text(e.to_string()));
+                }
+            }
+            cells
+        })
+        .collect();
+    (columns, cells)
+}
+
+/// A column of the steady tables (every cell may be empty).
+fn column(name: &str, unit: Option<&str>, ty: Type) -> Column {
+    Column {
+        name: name.to_owned(),
+        unit: unit.map(str::to_owned),
+        ty,
+        nullable: true,
+        role: Role::Key,
+    }
+}
+
+/// Mode K's columns: lambdaK_re, lambdaK_im [1/s] and modeK.
+fn mode_columns(k: usize) -> [Column; 3] {
+    [
+        column(&format!("lambda{k}_re"), Some("1/s"), Type::Float),
+        column(&format!("lambda{k}_im"), Some("1/s"), Type::Float),
+        column(&format!("mode{k}"), None, Type::Text),
+    ]
 }
 
 /// A mode of `--perturb`: its number (1-based, as in the table) or its name.
@@ -311,7 +438,7 @@ fn describe(an: &Analysis, solve: Solve) -> String {
 }
 
 /// A sweep in words: one line per value, then the critical values.
-fn summarise(scenario: &Scenario, sw: &Sweep) -> String {
+fn summarise<T: Stability>(scenario: &Scenario, sw: &Sweep<T>) -> String {
     let mut o = String::new();
     let _ = writeln!(
         o,
@@ -330,20 +457,15 @@ fn summarise(scenario: &Scenario, sw: &Sweep) -> String {
         match row {
             Ok(an) => {
                 let ev: Vec<String> = an
-                    .spectrum
                     .eigenvalues()
                     .iter()
                     .map(|z| format!("{:.6e}{:+.6e}i", z.re, z.im))
                     .collect();
-                let verdict = if an.spectrum.stable() {
-                    "stable"
-                } else {
-                    "unstable"
-                };
+                let verdict = if an.stable() { "stable" } else { "unstable" };
                 let _ = writeln!(
                     o,
                     "{v:>16} {verdict:>9} {:>16.6e}  {}",
-                    an.spectrum.max_real(),
+                    an.max_real(),
                     ev.join("  ")
                 );
             }
@@ -379,13 +501,6 @@ fn table_of(
     values: &[f64],
     rows: &[steady::sweep::Row],
 ) -> (Vec<Column>, Vec<Vec<Cell>>) {
-    let column = |name: &str, unit: Option<&str>, ty: Type| Column {
-        name: name.to_owned(),
-        unit: unit.map(str::to_owned),
-        ty,
-        nullable: true,
-        role: Role::Key,
-    };
     let mut columns = vec![
         column(key, scenario::schema::unit(key), Type::Float),
         column("spin", Some("rad/s"), Type::Float),
@@ -404,11 +519,7 @@ fn table_of(
         column("max_real", Some("1/s"), Type::Float),
     ]);
     for k in 1..=family.modes() {
-        columns.extend([
-            column(&format!("lambda{k}_re"), Some("1/s"), Type::Float),
-            column(&format!("lambda{k}_im"), Some("1/s"), Type::Float),
-            column(&format!("mode{k}"), None, Type::Text),
-        ]);
+        columns.extend(mode_columns(k));
     }
     columns.push(column("error", None, Type::Text));
     let cells = values

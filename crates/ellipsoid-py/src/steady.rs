@@ -4,6 +4,9 @@
 
 use ellipsoid_core::error::ModelError;
 use ellipsoid_core::scenario::Scenario;
+use ellipsoid_core::simulate::ContactModel;
+use ellipsoid_core::steady::sweep::Row;
+use ellipsoid_core::steady::viscous::ViscousSpin;
 use ellipsoid_core::steady::{self, Analysis, COORDINATES, Family, Phase, Solve};
 use numpy::{Complex64, PyArray1, PyArray2};
 use pyo3::prelude::*;
@@ -17,12 +20,94 @@ fn located(py: Python<'_>, scenario: &Scenario, e: &ModelError) -> PyErr {
     errors::scenario_error(py, &scenario.locate(e))
 }
 
+/// What `steady_raw` returns of one value's analysis.
+struct Summary {
+    eigenvalues: Vec<Complex64>,
+    names: Vec<&'static str>,
+    /// (ζ, ω) in body axes.
+    state: Vec<f64>,
+    spin: f64,
+    theta: f64,
+    normal_force: f64,
+    precession: Option<f64>,
+    circles: Option<Vec<f64>>,
+    max_real: f64,
+    stable: bool,
+}
+
+impl From<&Analysis> for Summary {
+    fn from(a: &Analysis) -> Summary {
+        Summary {
+            eigenvalues: complex(&a.spectrum.eigenvalues()),
+            names: a.spectrum.modes.iter().map(|m| m.name).collect(),
+            state: a.motion.at.iter().copied().collect(),
+            spin: a.motion.spin,
+            theta: a.motion.theta,
+            normal_force: a.motion.normal_force,
+            precession: a.motion.precession,
+            circles: a.motion.circles.map(|c| vec![c.center, c.contact]),
+            max_real: a.spectrum.max_real(),
+            stable: a.spectrum.stable(),
+        }
+    }
+}
+
+impl From<&ViscousSpin> for Summary {
+    fn from(v: &ViscousSpin) -> Summary {
+        Summary {
+            eigenvalues: complex(&v.eigenvalues),
+            names: v.mode_names(),
+            state: v.at().iter().take(6).copied().collect(),
+            spin: v.spin + 0.0,
+            theta: v.zeta.xy().norm().atan2(v.zeta.z),
+            normal_force: v.normal_force,
+            precession: None,
+            circles: None,
+            max_real: v.max_real(),
+            stable: v.stable(),
+        }
+    }
+}
+
+fn complex(z: &[nalgebra::Complex<f64>]) -> Vec<Complex64> {
+    z.iter().map(|z| Complex64::new(z.re, z.im)).collect()
+}
+
+/// The summaries of a sweep's rows, or the first value without a steady motion as
+/// ScenarioError.
+fn summaries<'a, T: 'a>(
+    py: Python<'_>,
+    scenario: &Scenario,
+    key: Option<&str>,
+    values: &[f64],
+    rows: &'a [Row<T>],
+) -> PyResult<Vec<Summary>>
+where
+    Summary: From<&'a T>,
+{
+    rows.iter()
+        .zip(values)
+        .map(|(r, v)| match r {
+            Ok(a) => Ok(Summary::from(a)),
+            Err(e) => {
+                let e = ModelError::invalid(
+                    key.unwrap_or("initial"),
+                    ellipsoid_core::error::number(*v),
+                    format!("no steady motion there: {e}"),
+                );
+                Err(located(py, scenario, &e))
+            }
+        })
+        .collect()
+}
+
 /// The analyses of `family` for `scenario` (one, or one per value of `key`; a tilted
-/// family solving for `solve`: "spin", "phi_dot" or "theta") as a dict of
-/// numpy arrays and lists: values, eigenvalues (n × 4 complex; n × 2 for a tilted
-/// family), names (likewise), states (n × 6: ζ, ω), spin, theta, normal_force, stable,
-/// critical (list of dicts); for a tilted family also phi_dot and circles (n × 2: the
-/// radii of G's and the contact point's circles), None otherwise.
+/// family solving for `solve`: "spin", "phi_dot" or "theta"; the viscous model's upright
+/// and inverted spins by `steady::viscous`) as a dict of numpy arrays and lists: values,
+/// eigenvalues (n × 4 complex; n × 2 for a tilted family, n × 6 under the viscous law),
+/// names (likewise), states (n × 6: ζ, ω), spin, theta, normal_force, stable, critical
+/// (list of dicts); for a tilted family also phi_dot and circles (n × 2: the radii of G's
+/// and the contact point's circles), None otherwise.
 #[pyfunction]
 #[pyo3(signature = (scenario, family, key = None, values = None, solve = "spin"))]
 pub fn steady_raw<'py>(
@@ -36,53 +121,39 @@ pub fn steady_raw<'py>(
     let scenario = resolve(py, scenario, Vec::new())?.inner;
     let family = Family::parse(family).map_err(|e| located(py, &scenario, &e))?;
     let solve = Solve::parse(solve).map_err(|e| located(py, &scenario, &e))?;
-    let (key, values, rows, critical) = match (key, values) {
-        (Some(key), Some(values)) => {
+    let viscous = matches!(scenario.scene.contact, ContactModel::Viscous { .. });
+    let k = key.as_deref();
+    let (values, rows, critical) = match (&key, values, viscous) {
+        (Some(key), Some(values), false) => {
             let sw = py
-                .detach(|| steady::sweep_solving(&scenario, family, solve, &key, &values))
+                .detach(|| steady::sweep_solving(&scenario, family, solve, key, &values))
                 .map_err(|e| located(py, &scenario, &e))?;
-            (Some(key), sw.values, sw.rows, sw.critical)
+            let rows = summaries(py, &scenario, k, &sw.values, &sw.rows)?;
+            (sw.values, rows, sw.critical)
         }
-        _ => {
+        (Some(key), Some(values), true) => {
+            let sw = py
+                .detach(|| steady::viscous::sweep(&scenario, family, key, &values))
+                .map_err(|e| located(py, &scenario, &e))?;
+            let rows = summaries(py, &scenario, k, &sw.values, &sw.rows)?;
+            (sw.values, rows, sw.critical)
+        }
+        (_, _, false) => {
             let an = steady::analyse_solving(&scenario.scene, family, solve)
                 .map_err(|e| located(py, &scenario, &e))?;
-            (None, vec![an.motion.spin], vec![Ok(an)], Vec::new())
+            (vec![an.motion.spin], vec![Summary::from(&an)], Vec::new())
+        }
+        (_, _, true) => {
+            let spin = steady::viscous::analyse(&scenario.scene, family)
+                .map_err(|e| located(py, &scenario, &e))?;
+            let row = Summary::from(&spin);
+            (vec![row.spin], vec![row], Vec::new())
         }
     };
-    let analyses: Vec<&Analysis> = rows
-        .iter()
-        .zip(&values)
-        .map(|(r, v)| {
-            r.as_ref().map_err(|e| {
-                let e = ModelError::invalid(
-                    key.as_deref().unwrap_or("initial"),
-                    ellipsoid_core::error::number(*v),
-                    format!("no steady motion there: {e}"),
-                );
-                located(py, &scenario, &e)
-            })
-        })
-        .collect::<PyResult<_>>()?;
-    let eig: Vec<Vec<Complex64>> = analyses
-        .iter()
-        .map(|a| {
-            a.spectrum
-                .eigenvalues()
-                .iter()
-                .map(|z| Complex64::new(z.re, z.im))
-                .collect()
-        })
-        .collect();
-    let names: Vec<Vec<&str>> = analyses
-        .iter()
-        .map(|a| a.spectrum.modes.iter().map(|m| m.name).collect())
-        .collect();
-    let states: Vec<Vec<f64>> = analyses
-        .iter()
-        .map(|a| a.motion.at.iter().copied().collect())
-        .collect();
-    let column =
-        |f: &dyn Fn(&Analysis) -> f64| -> Vec<f64> { analyses.iter().map(|a| f(a)).collect() };
+    let eig: Vec<Vec<Complex64>> = rows.iter().map(|r| r.eigenvalues.clone()).collect();
+    let names: Vec<Vec<&str>> = rows.iter().map(|r| r.names.clone()).collect();
+    let states: Vec<Vec<f64>> = rows.iter().map(|r| r.state.clone()).collect();
+    let column = |f: &dyn Fn(&Summary) -> f64| -> Vec<f64> { rows.iter().map(f).collect() };
     let out = PyDict::new(py);
     out.set_item("key", key)?;
     out.set_item("family", family.name())?;
@@ -90,27 +161,19 @@ pub fn steady_raw<'py>(
     out.set_item("eigenvalues", PyArray2::from_vec2(py, &eig)?)?;
     out.set_item("modes", names)?;
     out.set_item("states", PyArray2::from_vec2(py, &states)?)?;
-    out.set_item("spin", PyArray1::from_vec(py, column(&|a| a.motion.spin)))?;
-    out.set_item("theta", PyArray1::from_vec(py, column(&|a| a.motion.theta)))?;
+    out.set_item("spin", PyArray1::from_vec(py, column(&|r| r.spin)))?;
+    out.set_item("theta", PyArray1::from_vec(py, column(&|r| r.theta)))?;
     out.set_item(
         "normal_force",
-        PyArray1::from_vec(py, column(&|a| a.motion.normal_force)),
+        PyArray1::from_vec(py, column(&|r| r.normal_force)),
     )?;
-    let tilted = |f: &dyn Fn(&Analysis) -> Option<Vec<f64>>| -> Option<Vec<Vec<f64>>> {
-        analyses.iter().map(|a| f(a)).collect()
-    };
-    let phi_dot = tilted(&|a| a.motion.precession.map(|p| vec![p]))
-        .map(|v| PyArray1::from_vec(py, v.concat()));
-    out.set_item("phi_dot", phi_dot)?;
-    let circles = tilted(&|a| a.motion.circles.map(|c| vec![c.center, c.contact]))
-        .map(|v| PyArray2::from_vec2(py, &v))
-        .transpose()?;
+    let phi_dot: Option<Vec<f64>> = rows.iter().map(|r| r.precession).collect();
+    out.set_item("phi_dot", phi_dot.map(|v| PyArray1::from_vec(py, v)))?;
+    let circles: Option<Vec<Vec<f64>>> = rows.iter().map(|r| r.circles.clone()).collect();
+    let circles = circles.map(|v| PyArray2::from_vec2(py, &v)).transpose()?;
     out.set_item("circles", circles)?;
-    out.set_item(
-        "max_real",
-        PyArray1::from_vec(py, column(&|a| a.spectrum.max_real())),
-    )?;
-    let stable: Vec<bool> = analyses.iter().map(|a| a.spectrum.stable()).collect();
+    out.set_item("max_real", PyArray1::from_vec(py, column(&|r| r.max_real)))?;
+    let stable: Vec<bool> = rows.iter().map(|r| r.stable).collect();
     out.set_item("stable", PyArray1::from_vec(py, stable))?;
     let crit = critical
         .iter()

@@ -86,3 +86,67 @@ def test_steady_writes_parquet_equal_to_its_csv(cli: Path, tmp_path: Path) -> No
             assert ["" if v is None or (isinstance(v, float) and math.isnan(v)) else v for v in got] == want, name
         else:
             np.testing.assert_array_equal(np.array(got, dtype=float), [float(v) if v else math.nan for v in want], name)
+
+
+def test_plot_draws_the_diagram_into_an_axes_and_returns_it() -> None:
+    """`Steady.plot`: the egg's diagram against its spin. Each Re λ is a line over the
+    values (the largest first drawn bold), the critical spin a vertical line at the
+    analytic n_c, the frequencies on a twin axis, the shading green above n_c and red
+    below; into a given Axes it draws there and returns it; a non-Axes is refused."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    spins = np.linspace(40.0, 160.0, 13)
+    res = ellipsoid.steady(ellipsoid.Scenario(**EGG), vary={"initial.psi_dot": spins})
+    n_c = critical_spin()
+    fig, ax = plt.subplots()
+    assert res.plot(ax=ax) is ax
+    bold = [line for line in ax.get_lines() if line.get_label() == "largest Re λ"]
+    assert len(bold) == 1
+    assert np.array_equal(bold[0].get_ydata(), res.eigenvalues[:, 0].real)
+    verticals = [line for line in ax.get_lines() if len(set(np.atleast_1d(line.get_xdata()))) == 1
+                 and line.get_linestyle() == "--"]
+    assert len(verticals) == 1 and abs(verticals[0].get_xdata()[0] / n_c - 1) < 1e-10
+    twins = [a for a in fig.axes if a is not ax]
+    assert len(twins) == 1 and twins[0].get_ylabel() == "|Im λ| (1/s)"
+    spans = [(p.get_x(), p.get_x() + p.get_width(), p.get_facecolor()) for p in ax.patches]
+    green, red = matplotlib.colors.to_rgba("#d6f0d6"), matplotlib.colors.to_rgba("#fad6d6")
+    assert all(c == (green if lo >= n_c * (1 - 1e-12) else red) for lo, _, c in spans)
+    assert min(lo for lo, _, c in spans if c == green) == pytest.approx(n_c, rel=1e-12)
+    plt.close(fig)
+    new = res.plot(frequencies=False)
+    assert len(new.figure.axes) == 1
+    plt.close(new.figure)
+    with pytest.raises(ellipsoid.ScenarioError, match="ax"):
+        res.plot(ax="left")
+
+
+VISCOUS_TOP = {
+    "body": {"a": 0.015, "c": 0.015, "mass": 6e-3, "com_offset": 0.003, "inertia": [8e-7, 8e-7, 7e-7]},
+    "initial": {"theta": 0.0, "phi_dot": 180.0},
+    "contact": {"model": "viscous", "viscous_friction": 1.0},
+    "output": {"t_end": 1.0, "dt": 0.01},
+}
+
+
+def test_the_viscous_law_is_analysed_with_and_without_vary() -> None:
+    """Under viscous sliding, `ellipsoid.steady` gives six eigenvalues per row; a sweep of
+    I3 finds where the tippe top's upright spin (α = 0.2, 180 rad/s) destabilises, near
+    the criterion's end I1/I3 = 1 − α, and single analyses just either side of it agree
+    with the sweep's verdicts there and with its own eigenvalues at a swept value."""
+    top = ellipsoid.Scenario(**VISCOUS_TOP)
+    i3 = np.linspace(6e-7, 1.2e-6, 13)
+    res = ellipsoid.steady(top, vary={"body.inertia[2]": i3})
+    assert res.eigenvalues.shape == (13, 6) and res.phi_dot is None and res.circles is None
+    assert set(m for row in res.modes for m in row) <= {"tilt", "slip"}
+    (c,) = res.critical
+    assert c["stable_side"] == "above" and 0.80 < 8e-7 / c["value"] < 0.82
+    for factor, stable in ((1 + 1e-6, True), (1 - 1e-6, False)):
+        one = ellipsoid.steady(top.replace(**{"body.inertia[2]": c["value"] * factor}))
+        assert bool(one.stable[0]) is stable
+    one = ellipsoid.steady(top.replace(**{"body.inertia[2]": float(i3[3])}))
+    assert np.array_equal(one.eigenvalues[0], res.eigenvalues[3])
+    with pytest.raises(ellipsoid.ScenarioError, match="viscous"):
+        res.scenario(0, 1e-6)

@@ -69,7 +69,7 @@ impl ReducedField {
                 return Err(ModelError::invalid(
                     "contact.model",
                     "\"viscous\"",
-                    "the viscous model's upright and inverted spins are analysed one at a time (`ellipsoid steady` without --vary; Rust: steady::viscous); sweeps and the tilted families do not take it",
+                    "the viscous model's upright and inverted spins are analysed by `ellipsoid steady` and ellipsoid.steady (Rust: steady::viscous); the tilted families, the linearisation in these coordinates and --perturb do not take it",
                 ));
             }
             ContactModel::Sliding { .. } => {
@@ -135,6 +135,13 @@ pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
             "effects",
             "present",
             "steady motions are analysed without effects (air_drag, rolling_resistance, spin_friction): remove them",
+        ));
+    }
+    if let Some(sphere) = scene.body.spheres().first() {
+        return Err(ModelError::invalid(
+            "body.sphere",
+            format!("\"{}\"", sphere.name),
+            "steady motions are analysed on the ellipsoid's own surface: a body with contact spheres is not analysed (its spheres would be ignored)",
         ));
     }
     if let Some(disc) = &scene.disc {

@@ -7,6 +7,7 @@ use nalgebra::Complex;
 use super::{Analysis, Family, Solve, analyse_solving};
 use crate::error::{ModelError, number};
 use crate::scenario::{self, Scenario};
+use crate::simulate::Scene;
 
 /// Most values a sweep accepts.
 pub const MAX_VALUES: usize = 100_000;
@@ -59,19 +60,49 @@ impl CriticalKind {
     }
 }
 
+/// What a sweep reads of one value's analysis: its eigenvalues and its verdict
+/// ([`Analysis`]; under the viscous law, [`super::viscous::ViscousSpin`]).
+pub trait Stability: Clone {
+    /// The eigenvalues [1/s], by decreasing real part.
+    fn eigenvalues(&self) -> Vec<Complex<f64>>;
+    /// Linear stability: no real part above `STABLE_TOLERANCE` of [`Stability::scale`].
+    fn stable(&self) -> bool;
+    /// The spectrum's scale max |λ| [1/s].
+    fn scale(&self) -> f64;
+    /// The largest real part [1/s].
+    fn max_real(&self) -> f64 {
+        self.eigenvalues()
+            .iter()
+            .map(|z| z.re)
+            .fold(f64::NEG_INFINITY, f64::max)
+    }
+}
+
+impl Stability for Analysis {
+    fn eigenvalues(&self) -> Vec<Complex<f64>> {
+        self.spectrum.eigenvalues()
+    }
+    fn stable(&self) -> bool {
+        self.spectrum.stable()
+    }
+    fn scale(&self) -> f64 {
+        self.spectrum.scale()
+    }
+}
+
 /// One value's analysis, or why there is none (e.g. no steady motion there).
-pub type Row = Result<Analysis, ModelError>;
+pub type Row<T = Analysis> = Result<T, ModelError>;
 
 /// The family along the values of one key.
 #[derive(Debug, Clone)]
-pub struct Sweep {
+pub struct Sweep<T = Analysis> {
     pub family: Family,
     /// What a tilted family solves for.
     pub solve: Solve,
     /// The scenario key varied.
     pub key: String,
     pub values: Vec<f64>,
-    pub rows: Vec<Row>,
+    pub rows: Vec<Row<T>>,
     /// Critical values, in increasing order.
     pub critical: Vec<Critical>,
 }
@@ -79,11 +110,19 @@ pub struct Sweep {
 /// The analysis of `family` (solving for `solve`) for `base` with `key` set to `value`
 /// (`key=value` applied after the scenario's own overrides).
 pub fn analyse_at(base: &Scenario, (family, solve): (Family, Solve), key: &str, value: f64) -> Row {
+    at(base, key, value, &|scene| {
+        analyse_solving(scene, family, solve)
+    })
+}
+
+/// `analyse` of the scene of `base` with `key` set to `value` (`key=value` applied after
+/// the scenario's own overrides).
+fn at<T>(base: &Scenario, key: &str, value: f64, analyse: &dyn Fn(&Scene) -> Row<T>) -> Row<T> {
     let mut overrides = base.overrides.clone();
     overrides.push(format!("{key}={value:e}"));
     let scenario = scenario::parse(&base.text, &base.source, &overrides)
         .map_err(|e| ModelError::invalid(key, number(value), e.to_string()))?;
-    analyse_solving(&scenario.scene, family, solve)
+    analyse(&scenario.scene)
 }
 
 /// Sweeps `key` over `values` (finite, at most [`MAX_VALUES`]) and locates every change
@@ -105,6 +144,20 @@ pub fn sweep_solving(
     key: &str,
     values: &[f64],
 ) -> Result<Sweep, ModelError> {
+    sweep_with(base, (family, solve), key, values, &|scene| {
+        analyse_solving(scene, family, solve)
+    })
+}
+
+/// [`sweep_solving`] with any analysis of a scene (the viscous spins':
+/// [`super::viscous::sweep`]).
+pub fn sweep_with<T: Stability>(
+    base: &Scenario,
+    (family, solve): (Family, Solve),
+    key: &str,
+    values: &[f64],
+    analyse: &dyn Fn(&Scene) -> Row<T>,
+) -> Result<Sweep<T>, ModelError> {
     if values.is_empty() || values.len() > MAX_VALUES {
         return Err(ModelError::invalid(
             key,
@@ -130,20 +183,17 @@ pub fn sweep_solving(
             "every value must be finite",
         ));
     }
-    let rows: Vec<Row> = values
-        .iter()
-        .map(|&v| analyse_at(base, (family, solve), key, v))
-        .collect();
+    let rows: Vec<Row<T>> = values.iter().map(|&v| at(base, key, v, analyse)).collect();
     let mut critical = Vec::new();
     for k in 1..values.len() {
         let (Ok(a), Ok(b)) = (&rows[k - 1], &rows[k]) else {
             continue;
         };
-        if a.spectrum.stable() != b.spectrum.stable() {
+        if a.stable() != b.stable() {
             critical.push(locate(
                 base,
-                (family, solve),
                 key,
+                analyse,
                 (values[k - 1], a),
                 (values[k], b),
             ));
@@ -167,14 +217,14 @@ pub fn sweep_solving(
 /// and the bracket is the error; at a transversal crossing (Hopf, real) it flips where
 /// Re λ = 1e-9 max |λ|, a distance 1e-9 max |λ| / (dRe λ/dp) from p_c.
 /// A value in between without a steady motion ends the search at the bracket so far.
-fn locate(
+fn locate<T: Stability>(
     base: &Scenario,
-    family: (Family, Solve),
     key: &str,
-    (p, a): (f64, &Analysis),
-    (q, b): (f64, &Analysis),
+    analyse: &dyn Fn(&Scene) -> Row<T>,
+    (p, a): (f64, &T),
+    (q, b): (f64, &T),
 ) -> Critical {
-    let stable_above = b.spectrum.stable();
+    let stable_above = b.stable();
     let (mut stable, mut unstable) = if stable_above { (q, p) } else { (p, q) };
     let mut at_unstable = if stable_above { a.clone() } else { b.clone() };
     while (stable - unstable).abs() > CRITICAL_TOLERANCE * stable.abs().max(unstable.abs()) {
@@ -182,18 +232,18 @@ fn locate(
         if mid == stable || mid == unstable {
             break;
         }
-        let Ok(an) = analyse_at(base, family, key, mid) else {
+        let Ok(an) = at(base, key, mid, analyse) else {
             break;
         };
-        if an.spectrum.stable() {
+        if an.stable() {
             stable = mid;
         } else {
             unstable = mid;
             at_unstable = an;
         }
     }
-    let top = at_unstable.spectrum.modes[0].eigenvalue;
-    let scale = at_unstable.spectrum.scale();
+    let top = at_unstable.eigenvalues()[0];
+    let scale = at_unstable.scale();
     // Classified on the unstable value of the sweep, where the eigenvalues are well
     // separated (at the bracket a collision's pair is split by only ~√ of the bracket).
     let kind = if top.im.abs() <= 1e-9 * scale {
@@ -214,9 +264,9 @@ fn locate(
 /// Whether the spectrum is symmetric about the imaginary axis (every λ has a partner −λ̄
 /// within 1e-6 of the scale), as for a Hamiltonian or reversible system: its stability
 /// can change only where eigenvalues collide (or at zero).
-fn symmetric(an: &Analysis) -> bool {
-    let scale = an.spectrum.scale();
-    let eig = an.spectrum.eigenvalues();
+fn symmetric<T: Stability>(an: &T) -> bool {
+    let scale = an.scale();
+    let eig = an.eigenvalues();
     eig.iter()
         .all(|z| eig.iter().any(|w| (w + z.conj()).norm() <= 1e-6 * scale))
 }

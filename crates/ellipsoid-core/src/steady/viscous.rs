@@ -19,8 +19,11 @@ use super::families::{self, Family};
 use super::linearize::{ZETA_STEP, richardson, tangent_basis};
 use super::reduce;
 use super::spectrum::{STABLE_TOLERANCE, by_real_part, reduced_modes};
+use super::sweep::{self, Stability, Sweep};
+use super::tilted::Solve;
 use crate::error::ModelError;
 use crate::model::{System, Viscous};
+use crate::scenario::Scenario;
 use crate::simulate::{ContactModel, Scene};
 use crate::state;
 
@@ -123,14 +126,48 @@ impl ViscousSpin {
 
     /// No real part above [`STABLE_TOLERANCE`] of max |λ|.
     pub fn stable(&self) -> bool {
-        let scale = self
-            .eigenvalues
-            .iter()
-            .map(|l| l.norm())
-            .fold(1e-300, f64::max);
-        self.max_real() <= STABLE_TOLERANCE * scale
+        self.max_real() <= STABLE_TOLERANCE * self.scale()
     }
 
+    /// max |λ| [1/s] (at least 1e-300).
+    pub fn scale(&self) -> f64 {
+        self.eigenvalues
+            .iter()
+            .map(|l| l.norm())
+            .fold(1e-300, f64::max)
+    }
+
+    /// What moves in each mode: "tilt" (the axis nutates or precesses; its eigenvector
+    /// has a tilt part) or "slip" (G's horizontal velocity relaxes, the attitude
+    /// unmoved).
+    pub fn mode_names(&self) -> Vec<&'static str> {
+        self.vectors
+            .iter()
+            .map(|v| {
+                let tilt = (v[0].norm_sqr() + v[1].norm_sqr()).sqrt();
+                if tilt > 1e-6 * v.norm() {
+                    "tilt"
+                } else {
+                    "slip"
+                }
+            })
+            .collect()
+    }
+}
+
+impl Stability for ViscousSpin {
+    fn eigenvalues(&self) -> Vec<Complex<f64>> {
+        self.eigenvalues.clone()
+    }
+    fn stable(&self) -> bool {
+        ViscousSpin::stable(self)
+    }
+    fn scale(&self) -> f64 {
+        ViscousSpin::scale(self)
+    }
+}
+
+impl ViscousSpin {
     /// The displacement ε Re(v) of mode `k` as (δζ, δω, δh) in body axes.
     pub fn perturbation(&self, k: usize, epsilon: f64) -> State9 {
         let v = self.vectors[k].map(|c| c.re * epsilon);
@@ -175,6 +212,20 @@ pub fn analyse(scene: &Scene, family: Family) -> Result<ViscousSpin, ModelError>
         .unwrap_or_else(|| init.angles.omega_body())
         .dot(&zeta);
     Ok(spin_at(&field, family, zeta, spin))
+}
+
+/// The upright or inverted spin of `base` (a scenario of the viscous model) along the
+/// values of one key, and the critical values where its stability changes
+/// ([`sweep::sweep_with`]).
+pub fn sweep(
+    base: &Scenario,
+    family: Family,
+    key: &str,
+    values: &[f64],
+) -> Result<Sweep<ViscousSpin>, ModelError> {
+    sweep::sweep_with(base, (family, Solve::Spin), key, values, &|scene| {
+        analyse(scene, family)
+    })
 }
 
 /// The steady spin at `spin` in the rest attitude `zeta` of `field` and its spectrum.

@@ -19,9 +19,10 @@ class Steady:
     ``values``: the varied values (without ``vary``, the one motion's spin n [rad/s]);
     ``eigenvalues``: complex array, one row per value, four eigenvalues [1/s] (body frame;
     two for the tilted families "precession" and "rolling-circle", in the frame turning
-    with the motion) sorted by decreasing real part, the zeros of the symmetries, the
-    constraints and the family removed; ``modes``: the name of each eigenvalue's mode
-    ("tilt", "roll", "pitch", "wobble", "spin", "nutation"); ``states``: (ζ1, ζ2, ζ3,
+    with the motion; six under the viscous sliding law) sorted by decreasing real part,
+    the zeros of the symmetries, the constraints and the family removed; ``modes``: the
+    name of each eigenvalue's mode ("tilt", "roll", "pitch", "wobble", "spin",
+    "nutation"; under the viscous law "tilt" or "slip"); ``states``: (ζ1, ζ2, ζ3,
     ω1, ω2, ω3) per value (world up and the angular velocity in body axes [rad/s]);
     ``spin`` [rad/s], ``theta`` [rad], ``normal_force`` [N], ``max_real`` [1/s],
     ``stable``; for the tilted families ``phi_dot`` [rad/s] and ``circles`` [m] (None
@@ -91,6 +92,62 @@ class Steady:
             f"{int(self.stable.sum())} stable; critical: {crit}>"
         )
 
+    def plot(self, ax: Any = None, frequencies: bool = True) -> Any:
+        """The stability diagram into the matplotlib Axes ``ax`` (a new figure's if None),
+        which it returns: the growth rates Re λ against ``values`` (the largest bold, the
+        others thin), the values' stable and unstable ranges shaded green and red (each
+        range ending at a located critical value, else midway between two values), each
+        critical value a dashed line labelled with its value and kind, and with
+        ``frequencies`` the angular frequencies |Im λ| (one point per pair) on a second
+        y axis at the right (``ax.twinx()``). As ``ellipsoid steady --vary ... --plot``
+        draws it."""
+        from ellipsoid._plot import _bad, _figure
+
+        if ax is not None and not (callable(getattr(ax, "plot", None)) and hasattr(ax, "figure")):
+            raise _bad("ax", ax, f"expected a matplotlib Axes, found {type(ax).__name__}", True)
+        if ax is None:
+            ax = _figure(figsize=(8, 4.5), layout="constrained").subplots()
+        x = np.asarray(self.values, dtype=float)
+        order = np.argsort(x, kind="stable")
+        x, eig, stable = x[order], self.eigenvalues[order], np.asarray(self.stable)[order]
+        crit = [float(c["value"]) for c in self.critical]
+        for k in range(len(x)):
+            def edge(j: int) -> float:
+                between = [c for c in crit if min(x[k], x[j]) <= c <= max(x[k], x[j])]
+                return between[0] if stable[k] != stable[j] and between else float(0.5 * (x[k] + x[j]))
+            lo = x[k] if k == 0 else edge(k - 1)
+            hi = x[k] if k == len(x) - 1 else edge(k + 1)
+            ax.axvspan(lo, hi, color="#d6f0d6" if stable[k] else "#fad6d6", lw=0, zorder=0)
+        ax.axhline(0.0, color="0.5", lw=0.8)
+        for k in range(eig.shape[1] - 1, -1, -1):
+            bold = k == 0
+            ax.plot(x, eig[:, k].real, color="#1f77b4" if bold else "#8caac8", lw=2.2 if bold else 0.8,
+                    label="largest Re λ" if bold else ("other Re λ" if k == 1 else None))
+        for c in self.critical:
+            ax.axvline(c["value"], color="#6e2896", ls="--", lw=1.2)
+            ax.annotate(f"{c['value']:.5g} ({c['kind']})", (c["value"], 1.0), xycoords=("data", "axes fraction"),
+                        xytext=(2, -10), textcoords="offset points", color="#6e2896", fontsize=8)
+        ax.set_xlabel(self.key or "spin (rad/s)")
+        ax.set_ylabel("Re λ (1/s)")
+        ax.grid(alpha=0.3)
+        handles, labels = ax.get_legend_handles_labels()
+        if frequencies:
+            twin = ax.twinx()
+            fx = np.repeat(x, eig.shape[1])
+            fy = np.abs(eig.imag).ravel()
+            twin.plot(fx, fy, ".", color="#d62728", ms=3, label="|Im λ|")
+            twin.set_ylabel("|Im λ| (1/s)", color="#d62728")
+            twin.set_ylim(bottom=0.0)
+            h, lab = twin.get_legend_handles_labels()
+            handles, labels = handles + h, labels + lab
+        from matplotlib.patches import Patch  # type: ignore[import-untyped,unused-ignore]
+
+        handles += [Patch(color="#d6f0d6"), Patch(color="#fad6d6")]
+        labels += ["stable", "unstable"]
+        ax.legend(handles, labels, fontsize=8, loc="best")
+        ax.set_title(f"{self.family}: against {self.key or 'spin'}")
+        return ax
+
     def to_pandas(self) -> Any:
         """The table of ``ellipsoid steady -o``: the key, spin, theta, normal_force (for a
         tilted family phi_dot, radius_g, radius_contact), stable, max_real, lambdaK_re,
@@ -125,7 +182,8 @@ def steady(
     solve: str = "spin",
 ) -> Steady:
     """The steady motions of ``family`` of ``scenario``'s body under its contact model
-    (frictionless, rolling, or the Coulomb model's rolling phase) and their stability:
+    (frictionless, rolling, the Coulomb model's rolling phase, or viscous sliding: its
+    upright and inverted spins, six eigenvalues each) and their stability:
     "upright" and "inverted" spin about the vertical at the scenario's initial spin;
     "precession" (frictionless, G fixed) and "rolling-circle" (Routh's steady rolling) are
     the tilted motions of a body of revolution at the scenario's ``initial.theta`` and
