@@ -2,7 +2,7 @@
 //! their stability"): the raw arrays; `python/ellipsoid/_steady.py` wraps them in the
 //! `Steady` result.
 
-use ellipsoid_core::error::ModelError;
+use ellipsoid_core::error::{ModelError, Value};
 use ellipsoid_core::scenario::Scenario;
 use ellipsoid_core::steady::{self, Analysis, COORDINATES, Family, Phase, Solve};
 use numpy::{Complex64, PyArray1, PyArray2};
@@ -56,7 +56,7 @@ pub fn steady_raw<'py>(
             r.as_ref().map_err(|e| {
                 let e = ModelError::invalid(
                     key.as_deref().unwrap_or("initial"),
-                    ellipsoid_core::error::number(*v),
+                    *v,
                     format!("no steady motion there: {e}"),
                 );
                 located(py, &scenario, &e)
@@ -182,7 +182,7 @@ pub fn linearize<'py>(
         Some(s) => {
             let e = ModelError::invalid(
                 "state",
-                format!("{} numbers", s.len()),
+                Value::Count(s.len() as u64, "numbers"),
                 "the state is (ζ1, ζ2, ζ3, ω1, ω2, ω3): 6 numbers",
             );
             return Err(located(py, &scenario, &e));

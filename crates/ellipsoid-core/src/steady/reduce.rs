@@ -14,7 +14,7 @@
 use nalgebra::{Vector3, Vector6};
 
 use crate::body::Body;
-use crate::error::{ModelError, number};
+use crate::error::{ModelError, Value};
 use crate::model::{ContactLaw, Frictionless, Rolling, System};
 use crate::simulate::{ContactModel, Scene};
 use crate::state::{self, EulerAngles, State};
@@ -68,14 +68,14 @@ impl ReducedField {
             ContactModel::Viscous { .. } => {
                 return Err(ModelError::invalid(
                     "contact.model",
-                    "\"viscous\"",
+                    Value::Choice("viscous".into()),
                     "the viscous model's upright and inverted spins are analysed one at a time (`ellipsoid steady` without --vary; Rust: steady::viscous); sweeps and the tilted families do not take it",
                 ));
             }
             ContactModel::Sliding { .. } => {
                 return Err(ModelError::invalid(
                     "contact.model",
-                    "\"sliding\"",
+                    Value::Choice("sliding".into()),
                     "a steady motion has no slip, where the sliding model stops: use \"coulomb\" (whose rolling phase is analysed, within its friction cone) or \"rolling\"",
                 ));
             }
@@ -133,14 +133,14 @@ pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
     if scene.effects.any() {
         return Err(ModelError::invalid(
             "effects",
-            "present",
+            Value::Text("present".into()),
             "steady motions are analysed without effects (air_drag, rolling_resistance, spin_friction): remove them",
         ));
     }
     if let Some(disc) = &scene.disc {
         return Err(ModelError::invalid(
             "contact.contact_radius",
-            number(disc.radius),
+            disc.radius,
             "steady motions are analysed with a point contact (contact_radius = 0)",
         ));
     }

@@ -5,7 +5,7 @@
 use nalgebra::Complex;
 
 use super::{Analysis, Family, Solve, analyse_solving};
-use crate::error::{ModelError, number};
+use crate::error::{ModelError, Value};
 use crate::scenario::{self, Scenario};
 
 /// Most values a sweep accepts.
@@ -82,7 +82,7 @@ pub fn analyse_at(base: &Scenario, (family, solve): (Family, Solve), key: &str, 
     let mut overrides = base.overrides.clone();
     overrides.push(format!("{key}={value:e}"));
     let scenario = scenario::parse(&base.text, &base.source, &overrides)
-        .map_err(|e| ModelError::invalid(key, number(value), e.to_string()))?;
+        .map_err(|e| ModelError::invalid(key, value, e.to_string()))?;
     analyse_solving(&scenario.scene, family, solve)
 }
 
@@ -108,14 +108,14 @@ pub fn sweep_solving(
     if values.is_empty() || values.len() > MAX_VALUES {
         return Err(ModelError::invalid(
             key,
-            format!("{} values", values.len()),
+            Value::Count(values.len() as u64, "values"),
             format!("a sweep takes 1 to {MAX_VALUES} values"),
         ));
     }
     if family.tilted() && solved_keys(solve).contains(&key) {
         return Err(ModelError::invalid(
             key,
-            format!("{} values", values.len()),
+            Value::Count(values.len() as u64, "values"),
             format!(
                 "the {} family solves for {} here, which replaces this key: vary one of the given quantities (initial.theta, initial.phi_dot, initial.psi_dot) or a body or gravity key instead",
                 family.name(),
@@ -124,11 +124,7 @@ pub fn sweep_solving(
         ));
     }
     if let Some(v) = values.iter().find(|v| !v.is_finite()) {
-        return Err(ModelError::invalid(
-            key,
-            number(*v),
-            "every value must be finite",
-        ));
+        return Err(ModelError::invalid(key, *v, "every value must be finite"));
     }
     let rows: Vec<Row> = values
         .iter()

@@ -19,7 +19,7 @@ use super::families::{self, Family};
 use super::linearize::{ZETA_STEP, richardson, tangent_basis};
 use super::reduce;
 use super::spectrum::{STABLE_TOLERANCE, by_real_part, reduced_modes};
-use crate::error::ModelError;
+use crate::error::{ModelError, Value};
 use crate::model::{System, Viscous};
 use crate::simulate::{ContactModel, Scene};
 use crate::state;
@@ -45,7 +45,7 @@ impl ViscousField {
         let ContactModel::Viscous { viscous_friction } = scene.contact else {
             return Err(ModelError::invalid(
                 "contact.model",
-                format!("\"{}\"", scene.contact.name()),
+                Value::Choice(scene.contact.name().into()),
                 "the viscous analysis needs model = \"viscous\"",
             ));
         };
@@ -162,7 +162,7 @@ pub fn analyse(scene: &Scene, family: Family) -> Result<ViscousSpin, ModelError>
         Family::Precession | Family::RollingCircle => {
             return Err(ModelError::invalid(
                 "family",
-                format!("\"{}\"", family.name()),
+                Value::Choice(family.name().into()),
                 "under the viscous law only the upright and inverted spins are steady (a tilted motion slips, and viscous friction then acts)",
             ));
         }
