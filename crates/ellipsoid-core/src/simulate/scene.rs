@@ -110,18 +110,25 @@ impl Default for Landing {
     }
 }
 
-/// The optional effects a scene names (absent = not simulated, no cost).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// The optional effects a scene names (absent = not simulated, no cost). Serialised as
+/// `ellipsoid check` reports them (Python's `check(...)["effects"]`), `None` where absent.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct EffectSet {
-    pub air_drag: Option<AirDrag>,
     pub rolling_resistance: Option<RollingResistance>,
     pub spin_friction: Option<SpinFriction>,
+    pub air_drag: Option<AirDrag>,
 }
 
 impl EffectSet {
-    /// Whether any effect is present.
+    /// Whether any effect is present (every field named, so that a new effect cannot be
+    /// left out).
     pub fn any(&self) -> bool {
-        self.air_drag.is_some() || self.rolling_resistance.is_some() || self.spin_friction.is_some()
+        let EffectSet {
+            rolling_resistance,
+            spin_friction,
+            air_drag,
+        } = self;
+        rolling_resistance.is_some() || spin_friction.is_some() || air_drag.is_some()
     }
 }
 

@@ -131,10 +131,17 @@ impl ReducedField {
 /// Refuses what no steady analysis takes: effects and a contact disc.
 pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
     if scene.effects.any() {
+        // The effects are the keys of [effects] but gravity, named in alphabetical order.
+        let mut effects = crate::scenario::schema::keys("effects");
+        effects.retain(|k| *k != "gravity");
+        effects.sort_unstable();
         return Err(ModelError::invalid(
             "effects",
             Value::Text("present".into()),
-            "steady motions are analysed without effects (air_drag, rolling_resistance, spin_friction): remove them",
+            format!(
+                "steady motions are analysed without effects ({}): remove them",
+                effects.join(", ")
+            ),
         ));
     }
     if let Some(disc) = &scene.disc {
