@@ -525,3 +525,17 @@ fn val_rattleback_loses_stability_by_crossing_at_zero_spin() {
         assert!(c.value.abs() < 1e-5, "{c:?}");
     }
 }
+
+#[test]
+fn a_scene_with_an_effect_is_refused_naming_every_effect_of_the_schema() {
+    let text = "[body]\na = 0.02\nc = 0.03\nmass = 0.06\ninertia = [1.2e-5, 1.2e-5, 1.0e-5]\n\
+                [initial]\npsi_dot = 50.0\n[contact]\nmodel = \"frictionless\"\n\
+                [effects]\nair_drag = { linear = 0.1 }\n[output]\nt_end = 1.0\ndt = 1e-3\n";
+    let scene = scenario::parse(text, "test", &[] as &[&str]).unwrap().scene;
+    let e = steady::analyse(&scene, Family::Upright).unwrap_err();
+    assert_eq!(
+        e.to_string(),
+        "effects = present: steady motions are analysed without effects \
+         (air_drag, rolling_resistance, spin_friction): remove them"
+    );
+}

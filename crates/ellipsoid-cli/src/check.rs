@@ -6,6 +6,7 @@ use std::fmt::Write as _;
 use std::process::ExitCode;
 
 use ellipsoid_core::scenario;
+use ellipsoid_core::simulate::EffectSet;
 use ellipsoid_study::check::{self, Derived};
 
 use crate::cli::CheckArgs;
@@ -87,21 +88,26 @@ fn describe(d: &Derived) -> String {
             ),
         );
     }
-    let e = &d.effects;
+    // Every effect named, so that a new one cannot be left out of the report.
+    let EffectSet {
+        rolling_resistance,
+        spin_friction,
+        air_drag,
+    } = d.effects;
     let mut effects = Vec::new();
-    if let Some(r) = e.rolling_resistance {
+    if let Some(r) = rolling_resistance {
         effects.push(format!(
             "rolling resistance c_r = {} m (eps = {} rad/s)",
             r.coefficient, r.regularisation
         ));
     }
-    if let Some(s) = e.spin_friction {
+    if let Some(s) = spin_friction {
         effects.push(format!(
             "spin friction c_s = {} m (eps = {} rad/s)",
             s.coefficient, s.regularisation
         ));
     }
-    if let Some(a) = e.air_drag {
+    if let Some(a) = air_drag {
         effects.push(format!(
             "air drag k = {} kg/s, k_w = {} kg m^2/s",
             a.linear, a.angular

@@ -9,7 +9,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::error::{ModelError, number};
+use crate::error::{Digits, ModelError, Value};
 
 /// Most contact spheres a body may have.
 pub const MAX_SPHERES: usize = 8;
@@ -79,14 +79,14 @@ impl Body {
             if !(v.is_finite() && *v > 0.0) {
                 return Err(ModelError::invalid(
                     format!("body.{name}"),
-                    number(*v),
+                    *v,
                     "a semi-axis must be a positive, finite length in metres",
                 ));
             }
             if !(min..=max).contains(v) {
                 return Err(ModelError::invalid(
                     format!("body.{name}"),
-                    number(*v),
+                    *v,
                     format!(
                         "a semi-axis must be from {min:.1e} to {max:.1e} m, so that its square is a normal float"
                     ),
@@ -96,14 +96,14 @@ impl Body {
         if !(mass.is_finite() && mass > 0.0) {
             return Err(ModelError::invalid(
                 "body.mass",
-                number(mass),
+                mass,
                 "the mass must be positive and finite (kg)",
             ));
         }
         if inertia.iter().any(|v| !v.is_finite()) {
             return Err(ModelError::invalid(
                 "body.inertia",
-                fmt_matrix(&inertia),
+                Value::Matrix(Box::new(inertia), Digits::Short),
                 "every entry must be finite (kg m^2)",
             ));
         }
@@ -111,7 +111,7 @@ impl Body {
         if (inertia - inertia.transpose()).abs().max() > 1e-12 * scale {
             return Err(ModelError::invalid(
                 "body.inertia",
-                fmt_matrix(&inertia),
+                Value::Matrix(Box::new(inertia), Digits::Short),
                 "the inertia tensor must be symmetric",
             ));
         }
@@ -119,7 +119,7 @@ impl Body {
         if moments.iter().any(|&m| m <= 0.0) {
             return Err(ModelError::invalid(
                 "body.inertia",
-                fmt_vector(&moments),
+                Value::vector(&moments),
                 "principal moments of inertia must be positive",
             ));
         }
@@ -128,14 +128,14 @@ impl Body {
         if i0 > i1 + i2 + slack || i1 > i0 + i2 + slack || i2 > i0 + i1 + slack {
             return Err(ModelError::invalid(
                 "body.inertia",
-                fmt_vector(&moments),
+                Value::vector(&moments),
                 "principal moments must satisfy the triangle inequality (each at most the sum of the other two)",
             ));
         }
         if com_offset.iter().any(|v| !v.is_finite()) {
             return Err(ModelError::invalid(
                 "body.com_offset",
-                fmt_vector(&com_offset),
+                Value::vector(&com_offset),
                 "the centre-of-mass offset must be finite (m)",
             ));
         }
@@ -143,7 +143,7 @@ impl Body {
         if radial >= 1.0 {
             return Err(ModelError::invalid(
                 "body.com_offset",
-                fmt_vector(&com_offset),
+                Value::vector(&com_offset),
                 format!(
                     "the centre of mass must lie inside the ellipsoid (g^T A^-2 g = {radial:.6} must be < 1)"
                 ),
@@ -152,7 +152,7 @@ impl Body {
         let inertia_inv = inertia.try_inverse().ok_or_else(|| {
             ModelError::invalid(
                 "body.inertia",
-                fmt_matrix(&inertia),
+                Value::Matrix(Box::new(inertia), Digits::Short),
                 "the inertia tensor must be invertible",
             )
         })?;
@@ -174,7 +174,7 @@ impl Body {
         if spheres.len() > MAX_SPHERES {
             return Err(ModelError::invalid(
                 "body.sphere",
-                format!("{} entries", spheres.len()),
+                Value::Count(spheres.len() as u64, "entries"),
                 format!("a body has at most {MAX_SPHERES} contact spheres"),
             ));
         }
@@ -185,7 +185,7 @@ impl Body {
             if sp.name.is_empty() || sp.name.len() > MAX_NAME || !sp.name.chars().all(word) {
                 return Err(ModelError::invalid(
                     field("name"),
-                    format!("{:?}", sp.name),
+                    Value::Name(sp.name.clone()),
                     format!(
                         "a sphere's name is 1 to {MAX_NAME} ASCII letters, digits or underscores \
                          (it names output columns, e.g. normal_force_stem)"
@@ -195,21 +195,21 @@ impl Body {
             if spheres[..k].iter().any(|o| o.name == sp.name) || sp.name == "ellipsoid" {
                 return Err(ModelError::invalid(
                     field("name"),
-                    format!("{:?}", sp.name),
+                    Value::Name(sp.name.clone()),
                     "sphere names must be unique and not \"ellipsoid\" (the body's own surface)",
                 ));
             }
             if !(sp.radius.is_finite() && (min..=max).contains(&sp.radius)) {
                 return Err(ModelError::invalid(
                     field("radius"),
-                    number(sp.radius),
+                    sp.radius,
                     format!("a sphere's radius must be a length from {min:.1e} to {max:.1e} m"),
                 ));
             }
             if sp.center.iter().any(|v| !(v.is_finite() && v.abs() <= max)) {
                 return Err(ModelError::invalid(
                     field("center"),
-                    fmt_vector(&sp.center),
+                    Value::vector(&sp.center),
                     format!(
                         "a sphere's centre must be finite, each coordinate at most {max:.1e} m"
                     ),
@@ -292,22 +292,6 @@ impl Body {
 pub fn uniform_inertia(semi_axes: Vector3<f64>, mass: f64) -> Matrix3<f64> {
     let sq = semi_axes.component_mul(&semi_axes);
     Matrix3::from_diagonal(&Vector3::new(sq.y + sq.z, sq.x + sq.z, sq.x + sq.y)) * (mass / 5.0)
-}
-
-fn fmt_vector(v: &Vector3<f64>) -> String {
-    format!("[{}, {}, {}]", number(v.x), number(v.y), number(v.z))
-}
-
-fn fmt_matrix(m: &Matrix3<f64>) -> String {
-    let row = |i: usize| {
-        format!(
-            "[{}, {}, {}]",
-            number(m[(i, 0)]),
-            number(m[(i, 1)]),
-            number(m[(i, 2)])
-        )
-    };
-    format!("[{}, {}, {}]", row(0), row(1), row(2))
 }
 
 #[cfg(test)]

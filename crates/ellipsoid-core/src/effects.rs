@@ -8,6 +8,7 @@
 //! model's power balance (see `model`).
 
 use nalgebra::Vector3;
+use serde::Serialize;
 
 use crate::body::Body;
 use crate::model::Kinematics;
@@ -64,7 +65,7 @@ impl<A: Effect, B: Effect> Effect for (A, B) {
 }
 
 /// Viscous air drag: force −k v_G \[N\] and torque −k_ω ω [N·m].
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct AirDrag {
     /// k [kg/s].
     pub linear: f64,
@@ -85,7 +86,7 @@ impl Effect for AirDrag {
 
 /// Rolling resistance: torque −c_r N ω_h/|ω_h|, ω_h the horizontal part of ω,
 /// regularised as ω_h / √(|ω_h|² + ε²) so that it vanishes smoothly at ω_h = 0.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RollingResistance {
     /// c_r \[m\].
     pub coefficient: f64,
@@ -109,7 +110,7 @@ impl Effect for RollingResistance {
 
 /// Spin (drilling) friction: torque −c_s N sign(ω_z) e3, with sign regularised as
 /// ω_z / √(ω_z² + ε²).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct SpinFriction {
     /// c_s \[m\].
     pub coefficient: f64,

@@ -2,7 +2,7 @@
 //! their stability"): the raw arrays; `python/ellipsoid/_steady.py` wraps them in the
 //! `Steady` result.
 
-use ellipsoid_core::error::ModelError;
+use ellipsoid_core::error::{ModelError, Value};
 use ellipsoid_core::scenario::Scenario;
 use ellipsoid_core::simulate::ContactModel;
 use ellipsoid_core::steady::sweep::Row;
@@ -92,7 +92,7 @@ where
             Err(e) => {
                 let e = ModelError::invalid(
                     key.unwrap_or("initial"),
-                    ellipsoid_core::error::number(*v),
+                    *v,
                     format!("no steady motion there: {e}"),
                 );
                 Err(located(py, scenario, &e))
@@ -245,7 +245,7 @@ pub fn linearize<'py>(
         Some(s) => {
             let e = ModelError::invalid(
                 "state",
-                format!("{} numbers", s.len()),
+                Value::Count(s.len() as u64, "numbers"),
                 "the state is (ζ1, ζ2, ζ3, ω1, ω2, ω3): 6 numbers",
             );
             return Err(located(py, &scenario, &e));

@@ -10,7 +10,7 @@ use std::ops::ControlFlow;
 use ellipsoid_core::geometry::Contact;
 use ellipsoid_core::integrate::Method;
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
-use ellipsoid_core::simulate::{self, Sample};
+use ellipsoid_core::simulate::{self, EffectSet, Sample};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
@@ -28,7 +28,8 @@ pub struct Derived {
     /// g [m/s²].
     pub gravity: f64,
     pub contact: ContactData,
-    pub effects: EffectsData,
+    /// The effects present (core's own declaration, serialised; None where absent).
+    pub effects: EffectSet,
     pub initial: InitialData,
     /// The invariants the run tracks (conserved in this scene), in summary order.
     pub invariants: Vec<String>,
@@ -75,32 +76,6 @@ pub struct ContactData {
 pub struct DiscData {
     pub radius: f64,
     pub law: &'static str,
-}
-
-/// The effects present (None where absent).
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct EffectsData {
-    pub rolling_resistance: Option<Regularised>,
-    pub spin_friction: Option<Regularised>,
-    pub air_drag: Option<AirDragData>,
-}
-
-/// A rolling-resistance or spin-friction coefficient and its regularisation.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Regularised {
-    /// c_r or c_s \[m\].
-    pub coefficient: f64,
-    /// ε [rad/s].
-    pub regularisation: f64,
-}
-
-/// Air drag.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct AirDragData {
-    /// k [kg/s].
-    pub linear: f64,
-    /// k_ω [kg m²/s].
-    pub angular: f64,
 }
 
 /// The initial state and what follows from it at t = 0.
@@ -198,7 +173,6 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
     moments.sort_by(f64::total_cmp);
     let radial = g.component_div(&ax).norm();
     let (model, friction) = (scene.contact.name(), scene.contact.friction());
-    let e = &scene.effects;
     let init = &scene.initial;
     let a = &init.angles;
     let omega = init.omega_body.unwrap_or_else(|| a.omega_body());
@@ -233,20 +207,7 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
                 law: d.law.name(),
             }),
         },
-        effects: EffectsData {
-            rolling_resistance: e.rolling_resistance.map(|r| Regularised {
-                coefficient: r.coefficient,
-                regularisation: r.regularisation,
-            }),
-            spin_friction: e.spin_friction.map(|r| Regularised {
-                coefficient: r.coefficient,
-                regularisation: r.regularisation,
-            }),
-            air_drag: e.air_drag.map(|d| AirDragData {
-                linear: d.linear,
-                angular: d.angular,
-            }),
-        },
+        effects: scene.effects,
         initial: InitialData {
             theta: a.theta,
             phi: a.phi,

@@ -24,7 +24,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use ellipsoid_core::error::{ModelError, number};
+use ellipsoid_core::error::{Field, ModelError, number};
 use ellipsoid_core::integrate::{self, Action, Direction, Event, Method, Options, StopReason};
 use ellipsoid_core::invariants::Invariant;
 use ellipsoid_core::model::{Frictionless, System};
@@ -444,9 +444,11 @@ fn scene_for(
     if let Err(e) = scene.validate() {
         return Err(match &e {
             _ if t_end.is_none() => located(scenario, &e),
-            ModelError::Invalid { quantity, rule, .. } if quantity == "output.t_end" => {
-                option_error(rule.clone())
-            }
+            ModelError::Invalid {
+                field: Field::Key(key),
+                rule,
+                ..
+            } if key == "output.t_end" => option_error(rule.clone()),
             _ => option_error(format!("with this end time, {e}")),
         });
     }

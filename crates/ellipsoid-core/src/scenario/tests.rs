@@ -373,7 +373,11 @@ fn physics_errors_found_later_are_located() {
     let e = s.locate(&ModelError::derived(
         "initial",
         "initial state",
-        "N = -1 N",
+        crate::error::Value::Named {
+            name: "N",
+            value: -1.0,
+            unit: "N",
+        },
         "the plane must push",
     ));
     assert_eq!(

@@ -30,6 +30,7 @@ mod transition;
 pub use crate::invariants::Drift;
 pub use outcome::{
     Chatter, EventKind, EventRecord, ImpactReport, Mode, Outcome, RunWarning, Sample, Status,
+    StatusKind,
 };
 pub use scene::{
     ContactModel, EffectSet, InitialState, Landing, LiftOff, MAX_OBSERVE, MAX_SECTION_POINTS,

@@ -162,8 +162,42 @@ pub enum Status {
     Cancelled,
 }
 
-impl Status {
-    /// The names of every status, as summaries and `[check]` tables spell them.
+/// What kind of end a [`Status`] is, without its numbers: what a name in a summary, a
+/// `[check]` table or a study's `status` column stands for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum StatusKind {
+    Completed,
+    Observed,
+    LostContact,
+    SlipStopped,
+    Painleve,
+    SolverFailure,
+    Chattering,
+    NonFinite,
+    Cancelled,
+    InconsistentContact,
+    SeveralContacts,
+    SectionFull,
+}
+
+impl StatusKind {
+    /// Every kind, in the order of [`StatusKind::NAMES`].
+    pub const ALL: [StatusKind; 12] = [
+        StatusKind::Completed,
+        StatusKind::Observed,
+        StatusKind::LostContact,
+        StatusKind::SlipStopped,
+        StatusKind::Painleve,
+        StatusKind::SolverFailure,
+        StatusKind::Chattering,
+        StatusKind::NonFinite,
+        StatusKind::Cancelled,
+        StatusKind::InconsistentContact,
+        StatusKind::SeveralContacts,
+        StatusKind::SectionFull,
+    ];
+
+    /// The names of every kind, as summaries and `[check]` tables spell them.
     pub const NAMES: [&'static str; 12] = [
         "completed",
         "observed",
@@ -180,21 +214,50 @@ impl Status {
     ];
 
     /// Its name in summaries (`status` field).
+    pub fn name(self) -> &'static str {
+        Self::NAMES[self as usize]
+    }
+
+    /// The kind named `name` (one of [`StatusKind::NAMES`]).
+    pub fn named(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// Whether a run of this kind ended where the scene asked it to: at t_end, at a
+    /// terminal observable or at a full section.
+    pub fn finished(self) -> bool {
+        matches!(
+            self,
+            StatusKind::Completed | StatusKind::Observed | StatusKind::SectionFull
+        )
+    }
+}
+
+impl Status {
+    /// The names of every status, as summaries and `[check]` tables spell them.
+    pub const NAMES: [&'static str; 12] = StatusKind::NAMES;
+
+    /// Its kind, without its numbers.
+    pub fn kind(&self) -> StatusKind {
+        match self {
+            Status::Completed => StatusKind::Completed,
+            Status::Observed { .. } => StatusKind::Observed,
+            Status::LostContact => StatusKind::LostContact,
+            Status::SlipStopped => StatusKind::SlipStopped,
+            Status::Painleve { .. } => StatusKind::Painleve,
+            Status::SolverFailure { .. } => StatusKind::SolverFailure,
+            Status::Chattering { .. } => StatusKind::Chattering,
+            Status::NonFinite { .. } => StatusKind::NonFinite,
+            Status::Cancelled => StatusKind::Cancelled,
+            Status::InconsistentContact { .. } => StatusKind::InconsistentContact,
+            Status::SeveralContacts { .. } => StatusKind::SeveralContacts,
+            Status::SectionFull { .. } => StatusKind::SectionFull,
+        }
+    }
+
+    /// Its name in summaries (`status` field).
     pub fn name(&self) -> &'static str {
-        Status::NAMES[match self {
-            Status::Completed => 0,
-            Status::Observed { .. } => 1,
-            Status::LostContact => 2,
-            Status::SlipStopped => 3,
-            Status::Painleve { .. } => 4,
-            Status::SolverFailure { .. } => 5,
-            Status::Chattering { .. } => 6,
-            Status::NonFinite { .. } => 7,
-            Status::Cancelled => 8,
-            Status::InconsistentContact { .. } => 9,
-            Status::SeveralContacts { .. } => 10,
-            Status::SectionFull { .. } => 11,
-        }]
+        self.kind().name()
     }
 
     /// Whether the run reached its end time.
@@ -202,13 +265,9 @@ impl Status {
         matches!(self, Status::Completed)
     }
 
-    /// Whether the run ended where the scene asked it to: at t_end, at a terminal
-    /// observable or at a full section.
+    /// Whether the run ended where the scene asked it to ([`StatusKind::finished`]).
     pub fn finished(&self) -> bool {
-        matches!(
-            self,
-            Status::Completed | Status::Observed { .. } | Status::SectionFull { .. }
-        )
+        self.kind().finished()
     }
 
     /// Whether the run ended on an error (not an outcome of the physics or a request).
@@ -259,4 +318,30 @@ pub struct Outcome {
     /// The points of each Poincaré section (`Scene::sections`, in its order): the full
     /// state at each crossing, in time order.
     pub sections: Vec<Vec<Sample>>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::StatusKind;
+
+    #[test]
+    fn every_status_kind_has_its_own_name_and_reads_back() {
+        for (i, kind) in StatusKind::ALL.into_iter().enumerate() {
+            assert_eq!(kind as usize, i, "ALL follows the declaration");
+            assert_eq!(StatusKind::named(kind.name()), Some(kind));
+        }
+        assert_eq!(StatusKind::named("invalid"), None);
+        let finished: Vec<_> = StatusKind::ALL
+            .into_iter()
+            .filter(|k| k.finished())
+            .collect();
+        assert_eq!(
+            finished,
+            [
+                StatusKind::Completed,
+                StatusKind::Observed,
+                StatusKind::SectionFull
+            ]
+        );
+    }
 }

@@ -6,7 +6,7 @@ use nalgebra::{Vector2, Vector3};
 use crate::body::Body;
 use crate::columns;
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
-use crate::error::{ModelError, number};
+use crate::error::{Brackets, Digits, ModelError, Value, number};
 use crate::integrate::{self, Direction, Method};
 use crate::model::ContactDisc;
 use crate::state::EulerAngles;
@@ -110,18 +110,25 @@ impl Default for Landing {
     }
 }
 
-/// The optional effects a scene names (absent = not simulated, no cost).
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+/// The optional effects a scene names (absent = not simulated, no cost). Serialised as
+/// `ellipsoid check` reports them (Python's `check(...)["effects"]`), `None` where absent.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
 pub struct EffectSet {
-    pub air_drag: Option<AirDrag>,
     pub rolling_resistance: Option<RollingResistance>,
     pub spin_friction: Option<SpinFriction>,
+    pub air_drag: Option<AirDrag>,
 }
 
 impl EffectSet {
-    /// Whether any effect is present.
+    /// Whether any effect is present (every field named, so that a new effect cannot be
+    /// left out).
     pub fn any(&self) -> bool {
-        self.air_drag.is_some() || self.rolling_resistance.is_some() || self.spin_friction.is_some()
+        let EffectSet {
+            rolling_resistance,
+            spin_friction,
+            air_drag,
+        } = self;
+        rolling_resistance.is_some() || spin_friction.is_some() || air_drag.is_some()
     }
 }
 
@@ -250,14 +257,14 @@ impl Scene {
         if !(self.t_end.is_finite() && self.t_end > 0.0) {
             return Err(ModelError::invalid(
                 "output.t_end",
-                number(self.t_end),
+                self.t_end,
                 "the end time must be positive and finite (s)",
             ));
         }
         if !(self.gravity.is_finite() && self.gravity >= 0.0) {
             return Err(ModelError::invalid(
                 "effects.gravity",
-                number(self.gravity),
+                self.gravity,
                 "g must be finite and non-negative (m/s^2)",
             ));
         }
@@ -266,7 +273,7 @@ impl Scene {
         {
             return Err(ModelError::invalid(
                 "contact.friction",
-                number(friction),
+                friction,
                 "the Coulomb coefficient must be finite and non-negative",
             ));
         }
@@ -283,7 +290,7 @@ impl Scene {
         {
             return Err(ModelError::invalid(
                 "output.times",
-                number(*bad),
+                *bad,
                 format!(
                     "output times must lie within [0, t_end = {}] s",
                     number(self.t_end)
@@ -293,7 +300,10 @@ impl Scene {
         if let Some(w) = self.sample_times.windows(2).find(|w| w[1] <= w[0]) {
             return Err(ModelError::invalid(
                 "output.times",
-                format!("{} after {}", number(w[1]), number(w[0])),
+                Value::After {
+                    later: w[1],
+                    earlier: w[0],
+                },
                 "output times must be strictly increasing",
             ));
         }
@@ -301,7 +311,7 @@ impl Scene {
             if h > self.t_end {
                 return Err(ModelError::invalid(
                     "solver.step",
-                    number(h),
+                    h,
                     format!(
                         "the fixed step must not exceed output.t_end = {} s",
                         number(self.t_end)
@@ -312,7 +322,7 @@ impl Scene {
             if steps > self.solver.max_steps as f64 {
                 return Err(ModelError::invalid(
                     "solver.step",
-                    number(h),
+                    h,
                     format!(
                         "rk4 would take {} steps to t_end = {} s, more than solver.max_steps = {} (raise the step or max_steps)",
                         number(steps),
@@ -326,7 +336,7 @@ impl Scene {
         if !(0.0..=1.0).contains(&e) {
             return Err(ModelError::invalid(
                 "contact.restitution",
-                number(e),
+                e,
                 "the coefficient of restitution must lie in [0, 1]",
             ));
         }
@@ -335,7 +345,7 @@ impl Scene {
         if !(init.height.is_finite() && (0.0..=MAX_HEIGHT_SIZES * size).contains(&init.height)) {
             return Err(ModelError::invalid(
                 "initial.height",
-                number(init.height),
+                init.height,
                 format!(
                     "the gap above the plane must be finite, ≥ 0 and at most {MAX_HEIGHT_SIZES:e} body sizes ({} m)",
                     number(MAX_HEIGHT_SIZES * size)
@@ -346,14 +356,14 @@ impl Scene {
             if init.height == 0.0 {
                 return Err(ModelError::invalid(
                     "initial.velocity",
-                    number(vz),
+                    vz,
                     "a vertical velocity (third component) needs a body that starts in flight (initial.height > 0); touching, v_Gz follows from the contact",
                 ));
             }
             if !vz.is_finite() {
                 return Err(ModelError::invalid(
                     "initial.velocity",
-                    number(vz),
+                    vz,
                     "every component must be finite",
                 ));
             }
@@ -373,7 +383,11 @@ impl Scene {
             if v.iter().any(|x| !x.is_finite()) {
                 return Err(ModelError::invalid(
                     name,
-                    format!("{v:?}"),
+                    Value::Numbers {
+                        values: v,
+                        digits: Digits::Debug,
+                        brackets: Brackets::Square,
+                    },
                     "every component must be finite",
                 ));
             }
@@ -390,7 +404,7 @@ impl Scene {
             if !v.is_finite() {
                 return Err(ModelError::invalid(
                     format!("initial.{name}"),
-                    number(v),
+                    v,
                     "must be finite",
                 ));
             }
@@ -412,7 +426,7 @@ impl Scene {
         if ratio > MAX_ASPECT_RATIO {
             return Err(ModelError::invalid(
                 format!("body.{large}"),
-                number(max),
+                max,
                 format!(
                     "the semi-axes span {ratio:.3e} (body.{large} = {} m over body.{small} = {} m), more than {MAX_ASPECT_RATIO:e} ≈ 1/√ε: \
                      the contact geometry adds their squares, so {small}'s is below the round-off of {large}'s and the body's shape is lost",
@@ -441,7 +455,7 @@ impl Scene {
             if let Some(c) = arm.filter(|&c| c > size) {
                 return Err(ModelError::invalid(
                     key,
-                    number(c),
+                    c,
                     format!(
                         "the torque arm c (torque c N) must not exceed the body's largest semi-axis max(a, b, c) = {} m: \
                          the normal force acts within the contact, inside the body",
@@ -477,10 +491,7 @@ impl Scene {
         if dimensionless > MAX_DIMENSIONLESS_SPIN {
             let a = &init.angles;
             let (key, value) = match init.omega_body {
-                Some(w) => {
-                    let parts: Vec<String> = w.iter().map(|&x| number(x)).collect();
-                    ("initial.omega_body", format!("[{}]", parts.join(", ")))
-                }
+                Some(w) => ("initial.omega_body", Value::vector(&w)),
                 None => [
                     ("initial.theta_dot", a.theta_dot),
                     ("initial.phi_dot", a.phi_dot),
@@ -488,7 +499,7 @@ impl Scene {
                 ]
                 .into_iter()
                 .max_by(|x, y| x.1.abs().total_cmp(&y.1.abs()))
-                .map(|(k, v)| (k, number(v)))
+                .map(|(k, v)| (k, Value::from(v)))
                 .expect("three rates"),
             };
             return Err(ModelError::invalid(
@@ -513,7 +524,7 @@ impl Scene {
         {
             return Err(ModelError::invalid(
                 "contact.viscous_friction",
-                number(viscous_friction),
+                viscous_friction,
                 format!(
                     "the viscous coefficient μ_v must be finite and within [0, {}] s/m \
                      (the slip relaxes at a rate ~ μ_v g: beyond that bound its time is below a microsecond)",
@@ -524,7 +535,7 @@ impl Scene {
         if !self.body.spheres().is_empty() {
             return Err(ModelError::invalid(
                 "contact.model",
-                "\"viscous\"",
+                Value::Choice("viscous".into()),
                 "the viscous model is simulated with one contact: a body with contact spheres needs model = \"sliding\" or \"coulomb\"",
             ));
         }
@@ -539,14 +550,14 @@ impl Scene {
         if !(r.is_finite() && r > 0.0) {
             return Err(ModelError::invalid(
                 KEY,
-                number(r),
+                r,
                 "the contact radius must be finite and non-negative (m); 0 is a point contact",
             ));
         }
         if self.contact.friction().is_none() {
             return Err(ModelError::invalid(
                 KEY,
-                number(r),
+                r,
                 "a contact disc carries friction: it needs model = \"sliding\" or \"coulomb\" (or contact_radius = 0)",
             ));
         }
@@ -554,7 +565,7 @@ impl Scene {
         if !(r < smallest) {
             return Err(ModelError::invalid(
                 KEY,
-                number(r),
+                r,
                 format!(
                     "the contact disc must be smaller than the body: R < min(a, b, c) = {} m",
                     number(smallest)
@@ -564,7 +575,7 @@ impl Scene {
         if let Some(s) = self.effects.spin_friction {
             return Err(ModelError::invalid(
                 "effects.spin_friction",
-                number(s.coefficient),
+                s.coefficient,
                 format!(
                     "the contact disc (contact.contact_radius = {} m) already carries the drilling friction; use one or the other",
                     number(r)
@@ -600,7 +611,7 @@ impl Scene {
             if s.crossing.terminal {
                 return Err(ModelError::invalid(
                     "section.terminal",
-                    "true",
+                    Value::Text("true".into()),
                     "a section's crossings never end the run (max_points bounds it)",
                 ));
             }
@@ -621,7 +632,7 @@ fn validate_crossings<'a>(
     if list.len() > max {
         return Err(ModelError::invalid(
             table,
-            format!("{} entries", list.len()),
+            Value::Count(list.len() as u64, "entries"),
             format!("at most {max} entries"),
         ));
     }
@@ -630,14 +641,14 @@ fn validate_crossings<'a>(
         if o.name.is_empty() || o.name.len() > 100 {
             return Err(ModelError::invalid(
                 field("name"),
-                format!("{:?}", o.name),
+                Value::Name(o.name.clone()),
                 format!("a {what} needs a name of 1 to 100 bytes"),
             ));
         }
         if list.clone().take(k).any(|p| p.name == o.name) {
             return Err(ModelError::invalid(
                 field("name"),
-                format!("{:?}", o.name),
+                Value::Name(o.name.clone()),
                 format!("{what} names must be unique"),
             ));
         }
@@ -657,7 +668,7 @@ fn validate_crossings<'a>(
         if !o.crosses.is_finite() {
             return Err(ModelError::invalid(
                 field("crosses"),
-                number(o.crosses),
+                o.crosses,
                 "the value crossed must be finite",
             ));
         }

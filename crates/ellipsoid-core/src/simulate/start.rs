@@ -4,7 +4,7 @@
 //! the plane.
 
 use crate::effects::Effect;
-use crate::error::{ModelError, number};
+use crate::error::{Brackets, Digits, ModelError, Value, number};
 use crate::model::Kinematics;
 use crate::state::{self, State};
 
@@ -64,7 +64,11 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         if let (ContactModel::Rolling, Some(v)) = (scene.contact, init.velocity) {
             return Err(ModelError::invalid(
                 "initial.velocity",
-                format!("[{}, {}]", number(v.x), number(v.y)),
+                Value::Numbers {
+                    values: vec![v.x, v.y],
+                    digits: Digits::Short,
+                    brackets: Brackets::Square,
+                },
                 "not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r)",
             ));
         }
@@ -85,7 +89,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         {
             return Err(ModelError::invalid(
                 key,
-                number(mu),
+                mu,
                 format!(
                     "Painlevé inconsistency at t = 0: with this coefficient the sliding normal-force denominator \
                      1 + m u·I⁻¹(r × d) = {} is not positive, so sliding has no consistent contact force (reduce the friction)",
@@ -111,7 +115,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             return Err(ModelError::derived(
                 "initial",
                 "initial normal force N",
-                format!("{} N", number(response.normal)),
+                Value::Number(response.normal, "N"),
                 "the plane must push on the body at t = 0 (N > 0) when contact.on_lift_off = \"stop\"; with these angles and rates the body would leave the plane at once",
             ));
         }
@@ -122,7 +126,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             return Err(ModelError::derived(
                 "initial",
                 "initial normal force N",
-                format!("{} N", number(response.normal)),
+                Value::Number(response.normal, "N"),
                 format!(
                     "the plane would have to pull (N < 0) while without a contact force the body would fall into \
                      the plane (gap acceleration {} m/s²): neither contact nor flight is consistent at t = 0 \
@@ -157,7 +161,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             return Err(ModelError::derived(
                 "initial",
                 "initial state",
-                format!("{name} = {} {unit}", number(value)),
+                Value::Named { name, value, unit },
                 "every quantity derived from [body] and [initial] must be finite at t = 0; these inputs overflow \
                  double precision (state the problem in SI units of ordinary magnitude)",
             ));

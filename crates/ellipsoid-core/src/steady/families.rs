@@ -19,7 +19,7 @@ use super::linearize::tangent_basis;
 use super::reduce::{Phase, ReducedField, join};
 use super::tilted::Solve;
 use crate::body::Body;
-use crate::error::{ModelError, number};
+use crate::error::{Brackets, Digits, ModelError, Value};
 use crate::geometry::{Contact, hessian};
 use crate::simulate::{ContactModel, Scene};
 
@@ -49,7 +49,7 @@ impl Family {
             "rolling-circle" => Ok(Family::RollingCircle),
             _ => Err(ModelError::invalid(
                 "family",
-                format!("\"{name}\""),
+                Value::Choice(name.into()),
                 format!("must be one of {}", Family::NAMES.join(", ")),
             )),
         }
@@ -133,7 +133,7 @@ pub fn steady_motion(
     if solve != Solve::Spin && !family.tilted() {
         return Err(ModelError::invalid(
             "solve",
-            format!("\"{}\"", solve.name()),
+            Value::Choice(solve.name().into()),
             format!(
                 "the {} family has only its spin: solve applies to the tilted families (precession, rolling-circle)",
                 family.name()
@@ -147,7 +147,11 @@ pub fn steady_motion(
             if let Some(w) = scene.initial.omega_body {
                 return Err(ModelError::invalid(
                     "initial.omega_body",
-                    format!("[{}, {}, {}]", w.x, w.y, w.z),
+                    Value::Numbers {
+                        values: w.as_slice().to_vec(),
+                        digits: Digits::Plain,
+                        brackets: Brackets::Square,
+                    },
                     format!(
                         "the {} family takes its tilt and precession rate from initial.theta and initial.phi_dot: give the Euler rates instead",
                         family.name()
@@ -178,7 +182,11 @@ pub(super) fn check_principal(
     if gyro > 1e-12 * inertia.norm() {
         return Err(ModelError::invalid(
             "body.inertia",
-            format!("|ζ0 × I ζ0| = {} kg m^2", number(gyro)),
+            Value::Named {
+                name: "|ζ0 × I ζ0|",
+                value: gyro,
+                unit: "kg m^2",
+            },
             format!(
                 "the {} rest attitude ζ0 = ({:.6}, {:.6}, {:.6}) is not a principal axis of inertia, so spinning about the vertical there is not a steady motion",
                 family.name(),
@@ -207,7 +215,11 @@ pub fn upright_motion(
     if !(residual <= RESIDUAL_TOLERANCE) {
         return Err(ModelError::invalid(
             "initial",
-            format!("|f(x0)| = {} of the field's scale", number(residual)),
+            Value::Named {
+                name: "|f(x0)|",
+                value: residual,
+                unit: "of the field's scale",
+            },
             format!("the {} spin is not steady for this body", family.name()),
         ));
     }
@@ -217,7 +229,7 @@ pub fn upright_motion(
         return Err(ModelError::derived(
             "initial",
             "normal force N",
-            number(normal_force),
+            normal_force,
             format!(
                 "the plane must push on the body in the {} steady spin",
                 family.name()
@@ -269,7 +281,11 @@ pub fn rest_attitude(body: &Body, start: Vector3<f64>) -> Result<Vector3<f64>, M
     }
     Err(ModelError::invalid(
         "body.com_offset",
-        format!("({:.6}, {:.6}, {:.6})", start.x, start.y, start.z),
+        Value::Numbers {
+            values: start.as_slice().to_vec(),
+            digits: Digits::Fixed6,
+            brackets: Brackets::Round,
+        },
         "no rest attitude (G straight above the contact point) was found near this orientation",
     ))
 }

@@ -28,7 +28,7 @@ pub use tilted::Solve;
 
 use nalgebra::Vector3;
 
-use crate::error::ModelError;
+use crate::error::{ModelError, Value};
 use crate::simulate::Scene;
 
 /// A steady motion, its linearisation and its spectrum.
@@ -76,7 +76,7 @@ pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization
     if !(at.iter().all(|x| x.is_finite()) && zeta.norm() > 0.0) {
         return Err(ModelError::invalid(
             "state",
-            format!("({}, {})", zeta.transpose(), omega.transpose()),
+            Value::State(Box::new([zeta, omega])),
             "the state (ζ1, ζ2, ζ3, ω1, ω2, ω3) must be finite with ζ ≠ 0",
         ));
     }

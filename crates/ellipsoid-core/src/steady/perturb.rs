@@ -2,7 +2,7 @@
 //! shows the mode grow or oscillate (docs/physics.md, "Steady motions and their
 //! stability").
 
-use crate::error::ModelError;
+use crate::error::{Brackets, Digits, ModelError, Value};
 use crate::scenario::{self, Scenario, ScenarioErrors};
 
 use super::{Analysis, started_at};
@@ -40,7 +40,11 @@ pub fn perturbed(
         return Err(scenario
             .locate(&ModelError::invalid(
                 "epsilon",
-                epsilon,
+                Value::Numbers {
+                    values: vec![epsilon],
+                    digits: Digits::Plain,
+                    brackets: Brackets::None,
+                },
                 format!("a perturbation is finite and at most {MAX_EPSILON} in size"),
             ))
             .into());
@@ -66,7 +70,7 @@ pub fn perturbed(
     let text = draft.canonical().map_err(|e| {
         ScenarioErrors::from(scenario.locate(&ModelError::invalid(
             "initial",
-            "the perturbed state",
+            Value::Text("the perturbed state".into()),
             format!("cannot be written as TOML: {e}"),
         )))
     })?;

@@ -14,7 +14,7 @@
 use nalgebra::{Vector3, Vector6};
 
 use crate::body::Body;
-use crate::error::{ModelError, number};
+use crate::error::{ModelError, Value};
 use crate::model::{ContactLaw, Frictionless, Rolling, System};
 use crate::simulate::{ContactModel, Scene};
 use crate::state::{self, EulerAngles, State};
@@ -68,14 +68,14 @@ impl ReducedField {
             ContactModel::Viscous { .. } => {
                 return Err(ModelError::invalid(
                     "contact.model",
-                    "\"viscous\"",
+                    Value::Choice("viscous".into()),
                     "the viscous model's upright and inverted spins are analysed by `ellipsoid steady` and ellipsoid.steady (Rust: steady::viscous); the tilted families, the linearisation in these coordinates and --perturb do not take it",
                 ));
             }
             ContactModel::Sliding { .. } => {
                 return Err(ModelError::invalid(
                     "contact.model",
-                    "\"sliding\"",
+                    Value::Choice("sliding".into()),
                     "a steady motion has no slip, where the sliding model stops: use \"coulomb\" (whose rolling phase is analysed, within its friction cone) or \"rolling\"",
                 ));
             }
@@ -131,23 +131,30 @@ impl ReducedField {
 /// Refuses what no steady analysis takes: effects and a contact disc.
 pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
     if scene.effects.any() {
+        // The effects are the keys of [effects] but gravity, named in alphabetical order.
+        let mut effects = crate::scenario::schema::keys("effects");
+        effects.retain(|k| *k != "gravity");
+        effects.sort_unstable();
         return Err(ModelError::invalid(
             "effects",
-            "present",
-            "steady motions are analysed without effects (air_drag, rolling_resistance, spin_friction): remove them",
+            Value::Text("present".into()),
+            format!(
+                "steady motions are analysed without effects ({}): remove them",
+                effects.join(", ")
+            ),
         ));
     }
     if let Some(sphere) = scene.body.spheres().first() {
         return Err(ModelError::invalid(
             "body.sphere",
-            format!("\"{}\"", sphere.name),
+            Value::Name(sphere.name.clone()),
             "steady motions are analysed on the ellipsoid's own surface: a body with contact spheres is not analysed (its spheres would be ignored)",
         ));
     }
     if let Some(disc) = &scene.disc {
         return Err(ModelError::invalid(
             "contact.contact_radius",
-            number(disc.radius),
+            disc.radius,
             "steady motions are analysed with a point contact (contact_radius = 0)",
         ));
     }

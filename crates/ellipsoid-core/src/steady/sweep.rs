@@ -5,7 +5,7 @@
 use nalgebra::Complex;
 
 use super::{Analysis, Family, Solve, analyse_solving};
-use crate::error::{ModelError, number};
+use crate::error::{ModelError, Value};
 use crate::scenario::{self, Scenario};
 use crate::simulate::Scene;
 
@@ -121,7 +121,7 @@ fn at<T>(base: &Scenario, key: &str, value: f64, analyse: &dyn Fn(&Scene) -> Row
     let mut overrides = base.overrides.clone();
     overrides.push(format!("{key}={value:e}"));
     let scenario = scenario::parse(&base.text, &base.source, &overrides)
-        .map_err(|e| ModelError::invalid(key, number(value), e.to_string()))?;
+        .map_err(|e| ModelError::invalid(key, value, e.to_string()))?;
     analyse(&scenario.scene)
 }
 
@@ -161,14 +161,14 @@ pub fn sweep_with<T: Stability>(
     if values.is_empty() || values.len() > MAX_VALUES {
         return Err(ModelError::invalid(
             key,
-            format!("{} values", values.len()),
+            Value::Count(values.len() as u64, "values"),
             format!("a sweep takes 1 to {MAX_VALUES} values"),
         ));
     }
     if family.tilted() && solved_keys(solve).contains(&key) {
         return Err(ModelError::invalid(
             key,
-            format!("{} values", values.len()),
+            Value::Count(values.len() as u64, "values"),
             format!(
                 "the {} family solves for {} here, which replaces this key: vary one of the given quantities (initial.theta, initial.phi_dot, initial.psi_dot) or a body or gravity key instead",
                 family.name(),
@@ -177,11 +177,7 @@ pub fn sweep_with<T: Stability>(
         ));
     }
     if let Some(v) = values.iter().find(|v| !v.is_finite()) {
-        return Err(ModelError::invalid(
-            key,
-            number(*v),
-            "every value must be finite",
-        ));
+        return Err(ModelError::invalid(key, *v, "every value must be finite"));
     }
     let rows: Vec<Row<T>> = values.iter().map(|&v| at(base, key, v, analyse)).collect();
     let mut critical = Vec::new();

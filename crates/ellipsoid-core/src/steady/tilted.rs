@@ -24,7 +24,7 @@ use nalgebra::Vector3;
 use super::families::{Circles, Family, RESIDUAL_TOLERANCE, SteadyMotion};
 use super::reduce::{ReducedField, join};
 use crate::body::Body;
-use crate::error::{ModelError, number};
+use crate::error::{Brackets, Digits, ModelError, Value, number};
 use crate::geometry::Contact;
 
 /// Which of (θ, Ω, n) a tilted family solves for; the scenario gives the other two
@@ -52,7 +52,7 @@ impl Solve {
             "theta" => Ok(Solve::Theta),
             _ => Err(ModelError::invalid(
                 "solve",
-                format!("\"{name}\""),
+                Value::Choice(name.into()),
                 format!("must be one of {}", Solve::NAMES.join(", ")),
             )),
         }
@@ -182,14 +182,14 @@ pub fn relation(field: &ReducedField, family: Family) -> Result<Relation, ModelE
         (Family::Precession, _) => {
             return Err(ModelError::invalid(
                 "contact.model",
-                "a rolling contact",
+                Value::Text("a rolling contact".into()),
                 "the precession family (G fixed) is frictionless: use model = \"frictionless\", or the family \"rolling-circle\" for rolling",
             ));
         }
         _ => {
             return Err(ModelError::invalid(
                 "contact.model",
-                "\"frictionless\"",
+                Value::Choice("frictionless".into()),
                 "the rolling-circle family rolls without slip: use model = \"rolling\" or \"coulomb\", or the family \"precession\" without friction",
             ));
         }
@@ -212,7 +212,7 @@ fn check_revolution(body: &Body) -> Result<(), ModelError> {
     if (ax.x - ax.y).abs() > tol * ax.max() {
         return Err(ModelError::invalid(
             "body.b",
-            number(ax.y),
+            ax.y,
             format!(
                 "the tilted families need a body of revolution about its c axis: b must equal a = {}",
                 number(ax.x)
@@ -226,18 +226,7 @@ fn check_revolution(body: &Body) -> Result<(), ModelError> {
     {
         return Err(ModelError::invalid(
             "body.inertia",
-            format!(
-                "[[{}, {}, {}], [{}, {}, {}], [{}, {}, {}]]",
-                i[(0, 0)],
-                i[(0, 1)],
-                i[(0, 2)],
-                i[(1, 0)],
-                i[(1, 1)],
-                i[(1, 2)],
-                i[(2, 0)],
-                i[(2, 1)],
-                i[(2, 2)]
-            ),
+            Value::Matrix(Box::new(*i), Digits::Plain),
             "the tilted families need a body of revolution about its c axis: inertia diag(A, A, C)",
         ));
     }
@@ -245,7 +234,11 @@ fn check_revolution(body: &Body) -> Result<(), ModelError> {
     if g.x.abs().max(g.y.abs()) > tol * ax.max() {
         return Err(ModelError::invalid(
             "body.com_offset",
-            format!("({}, {}, {})", g.x, g.y, g.z),
+            Value::Numbers {
+                values: g.as_slice().to_vec(),
+                digits: Digits::Plain,
+                brackets: Brackets::Round,
+            },
             "the tilted families need G on the body's c axis",
         ));
     }
@@ -256,7 +249,11 @@ fn check_revolution(body: &Body) -> Result<(), ModelError> {
     {
         return Err(ModelError::invalid(
             format!("body.spheres.{}.center", sp.name),
-            format!("({}, {}, {})", sp.center.x, sp.center.y, sp.center.z),
+            Value::Numbers {
+                values: sp.center.as_slice().to_vec(),
+                digits: Digits::Plain,
+                brackets: Brackets::Round,
+            },
             "the tilted families need the contact spheres' centres on the body's c axis",
         ));
     }
@@ -271,7 +268,7 @@ pub fn solve_spin(rel: &Relation, geo: &Meridian, omega: f64) -> Result<f64, Mod
     if !n.is_finite() {
         return Err(ModelError::invalid(
             "initial.phi_dot",
-            number(omega),
+            omega,
             format!(
                 "no steady motion at this precession rate and tilt θ = {} rad: the spin would be infinite (a tilted body without precession falls)",
                 number(geo.theta)
@@ -300,7 +297,7 @@ pub fn solve_precession(
     let none = |why: String| {
         ModelError::invalid(
             "initial.psi_dot",
-            number(n - guess * geo.theta.cos()),
+            n - guess * geo.theta.cos(),
             format!(
                 "no steady precession at tilt θ = {} rad and spin n = {} rad/s: {why}",
                 number(geo.theta),
@@ -354,7 +351,7 @@ pub fn solve_tilt(
     }
     Err(ModelError::invalid(
         "initial.theta",
-        number(guess),
+        guess,
         format!(
             "no tilted steady motion with precession rate {} rad/s and spin {} rad/s was found from this tilt",
             number(omega),
@@ -394,7 +391,11 @@ pub fn motion(
     if !(residual <= RESIDUAL_TOLERANCE) {
         return Err(ModelError::invalid(
             "initial",
-            format!("|f(x0)| = {} of the field's scale", number(residual)),
+            Value::Named {
+                name: "|f(x0)|",
+                value: residual,
+                unit: "of the field's scale",
+            },
             format!("the {} motion is not steady for this body", family.name()),
         ));
     }
@@ -403,7 +404,7 @@ pub fn motion(
         return Err(ModelError::derived(
             "initial",
             "normal force N",
-            number(force.z),
+            force.z,
             format!(
                 "the plane must push on the body in the {} steady motion",
                 family.name()
@@ -413,7 +414,7 @@ pub fn motion(
     if Contact::lowest(body, zeta, Vector3::zeros()).surface != body.surface() {
         return Err(ModelError::invalid(
             "initial.theta",
-            number(theta),
+            theta,
             "at this tilt another surface of the body is lower than the one the scene touches with",
         ));
     }
@@ -454,7 +455,7 @@ pub fn check_tilt(theta: f64) -> Result<(), ModelError> {
     {
         return Err(ModelError::invalid(
             "initial.theta",
-            number(theta),
+            theta,
             "a tilted family needs 0 < θ < π (sin θ ≥ 1e-6); θ = 0 and π are the families \"upright\" and \"inverted\"",
         ));
     }

@@ -21,7 +21,7 @@ use super::reduce;
 use super::spectrum::{STABLE_TOLERANCE, by_real_part, reduced_modes};
 use super::sweep::{self, Stability, Sweep};
 use super::tilted::Solve;
-use crate::error::ModelError;
+use crate::error::{ModelError, Value};
 use crate::model::{System, Viscous};
 use crate::scenario::Scenario;
 use crate::simulate::{ContactModel, Scene};
@@ -48,7 +48,7 @@ impl ViscousField {
         let ContactModel::Viscous { viscous_friction } = scene.contact else {
             return Err(ModelError::invalid(
                 "contact.model",
-                format!("\"{}\"", scene.contact.name()),
+                Value::Choice(scene.contact.name().into()),
                 "the viscous analysis needs model = \"viscous\"",
             ));
         };
@@ -199,7 +199,7 @@ pub fn analyse(scene: &Scene, family: Family) -> Result<ViscousSpin, ModelError>
         Family::Precession | Family::RollingCircle => {
             return Err(ModelError::invalid(
                 "family",
-                format!("\"{}\"", family.name()),
+                Value::Choice(family.name().into()),
                 "under the viscous law only the upright and inverted spins are steady (a tilted motion slips, and viscous friction then acts)",
             ));
         }

@@ -37,7 +37,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use super::plan::Cell;
-use super::run::PointResult;
+use super::run::{PointResult, RowStatus};
 
 const MAGIC: &str = "ellipsoid-study-journal";
 /// The format written.
@@ -216,9 +216,7 @@ impl Journal {
                 Some(i) if trusted => {
                     if at[i] == 0 {
                         indexed += 1;
-                        failed += usize::from(
-                            matches!(cells.first(), Some(Cell::Text(s)) if super::is_failure(s)),
-                        );
+                        failed += usize::from(RowStatus::failed(RowStatus::of(&cells)));
                     }
                     at[i] = good;
                 }

@@ -30,9 +30,7 @@ use rayon::prelude::*;
 
 pub use journal::{Journal, JournalError};
 pub use plan::{Base, Cell, Column, Combine, Outcomes, Plan, Study, Type};
-pub use run::{
-    INTERNAL_ERROR, INVALID, PointResult, Trajectory, VERSION, max_threads, worker_threads,
-};
+pub use run::{PointResult, RowStatus, Trajectory, VERSION, max_threads, worker_threads};
 pub use table::TableFormat;
 
 /// How far a study has got (for progress displays).
@@ -76,11 +74,6 @@ pub enum ExecError {
 /// Receives each run's trajectory on the calling thread ([`execute_with`]); an error
 /// stops the study.
 pub type TrajectorySink<'a> = &'a mut dyn FnMut(&PointResult, &Trajectory) -> Result<(), String>;
-
-/// Whether a status counts as a failure in the tally.
-pub fn is_failure(status: &str) -> bool {
-    !matches!(status, "completed" | "observed")
-}
 
 /// Runs every point of `study` not already in the journal at `journal` (if any) on
 /// `threads` threads (0: one per CPU), appending each finished row to the journal, and
@@ -267,7 +260,7 @@ fn run_points(
         }
         tally.done += 1;
         tally.resumed += usize::from(resumed);
-        if matches!(r.cells.first(), Some(Cell::Text(s)) if is_failure(s)) {
+        if RowStatus::failed(RowStatus::of(&r.cells)) {
             tally.failed += 1;
         }
         if let Some(out) = results.as_deref_mut() {

@@ -14,7 +14,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 
 use ellipsoid_core::columns::{self, Layout};
-use ellipsoid_core::simulate::{EventKind, Sample, Status};
+use ellipsoid_core::simulate::{EventKind, Sample, Status, StatusKind};
 use rayon::prelude::*;
 
 use super::plan::{Cell, Resolution, Resolved, Role, Study};
@@ -22,11 +22,53 @@ use super::plan::{Cell, Resolution, Resolved, Role, Study};
 /// Version recorded in the summaries the runs make (the workspace's).
 pub const VERSION: &str = env!("CARGO_PKG_VERSION");
 
-/// Status of a row whose scenario was rejected (parse error, or a state the physics
-/// refuses at t = 0).
-pub const INVALID: &str = "invalid";
-/// Status of a row whose run panicked (a bug).
-pub const INTERNAL_ERROR: &str = "internal_error";
+/// A row's status (its `status` cell): how its run ended, or why the point did not run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowStatus {
+    /// The run ended so.
+    Ran(StatusKind),
+    /// The point's scenario was rejected (parse error, or a state the physics refuses at
+    /// t = 0).
+    Invalid,
+    /// The run panicked (a bug).
+    InternalError,
+}
+
+impl RowStatus {
+    /// Its name in the `status` column.
+    pub fn name(self) -> &'static str {
+        match self {
+            RowStatus::Ran(kind) => kind.name(),
+            RowStatus::Invalid => "invalid",
+            RowStatus::InternalError => "internal_error",
+        }
+    }
+
+    /// The status a `status` cell names; `None` for any other text.
+    pub fn named(name: &str) -> Option<Self> {
+        match name {
+            "invalid" => Some(RowStatus::Invalid),
+            "internal_error" => Some(RowStatus::InternalError),
+            _ => StatusKind::named(name).map(RowStatus::Ran),
+        }
+    }
+
+    /// The status of a row's outcome cells (the first is `status`), read where rows come
+    /// in from a journal; `None` when that cell names no status.
+    pub fn of(cells: &[Cell]) -> Option<Self> {
+        match cells.first() {
+            Some(Cell::Text(s)) => Self::named(s),
+            _ => None,
+        }
+    }
+
+    /// Whether a row of this status counts as failed in the tally: its run did not end
+    /// where the scene asked ([`StatusKind::finished`]), or the point did not run. A row
+    /// whose status cell names no status (`None`) counts as failed too.
+    pub fn failed(status: Option<Self>) -> bool {
+        !matches!(status, Some(RowStatus::Ran(kind)) if kind.finished())
+    }
+}
 
 /// The outcome of one point: its key and the outcome cells (status … rhs_evals).
 #[derive(Debug, Clone, PartialEq)]
@@ -111,7 +153,7 @@ impl Study {
                 return Some(PointResult {
                     index,
                     key: String::new(),
-                    cells: self.failed(INVALID, format!("{key}: {rule}")),
+                    cells: self.failed(RowStatus::Invalid, format!("{key}: {rule}")),
                     trajectory: None,
                 });
             }
@@ -122,7 +164,10 @@ impl Study {
         }))
         .unwrap_or_else(|p| {
             Some((
-                self.failed(INTERNAL_ERROR, ellipsoid_core::error::panic_message(&*p)),
+                self.failed(
+                    RowStatus::InternalError,
+                    ellipsoid_core::error::panic_message(&*p),
+                ),
                 None,
             ))
         })?;
@@ -142,7 +187,7 @@ impl Study {
     ) -> Option<(Vec<Cell>, Option<Trajectory>)> {
         let scenario = match self.scenario(resolved) {
             Ok(s) => s,
-            Err(e) => return Some((self.failed(INVALID, e.first().to_string()), None)),
+            Err(e) => return Some((self.failed(RowStatus::Invalid, e.first().to_string()), None)),
         };
         let cols = self.outcome_columns();
         let layout = Layout::of(&scenario.scene.body);
@@ -219,7 +264,7 @@ impl Study {
         let finished = match finished {
             Ok(f) => f,
             Err(ellipsoid_io::run::Failure::Scenario(e)) => {
-                return Some((self.failed(INVALID, e.to_string()), None));
+                return Some((self.failed(RowStatus::Invalid, e.to_string()), None));
             }
             Err(ellipsoid_io::run::Failure::Sink(never)) => match never {},
         };
@@ -240,7 +285,11 @@ impl Study {
         let cells = cols
             .iter()
             .map(|c| match &c.role {
-                Role::Status => Cell::Text(finished.summary.status.name().to_owned()),
+                Role::Status => Cell::Text(
+                    RowStatus::Ran(finished.summary.status.kind())
+                        .name()
+                        .to_owned(),
+                ),
                 Role::Message => Cell::Text(finished.summary.message.clone()),
                 Role::TFinal => finite(outcome.final_sample.t),
                 Role::Observed(name) => outcome
@@ -274,11 +323,11 @@ impl Study {
     }
 
     /// The outcome cells of a point that produced no run.
-    fn failed(&self, status: &str, message: String) -> Vec<Cell> {
+    fn failed(&self, status: RowStatus, message: String) -> Vec<Cell> {
         self.outcome_columns()
             .iter()
             .map(|c| match c.role {
-                Role::Status => Cell::Text(status.to_owned()),
+                Role::Status => Cell::Text(status.name().to_owned()),
                 Role::Message => Cell::Text(message.clone()),
                 _ => Cell::Null,
             })

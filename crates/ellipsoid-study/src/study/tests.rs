@@ -127,7 +127,7 @@ fn a_bad_value_is_a_row_with_its_status_and_message() {
         h.iter().position(|c| c == "message").unwrap(),
         h.iter().position(|c| c == "t_final [s]").unwrap(),
     );
-    assert_eq!(rows[1][st], Cell::Text(INVALID.into()));
+    assert_eq!(rows[1][st], Cell::Text(RowStatus::Invalid.name().into()));
     match &rows[1][msg] {
         Cell::Text(m) => assert!(m.contains("contact.friction = -1"), "{m}"),
         other => panic!("{other:?}"),
@@ -593,4 +593,29 @@ fn a_journal_of_the_first_format_still_resumes() {
             .unwrap()
             .starts_with("ellipsoid-study-journal 2 ")
     );
+}
+
+#[test]
+fn the_tally_counts_as_failed_exactly_the_rows_whose_run_did_not_finish() {
+    use ellipsoid_core::simulate::StatusKind;
+    // Every core status reads back from its cell, and fails the tally exactly when the
+    // core says the run did not end where the scene asked (section_full included).
+    for kind in StatusKind::ALL {
+        let cells = [Cell::Text(RowStatus::Ran(kind).name().into())];
+        let status = RowStatus::of(&cells);
+        assert_eq!(status, Some(RowStatus::Ran(kind)));
+        assert_eq!(
+            RowStatus::failed(status),
+            !kind.finished(),
+            "{}",
+            kind.name()
+        );
+    }
+    for st in [RowStatus::Invalid, RowStatus::InternalError] {
+        assert_eq!(RowStatus::named(st.name()), Some(st));
+        assert!(RowStatus::failed(Some(st)));
+    }
+    // A cell that names no status (an edited journal) counts as failed.
+    assert_eq!(RowStatus::of(&[Cell::Text("done".into())]), None);
+    assert!(RowStatus::failed(RowStatus::of(&[Cell::Null])));
 }
