@@ -57,6 +57,16 @@ impl SlipBand {
         absolute: 0.0,
         cap: 0.0,
     };
+
+    /// The band's width at `kin`, min(max(relative·S, absolute), cap·S) with
+    /// S = |v_G| + |ω||r| the speed scale [m/s] (0 for [`SlipBand::NONE`]).
+    #[inline]
+    pub fn width(&self, kin: &Kinematics) -> f64 {
+        let scale = Sliding::speed_scale(kin);
+        (self.relative * scale)
+            .max(self.absolute)
+            .min(self.cap * scale)
+    }
 }
 
 /// Relative size below which a slip speed is round-off of the body's velocities.
@@ -82,7 +92,7 @@ impl Sliding {
     }
 
     /// The direction the law's friction opposes: ŝ of [`Sliding::direction`] above the
-    /// band of width b ([`Sliding::band_width`]), and below it
+    /// band of width b ([`SlipBand::width`]), and below it
     /// ```text
     ///   ŝ_f = (w ŝ + (1 − w) s_ref) / |w ŝ + (1 − w) s_ref|,  w = ρ²(3 − 2ρ),  ρ = |v_C|/b
     /// ```
@@ -103,7 +113,7 @@ impl Sliding {
         if speed > 2.0 * band.relative * Sliding::speed_bound(kin) && speed > band.absolute {
             return s;
         }
-        let width = self.band_width(kin);
+        let width = band.width(kin);
         if speed >= width {
             return s;
         }
@@ -112,16 +122,6 @@ impl Sliding {
         let blend = w * s + (1.0 - w) * reference;
         let n = blend.norm();
         if n > 0.0 { blend / n } else { s }
-    }
-
-    /// The slip band's width at `kin`, min(max(relative·S, absolute), cap·S) with
-    /// S = |v_G| + |ω||r| the speed scale [m/s].
-    #[inline]
-    pub fn band_width(&self, kin: &Kinematics) -> f64 {
-        let scale = Sliding::speed_scale(kin);
-        (self.band.relative * scale)
-            .max(self.band.absolute)
-            .min(self.band.cap * scale)
     }
 
     /// Whether slip speed `speed` = |v_C| is round-off of the body's velocities:

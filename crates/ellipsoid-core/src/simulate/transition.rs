@@ -377,28 +377,37 @@ fn retain_from(events: &mut Vec<EventRecord>, from: usize, keep: impl Fn(&EventR
 }
 
 /// The contact-form state `y` (on `Context::surface`) on both surfaces: the second
-/// contact's constraint restored (`TwoContacts::project`), where both normal forces are
-/// positive, the law consistent and, with friction, both contacts slipping (sticking at
-/// one of two contacts is not simulated); else `None`.
+/// contact's constraint restored (`TwoContacts::project`, the energy it changes booked in
+/// W), where both normal forces are positive, the law consistent and, with friction, both
+/// contacts slipping above the two-contact phase's slip stop
+/// (`Numerics::two_contact_stop`: sticking at one of two contacts is not simulated);
+/// else `None`.
 fn onto_two_contacts<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     mut y: State,
 ) -> Option<State> {
     let sys = ctx.system::<TwoContactsPhase>();
+    let energy = |y: &State| {
+        Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
+    };
+    let before = energy(&y);
     sys.project(&mut y);
+    // The projection removes the second contact's residual gap and normal velocity (within
+    // the gap's resolution and the settling speed): the energy it takes is booked in W, as
+    // a persistent landing books its rebound's, so that E + W stays exact.
+    y[state::WORK] += before - energy(&y);
     let ev = sys.evaluate(&y);
     let r = &ev.response;
     let pressed = r.second_normal > 0.0 && r.normal - r.second_normal > 0.0;
     let slipping = ctx.scene.contact.friction().is_none_or(|mu| mu == 0.0) || {
-        let n = &ctx.numerics;
+        let slips = |kin: &Kinematics| kin.slip.norm() > ctx.numerics.two_contact_stop(kin);
         let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
-        let second = Kinematics {
-            contact,
-            slip,
-            ..ev.kin
-        };
-        Sliding::slip_above_floor(&ev.kin, n.slip_floor, n.v_min) > 0.0
-            && Sliding::slip_above_floor(&second, n.slip_floor, n.v_min) > 0.0
+        slips(&ev.kin)
+            && slips(&Kinematics {
+                contact,
+                slip,
+                ..ev.kin
+            })
     };
     (pressed && r.painleve > PAINLEVE_COLLAPSE && slipping).then_some(y)
 }

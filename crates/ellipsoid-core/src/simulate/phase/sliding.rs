@@ -184,7 +184,7 @@ pub(in crate::simulate) fn slip_has_stopped<E: Effect + Copy>(
 /// contact disc where its generalised slip enters the slip band): the sliding law, integrated on from the located state by DOP853 at tighter
 /// tolerances (`Numerics::confirm_options`), brings the stop speed down to the scene's
 /// slip floor within [`CONFIRM_HORIZON`]·s/(μ g), before it grows to
-/// [`CONFIRM_GROWTH`]·s; or, for s inside the slip band (`Sliding::band_width`), grows to
+/// [`CONFIRM_GROWTH`]·s; or, for s inside the slip band (`SlipBand::width`), grows to
 /// that first while rolling would hold at the located state (`rolls_once_stuck`)
 /// (docs/physics.md, "The slip stop, numerically").
 ///
@@ -218,7 +218,7 @@ fn confirmed_by_tight_solve<E: Effect + Copy + 'static>(
     if !(decel > 0.0) {
         return false;
     }
-    let within_band = s0 <= law.band_width(&kin);
+    let within_band = s0 <= law.band.width(&kin);
     let mut y0 = *y;
     renew_reference(ctx, &mut y0);
     let mut options = ctx.numerics.confirm_options();

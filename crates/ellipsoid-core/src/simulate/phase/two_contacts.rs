@@ -2,13 +2,13 @@
 //! law `model::TwoContacts`): the surface in contact (`Context::surface`) and a second
 //! one (`Context::second`). Watches: each normal force (g = N_1, g = N_2: that surface
 //! leaves, and the body goes on touching with the other), each contact's slip falling to
-//! its floor, the law's Painlevé denominator, and any third surface's gap. A slip that
+//! its stop (the slip band's width), the law's Painlevé denominator, and any third surface's gap. A slip that
 //! stops or a third contact ends the run (`several_contacts`: sticking at one of two
 //! contacts, or three contacts, is not simulated).
 
 use crate::body::Surface;
 use crate::effects::Effect;
-use crate::model::{Evaluation, Kinematics, Sliding, System, TwoContacts};
+use crate::model::{Evaluation, Kinematics, System, TwoContacts};
 use crate::state::State;
 
 use super::{Next, Phase, touch_gap};
@@ -26,9 +26,9 @@ pub(in crate::simulate) enum TwoContactsWatch {
     First,
     /// g = N_2 (the second surface leaves).
     Second,
-    /// g = |v_C1| − floor (the first contact's slip stops).
+    /// g = |v_C1| − its stop (the first contact's slip stops; `Numerics::two_contact_stop`).
     FirstSlip,
-    /// g = |v_C2| − floor.
+    /// g = |v_C2| − its stop.
     SecondSlip,
     /// g = the law's Painlevé denominator − [`PAINLEVE_COLLAPSE`].
     Painleve,
@@ -78,9 +78,7 @@ impl Phase for TwoContactsPhase {
         _y: &State,
     ) -> f64 {
         let r = &ev.response;
-        let floor = |kin: &Kinematics| {
-            Sliding::slip_above_floor(kin, ctx.numerics.slip_floor, ctx.numerics.v_min)
-        };
+        let floor = |kin: &Kinematics| kin.slip.norm() - ctx.numerics.two_contact_stop(kin);
         match watch {
             TwoContactsWatch::First => r.normal - r.second_normal,
             TwoContactsWatch::Second => r.second_normal,
