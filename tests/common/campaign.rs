@@ -166,8 +166,7 @@ pub fn scene(rng: &mut Rng, method: Method) -> Option<Scene> {
         observe: Vec::new(),
         sections: Vec::new(),
     };
-    scene.initial_state().ok()?;
-    Some(scene)
+    starts(&scene).then_some(scene)
 }
 
 /// `scene` with one or two random contact spheres (docs/physics.md, "Contact spheres"):
@@ -184,8 +183,16 @@ pub fn with_spheres(scene: &Scene, rng: &mut Rng) -> Option<Scene> {
         .collect();
     let mut s = scene.clone();
     s.body = s.body.with_spheres(spheres).ok()?;
-    s.initial_state().ok()?;
-    Some(s)
+    starts(&s).then_some(s)
+}
+
+/// Whether a run of `scene` starts: the checks `simulate` makes at t = 0, with the
+/// scene's effects (`Scene::initial_state` leaves them out, and a rolling scene with
+/// effects can pass it and still be refused as the rolling model's Painlevé case at t = 0;
+/// seed 25 of `examples/campaign.rs --spheres` drew one at scene 100-999). A run is
+/// cancelled at its first sample, as `ellipsoid check` does.
+fn starts(scene: &Scene) -> bool {
+    simulate::simulate(scene, &mut |_| ControlFlow::Break(())).is_ok()
 }
 
 /// One run's samples and outcome.
