@@ -174,11 +174,12 @@ impl Numerics {
     /// ends: sticking at one of two contacts is not simulated): the sliding law's slip
     /// band width at that contact ([`SlipBand::width`]), at least its stop threshold. The
     /// two-contact law has no band: its friction direction turns at a rate ∝ 1/|v_C| all
-    /// the way down, and DOPRI5 at rtol 1e-10 held such a slip at 1.0–1.02 floors with
-    /// collapsing steps until max_steps (2·10⁶ steps over 6.7e-5 s; seed 25 of
-    /// `examples/campaign.rs --spheres`, scene 96), where DOP853 crossed the floor.
-    /// At the band's edge both cross in a few steps; the stop moves by at most the time
-    /// friction takes to remove the band's slip, band/(μ g).
+    /// the way down, and DOPRI5 at rtol 1e-10 held such slips near the floor (1.0–1.02
+    /// floors where instrumented) with collapsing steps until the pace check ended the
+    /// run (`FastRate`; seed 26 scene 28 and seed 27 scenes 367 and 585 of
+    /// `examples/campaign.rs --spheres`, pinned in tests/campaign.rs), where DOP853
+    /// crossed the floor. At the band's edge both cross in a few steps; the stop moves by
+    /// at most the time friction takes to remove the band's slip, band/(μ g).
     pub(super) fn two_contact_stop(&self, kin: &Kinematics) -> f64 {
         self.band.width(kin).max(self.stop_threshold(kin, false))
     }
