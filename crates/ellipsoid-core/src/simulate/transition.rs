@@ -12,11 +12,11 @@
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the impact | as a touchdown | flight form, impact at the new surface |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v⁺\| ≤ v_settle), the new one persistent, both N > 0, both slipping | two contacts | impact at the new surface; contact form; second constraint restored |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v⁺\| ≤ v_settle), the new one persistent, both N > 0, both slipping above the slip band | two contacts | impact at the new surface; contact form; second constraint restored, its energy change in W |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | the previous phase | impact at the new surface; contact form |
 //! | any contact | another surface's gap ↓ −δz | otherwise (the pressed one approaches; rolling; two contacts inconsistent) | stop `several_contacts` | |
 //! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
-//! | two contacts | a slip ↓ floor, or a third surface's gap ↓ −δz | | stop `several_contacts` | |
+//! | two contacts | a slip ↓ the slip band's width, or a third surface's gap ↓ −δz | | stop `several_contacts` | |
 //! | two contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
 //! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
 //! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
