@@ -2,9 +2,9 @@
 //! law `model::TwoContacts`): the surface in contact (`Context::surface`) and a second
 //! one (`Context::second`). Watches: each normal force (g = N_1, g = N_2: that surface
 //! leaves, and the body goes on touching with the other), each contact's slip falling to
-//! its stop (the slip band's width), the law's Painlevé denominator, and any third surface's gap. A slip that
-//! stops or a third contact ends the run (`several_contacts`: sticking at one of two
-//! contacts, or three contacts, is not simulated).
+//! its stop (the slip band's width), the law's Painlevé denominator, and any third
+//! surface's gap. A slip that stops or a third contact ends the run (`several_contacts`:
+//! sticking at one of two contacts, or three contacts, is not simulated).
 
 use crate::body::Surface;
 use crate::effects::Effect;
@@ -78,14 +78,14 @@ impl Phase for TwoContactsPhase {
         _y: &State,
     ) -> f64 {
         let r = &ev.response;
-        let floor = |kin: &Kinematics| kin.slip.norm() - ctx.numerics.two_contact_stop(kin);
+        let above_stop = |kin: &Kinematics| kin.slip.norm() - ctx.numerics.two_contact_stop(kin);
         match watch {
             TwoContactsWatch::First => r.normal - r.second_normal,
             TwoContactsWatch::Second => r.second_normal,
-            TwoContactsWatch::FirstSlip => floor(&ev.kin),
+            TwoContactsWatch::FirstSlip => above_stop(&ev.kin),
             TwoContactsWatch::SecondSlip => {
                 let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
-                floor(&Kinematics {
+                above_stop(&Kinematics {
                     contact,
                     slip,
                     ..ev.kin
