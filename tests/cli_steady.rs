@@ -31,6 +31,17 @@ fn scratch(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// The standard output of `cmd`, which must succeed (else the test fails with its error).
+fn stdout_of(cmd: &mut Command) -> String {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
 /// n_c = 2√(A m g (l − ρ))/C with A = m(a² + c²)/5, C = 2ma²/5, l = c, ρ = a²/c.
 fn critical_spin() -> f64 {
     let (a, c, m, g): (f64, f64, f64, f64) = (0.02, 0.03, 0.06, 9.81);
@@ -43,23 +54,17 @@ fn steady_prints_the_critical_spin_and_writes_the_table() {
     let scene = scratch("egg.toml");
     std::fs::write(&scene, EGG).unwrap();
     let table = scratch("egg.csv");
-    let out = Command::new(BIN)
-        .args([
-            "steady",
-            scene.to_str().unwrap(),
-            "--vary",
-            "initial.psi_dot=40:160:7",
-            "-o",
-        ])
-        .arg(&table)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let text = stdout_of(
+        Command::new(BIN)
+            .args([
+                "steady",
+                scene.to_str().unwrap(),
+                "--vary",
+                "initial.psi_dot=40:160:7",
+                "-o",
+            ])
+            .arg(&table),
     );
-    let text = String::from_utf8(out.stdout).unwrap();
     let line = text
         .lines()
         .find(|l| l.starts_with("critical initial.psi_dot = "))
@@ -162,19 +167,13 @@ fn steady_rolling_circle_prints_the_motion_and_its_table() {
     let scene = scratch("lens.toml");
     std::fs::write(&scene, LENS).unwrap();
     let run = |args: &[&str]| {
-        let out = Command::new(BIN)
-            .arg("steady")
-            .arg(&scene)
-            .args(["--family", "rolling-circle"])
-            .args(args)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8(out.stdout).unwrap()
+        stdout_of(
+            Command::new(BIN)
+                .arg("steady")
+                .arg(&scene)
+                .args(["--family", "rolling-circle"])
+                .args(args),
+        )
     };
     let text = run(&[]);
     for want in [
@@ -227,17 +226,11 @@ fn steady_perturb_starts_a_run_that_grows_at_the_predicted_rate() {
     std::fs::write(&scene, EGG).unwrap();
     let spin = format!("initial.psi_dot={}", 0.3 * critical_spin());
     let steady = |extra: &[&str]| {
-        let out = Command::new(BIN)
-            .args(["steady", scene.to_str().unwrap(), "--set", &spin])
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        String::from_utf8(out.stdout).unwrap()
+        stdout_of(
+            Command::new(BIN)
+                .args(["steady", scene.to_str().unwrap(), "--set", &spin])
+                .args(extra),
+        )
     };
     let table = scratch("egg-perturb.csv");
     steady(&["-o", table.to_str().unwrap()]);
@@ -260,22 +253,17 @@ fn steady_perturb_starts_a_run_that_grows_at_the_predicted_rate() {
 
     let run = scratch("egg-start.csv");
     let t_end = 16.0 / rate;
-    let out = Command::new(BIN)
-        .args([
-            "run",
-            start.to_str().unwrap(),
-            "-q",
-            "-o",
-            run.to_str().unwrap(),
-        ])
-        .args(["--set", &format!("output.t_end={t_end}")])
-        .args(["--set", &format!("output.dt={}", t_end / 4000.0)])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    stdout_of(
+        Command::new(BIN)
+            .args([
+                "run",
+                start.to_str().unwrap(),
+                "-q",
+                "-o",
+                run.to_str().unwrap(),
+            ])
+            .args(["--set", &format!("output.t_end={t_end}")])
+            .args(["--set", &format!("output.dt={}", t_end / 4000.0)]),
     );
     let csv = std::fs::read_to_string(&run).unwrap();
     let mut lines = csv.lines().skip_while(|l| l.starts_with('#'));
@@ -345,21 +333,16 @@ fn steady_plot_draws_the_stability_diagram() {
     let n_c = critical_spin();
     for ext in ["svg", "png", "pdf"] {
         let figure = scratch(&format!("egg.{ext}"));
-        let out = Command::new(BIN)
-            .args([
-                "steady",
-                scene.to_str().unwrap(),
-                "--vary",
-                "initial.psi_dot=40:160:13",
-                "--plot",
-            ])
-            .arg(&figure)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        stdout_of(
+            Command::new(BIN)
+                .args([
+                    "steady",
+                    scene.to_str().unwrap(),
+                    "--vary",
+                    "initial.psi_dot=40:160:13",
+                    "--plot",
+                ])
+                .arg(&figure),
         );
         let bytes = std::fs::read(&figure).unwrap();
         match ext {
@@ -434,23 +417,17 @@ fn steady_vary_takes_the_viscous_law() {
     let scene = scratch("viscous-top.toml");
     std::fs::write(&scene, VISCOUS_TOP).unwrap();
     let table = scratch("viscous-top.csv");
-    let out = Command::new(BIN)
-        .args([
-            "steady",
-            scene.to_str().unwrap(),
-            "--vary",
-            "body.inertia[2]=6e-7:1.2e-6:13",
-            "-o",
-        ])
-        .arg(&table)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = stdout_of(
+        Command::new(BIN)
+            .args([
+                "steady",
+                scene.to_str().unwrap(),
+                "--vary",
+                "body.inertia[2]=6e-7:1.2e-6:13",
+                "-o",
+            ])
+            .arg(&table),
     );
-    let stdout = String::from_utf8_lossy(&out.stdout);
     let line = stdout
         .lines()
         .find(|l| l.starts_with("critical body.inertia[2] = "))
