@@ -16,7 +16,7 @@ venv="${WHEEL_VENV:-.venv-wheel}"
 "$venv/bin/python" -m pip install --quiet --disable-pip-version-check 'maturin>=1.9,<2' ziglang 'cmake>=3.26' auditwheel
 # maturin runs `python -m ziglang` and the HDF5 build runs `cmake`: both from the venv.
 export PATH="$PWD/$venv/bin:$PATH"
-export CMAKE="${CMAKE:-$PWD/$venv/bin/cmake}"
+export ELLIPSOID_CMAKE="${ELLIPSOID_CMAKE:-$PWD/$venv/bin/cmake}"   # run by scripts/cmake-hdf5
 # The wheel's extension is stripped: no debug info to compile (the workspace's release
 # profile keeps it for profiling), which makes the build, HDF5's included, about a fifth cheaper.
 export CARGO_PROFILE_RELEASE_DEBUG=false

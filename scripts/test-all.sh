@@ -28,9 +28,9 @@ pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
 "${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow \
   xarray nbclient nbformat ipykernel nbconvert pdoc
 cmake_ok() { command -v cmake >/dev/null && printf '%s\n3.26\n' "$(cmake --version | head -1 | awk '{print $3}')" | sort -V -C -r 2>/dev/null; }
-if [ -z "${CMAKE:-}" ] && ! cmake_ok; then
+if [ -z "${ELLIPSOID_CMAKE:-}" ] && ! cmake_ok; then
   "${pip[@]}" 'cmake>=3.26'
-  export CMAKE="$PWD/.venv/bin/cmake"
+  export ELLIPSOID_CMAKE="$PWD/.venv/bin/cmake"   # run by scripts/cmake-hdf5
 fi
 if ! command -v h5dump >/dev/null; then
   sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo"

@@ -741,6 +741,26 @@ mod tests {
         assert_eq!(plugin_state(), (false, 0));
     }
 
+    /// The HDF5 library linked in carries no path of the build machine: no default
+    /// plugin directory (HDF5's default is a directory inside the build tree) and no
+    /// configuration summary with the install prefix (scripts/cmake-hdf5 configures the
+    /// build so). Read from this test's own executable, which links the same library;
+    /// the needles are joined at run time so that they are not in it themselves.
+    #[test]
+    fn no_build_path_is_compiled_into_the_hdf5_library() {
+        let exe = std::fs::read(std::env::current_exe().unwrap()).unwrap();
+        for needle in [
+            ["lib", "plugin"].join("/"),
+            ["Installation", "point:"].join(" "),
+        ] {
+            assert!(
+                !exe.windows(needle.len()).any(|w| w == needle.as_bytes()),
+                "`{needle}` is compiled in: HDF5 was configured without scripts/cmake-hdf5 \
+                 (set ELLIPSOID_CMAKE, not CMAKE, and rebuild it: cargo clean -p hdf5-metno-src)"
+            );
+        }
+    }
+
     /// A table of several blocks reads back cell for cell (the last block partial), and
     /// a writer given more or fewer rows than declared leaves no file.
     #[test]

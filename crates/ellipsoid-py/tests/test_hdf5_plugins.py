@@ -89,3 +89,17 @@ assert ellipsoid._ellipsoid._hdf5_plugins() == (False, 0), ellipsoid._ellipsoid.
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
     assert done.returncode == 0, done.stderr
     assert not marker.exists()
+
+
+@pytest.mark.parametrize("artifact", ["command-line tool", "Python module"])
+def test_no_build_path_is_compiled_in(request: pytest.FixtureRequest, artifact: str) -> None:
+    """Neither HDF5's default plugin directory (a directory inside the build tree) nor its
+    configuration summary (with the install prefix) is in the binaries a user runs
+    (scripts/cmake-hdf5 configures HDF5 so)."""
+    if artifact == "command-line tool":
+        path = request.getfixturevalue("cli")
+    else:
+        path = Path(ellipsoid._ellipsoid.__file__)
+    data = path.read_bytes()
+    for needle in (b"lib/plugin", b"Installation point:"):
+        assert needle not in data, f"{needle!r} is compiled into the {artifact} ({path})"
