@@ -468,3 +468,121 @@ fn steady_vary_takes_the_viscous_law() {
     );
     assert_eq!(csv.lines().count(), 14);
 }
+
+/// The bundled rattleback run for 5 s with two Poincaré sections (θ̇ = 0 falling, and
+/// ω_z = 0 in either direction under a name a CSV field must quote).
+fn rattleback_with_sections() -> PathBuf {
+    let root = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/rattleback.toml"
+    );
+    let mut text = std::fs::read_to_string(root).unwrap();
+    text.push_str(
+        r#"
+[[section]]
+name = "tilt_max"
+column = "theta_dot"
+crosses = 0.0
+direction = "down"
+
+[[section]]
+name = "spin, \"reversal\""
+column = "omega_z"
+crosses = 0.0
+"#,
+    );
+    let scene = scratch("rattleback-sections.toml");
+    std::fs::write(&scene, text).unwrap();
+    scene
+}
+
+/// `ellipsoid plot --section` draws one marker per row of the section table, in the
+/// colour of its section, whichever output format; a column the table lacks, a
+/// non-numeric column and a missing --y are refused naming them, and nothing is written.
+#[test]
+fn plot_section_draws_one_marker_per_crossing() {
+    let scene = rattleback_with_sections();
+    let (run, sections) = (scratch("rb-run.csv"), scratch("rb-sections.csv"));
+    stdout_of(
+        Command::new(BIN)
+            .arg("run")
+            .arg(&scene)
+            .args(["--set", "output.t_end=5", "-q", "-o"])
+            .arg(&run)
+            .arg("--sections")
+            .arg(&sections),
+    );
+    let table = std::fs::read_to_string(&sections).unwrap();
+    let rows: Vec<&str> = table
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .collect();
+    let spin_rows = rows.iter().filter(|r| r.starts_with('"')).count();
+    assert!(
+        rows.len() - spin_rows > 20 && spin_rows > 0,
+        "{} rows, {spin_rows} of the spin section",
+        rows.len()
+    );
+    let svg = scratch("rb-section.svg");
+    stdout_of(
+        Command::new(BIN)
+            .arg("plot")
+            .arg(&sections)
+            .args(["--section", "--x", "psi", "--y", "omega_z", "-q", "-o"])
+            .arg(&svg),
+    );
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert_eq!(text.matches("<circle").count(), rows.len());
+    // Two colours, as many markers of the spin section's as it has rows.
+    assert_eq!(text.matches(r##"fill="#D62728""##).count(), spin_rows + 1);
+    assert!(text.contains("psi (rad)") && text.contains("omega_z (rad/s)"));
+    assert!(text.contains("spin, &quot;reversal&quot;") || text.contains("spin, \"reversal\""));
+    for ext in ["png", "pdf"] {
+        let fig = scratch(&format!("rb-section.{ext}"));
+        stdout_of(
+            Command::new(BIN)
+                .arg("plot")
+                .arg(&sections)
+                .args(["--section", "--x", "t", "--y", "theta", "-q", "-o"])
+                .arg(&fig),
+        );
+        let bytes = std::fs::read(&fig).unwrap();
+        let magic: &[u8] = if ext == "png" { b"\x89PNG" } else { b"%PDF" };
+        assert!(bytes.starts_with(magic), "{ext}");
+    }
+    let never = scratch("never-section.svg");
+    for (args, says) in [
+        (vec!["--x", "psi", "--y", "spin"], "--y \"spin\""),
+        (vec!["--x", "section", "--y", "psi"], "--x \"section\""),
+        (
+            vec!["--x", "mode", "--y", "psi"],
+            "column `mode` = \"rolling\"",
+        ),
+        (vec!["--x", "psi"], "--y"),
+    ] {
+        let out = Command::new(BIN)
+            .arg("plot")
+            .arg(&sections)
+            .arg("--section")
+            .args(&args)
+            .arg("-o")
+            .arg(&never)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(!never.exists(), "{args:?}");
+    }
+    // A trajectory is not a section table.
+    let out = Command::new(BIN)
+        .arg("plot")
+        .arg(&run)
+        .args(["--section", "--x", "t", "--y", "theta", "-o"])
+        .arg(&never)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not `section`"));
+}
