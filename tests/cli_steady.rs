@@ -586,3 +586,76 @@ fn plot_section_draws_one_marker_per_crossing() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("not `section`"));
 }
+
+/// `--perturb` under the viscous law: a mode by number or by name gives the same start,
+/// which carries G's horizontal velocity; a run of it tilts from 1e-5 to 1e-4 rad at the
+/// Re λ of the table's first mode within 1 % (tests/steady.rs checks the frequencies).
+#[test]
+fn steady_perturb_takes_the_viscous_law() {
+    let scene = scratch("viscous-perturb.toml");
+    std::fs::write(&scene, VISCOUS_TOP).unwrap();
+    let steady = |extra: &[&str]| {
+        stdout_of(
+            Command::new(BIN)
+                .args(["steady", scene.to_str().unwrap()])
+                .args(extra),
+        )
+    };
+    let table = scratch("viscous-perturb.csv");
+    let text = steady(&["-o", table.to_str().unwrap()]);
+    assert!(
+        text.contains("  tilt ") && text.contains("  slip "),
+        "{text}"
+    );
+    let csv = std::fs::read_to_string(&table).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
+    let rate: f64 = at("lambda1_re").parse().unwrap();
+    assert!(rate > 0.0 && at("mode1") == "tilt", "{csv}");
+
+    let start = scratch("viscous-start.toml");
+    steady(&["--perturb", "1=1e-6", "-o", start.to_str().unwrap()]);
+    let text = std::fs::read_to_string(&start).unwrap();
+    assert!(text.contains("velocity = ["), "{text}");
+    assert_eq!(steady(&["--perturb", "tilt=1e-6"]), text);
+    assert_ne!(steady(&["--perturb", "slip=1e-6"]), text);
+
+    let run = scratch("viscous-start.csv");
+    let t_end = 16.0 / rate;
+    stdout_of(
+        Command::new(BIN)
+            .args(["run", start.to_str().unwrap(), "-q", "-o"])
+            .arg(&run)
+            .args(["--set", &format!("output.t_end={t_end}")])
+            .args(["--set", &format!("output.dt={}", t_end / 4000.0)]),
+    );
+    let csv = std::fs::read_to_string(&run).unwrap();
+    let mut lines = csv.lines().skip_while(|l| l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let (t, theta) = (
+        header.iter().position(|h| *h == "t").unwrap(),
+        header.iter().position(|h| *h == "theta").unwrap(),
+    );
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let v: Vec<&str> = l.split(',').collect();
+            (v[t].parse().unwrap(), v[theta].parse().unwrap())
+        })
+        .collect();
+    let reaching = |level: f64| {
+        let w = rows
+            .windows(2)
+            .find(|w| w[0].1 < level && w[1].1 >= level)
+            .expect("the tilt reaches the level");
+        let (l0, l1) = (w[0].1.ln(), w[1].1.ln());
+        w[0].0 + (level.ln() - l0) / (l1 - l0) * (w[1].0 - w[0].0)
+    };
+    let fitted = 10f64.ln() / (reaching(1e-4) - reaching(1e-5));
+    eprintln!("perturbed viscous top: growth {fitted:.9} /s against Re λ = {rate:.9} /s");
+    assert!(
+        (fitted / rate - 1.0).abs() < 0.01,
+        "growth {fitted} against Re λ = {rate}"
+    );
+}
