@@ -468,3 +468,194 @@ fn steady_vary_takes_the_viscous_law() {
     );
     assert_eq!(csv.lines().count(), 14);
 }
+
+/// The bundled rattleback run for 5 s with two Poincaré sections (θ̇ = 0 falling, and
+/// ω_z = 0 in either direction under a name a CSV field must quote).
+fn rattleback_with_sections() -> PathBuf {
+    let root = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../scenarios/rattleback.toml"
+    );
+    let mut text = std::fs::read_to_string(root).unwrap();
+    text.push_str(
+        r#"
+[[section]]
+name = "tilt_max"
+column = "theta_dot"
+crosses = 0.0
+direction = "down"
+
+[[section]]
+name = "spin, \"reversal\""
+column = "omega_z"
+crosses = 0.0
+"#,
+    );
+    let scene = scratch("rattleback-sections.toml");
+    std::fs::write(&scene, text).unwrap();
+    scene
+}
+
+/// `ellipsoid plot --section` draws one marker per row of the section table, in the
+/// colour of its section, whichever output format; a column the table lacks, a
+/// non-numeric column and a missing --y are refused naming them, and nothing is written.
+#[test]
+fn plot_section_draws_one_marker_per_crossing() {
+    let scene = rattleback_with_sections();
+    let (run, sections) = (scratch("rb-run.csv"), scratch("rb-sections.csv"));
+    stdout_of(
+        Command::new(BIN)
+            .arg("run")
+            .arg(&scene)
+            .args(["--set", "output.t_end=5", "-q", "-o"])
+            .arg(&run)
+            .arg("--sections")
+            .arg(&sections),
+    );
+    let table = std::fs::read_to_string(&sections).unwrap();
+    let rows: Vec<&str> = table
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .collect();
+    let spin_rows = rows.iter().filter(|r| r.starts_with('"')).count();
+    assert!(
+        rows.len() - spin_rows > 20 && spin_rows > 0,
+        "{} rows, {spin_rows} of the spin section",
+        rows.len()
+    );
+    let svg = scratch("rb-section.svg");
+    stdout_of(
+        Command::new(BIN)
+            .arg("plot")
+            .arg(&sections)
+            .args(["--section", "--x", "psi", "--y", "omega_z", "-q", "-o"])
+            .arg(&svg),
+    );
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert_eq!(text.matches("<circle").count(), rows.len());
+    // Two colours, as many markers of the spin section's as it has rows.
+    assert_eq!(text.matches(r##"fill="#D62728""##).count(), spin_rows + 1);
+    assert!(text.contains("psi (rad)") && text.contains("omega_z (rad/s)"));
+    assert!(text.contains("spin, &quot;reversal&quot;") || text.contains("spin, \"reversal\""));
+    for ext in ["png", "pdf"] {
+        let fig = scratch(&format!("rb-section.{ext}"));
+        stdout_of(
+            Command::new(BIN)
+                .arg("plot")
+                .arg(&sections)
+                .args(["--section", "--x", "t", "--y", "theta", "-q", "-o"])
+                .arg(&fig),
+        );
+        let bytes = std::fs::read(&fig).unwrap();
+        let magic: &[u8] = if ext == "png" { b"\x89PNG" } else { b"%PDF" };
+        assert!(bytes.starts_with(magic), "{ext}");
+    }
+    let never = scratch("never-section.svg");
+    for (args, says) in [
+        (vec!["--x", "psi", "--y", "spin"], "--y \"spin\""),
+        (vec!["--x", "section", "--y", "psi"], "--x \"section\""),
+        (
+            vec!["--x", "mode", "--y", "psi"],
+            "column `mode` = \"rolling\"",
+        ),
+        (vec!["--x", "psi"], "--y"),
+    ] {
+        let out = Command::new(BIN)
+            .arg("plot")
+            .arg(&sections)
+            .arg("--section")
+            .args(&args)
+            .arg("-o")
+            .arg(&never)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(says), "{args:?}: {err}");
+        assert!(!never.exists(), "{args:?}");
+    }
+    // A trajectory is not a section table.
+    let out = Command::new(BIN)
+        .arg("plot")
+        .arg(&run)
+        .args(["--section", "--x", "t", "--y", "theta", "-o"])
+        .arg(&never)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not `section`"));
+}
+
+/// `--perturb` under the viscous law: a mode by number or by name gives the same start,
+/// which carries G's horizontal velocity; a run of it tilts from 1e-5 to 1e-4 rad at the
+/// Re λ of the table's first mode within 1 % (tests/steady.rs checks the frequencies).
+#[test]
+fn steady_perturb_takes_the_viscous_law() {
+    let scene = scratch("viscous-perturb.toml");
+    std::fs::write(&scene, VISCOUS_TOP).unwrap();
+    let steady = |extra: &[&str]| {
+        stdout_of(
+            Command::new(BIN)
+                .args(["steady", scene.to_str().unwrap()])
+                .args(extra),
+        )
+    };
+    let table = scratch("viscous-perturb.csv");
+    let text = steady(&["-o", table.to_str().unwrap()]);
+    assert!(
+        text.contains("  tilt ") && text.contains("  slip "),
+        "{text}"
+    );
+    let csv = std::fs::read_to_string(&table).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let row: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let at = |name: &str| row[header.iter().position(|h| *h == name).unwrap()];
+    let rate: f64 = at("lambda1_re").parse().unwrap();
+    assert!(rate > 0.0 && at("mode1") == "tilt", "{csv}");
+
+    let start = scratch("viscous-start.toml");
+    steady(&["--perturb", "1=1e-6", "-o", start.to_str().unwrap()]);
+    let text = std::fs::read_to_string(&start).unwrap();
+    assert!(text.contains("velocity = ["), "{text}");
+    assert_eq!(steady(&["--perturb", "tilt=1e-6"]), text);
+    assert_ne!(steady(&["--perturb", "slip=1e-6"]), text);
+
+    let run = scratch("viscous-start.csv");
+    let t_end = 16.0 / rate;
+    stdout_of(
+        Command::new(BIN)
+            .args(["run", start.to_str().unwrap(), "-q", "-o"])
+            .arg(&run)
+            .args(["--set", &format!("output.t_end={t_end}")])
+            .args(["--set", &format!("output.dt={}", t_end / 4000.0)]),
+    );
+    let csv = std::fs::read_to_string(&run).unwrap();
+    let mut lines = csv.lines().skip_while(|l| l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let (t, theta) = (
+        header.iter().position(|h| *h == "t").unwrap(),
+        header.iter().position(|h| *h == "theta").unwrap(),
+    );
+    let rows: Vec<(f64, f64)> = lines
+        .map(|l| {
+            let v: Vec<&str> = l.split(',').collect();
+            (v[t].parse().unwrap(), v[theta].parse().unwrap())
+        })
+        .collect();
+    let reaching = |level: f64| {
+        let w = rows
+            .windows(2)
+            .find(|w| w[0].1 < level && w[1].1 >= level)
+            .expect("the tilt reaches the level");
+        let (l0, l1) = (w[0].1.ln(), w[1].1.ln());
+        w[0].0 + (level.ln() - l0) / (l1 - l0) * (w[1].0 - w[0].0)
+    };
+    let fitted = 10f64.ln() / (reaching(1e-4) - reaching(1e-5));
+    eprintln!("perturbed viscous top: growth {fitted:.9} /s against Re λ = {rate:.9} /s");
+    assert!(
+        (fitted / rate - 1.0).abs() < 0.01,
+        "growth {fitted} against Re λ = {rate}"
+    );
+}

@@ -464,6 +464,27 @@ impl Body {
         let h2 = (k * (2.0 * theta).cos() - h1 * h1) / h;
         [h, h1, h2]
     }
+
+    /// The frictionless precession at tilt θ and rate Ω through the Routhian (see
+    /// `val_frictionless_nutation_against_the_routhian`): the spin n of the Newton–Euler
+    /// balance, V'(θ) (zero on a steady precession) and the nutation's
+    /// λ² = −V''/(A + m h'²).
+    fn routhian_nutation(&self, theta: f64, omega: f64) -> (f64, f64, f64) {
+        let n = self.newton_euler_spin(theta, omega, false);
+        let p_phi = self.big_a * omega * theta.sin().powi(2) + self.big_c * n * theta.cos();
+        let (st, ct) = theta.sin_cos();
+        let q = p_phi - self.big_c * n * ct;
+        let (q1, q2) = (self.big_c * n * st, self.big_c * n * ct);
+        let (g0, g1, g2) = (q * q, 2.0 * q * q1, 2.0 * (q1 * q1 + q * q2));
+        let (s0, s1, s2) = (st * st, (2.0 * theta).sin(), 2.0 * (2.0 * theta).cos());
+        let [_, h1, h2] = self.height(theta);
+        let v1 = (g1 / s0 - g0 * s1 / (s0 * s0)) / (2.0 * self.big_a) + self.m * G * h1;
+        let v2 = (g2 / s0 - 2.0 * g1 * s1 / (s0 * s0) - g0 * s2 / (s0 * s0)
+            + 2.0 * g0 * s1 * s1 / (s0 * s0 * s0))
+            / (2.0 * self.big_a)
+            + self.m * G * h2;
+        (n, v1, -v2 / (self.big_a + self.m * h1 * h1))
+    }
 }
 
 /// The frictionless nutation from the Routhian, independently of the linearisation:
@@ -482,25 +503,12 @@ fn val_frictionless_nutation_against_the_routhian() {
         for theta in [0.4, 0.9, 1.3, 1.7, 2.2] {
             for omega in [-12.0, 3.0, 6.0, 20.0] {
                 let what = format!("{} θ = {theta} Ω = {omega}", body.name);
-                let n = body.newton_euler_spin(theta, omega, false);
-                let p_phi = body.big_a * omega * theta.sin().powi(2) + body.big_c * n * theta.cos();
-                let (st, ct) = theta.sin_cos();
-                let q = p_phi - body.big_c * n * ct;
-                let (q1, q2) = (body.big_c * n * st, body.big_c * n * ct);
-                let (g0, g1, g2) = (q * q, 2.0 * q * q1, 2.0 * (q1 * q1 + q * q2));
-                let (s0, s1, s2) = (st * st, (2.0 * theta).sin(), 2.0 * (2.0 * theta).cos());
-                let [_, h1, h2] = body.height(theta);
-                let v1 = (g1 / s0 - g0 * s1 / (s0 * s0)) / (2.0 * body.big_a) + body.m * G * h1;
-                let v2 = (g2 / s0 - 2.0 * g1 * s1 / (s0 * s0) - g0 * s2 / (s0 * s0)
-                    + 2.0 * g0 * s1 * s1 / (s0 * s0 * s0))
-                    / (2.0 * body.big_a)
-                    + body.m * G * h2;
+                let (n, v1, lambda2) = body.routhian_nutation(theta, omega);
                 let scale_v = body.m * G * body.a;
                 assert!(
                     v1.abs() <= 1e-12 * scale_v.max(body.big_a * omega * omega),
                     "{what}: V' = {v1}"
                 );
-                let lambda2 = -v2 / (body.big_a + body.m * h1 * h1);
                 let expected = if lambda2 >= 0.0 {
                     kinds.1 += 1;
                     let a = lambda2.sqrt();
@@ -558,4 +566,105 @@ fn val_coulomb_rolling_circle_is_the_rolling_one_within_its_cone() {
         );
         assert!(rolling.motion.cone_margin.is_none());
     }
+}
+
+/// The root of `f` between `lo` and `hi` (where it changes sign), bisected until the
+/// bracket is 1e-15 relative wide (or no double lies between its ends).
+fn bisect(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+    let at_lo = f(lo).signum();
+    assert_ne!(at_lo, f(hi).signum(), "no sign change in [{lo}, {hi}]");
+    while (hi - lo).abs() > 1e-15 * lo.abs().max(hi.abs()) {
+        let mid = 0.5 * (lo + hi);
+        if mid == lo || mid == hi {
+            break;
+        }
+        if f(mid).signum() == at_lo {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// Critical values along the tilted families located to 1e-10 relative, each against an
+/// independent path:
+/// - frictionless precession of the lens and the offset-mass sphere against the tilt:
+///   the root of the Routhian's closed-form λ²(θ) = −V''/(A + m h'²) (with n from the
+///   world-axes Newton–Euler balance), bisected to 1e-15 — no linearisation at all;
+/// - Routh's rolling circles of the lens and of `scenarios/disc.toml` against the tilt:
+///   the root of det J = λ1 λ2 (ω² on the stable side, −α² on the unstable one, smooth
+///   through the crossing), bisected on fresh analyses — a different function of the
+///   spectrum from the sweep's verdict (which flips where Re λ leaves zero).
+#[test]
+fn val_critical_values_along_the_tilted_families_to_1e_10() {
+    let tilts: Vec<f64> = (0..=22).map(|i| 0.3 + 0.1 * i as f64).collect();
+    let mut worst: f64 = 0.0;
+    let mut found = 0;
+    for body in [lens(), offset_sphere()] {
+        for omega in [3.0, 6.0, 20.0] {
+            let base = body.scenario("frictionless", 1.0, omega, 0.0, 0.0);
+            let sw = steady::sweep(&base, Family::Precession, "initial.theta", &tilts).unwrap();
+            for c in &sw.critical {
+                let k = tilts.iter().position(|t| *t > c.value).unwrap();
+                let exact = bisect(
+                    |t| body.routhian_nutation(t, omega).2,
+                    tilts[k - 1],
+                    tilts[k],
+                );
+                let err = c.value / exact - 1.0;
+                eprintln!(
+                    "{} precession Ω = {omega}: critical θ {} against the Routhian's {exact}: {err:.2e}",
+                    body.name, c.value
+                );
+                worst = worst.max(err.abs());
+                found += 1;
+            }
+        }
+    }
+    let disc = {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/disc.toml");
+        scenario::load(&path, &["initial.phi_dot=3.0"]).unwrap()
+    };
+    let degrees: Vec<f64> = (0..=12).map(|i| 30.0 + 10.0 * i as f64).collect();
+    for (base, key, values) in [
+        (
+            lens().scenario("rolling", 1.0, 8.0, 0.0, 0.0),
+            "initial.theta",
+            &tilts,
+        ),
+        (disc, "initial.theta_deg", &degrees),
+    ] {
+        let sw = steady::sweep(&base, Family::RollingCircle, key, values).unwrap();
+        assert_eq!(sw.critical.len(), 2, "{key}: {:?}", sw.critical);
+        let det = |v: f64| {
+            let an = steady::sweep::analyse_at(
+                &base,
+                (Family::RollingCircle, steady::Solve::Spin),
+                key,
+                v,
+            )
+            .unwrap();
+            an.spectrum
+                .eigenvalues()
+                .iter()
+                .product::<Complex<f64>>()
+                .re
+        };
+        for c in &sw.critical {
+            let k = values.iter().position(|t| *t > c.value).unwrap();
+            let root = bisect(det, values[k - 1], values[k]);
+            let err = c.value / root - 1.0;
+            eprintln!(
+                "{} rolling circles: critical {key} {} against det J's root {root}: {err:.2e}",
+                base.source, c.value
+            );
+            worst = worst.max(err.abs());
+            found += 1;
+        }
+    }
+    eprintln!("{found} critical values; largest difference {worst:.2e}");
+    assert!(found >= 5, "{found} critical values");
+    assert!(worst <= 1e-10, "{worst:e}");
 }

@@ -204,7 +204,8 @@ pub struct CheckArgs {
 
 #[derive(Debug, Args)]
 pub struct PlotArgs {
-    /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run`.
+    /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run` (with `--section`,
+    /// the `.csv` table of `ellipsoid run --sections`).
     #[arg(value_name = "OUT.csv|OUT.h5")]
     pub input: PathBuf,
     /// The figure: `.svg`, `.png` or `.pdf` (vector, fonts embedded), by extension
@@ -225,6 +226,16 @@ pub struct PlotArgs {
     /// carries its own.
     #[arg(long, value_name = "FILE.json")]
     pub summary: Option<PathBuf>,
+    /// The input is a Poincaré section table (`ellipsoid run --sections OUT.csv`): draw
+    /// its points, the column `--y` against the column `--x`, one colour per section.
+    #[arg(long, requires_all = ["x", "y"], conflicts_with_all = ["panels", "columns", "summary"])]
+    pub section: bool,
+    /// With `--section`: the column along the horizontal axis (e.g. `psi`).
+    #[arg(long, value_name = "COL", requires = "section")]
+    pub x: Option<String>,
+    /// With `--section`: the column along the vertical axis (e.g. `omega_z`).
+    #[arg(long, value_name = "COL", requires = "section")]
+    pub y: Option<String>,
     /// Title line (default: the scenario named by the summary, else the input file name).
     #[arg(long)]
     pub title: Option<String>,

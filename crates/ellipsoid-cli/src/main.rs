@@ -12,6 +12,7 @@ mod error;
 mod figure;
 mod interrupt;
 mod oom;
+mod plot_section;
 mod precision;
 mod progress;
 mod run;

@@ -9,6 +9,7 @@ use std::process::ExitCode;
 use ellipsoid_core::error::{ModelError, number};
 use ellipsoid_core::scenario::{self, Scenario};
 use ellipsoid_core::simulate::ContactModel;
+use ellipsoid_core::steady::perturb::Start;
 use ellipsoid_core::steady::sweep::{MAX_VALUES, Stability};
 use ellipsoid_core::steady::viscous::ViscousSpin;
 use ellipsoid_core::steady::{self, Analysis, Family, Solve, Sweep};
@@ -58,59 +59,51 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     let located = |e: ModelError| CliError::from(scenario.locate(&e));
     let viscous = matches!(scenario.scene.contact, ContactModel::Viscous { .. });
     if let Some(spec) = &args.perturb {
-        if viscous {
-            return Err(CliError::Usage(format!(
-                "--perturb {spec:?}: a spin of the viscous model (contact.model = \"viscous\") is not started as a scenario; analyse it without --perturb"
-            )));
-        }
         let (k, epsilon) = parse_perturb(spec)?;
-        let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
-        let k = match k {
-            Mode::Number(k) => k,
-            Mode::Name(name) => an
-                .spectrum
-                .modes
-                .iter()
-                .position(|m| m.name == name)
-                .ok_or_else(|| {
-                    let names: Vec<&str> = an.spectrum.modes.iter().map(|m| m.name).collect();
-                    CliError::Usage(format!(
-                        "--perturb {spec:?}: the {} motion has no mode {name:?} (its modes: {})",
-                        family.name(),
-                        names.join(", ")
-                    ))
-                })?,
+        let start = if viscous {
+            let spin = steady::viscous::analyse(&scenario.scene, family).map_err(located)?;
+            perturb(&scenario, &spin, spec, k, epsilon)?
+        } else {
+            let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
+            perturb(&scenario, &an, spec, k, epsilon)?
         };
-        let start = steady::perturbed(&scenario, &an, k, epsilon)?;
         match &args.output {
             Some(path) => atomic::write(path, start.text.as_bytes())?,
             None => print!("{}", start.text),
         }
         return Ok(ExitCode::SUCCESS);
     }
+    let viscous_modes = steady::viscous::COORDINATES.len() - 1;
     let (columns, rows) = match (vary, viscous) {
         (None, true) => {
             let spin = steady::viscous::analyse(&scenario.scene, family).map_err(located)?;
             print!("{}", describe_viscous(&spin));
-            viscous_table_of("spin", &[spin.spin + 0.0], &[Ok(spin)])
+            table_of(
+                family,
+                viscous_modes,
+                "spin",
+                &[spin.spin + 0.0],
+                &[Ok(spin)],
+            )
         }
         (None, false) => {
             let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
             print!("{}", describe(&an, solve));
-            table_of(family, "spin", &[an.motion.spin], &[Ok(an)])
+            let modes = family.modes();
+            table_of(family, modes, "spin", &[an.motion.spin], &[Ok(an)])
         }
         (Some((key, values)), true) => {
             let sw = steady::viscous::sweep(&scenario, family, &key, &values).map_err(located)?;
             print!("{}", summarise(&scenario, &sw));
             draw(&scenario, &sw, plot, args.quiet)?;
-            viscous_table_of(&sw.key, &sw.values, &sw.rows)
+            table_of(family, viscous_modes, &sw.key, &sw.values, &sw.rows)
         }
         (Some((key, values)), false) => {
             let sw =
                 steady::sweep_solving(&scenario, family, solve, &key, &values).map_err(located)?;
             print!("{}", summarise(&scenario, &sw));
             draw(&scenario, &sw, plot, args.quiet)?;
-            table_of(family, &sw.key, &sw.values, &sw.rows)
+            table_of(family, family.modes(), &sw.key, &sw.values, &sw.rows)
         }
     };
     if let Some(path) = &args.output {
@@ -180,74 +173,20 @@ fn describe_viscous(spin: &steady::viscous::ViscousSpin) -> String {
         "modes (eigenvalue lambda in 1/s, body frame; eigenvector in {}):",
         steady::viscous::COORDINATES.join(", ")
     );
-    for (lambda, v) in spin.eigenvalues.iter().zip(&spin.vectors) {
+    for ((lambda, v), name) in spin.eigenvalues.iter().zip(&spin.vectors).zip(&spin.names) {
         let v: Vec<String> = v
             .iter()
             .map(|c| format!("{:.6}{:+.6}i", c.re, c.im))
             .collect();
         let _ = writeln!(
             o,
-            "  {:+.10e} {:+.10e}i   [{}]",
+            "  {name:<8} {:+.10e} {:+.10e}i   [{}]",
             lambda.re,
             lambda.im,
             v.join(", ")
         );
     }
     o
-}
-
-/// The table of viscous steady spins (`values` of `key`, each row's spin or why there is
-/// none): the key, spin, theta, normal_force, stable, max_real and lambdaK_re,
-/// lambdaK_im, modeK (K = 1…6), error, as [`table_of`].
-fn viscous_table_of(
-    key: &str,
-    values: &[f64],
-    rows: &[steady::sweep::Row<ViscousSpin>],
-) -> (Vec<Column>, Vec<Vec<Cell>>) {
-    let mut columns = vec![
-        column(key, scenario::schema::unit(key), Type::Float),
-        column("spin", Some("rad/s"), Type::Float),
-        column("theta", Some("rad"), Type::Float),
-        column("normal_force", Some("N"), Type::Float),
-        column("stable", None, Type::Text),
-        column("max_real", Some("1/s"), Type::Float),
-    ];
-    for k in 1..=steady::viscous::COORDINATES.len() - 1 {
-        columns.extend(mode_columns(k));
-    }
-    columns.push(column("error", None, Type::Text));
-    let cells = values
-        .iter()
-        .zip(rows)
-        .map(|(v, row)| {
-            let mut cells = vec![Cell::Float(*v)];
-            match row {
-                Ok(spin) => {
-                    cells.extend([
-                        Cell::Float(spin.spin + 0.0),
-                        Cell::Float(spin.zeta.xy().norm().atan2(spin.zeta.z)),
-                        Cell::Float(spin.normal_force),
-                        Cell::Text(spin.stable().to_string()),
-                        Cell::Float(spin.max_real()),
-                    ]);
-                    for (lambda, name) in spin.eigenvalues.iter().zip(spin.mode_names()) {
-                        cells.extend([
-                            Cell::Float(lambda.re),
-                            Cell::Float(lambda.im),
-                            Cell::Text(name.to_owned()),
-                        ]);
-                    }
-                    cells.push(Cell::Null);
-                }
-                Err(e) => {
-                    cells.extend(std::iter::repeat_n(Cell::Null, columns.len() - 2));
-                    cells.push(Cell::Text(e.to_string()));
-                }
-            }
-            cells
-        })
-        .collect();
-    (columns, cells)
 }
 
 /// A column of the steady tables (every cell may be empty).
@@ -268,6 +207,30 @@ fn mode_columns(k: usize) -> [Column; 3] {
         column(&format!("lambda{k}_im"), Some("1/s"), Type::Float),
         column(&format!("mode{k}"), None, Type::Text),
     ]
+}
+
+/// `scenario` started on `motion` displaced by ε along the mode `k` of `--perturb spec`.
+fn perturb<M: Start>(
+    scenario: &Scenario,
+    motion: &M,
+    spec: &str,
+    k: Mode,
+    epsilon: f64,
+) -> Result<Scenario, CliError> {
+    let k = match k {
+        Mode::Number(k) => k,
+        Mode::Name(name) => {
+            let names = motion.mode_names();
+            names.iter().position(|m| *m == name).ok_or_else(|| {
+                CliError::Usage(format!(
+                    "--perturb {spec:?}: the {} motion has no mode {name:?} (its modes: {})",
+                    motion.family().name(),
+                    names.join(", ")
+                ))
+            })?
+        }
+    };
+    Ok(steady::perturbed(scenario, motion, k, epsilon)?)
 }
 
 /// A mode of `--perturb`: its number (1-based, as in the table) or its name.
@@ -492,14 +455,54 @@ fn summarise<T: Stability>(scenario: &Scenario, sw: &Sweep<T>) -> String {
     o
 }
 
-/// The table of the analyses (`values` of `key`, each row's analysis or why there is
-/// none): the columns (name, SI unit, type) and the rows of cells, `None` where a row has
-/// no value.
-fn table_of(
+/// A row of a steady table: its motion's cells and its modes ([`Start::mode_names`],
+/// [`Stability::eigenvalues`], in the same order).
+trait Tabled: Stability + Start {
+    /// The cells after the key: spin, theta and normal_force, then, for a tilted family,
+    /// phi_dot, radius_g and radius_contact.
+    fn motion_cells(&self) -> Vec<Cell>;
+}
+
+impl Tabled for Analysis {
+    fn motion_cells(&self) -> Vec<Cell> {
+        let m = &self.motion;
+        let mut cells = vec![
+            Cell::Float(m.spin + 0.0),
+            Cell::Float(m.theta),
+            Cell::Float(m.normal_force),
+        ];
+        if let (Some(precession), Some(c)) = (m.precession, m.circles) {
+            cells.extend([
+                Cell::Float(precession),
+                Cell::Float(c.center),
+                Cell::Float(c.contact),
+            ]);
+        }
+        cells
+    }
+}
+
+impl Tabled for ViscousSpin {
+    fn motion_cells(&self) -> Vec<Cell> {
+        vec![
+            Cell::Float(self.spin + 0.0),
+            Cell::Float(self.zeta.xy().norm().atan2(self.zeta.z)),
+            Cell::Float(self.normal_force),
+        ]
+    }
+}
+
+/// The table of the steady motions of `family` (`values` of `key`, each row's motion or
+/// why there is none; `modes` per row): the columns (name, SI unit, type) and the rows of
+/// cells, empty where a row has no value. The columns: the key, spin, theta,
+/// normal_force, for a tilted family phi_dot, radius_g and radius_contact, then stable,
+/// max_real, lambdaK_re, lambdaK_im, modeK (K = 1…`modes`) and error.
+fn table_of<T: Tabled>(
     family: Family,
+    modes: usize,
     key: &str,
     values: &[f64],
-    rows: &[steady::sweep::Row],
+    rows: &[steady::sweep::Row<T>],
 ) -> (Vec<Column>, Vec<Vec<Cell>>) {
     let mut columns = vec![
         column(key, scenario::schema::unit(key), Type::Float),
@@ -518,7 +521,7 @@ fn table_of(
         column("stable", None, Type::Text),
         column("max_real", Some("1/s"), Type::Float),
     ]);
-    for k in 1..=family.modes() {
+    for k in 1..=modes {
         columns.extend(mode_columns(k));
     }
     columns.push(column("error", None, Type::Text));
@@ -528,29 +531,17 @@ fn table_of(
         .map(|(v, row)| {
             let mut cells = vec![Cell::Float(*v)];
             match row {
-                Ok(an) => {
-                    let m = &an.motion;
+                Ok(motion) => {
+                    cells.extend(motion.motion_cells());
                     cells.extend([
-                        Cell::Float(m.spin + 0.0),
-                        Cell::Float(m.theta),
-                        Cell::Float(m.normal_force),
+                        Cell::Text(motion.stable().to_string()),
+                        Cell::Float(motion.max_real()),
                     ]);
-                    if let (Some(precession), Some(c)) = (m.precession, m.circles) {
+                    for (lambda, name) in motion.eigenvalues().iter().zip(motion.mode_names()) {
                         cells.extend([
-                            Cell::Float(precession),
-                            Cell::Float(c.center),
-                            Cell::Float(c.contact),
-                        ]);
-                    }
-                    cells.extend([
-                        Cell::Text(an.spectrum.stable().to_string()),
-                        Cell::Float(an.spectrum.max_real()),
-                    ]);
-                    for mode in &an.spectrum.modes {
-                        cells.extend([
-                            Cell::Float(mode.eigenvalue.re),
-                            Cell::Float(mode.eigenvalue.im),
-                            Cell::Text(mode.name.to_owned()),
+                            Cell::Float(lambda.re),
+                            Cell::Float(lambda.im),
+                            Cell::Text(name.to_owned()),
                         ]);
                     }
                     cells.push(Cell::Null);

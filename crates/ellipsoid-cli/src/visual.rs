@@ -81,6 +81,9 @@ pub(crate) fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
 }
 
 pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
+    if args.section {
+        return crate::plot_section::plot_section(args);
+    }
     let ext = check_output(&args.output, &["svg", "png", "pdf"], "figure")?;
     let asked = match (&args.columns, &args.panels) {
         (Some(columns), _) => Some(figure::parse_columns(columns)),

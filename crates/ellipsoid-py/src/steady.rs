@@ -198,7 +198,8 @@ pub fn steady_raw<'py>(
 
 /// The scenario started on the steady motion of `family` that `scenario` defines (with
 /// `key` set to `value`, if given), displaced by `epsilon` along mode `mode` (0-based,
-/// its column in the eigenvalues): `steady::perturbed`, as `ellipsoid steady --perturb`.
+/// its column in the eigenvalues; a spin of the viscous model too): `steady::perturbed`,
+/// as `ellipsoid steady --perturb`.
 #[pyfunction]
 #[pyo3(signature = (scenario, family, mode, epsilon, key = None, value = None, solve = "spin"))]
 #[allow(clippy::too_many_arguments)]
@@ -222,10 +223,16 @@ pub fn steady_start(
             .map_err(|e| errors::scenario_error(py, &e))?;
         scenario = draft.build().map_err(|e| errors::scenario_errors(py, &e))?;
     }
-    let an = steady::analyse_solving(&scenario.scene, family, solve)
-        .map_err(|e| located(py, &scenario, &e))?;
-    let inner = steady::perturbed(&scenario, &an, mode, epsilon)
-        .map_err(|e| errors::scenario_errors(py, &e))?;
+    let inner = if matches!(scenario.scene.contact, ContactModel::Viscous { .. }) {
+        let spin = steady::viscous::analyse(&scenario.scene, family)
+            .map_err(|e| located(py, &scenario, &e))?;
+        steady::perturbed(&scenario, &spin, mode, epsilon)
+    } else {
+        let an = steady::analyse_solving(&scenario.scene, family, solve)
+            .map_err(|e| located(py, &scenario, &e))?;
+        steady::perturbed(&scenario, &an, mode, epsilon)
+    }
+    .map_err(|e| errors::scenario_errors(py, &e))?;
     Ok(PyScenario { inner })
 }
 

@@ -135,7 +135,8 @@ def test_the_viscous_law_is_analysed_with_and_without_vary() -> None:
     """Under viscous sliding, `ellipsoid.steady` gives six eigenvalues per row; a sweep of
     I3 finds where the tippe top's upright spin (α = 0.2, 180 rad/s) destabilises, near
     the criterion's end I1/I3 = 1 − α, and single analyses just either side of it agree
-    with the sweep's verdicts there and with its own eigenvalues at a swept value."""
+    with the sweep's verdicts there and with its own eigenvalues at a swept value; a run
+    started on an unstable spin displaced along its tilt grows at the predicted rate."""
     top = ellipsoid.Scenario(**VISCOUS_TOP)
     i3 = np.linspace(6e-7, 1.2e-6, 13)
     res = ellipsoid.steady(top, vary={"body.inertia[2]": i3})
@@ -148,5 +149,16 @@ def test_the_viscous_law_is_analysed_with_and_without_vary() -> None:
         assert bool(one.stable[0]) is stable
     one = ellipsoid.steady(top.replace(**{"body.inertia[2]": float(i3[3])}))
     assert np.array_equal(one.eigenvalues[0], res.eigenvalues[3])
-    with pytest.raises(ellipsoid.ScenarioError, match="viscous"):
-        res.scenario(0, 1e-6)
+    # Started on the unstable upright spin at I3 = i3[3] (I1/I3 = 1.07), displaced 1e-6
+    # along its tilt (by column, by name, or from the sweep's row): the tilt grows from
+    # 1e-5 to 1e-4 rad at Re λ within 1 %.
+    rate = float(one.eigenvalues[0, 0].real)
+    assert rate > 0 and one.modes[0][0] == "tilt"
+    start = one.scenario(0, 1e-6)
+    assert one.scenario("tilt", 1e-6) == start
+    assert res.scenario(0, 1e-6, index=3) == start
+    t_end = 16.0 / rate
+    traj = ellipsoid.simulate(start, output={"t_end": t_end, "dt": t_end / 4000})
+    assert traj.theta[0] < 2e-6
+    fitted = math.log(10.0) / (reaching(traj.t, traj.theta, 1e-4) - reaching(traj.t, traj.theta, 1e-5))
+    assert fitted == pytest.approx(rate, rel=0.01), (fitted, rate)

@@ -28,6 +28,7 @@ pub use tilted::Solve;
 
 use nalgebra::Vector3;
 
+use crate::body::Body;
 use crate::error::{ModelError, Value};
 use crate::simulate::Scene;
 
@@ -95,7 +96,7 @@ pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Analysis {
         .iter()
         .map(|d| linearization.reduced(d))
         .collect();
-    let mut shape = shape(field, zeta);
+    let mut shape = shape(field.body(), zeta);
     shape.tilted = motion.family.tilted();
     let floor = if shape.tilted {
         let (_, omega) = reduce::split(&motion.at);
@@ -121,8 +122,7 @@ impl Analysis {
 }
 
 /// How the body looks from above at attitude ζ0, for naming modes.
-fn shape(field: &ReducedField, zeta: Vector3<f64>) -> Shape {
-    let body = field.body();
+fn shape(body: &Body, zeta: Vector3<f64>) -> Shape {
     let axes = body.semi_axes();
     let i = body.inertia();
     // The body axis most nearly vertical, and the other two by length.

@@ -4,26 +4,67 @@
 
 use crate::error::{Brackets, Digits, ModelError, Value};
 use crate::scenario::{self, Scenario, ScenarioErrors};
+use crate::simulate::Scene;
 
+use super::families::Family;
+use super::viscous::{self, ViscousSpin};
 use super::{Analysis, started_at};
 
 /// Largest |ε| a perturbation takes \[rad of tilt\]: beyond it the linearisation says
 /// little about the start.
 pub const MAX_EPSILON: f64 = 0.1;
 
-/// `scenario` started on the steady motion `an` displaced by ε along mode `k` (0-based,
-/// `an.spectrum.modes` order; the displacement ε Re(v), [`Analysis::perturbation`]), as
-/// a scenario of its own: the `[initial]` table replaced by the displaced attitude
-/// (θ, φ = 0, ψ), body angular velocity, position, and the horizontal velocity of a
-/// body at rest horizontally (frictionless and sliding; the rolling models take G's
-/// velocity from the no-slip constraint), every other table as the scenario has it.
-pub fn perturbed(
+/// A steady motion with modes, which a run can start displaced along one of them.
+pub trait Start {
+    /// The motion's family.
+    fn family(&self) -> Family;
+    /// What moves in each mode, in the order of the modes (the table's).
+    fn mode_names(&self) -> Vec<&'static str>;
+    /// `scene` started on the motion displaced by ε Re(v) along mode `k` (0-based).
+    fn started(&self, scene: &Scene, k: usize, epsilon: f64) -> Scene;
+}
+
+impl Start for Analysis {
+    fn family(&self) -> Family {
+        self.motion.family
+    }
+    fn mode_names(&self) -> Vec<&'static str> {
+        self.spectrum.modes.iter().map(|m| m.name).collect()
+    }
+    /// [`started_at`] the motion displaced by [`Analysis::perturbation`].
+    fn started(&self, scene: &Scene, k: usize, epsilon: f64) -> Scene {
+        started_at(scene, &self.motion.at, &self.perturbation(k, epsilon))
+    }
+}
+
+impl Start for ViscousSpin {
+    fn family(&self) -> Family {
+        self.family
+    }
+    fn mode_names(&self) -> Vec<&'static str> {
+        ViscousSpin::mode_names(self)
+    }
+    /// [`viscous::started_at`] the spin displaced by [`ViscousSpin::perturbation`]
+    /// (G's horizontal velocity displaced too).
+    fn started(&self, scene: &Scene, k: usize, epsilon: f64) -> Scene {
+        viscous::started_at(scene, &self.at(), &self.perturbation(k, epsilon))
+    }
+}
+
+/// `scenario` started on the steady motion `motion` displaced by ε along mode `k`
+/// (0-based, in the order of [`Start::mode_names`]; the displacement ε Re(v)), as a
+/// scenario of its own: the `[initial]` table replaced by the displaced attitude
+/// (θ, φ = 0, ψ), body angular velocity, position, and G's horizontal velocity (at rest
+/// horizontally without friction and sliding; displaced along the mode under the viscous
+/// law; the rolling models take it from the no-slip constraint), every other table as
+/// the scenario has it.
+pub fn perturbed<M: Start>(
     scenario: &Scenario,
-    an: &Analysis,
+    motion: &M,
     k: usize,
     epsilon: f64,
 ) -> Result<Scenario, ScenarioErrors> {
-    let modes = an.spectrum.modes.len();
+    let modes = motion.mode_names().len();
     if k >= modes {
         return Err(scenario
             .locate(&ModelError::invalid(
@@ -31,7 +72,7 @@ pub fn perturbed(
                 k + 1,
                 format!(
                     "the {} motion has modes 1 to {modes}",
-                    an.motion.family.name()
+                    motion.family().name()
                 ),
             ))
             .into());
@@ -49,8 +90,7 @@ pub fn perturbed(
             ))
             .into());
     }
-    let delta = an.perturbation(k, epsilon);
-    let scene = started_at(&scenario.scene, &an.motion.at, &delta);
+    let scene = motion.started(&scenario.scene, k, epsilon);
     let init = &scene.initial;
     let list = |v: &[f64]| toml::Value::Array(v.iter().map(|&x| toml::Value::Float(x)).collect());
     let mut table = toml::Table::new();

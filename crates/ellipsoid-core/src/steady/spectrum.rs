@@ -210,6 +210,19 @@ fn name(lin: &Linearization, v: &SVector<Complex<f64>, 5>, shape: &Shape) -> &'s
     if tilt < 1e-9 {
         return "spin";
     }
+    tilt_name(lin.tangent, v[0], v[1], shape)
+}
+
+/// What moves in a mode that tilts the body by δζ = `a` t1 + `b` t2 (complex amplitudes
+/// along the tangent basis `tangent` at ζ0): "nutation" for a tilted motion, "tilt" for a
+/// body of revolution, else "roll", "pitch" or "wobble" by the rotation's horizontal part
+/// about the body's longer and shorter horizontal axes (see [`Mode::name`]).
+pub(super) fn tilt_name(
+    tangent: [Vector3<f64>; 2],
+    a: Complex<f64>,
+    b: Complex<f64>,
+    shape: &Shape,
+) -> &'static str {
     if shape.tilted {
         return "nutation";
     }
@@ -217,11 +230,11 @@ fn name(lin: &Linearization, v: &SVector<Complex<f64>, 5>, shape: &Shape) -> &'s
         return "tilt";
     }
     // δζ = ζ0 × δ, so the rotation's horizontal part is δ = δζ × ζ0.
-    let [t1, t2] = lin.tangent;
+    let [t1, t2] = tangent;
     let rotation = |axis: &Vector3<f64>| {
         // (δζ × ζ0)·axis = δζ·(ζ0 × axis), per tangent component.
         let g = shape.zeta.cross(axis);
-        v[0] * t1.dot(&g) + v[1] * t2.dot(&g)
+        a * t1.dot(&g) + b * t2.dot(&g)
     };
     let about_long = rotation(&shape.long).norm();
     let about_short = rotation(&shape.short).norm();

@@ -18,10 +18,12 @@ use nalgebra::{Complex, DMatrix, DVector, SMatrix, SVector, Vector3};
 use super::families::{self, Family};
 use super::linearize::{ZETA_STEP, richardson, tangent_basis};
 use super::reduce;
-use super::spectrum::{STABLE_TOLERANCE, by_real_part, reduced_modes};
+use super::spectrum::{STABLE_TOLERANCE, Shape, by_real_part, reduced_modes, tilt_name};
 use super::sweep::{self, Stability, Sweep};
 use super::tilted::Solve;
+use crate::body::Body;
 use crate::error::{ModelError, Value};
+use crate::geometry::Contact;
 use crate::model::{System, Viscous};
 use crate::scenario::Scenario;
 use crate::simulate::{ContactModel, Scene};
@@ -113,6 +115,8 @@ pub struct ViscousSpin {
     pub vectors: Vec<SVector<Complex<f64>, 7>>,
     /// Estimated error of the Jacobian's entries (Richardson's |sixth − fourth order|).
     pub error: f64,
+    /// What moves in each mode ([`mode_name`]).
+    pub names: Vec<&'static str>,
 }
 
 impl ViscousSpin {
@@ -137,21 +141,9 @@ impl ViscousSpin {
             .fold(1e-300, f64::max)
     }
 
-    /// What moves in each mode: "tilt" (the axis nutates or precesses; its eigenvector
-    /// has a tilt part) or "slip" (G's horizontal velocity relaxes, the attitude
-    /// unmoved).
+    /// What moves in each mode, in the order of the eigenvalues (see [`mode_name`]).
     pub fn mode_names(&self) -> Vec<&'static str> {
-        self.vectors
-            .iter()
-            .map(|v| {
-                let tilt = (v[0].norm_sqr() + v[1].norm_sqr()).sqrt();
-                if tilt > 1e-6 * v.norm() {
-                    "tilt"
-                } else {
-                    "slip"
-                }
-            })
-            .collect()
+        self.names.clone()
     }
 }
 
@@ -170,14 +162,7 @@ impl Stability for ViscousSpin {
 impl ViscousSpin {
     /// The displacement ε Re(v) of mode `k` as (δζ, δω, δh) in body axes.
     pub fn perturbation(&self, k: usize, epsilon: f64) -> State9 {
-        let v = self.vectors[k].map(|c| c.re * epsilon);
-        let [t1, t2] = self.tangent;
-        let mut d = State9::zeros();
-        d.fixed_rows_mut::<3>(0).copy_from(&(t1 * v[0] + t2 * v[1]));
-        d.fixed_rows_mut::<3>(3)
-            .copy_from(&Vector3::new(v[2], v[3], v[4]));
-        d.fixed_rows_mut::<3>(6).copy_from(&(t1 * v[5] + t2 * v[6]));
-        d
+        direction(self.tangent, &self.vectors[k].map(|c| c.re * epsilon))
     }
 
     /// The steady state (ζ0, n ζ0, 0).
@@ -284,10 +269,15 @@ pub fn spin_at(field: &ViscousField, family: Family, zeta: Vector3<f64>, spin: f
     let dynamic = DMatrix::from_fn(7, 7, |i, j| jacobian[(i, j)]);
     let mut modes = reduced_modes(&dynamic, &[family_direction]);
     modes.sort_by(|x, y| by_real_part(&x.0, &y.0));
-    let (eigenvalues, vectors) = modes
+    let (eigenvalues, vectors): (Vec<_>, Vec<_>) = modes
         .into_iter()
         .map(|(lambda, v)| (lambda, normalise(&v)))
         .unzip();
+    let shape = super::shape(body, zeta);
+    let names = vectors
+        .iter()
+        .map(|v| mode_name(field, &x0, tangent, &shape, v))
+        .collect();
     let normal_force = {
         let y = reduce::full_state(&zeta, &(zeta * spin));
         field.system.evaluate(&y).response.normal
@@ -302,7 +292,71 @@ pub fn spin_at(field: &ViscousField, family: Family, zeta: Vector3<f64>, spin: f
         eigenvalues,
         vectors,
         error,
+        names,
     }
+}
+
+/// What moves in the mode `v` (in [`COORDINATES`]) of the spin at `x0`, as under the other
+/// laws ([`super::Mode::name`]), told apart by kinetic energy: "slip" if the contact
+/// point's slip would carry more of it than G's motion and the rotation together,
+/// m |δv_C|² > m |δh|² + δωᵀ I δω (the viscous law's relaxation of the slip; a mode in
+/// which the body rolls sideways, G moving but the contact point not slipping, is not
+/// one); else, if the axis moves, named
+/// by the tilt ("tilt" for a body of revolution; "roll", "pitch" or "wobble" of a triaxial
+/// body such as the rattleback, [`tilt_name`]); else "spin".
+fn mode_name(
+    field: &ViscousField,
+    x0: &State9,
+    tangent: [Vector3<f64>; 2],
+    shape: &Shape,
+    v: &SVector<Complex<f64>, 7>,
+) -> &'static str {
+    let body = &field.system.body;
+    // δv_C = d/ds of the slip along Re v and Im v (central differences: the slip is
+    // linear to O(s²), enough to compare energies).
+    let step = 1e-7;
+    let slip = |part: fn(&Complex<f64>) -> f64| {
+        let u = SVector::<f64, 7>::from_iterator(v.iter().map(part));
+        let d = direction(tangent, &u) * step;
+        (slip_velocity(body, &(x0 + d)) - slip_velocity(body, &(x0 - d))) / (2.0 * step)
+    };
+    let (slip_re, slip_im) = (slip(|c| c.re), slip(|c| c.im));
+    let omega_re = Vector3::new(v[2].re, v[3].re, v[4].re);
+    let omega_im = Vector3::new(v[2].im, v[3].im, v[4].im);
+    let inertia = body.inertia();
+    let rotation = omega_re.dot(&(inertia * omega_re)) + omega_im.dot(&(inertia * omega_im));
+    let slipping = body.mass() * (slip_re.norm_squared() + slip_im.norm_squared());
+    let tilt = (v[0].norm_sqr() + v[1].norm_sqr()).sqrt();
+    let moving = body.mass() * (v[5].norm_sqr() + v[6].norm_sqr());
+    if slipping > moving + rotation {
+        "slip"
+    } else if tilt > 1e-6 * v.norm() {
+        tilt_name(tangent, v[0], v[1], shape)
+    } else {
+        "spin"
+    }
+}
+
+/// The contact point's horizontal slip velocity at `x` (body axes): v_C = v_G + ω × r
+/// with r = C − G, its component along ζ removed.
+fn slip_velocity(body: &Body, x: &State9) -> Vector3<f64> {
+    let (zeta, omega, h) = split(x);
+    let zeta = zeta.normalize();
+    let r = Contact::new(body, zeta, omega).r;
+    let v = h + omega.cross(&r);
+    v - zeta * zeta.dot(&v)
+}
+
+/// The phase-space displacement (δζ, δω, δh) of `u` (in [`COORDINATES`]) along the
+/// tangent basis `tangent`.
+fn direction(tangent: [Vector3<f64>; 2], u: &SVector<f64, 7>) -> State9 {
+    let [t1, t2] = tangent;
+    let mut d = State9::zeros();
+    d.fixed_rows_mut::<3>(0).copy_from(&(t1 * u[0] + t2 * u[1]));
+    d.fixed_rows_mut::<3>(3)
+        .copy_from(&Vector3::new(u[2], u[3], u[4]));
+    d.fixed_rows_mut::<3>(6).copy_from(&(t1 * u[5] + t2 * u[6]));
+    d
 }
 
 /// `v` scaled so that its tilt part has unit norm (the whole vector if it has no tilt),
