@@ -5,10 +5,26 @@
 use nalgebra::SVector;
 
 use super::controller::{ControlParams, DOP853_CONTROL, scale};
-use super::stepper::{Stepper, Trial, all_finite, combine, first_stage, stage_input};
+use super::stepper::{Stepper, Trial, add_scaled, all_finite, combine, first_stage, stage_input};
 use super::stiffness::{DOP853_STIFFNESS, StiffnessParams};
 use super::tableau::{DOP853, DOP853_A_EXTRA, DOP853_BHH, DOP853_C_EXTRA, DOP853_D, DOP853_E5};
 use super::{OdeSystem, Options, Stats};
+
+/// Σ_j w_j k_j over the 16 stages of the extended list, `w` a row of a `const` table:
+/// written out term by term, so that the weights fold into the code (the zero ones
+/// vanish) and the sum can stay in registers. The same terms in the same order as
+/// `stepper::combine` (bit for bit the same values).
+macro_rules! combine16 {
+    ($w:expr, $k:expr) => {{
+        let (w, k): (&[f64; 16], &[SVector<f64, N>; 16]) = (&$w, &$k);
+        let mut acc = SVector::<f64, N>::zeros();
+        combine16!(@terms acc, w, k; 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15);
+        acc
+    }};
+    (@terms $acc:ident, $w:ident, $k:ident; $($j:literal)*) => {
+        $(add_scaled(&mut $acc, $w[$j], &$k[$j]);)*
+    };
+}
 
 pub(crate) struct Dop853<const N: usize> {
     /// f(t, y) at the start of the next attempt.
@@ -44,6 +60,18 @@ impl<const N: usize> Dop853<N> {
             y_new: z,
             cont: [z; 8],
         }
+    }
+
+    /// Dense-output stage 14 + R (`k[13 + R]`) of the accepted step: a `const` index, so
+    /// that the coupling row's zeros fold away. Its columns from 13 + R on are zero, so
+    /// the sum over all 16 stages is the stage input over the stages before it.
+    #[inline(always)]
+    fn extra_stage<S: OdeSystem<N>, const R: usize>(&mut self, system: &S) {
+        let mut yi = combine16!(DOP853_A_EXTRA[R], self.k);
+        for (x, y) in yi.iter_mut().zip(self.y0.iter()) {
+            *x = y + self.h * *x;
+        }
+        self.k[13 + R] = system.rhs(self.t0 + DOP853_C_EXTRA[R] * self.h, &yi);
     }
 }
 
@@ -136,13 +164,11 @@ impl<const N: usize> Stepper<N> for Dop853<N> {
     }
 
     fn prepare_dense<S: OdeSystem<N>>(&mut self, system: &S, stats: &mut Stats) {
-        let (t0, h, y0) = (self.t0, self.h, self.y0);
-        for r in 0..3 {
-            let i = 13 + r;
-            let yi = stage_input(&y0, h, &DOP853_A_EXTRA[r], &self.k, i);
-            self.k[i] = system.rhs(t0 + DOP853_C_EXTRA[r] * h, &yi);
-        }
+        self.extra_stage::<S, 0>(system);
+        self.extra_stage::<S, 1>(system);
+        self.extra_stage::<S, 2>(system);
         stats.rhs_evals += 3;
+        let (h, y0) = (self.h, self.y0);
         let ydiff = self.y_new - y0;
         let bspl = self.k[0] * h - ydiff;
         self.cont = [
@@ -150,10 +176,10 @@ impl<const N: usize> Stepper<N> for Dop853<N> {
             ydiff,
             bspl,
             ydiff - self.k[12] * h - bspl,
-            combine(&DOP853_D[0], &self.k) * h,
-            combine(&DOP853_D[1], &self.k) * h,
-            combine(&DOP853_D[2], &self.k) * h,
-            combine(&DOP853_D[3], &self.k) * h,
+            combine16!(DOP853_D[0], self.k) * h,
+            combine16!(DOP853_D[1], self.k) * h,
+            combine16!(DOP853_D[2], self.k) * h,
+            combine16!(DOP853_D[3], self.k) * h,
         ];
     }
 

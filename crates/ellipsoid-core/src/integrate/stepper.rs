@@ -112,7 +112,7 @@ pub(crate) fn combine<const N: usize, const S: usize>(
 
 /// acc += w·k, component by component (nothing for w = 0).
 #[inline(always)]
-fn add_scaled<const N: usize>(acc: &mut SVector<f64, N>, w: f64, k: &SVector<f64, N>) {
+pub(crate) fn add_scaled<const N: usize>(acc: &mut SVector<f64, N>, w: f64, k: &SVector<f64, N>) {
     if w != 0.0 {
         for (x, kx) in acc.as_mut_slice().iter_mut().zip(k.as_slice()) {
             *x += w * kx;

@@ -363,6 +363,15 @@ mod tests {
         assert_order("DOP853 3rd-order estimator", &DOP853.a, &b3, 1.0, 3, 1e-13);
     }
 
+    /// Extra stage 14 + r couples only the stages before it (`Dop853::extra_stage` sums a
+    /// row over all 16 stages).
+    #[test]
+    fn dop853_extra_stages_couple_only_earlier_stages() {
+        for (r, row) in DOP853_A_EXTRA.iter().enumerate() {
+            assert!(row[13 + r..].iter().all(|&a| a == 0.0), "row {r}: {row:?}");
+        }
+    }
+
     #[test]
     fn dop853_dense_output_is_order_7() {
         let a = dop853_extended();

@@ -145,12 +145,12 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             },
         };
 
-        let (final_sample, final_invariants) =
+        let (mut final_sample, final_invariants) =
             phase::<E>(mode).sample(self, t, &y, Some(&rec.angles));
         if !status.completed() && rec.last_t < t && !matches!(status, Status::NonFinite { .. }) {
             // The trajectory ends where the run stopped (the run is over, so a request
             // to cancel from this last row changes nothing).
-            let _ = rec.emit(final_sample, final_invariants);
+            let _ = rec.emit(&mut final_sample, &final_invariants);
         }
         rec.deviate(&final_invariants);
         let final_sample = Sample {
@@ -318,9 +318,10 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
         &events,
         samples,
         &mut |t, y| {
-            let (sample, inv) = ctx.sample(law, P::MODE, t, y, &law.evaluate(y), Some(&rec.angles));
+            let (mut sample, inv) =
+                ctx.sample(law, P::MODE, t, y, &law.evaluate(y), Some(&rec.angles));
             rec.next_sample += 1;
-            let flow = rec.emit(sample, inv);
+            let flow = rec.emit(&mut sample, &inv);
             angles.set(rec.angles);
             if keep_rows {
                 rows.push((t, rec.angles));

@@ -105,18 +105,19 @@ impl<'o> Recorder<'o> {
         }
     }
 
-    /// Hands a sample to the observer, unless it is not finite: then the run stops with
-    /// [`Status::NonFinite`] (no NaN is ever reported as a result).
-    pub(super) fn emit(&mut self, mut sample: Sample, inv: Invariants) -> ControlFlow<()> {
-        sample.drift = self.relative_drift(&inv);
-        if let Some((column, value)) = columns::non_finite(&sample) {
+    /// Fills in the sample's `drift` and hands it to the observer, unless it is not
+    /// finite: then the run stops with [`Status::NonFinite`] (no NaN is ever reported as a
+    /// result). The row is taken by reference, where it was built (no copy of it).
+    pub(super) fn emit(&mut self, sample: &mut Sample, inv: &Invariants) -> ControlFlow<()> {
+        sample.drift = self.relative_drift(inv);
+        if let Some((column, value)) = columns::non_finite(sample) {
             self.stopped = Some(Status::NonFinite { column, value });
             return ControlFlow::Break(());
         }
         self.angles = sample.angles;
         self.last_t = sample.t;
-        self.deviate(&inv);
-        (self.observer)(&sample)
+        self.deviate(inv);
+        (self.observer)(sample)
     }
 
     /// Notes that the run no longer conserves `which` (an impact dissipated energy; a
@@ -184,9 +185,9 @@ mod tests {
             mode: Mode::Rolling,
             touching: [None, None],
         };
-        assert!(rec.emit(s, inv).is_continue());
+        assert!(rec.emit(&mut s, &inv).is_continue());
         s.omega.y = f64::NAN;
-        assert!(rec.emit(s, inv).is_break());
+        assert!(rec.emit(&mut s, &inv).is_break());
         let Some(Status::NonFinite { column, value }) = rec.stopped else {
             panic!("{:?}", rec.stopped)
         };
