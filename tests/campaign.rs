@@ -75,6 +75,36 @@ fn random_scenes_that_stalled_or_drifted_on_two_contacts_end_physically() {
     assert_all_physical(&scenes);
 }
 
+/// Random scenes (no spheres) where DOPRI5 ended `FastRate` in sliding while DOP853
+/// completed: the friction rolling needs sat at the cone's edge (2e-4 of μN beyond it),
+/// the slip shrank to 1e-10–5e-7 m/s without crossing zero or the floor, and the relaxation
+/// of its direction, μN/(m|v_C|), held the steps at 1e-10–3e-8 s. The failure is now the
+/// slip stop it stands for (`SlidingPhase::on_failure`, `numerics::SLIP_RATE_FACTOR`).
+#[test]
+fn random_scenes_whose_slip_was_held_at_the_cone_edge_end_physically() {
+    let pick = |seed: u64, wanted: &[usize]| {
+        let mut rng = Rng::new(seed);
+        let mut scenes = Vec::new();
+        let mut index = 0;
+        while index <= *wanted.last().unwrap() {
+            if let Some(s) = campaign::scene(&mut rng, Method::Dop853) {
+                if wanted.contains(&index) {
+                    scenes.push(s);
+                }
+                index += 1;
+            }
+        }
+        scenes
+    };
+    let mut scenes = pick(24, &[246, 478, 964]);
+    scenes.extend(pick(25, &[12]));
+    scenes.extend(pick(27, &[782, 986]));
+    scenes.extend(pick(29, &[207, 280, 311]));
+    scenes.extend(pick(30, &[310, 796]));
+    scenes.extend(pick(31, &[3, 482]));
+    assert_all_physical(&scenes);
+}
+
 /// Runs `scenes` under DOP853 and DOPRI5 and asserts the checks of the module docs.
 fn assert_all_physical(scenes: &[ellipsoid_core::simulate::Scene]) {
     let failures: Vec<String> = scenes

@@ -114,7 +114,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                             Next::Stop(rec.stopped.take().unwrap_or(Status::Cancelled), mode)
                         }
                         StopReason::Failed(e) => {
-                            Next::Stop(current.on_failure(self, t, &y, e, &mut events), mode)
+                            current.on_failure(self, &mut t, &mut y, e, &mut events)
                         }
                         StopReason::Event { index } => match seg.watches[index] {
                             Slot::Observe(index) => Next::Stop(Status::Observed { index }, mode),

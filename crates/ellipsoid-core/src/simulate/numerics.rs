@@ -50,6 +50,13 @@ const CONFIRM_BAND: f64 = 20.0;
 pub(super) const CONFIRM_GROWTH: f64 = 2.0;
 const CONFIRM_MAX_STEPS: u64 = 10_000;
 
+/// A sliding run that fails with `FastRate` at a fastest rate ρ within this factor of its
+/// slip's direction relaxation μN/(m|v_C|) was held by that relaxation at a vanishing
+/// slip, and takes the slip stop there (`phase::sliding`, on failure). The factor covers
+/// the contact's mobility, which exceeds 1/m by the body's rotation (measured: ρ from
+/// 1.2 to 6 times μN/(m|v_C|) on the random scenes that failed so).
+pub(super) const SLIP_RATE_FACTOR: f64 = 30.0;
+
 /// Slips below this many slip floors (or absolute tolerances), and below [`SLIP_BAND_CAP`]
 /// of the speed scale, have their friction direction blended towards s_ref
 /// (docs/physics.md, "The slip stop, numerically"). Measured on random stick–slip scenes:

@@ -34,7 +34,7 @@ use nalgebra::Vector2;
 use crate::body::Surface;
 use crate::effects::Effect;
 use crate::impact::{self, Approach, Tangential};
-use crate::integrate::{OdeSystem, rk4_step};
+use crate::integrate::{IntegrateError, OdeSystem, rk4_step};
 use crate::invariants::Invariants;
 use crate::model::{Kinematics, Rolling, Sliding};
 use crate::state::{self, State};
@@ -167,10 +167,12 @@ pub(super) fn slip_stop<E: Effect + Copy + 'static>(
 
 /// The sliding normal force's denominator collapsed to `denominator`
 /// (`numerics::PAINLEVE_COLLAPSE`) at t: N grows without bound, and Coulomb sliding has no
-/// consistent contact force beyond.
+/// consistent contact force beyond. `error`: the integrator's failure where the collapse
+/// was found by one, not by the phase's watch.
 pub(super) fn painleve(
     mode: Mode,
     denominator: f64,
+    error: Option<IntegrateError>,
     t: f64,
     events: &mut Vec<EventRecord>,
 ) -> Next {
@@ -178,13 +180,7 @@ pub(super) fn painleve(
         kind: EventKind::Painleve,
         t,
     });
-    Next::Stop(
-        Status::Painleve {
-            denominator,
-            error: None,
-        },
-        mode,
-    )
+    Next::Stop(Status::Painleve { denominator, error }, mode)
 }
 
 /// Rolling left the friction cone at (t, y): sliding from rest

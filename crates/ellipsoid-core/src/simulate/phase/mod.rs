@@ -192,19 +192,24 @@ pub(super) trait Phase {
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next;
-    /// The status when the integrator fails in this phase at (t, y), recording in
-    /// `events` what that failure means physically, if anything.
-    fn on_failure<E: Effect + Copy>(
+    /// Where the run goes when the integrator fails in this phase at (t, y), the last
+    /// accepted state: a stop whose status says what that failure means physically
+    /// (recorded in `events`, if anything), or on in a mode where the failure was a
+    /// transition the phase's watches cannot see.
+    fn on_failure<E: Effect + Copy + 'static>(
         _ctx: &Context<'_, E>,
-        _t: f64,
-        _y: &State,
+        _t: &mut f64,
+        _y: &mut State,
         error: IntegrateError,
         _events: &mut Vec<EventRecord>,
-    ) -> Status {
-        Status::SolverFailure {
-            mode: Self::MODE,
-            error,
-        }
+    ) -> Next {
+        Next::Stop(
+            Status::SolverFailure {
+                mode: Self::MODE,
+                error,
+            },
+            Self::MODE,
+        )
     }
 }
 
@@ -240,11 +245,11 @@ pub(super) trait AnyPhase<E> {
     fn on_failure(
         &self,
         ctx: &Context<'_, E>,
-        t: f64,
-        y: &State,
+        t: &mut f64,
+        y: &mut State,
         error: IntegrateError,
         events: &mut Vec<EventRecord>,
-    ) -> Status;
+    ) -> Next;
 }
 
 struct Registered<P>(PhantomData<P>);
@@ -296,11 +301,11 @@ impl<P: Phase, E: Effect + Copy + 'static> AnyPhase<E> for Registered<P> {
     fn on_failure(
         &self,
         ctx: &Context<'_, E>,
-        t: f64,
-        y: &State,
+        t: &mut f64,
+        y: &mut State,
         error: IntegrateError,
         events: &mut Vec<EventRecord>,
-    ) -> Status {
+    ) -> Next {
         P::on_failure(ctx, t, y, error, events)
     }
 }

@@ -28,8 +28,10 @@ use crate::state::{self, State};
 use super::{Next, Phase, other_surfaces, touch_gap};
 use crate::body::Surface;
 use crate::simulate::context::Context;
-use crate::simulate::numerics::{CONFIRM_GROWTH, CONFIRM_HORIZON, PAINLEVE_COLLAPSE};
-use crate::simulate::outcome::{EventKind, EventRecord, Mode, Status};
+use crate::simulate::numerics::{
+    CONFIRM_GROWTH, CONFIRM_HORIZON, PAINLEVE_COLLAPSE, SLIP_RATE_FACTOR,
+};
+use crate::simulate::outcome::{EventRecord, Mode, Status};
 use crate::simulate::transition::{
     lift_off, painleve, renew_reference, rolls_once_stuck, second_touchdown, slip_stop,
 };
@@ -119,6 +121,7 @@ impl Phase for SlidingPhase {
             SlidingWatch::Painleve => painleve(
                 Mode::Sliding,
                 ctx.system::<Self>().evaluate(y).response.painleve,
+                None,
                 *t,
                 events,
             ),
@@ -140,29 +143,43 @@ impl Phase for SlidingPhase {
         }
     }
 
-    fn on_failure<E: Effect + Copy>(
+    /// A failure where the Painlevé denominator collapsed is that singularity
+    /// ([`painleve`]). A `FastRate` failure whose fastest rate ρ is the relaxation of a
+    /// small slip's direction, ρ ≤ [`SLIP_RATE_FACTOR`]·μN/(m|v_C|), is a slip stop that
+    /// no watch sees: with the friction rolling needs at the edge of the cone (measured
+    /// 2e-4 of μN beyond it), the slip neither falls to the floor nor crosses zero nor
+    /// grows, and that rate, growing as the slip shrinks, holds an explicit method's steps
+    /// at its stability boundary (docs/physics.md, "The slip stop, numerically"). The
+    /// stop is taken at the last accepted state, where `transition::on_plane` decides
+    /// between rolling and a new slip. Any other failure is a solver failure.
+    fn on_failure<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
-        t: f64,
-        y: &State,
+        t: &mut f64,
+        y: &mut State,
         error: IntegrateError,
         events: &mut Vec<EventRecord>,
-    ) -> Status {
-        let denominator = ctx.system::<Self>().evaluate(y).response.painleve;
-        if denominator < PAINLEVE_COLLAPSE {
-            events.push(EventRecord {
-                kind: EventKind::Painleve,
-                t,
-            });
-            Status::Painleve {
-                denominator,
-                error: Some(error),
+    ) -> Next {
+        let sys = ctx.system::<Self>();
+        let ev = sys.evaluate(y);
+        if ev.response.painleve < PAINLEVE_COLLAPSE {
+            return painleve(Mode::Sliding, ev.response.painleve, Some(error), *t, events);
+        }
+        if let IntegrateError::FastRate { rate, .. } = error
+            && sys.contact.disc.is_none()
+        {
+            let slip = sys.contact.stop_speed(&ev.kin);
+            let relaxation = sys.contact.friction * ev.response.normal / (sys.body.mass() * slip);
+            if rate <= SLIP_RATE_FACTOR * relaxation {
+                return slip_stop(ctx, true, *t, y, events);
             }
-        } else {
+        }
+        Next::Stop(
             Status::SolverFailure {
                 mode: Mode::Sliding,
                 error,
-            }
-        }
+            },
+            Mode::Sliding,
+        )
     }
 }
 

@@ -131,6 +131,7 @@ impl Phase for TwoContactsPhase {
             TwoContactsWatch::Painleve => painleve(
                 Mode::TwoContacts,
                 ctx.system::<Self>().evaluate(y).response.painleve,
+                None,
                 *t,
                 events,
             ),

@@ -70,6 +70,7 @@ impl Phase for ViscousPhase {
             ViscousWatch::Painleve => painleve(
                 Mode::Viscous,
                 ctx.system::<Self>().evaluate(y).response.painleve,
+                None,
                 *t,
                 events,
             ),
