@@ -307,6 +307,7 @@ pub fn reference() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::effects::EffectSet;
     use crate::scenario::{DRIFT_NAMES, parse};
 
     /// A scenario of `model` and `method`, with what each needs (μ, rk4's step).
@@ -369,6 +370,16 @@ mod tests {
         let mut want = vec!["status"];
         want.extend(DRIFT_NAMES);
         assert_eq!(keys("check"), want);
+    }
+
+    /// The keys of `[effects]` but gravity are the effect list's (`crate::effects`), in
+    /// order: a key declared without an entry there would be accepted and ignored, an
+    /// entry without a key refused as unknown.
+    #[test]
+    fn the_effects_table_declares_exactly_the_listed_effects() {
+        let mut want = vec!["gravity"];
+        want.extend(EffectSet::KEYS);
+        assert_eq!(keys("effects"), want);
     }
 
     #[test]
