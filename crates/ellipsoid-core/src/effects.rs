@@ -183,9 +183,11 @@ macro_rules! effect_set {
             }
 
             /// Each effect from its key of the `[effects]` table, in order.
+            #[allow(clippy::result_large_err)] // the scenario's error, as in `scenario`
             pub(crate) fn read(table: &EffectTable<'_, '_, '_>) -> Result<Self, ScenarioError> {
                 Ok(EffectSet {
                     $($key: {
+                        #[allow(clippy::result_large_err)]
                         let read: fn(&EffectReader<'_, '_, '_>) -> Result<Option<$ty>, ScenarioError> =
                             $read;
                         read(&table.at(stringify!($key)))?
