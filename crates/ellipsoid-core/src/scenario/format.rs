@@ -608,6 +608,8 @@ pub(super) fn read_rotation(
     Ok(q)
 }
 
+/// `[effects]`: g, then each optional effect as its entry of the effect list
+/// (`crate::effects`) reads it.
 pub(super) fn read_effects(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, EffectSet)> {
     let Some(sec) = ctx.section(
         root,

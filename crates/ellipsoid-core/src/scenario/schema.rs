@@ -4,7 +4,8 @@
 //! Derived from it: the keys each table accepts (and so the "did you mean" candidates
 //! of an unknown key), the units of a study's axis columns ([`unit`]), the fuzzer's key
 //! names and the key reference of `docs/scenarios.md` ([`reference`], checked against
-//! the document by a test). A new key is one entry here and its reading in `format`.
+//! the document by a test). A new key is one entry here and its reading in `format`; an
+//! effect's keys are read by its entry of the effect list (`crate::effects`).
 
 use crate::error::number;
 use crate::integrate::Method;
