@@ -6,7 +6,6 @@ use std::fmt::Write as _;
 use std::process::ExitCode;
 
 use ellipsoid_core::scenario;
-use ellipsoid_core::simulate::EffectSet;
 use ellipsoid_study::check::{self, Derived};
 
 use crate::cli::CheckArgs;
@@ -88,31 +87,7 @@ fn describe(d: &Derived) -> String {
             ),
         );
     }
-    // Every effect named, so that a new one cannot be left out of the report.
-    let EffectSet {
-        rolling_resistance,
-        spin_friction,
-        air_drag,
-    } = d.effects;
-    let mut effects = Vec::new();
-    if let Some(r) = rolling_resistance {
-        effects.push(format!(
-            "rolling resistance c_r = {} m (eps = {} rad/s)",
-            r.coefficient, r.regularisation
-        ));
-    }
-    if let Some(s) = spin_friction {
-        effects.push(format!(
-            "spin friction c_s = {} m (eps = {} rad/s)",
-            s.coefficient, s.regularisation
-        ));
-    }
-    if let Some(a) = air_drag {
-        effects.push(format!(
-            "air drag k = {} kg/s, k_w = {} kg m^2/s",
-            a.linear, a.angular
-        ));
-    }
+    let effects = d.effects.report();
     line(
         "effects",
         if effects.is_empty() {

@@ -6,12 +6,19 @@
 //! empty tuple `()` contributes nothing and compiles to nothing, so an effect a scene
 //! does not name costs nothing at run time. The work they dissipate is accounted in the
 //! model's power balance (see `model`).
+//!
+//! The effects a scenario may name are listed once, at the end of this file: each
+//! entry's key in `[effects]`, type, reader and `ellipsoid check` line give
+//! [`EffectSet`], its reading, its report and the monomorphising dispatch. A new effect
+//! is its physics here, its keys (unit, kind, doc line) in `scenario::schema::SCHEMA`
+//! and one entry of that list.
 
 use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::body::Body;
 use crate::model::Kinematics;
+use crate::scenario::{EffectReader, EffectTable, ScenarioError};
 
 /// Generalised load of the optional effects.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -130,4 +137,141 @@ impl Effect for SpinFriction {
             torque_per_normal: -self.coefficient * sign * zeta,
         }
     }
+}
+
+/// What runs with a scene's effects: [`EffectSet::dispatch`] calls `run` with exactly the
+/// effects present, as a tuple monomorphised over them (an absent effect is left out and
+/// costs nothing).
+pub(crate) trait WithEffects {
+    type Output;
+    fn run<E: Effect + Copy + 'static>(self, effects: E) -> Self::Output;
+}
+
+/// Declares [`EffectSet`] from the list of effects below (`key: Type { read, report }`).
+macro_rules! effect_set {
+    (@dispatch $set:ident, $run:ident, $acc:expr;) => {
+        $run.run($acc)
+    };
+    (@dispatch $set:ident, $run:ident, $acc:expr; $key:ident $($rest:ident)*) => {
+        match $set.$key {
+            Some(effect) => effect_set!(@dispatch $set, $run, ($acc, effect); $($rest)*),
+            None => effect_set!(@dispatch $set, $run, $acc; $($rest)*),
+        }
+    };
+    ($(
+        $(#[$doc:meta])*
+        $key:ident: $ty:ident {
+            read: $read:expr,
+            report: $report:expr $(,)?
+        }
+    ),* $(,)?) => {
+        /// The optional effects a scene names (absent = not simulated, no cost). Serialised
+        /// as `ellipsoid check` reports them (Python's `check(...)["effects"]`), `None`
+        /// where absent.
+        #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+        pub struct EffectSet {
+            $($(#[$doc])* pub $key: Option<$ty>,)*
+        }
+
+        impl EffectSet {
+            /// The keys of `[effects]` that name an effect (its field here), in order.
+            pub const KEYS: &[&str] = &[$(stringify!($key)),*];
+
+            /// Whether any effect is present.
+            pub fn any(&self) -> bool {
+                false $(|| self.$key.is_some())*
+            }
+
+            /// Each effect from its key of the `[effects]` table, in order.
+            #[allow(clippy::result_large_err)] // the scenario's error, as in `scenario`
+            pub(crate) fn read(table: &EffectTable<'_, '_, '_>) -> Result<Self, ScenarioError> {
+                Ok(EffectSet {
+                    $($key: {
+                        #[allow(clippy::result_large_err)]
+                        let read: fn(&EffectReader<'_, '_, '_>) -> Result<Option<$ty>, ScenarioError> =
+                            $read;
+                        read(&table.at(stringify!($key)))?
+                    },)*
+                })
+            }
+
+            /// One line per effect present, as `ellipsoid check` reports it.
+            pub fn report(&self) -> Vec<String> {
+                let mut out = Vec::new();
+                $(if let Some(effect) = &self.$key {
+                    let report: fn(&$ty) -> String = $report;
+                    out.push(report(effect));
+                })*
+                out
+            }
+
+            /// `run` with the effects present (see [`WithEffects`]): each level of the
+            /// expansion doubles the variants.
+            pub(crate) fn dispatch<R: WithEffects>(&self, run: R) -> R::Output {
+                let set = self;
+                effect_set!(@dispatch set, run, (); $($key)*)
+            }
+        }
+    };
+}
+
+// The effects, each once: its key in `[effects]` (its keys, units and doc lines are in
+// `scenario::schema::SCHEMA`), its type above, how it is read and how `ellipsoid check`
+// reports it. The order is that of the key reference, of `check`'s report and of the
+// effects' sum in the right-hand side.
+effect_set! {
+    /// Rolling resistance ([`RollingResistance`]).
+    rolling_resistance: RollingResistance {
+        read: |r| {
+            let c = r.resistance("c_r, the rolling-resistance length (m)")?;
+            Ok(c.map(|(coefficient, regularisation)| RollingResistance {
+                coefficient,
+                regularisation,
+            }))
+        },
+        report: |e| {
+            format!(
+                "rolling resistance c_r = {} m (eps = {} rad/s)",
+                e.coefficient, e.regularisation
+            )
+        },
+    },
+    /// Spin friction ([`SpinFriction`]).
+    spin_friction: SpinFriction {
+        read: |r| {
+            let c = r.resistance("c_s, the spin-friction length (m)")?;
+            Ok(c.map(|(coefficient, regularisation)| SpinFriction {
+                coefficient,
+                regularisation,
+            }))
+        },
+        report: |e| {
+            format!(
+                "spin friction c_s = {} m (eps = {} rad/s)",
+                e.coefficient, e.regularisation
+            )
+        },
+    },
+    /// Air drag ([`AirDrag`]).
+    air_drag: AirDrag {
+        read: |r| {
+            r.table("{ linear = k (kg/s), angular = k_ω (kg m^2/s) }", |t| {
+                let linear = t.non_negative(
+                    "linear",
+                    "k, the linear drag coefficient (kg/s)",
+                    "the drag coefficient must be finite and non-negative (kg/s)",
+                )?;
+                let angular = t.non_negative(
+                    "angular",
+                    "k_ω, the angular drag coefficient (kg m^2/s)",
+                    "the drag coefficient must be finite and non-negative (kg m^2/s)",
+                )?;
+                Ok(AirDrag {
+                    linear: linear.unwrap_or(0.0),
+                    angular: angular.unwrap_or(0.0),
+                })
+            })
+        },
+        report: |e| format!("air drag k = {} kg/s, k_w = {} kg m^2/s", e.linear, e.angular),
+    },
 }

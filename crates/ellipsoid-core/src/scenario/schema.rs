@@ -4,7 +4,8 @@
 //! Derived from it: the keys each table accepts (and so the "did you mean" candidates
 //! of an unknown key), the units of a study's axis columns ([`unit`]), the fuzzer's key
 //! names and the key reference of `docs/scenarios.md` ([`reference`], checked against
-//! the document by a test). A new key is one entry here and its reading in `format`.
+//! the document by a test). A new key is one entry here and its reading in `format`; an
+//! effect's keys are read by its entry of the effect list (`crate::effects`).
 
 use crate::error::number;
 use crate::integrate::Method;
@@ -307,6 +308,7 @@ pub fn reference() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::effects::EffectSet;
     use crate::scenario::{DRIFT_NAMES, parse};
 
     /// A scenario of `model` and `method`, with what each needs (μ, rk4's step).
@@ -369,6 +371,16 @@ mod tests {
         let mut want = vec!["status"];
         want.extend(DRIFT_NAMES);
         assert_eq!(keys("check"), want);
+    }
+
+    /// The keys of `[effects]` but gravity are the effect list's (`crate::effects`), in
+    /// order: a key declared without an entry there would be accepted and ignored, an
+    /// entry without a key refused as unknown.
+    #[test]
+    fn the_effects_table_declares_exactly_the_listed_effects() {
+        let mut want = vec!["gravity"];
+        want.extend(EffectSet::KEYS);
+        assert_eq!(keys("effects"), want);
     }
 
     #[test]

@@ -1,6 +1,8 @@
 //! Unit tests of the scenario parser.
 
 use super::*;
+use crate::effects::{AirDrag, RollingResistance, SpinFriction};
+
 const PAPER: &str = r#"# the brief's example
 [body]
 a = 0.025

@@ -14,7 +14,7 @@ use std::ops::ControlFlow;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
-use crate::effects::Effect;
+use crate::effects::{Effect, WithEffects};
 use crate::error::ModelError;
 
 mod context;
@@ -56,51 +56,23 @@ pub fn simulate_cancellable(
     cancel: Option<Arc<AtomicBool>>,
 ) -> Result<Outcome, ModelError> {
     scene.validate()?;
-    dispatch_drag(
-        Call {
-            scene,
-            observer,
-            cancel,
-        },
-        (),
-    )
+    scene.effects.dispatch(Call {
+        scene,
+        observer,
+        cancel,
+    })
 }
 
-/// One call of [`simulate_cancellable`], passed down the effect dispatch.
+/// One call of [`simulate_cancellable`], run with the scene's effects.
 struct Call<'a> {
     scene: &'a Scene,
     observer: &'a mut dyn FnMut(&Sample) -> ControlFlow<()>,
     cancel: Option<Arc<AtomicBool>>,
 }
 
-// Monomorphise over exactly the effects present: each level below doubles the variants.
-
-fn dispatch_drag<E: Effect + Copy + 'static>(
-    call: Call<'_>,
-    acc: E,
-) -> Result<Outcome, ModelError> {
-    match call.scene.effects.air_drag {
-        Some(d) => dispatch_rolling(call, (acc, d)),
-        None => dispatch_rolling(call, acc),
-    }
-}
-
-fn dispatch_rolling<E: Effect + Copy + 'static>(
-    call: Call<'_>,
-    acc: E,
-) -> Result<Outcome, ModelError> {
-    match call.scene.effects.rolling_resistance {
-        Some(r) => dispatch_spin(call, (acc, r)),
-        None => dispatch_spin(call, acc),
-    }
-}
-
-fn dispatch_spin<E: Effect + Copy + 'static>(
-    call: Call<'_>,
-    acc: E,
-) -> Result<Outcome, ModelError> {
-    match call.scene.effects.spin_friction {
-        Some(s) => Context::new(call.scene, (acc, s), call.cancel).run(call.observer),
-        None => Context::new(call.scene, acc, call.cancel).run(call.observer),
+impl WithEffects for Call<'_> {
+    type Output = Result<Outcome, ModelError>;
+    fn run<E: Effect + Copy + 'static>(self, effects: E) -> Self::Output {
+        Context::new(self.scene, effects, self.cancel).run(self.observer)
     }
 }

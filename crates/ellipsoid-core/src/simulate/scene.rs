@@ -5,7 +5,7 @@ use nalgebra::{Vector2, Vector3};
 
 use crate::body::Body;
 use crate::columns;
-use crate::effects::{AirDrag, RollingResistance, SpinFriction};
+pub use crate::effects::EffectSet;
 use crate::error::{Brackets, Digits, ModelError, Value, number};
 use crate::integrate::{self, Direction, Method};
 use crate::model::ContactDisc;
@@ -107,28 +107,6 @@ impl Default for Landing {
             restitution: 0.0,
             lift_off: LiftOff::Fly,
         }
-    }
-}
-
-/// The optional effects a scene names (absent = not simulated, no cost). Serialised as
-/// `ellipsoid check` reports them (Python's `check(...)["effects"]`), `None` where absent.
-#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize)]
-pub struct EffectSet {
-    pub rolling_resistance: Option<RollingResistance>,
-    pub spin_friction: Option<SpinFriction>,
-    pub air_drag: Option<AirDrag>,
-}
-
-impl EffectSet {
-    /// Whether any effect is present (every field named, so that a new effect cannot be
-    /// left out).
-    pub fn any(&self) -> bool {
-        let EffectSet {
-            rolling_resistance,
-            spin_friction,
-            air_drag,
-        } = self;
-        rolling_resistance.is_some() || spin_friction.is_some() || air_drag.is_some()
     }
 }
 

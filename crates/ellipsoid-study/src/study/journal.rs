@@ -74,6 +74,19 @@ pub enum JournalError {
         "{path}: the journal is not a regular file (a pipe, device or directory); remove it or write the table elsewhere"
     )]
     NotAFile { path: PathBuf },
+    /// A row whose `status` cell names no status (the journal was edited, or written by
+    /// another version).
+    #[error(
+        "{path}:{line}: the row's status {value} is not one of {}; the journal was edited or written by another version: delete it to start over, or write the table elsewhere",
+        RowStatus::names().collect::<Vec<_>>().join(", ")
+    )]
+    UnknownStatus {
+        path: PathBuf,
+        /// 1-based, the header being line 1.
+        line: usize,
+        /// The cell as written (a string quoted, `~` for no value).
+        value: String,
+    },
     /// The cancel flag was set while the journal was read; it is unchanged.
     #[error("{path}: interrupted while reading the journal")]
     Interrupted { path: PathBuf },
@@ -110,8 +123,9 @@ pub struct Journal {
     /// Of those read when the journal was opened, the failed ones (status other than
     /// completed or observed).
     failed: usize,
-    /// Rows known by key only (from a journal of another plan or format): key → cells.
-    by_key: HashMap<String, Vec<Cell>>,
+    /// Rows known by key only (from a journal of another plan or format): key → status
+    /// and cells.
+    by_key: HashMap<String, (RowStatus, Vec<Cell>)>,
     cells: usize,
     /// Reads rows back ([`Journal::row`]): a second handle with its position.
     reader: Option<(BufReader<File>, u64)>,
@@ -211,17 +225,25 @@ impl Journal {
             let Some((point, key, cells)) = row else {
                 break;
             };
+            if point.is_some_and(|i| i >= whom.points) {
+                break; // not of this study: corrupt
+            }
+            // Parsed here, once: the tally and the rows handed on carry it typed.
+            let status = RowStatus::of(&cells).map_err(|value| JournalError::UnknownStatus {
+                path: path.to_owned(),
+                line: n + 2,
+                value,
+            })?;
             match point {
-                Some(i) if i >= whom.points => break, // not of this study: corrupt
                 Some(i) if trusted => {
                     if at[i] == 0 {
                         indexed += 1;
-                        failed += usize::from(RowStatus::failed(RowStatus::of(&cells)));
+                        failed += usize::from(status.failed());
                     }
                     at[i] = good;
                 }
                 _ if !key.is_empty() => {
-                    by_key.insert(key, cells);
+                    by_key.insert(key, (status, cells));
                 }
                 _ => {}
             }
@@ -258,7 +280,7 @@ impl Journal {
         {
             let mut out = std::io::BufWriter::new(tmp.file());
             out.write_all(header.as_bytes()).map_err(io)?;
-            for (key, cells) in &self.by_key {
+            for (key, (_, cells)) in &self.by_key {
                 encode(&mut self.line, None, key, cells);
                 out.write_all(self.line.as_bytes()).map_err(io)?;
             }
@@ -295,8 +317,8 @@ impl Journal {
         self.by_key.len()
     }
 
-    /// The cells of the row known by `key` only, if any.
-    pub fn by_key(&self, key: &str) -> Option<&Vec<Cell>> {
+    /// The status and cells of the row known by `key` only, if any.
+    pub fn by_key(&self, key: &str) -> Option<&(RowStatus, Vec<Cell>)> {
         self.by_key.get(key)
     }
 
@@ -324,9 +346,9 @@ impl Journal {
         Ok(())
     }
 
-    /// Point `i`'s row (its key and cells), read back from the file; `None` if it has
+    /// Point `i`'s row, read back from the file (without trajectory); `None` if it has
     /// none. Cheapest in point order (a buffered read when the lines follow each other).
-    pub fn row(&mut self, i: usize) -> Result<Option<(String, Vec<Cell>)>, JournalError> {
+    pub fn row(&mut self, i: usize) -> Result<Option<PointResult>, JournalError> {
         let io = |source| JournalError::Io {
             path: self.path.clone(),
             source,
@@ -346,9 +368,18 @@ impl Journal {
         self.line.clear();
         let n = reader.read_line(&mut self.line).map_err(io)?;
         *pos = at + n as u64;
-        match decode(self.line.trim_end_matches('\n'), self.cells) {
-            Some((Some(p), key, cells)) if p == i => Ok(Some((key, cells))),
-            _ => Err(io(std::io::Error::new(
+        let row = decode(self.line.trim_end_matches('\n'), self.cells)
+            .filter(|(p, ..)| *p == Some(i))
+            .and_then(|(_, key, cells)| Some((key, RowStatus::of(&cells).ok()?, cells)));
+        match row {
+            Some((key, status, cells)) => Ok(Some(PointResult {
+                index: i,
+                key,
+                status,
+                cells,
+                trajectory: None,
+            })),
+            None => Err(io(std::io::Error::new(
                 std::io::ErrorKind::InvalidData,
                 format!(
                     "the row of point {i} no longer reads back (the journal changed while the study ran)"
@@ -456,6 +487,7 @@ mod tests {
         PointResult {
             index: i,
             key: format!("{i:032x}"),
+            status: RowStatus::Ran(ellipsoid_core::simulate::StatusKind::Completed),
             cells: vec![
                 Cell::Text("completed".into()),
                 Cell::Text("a\tmessage, with \"quotes\"\nand a newline".into()),
@@ -499,16 +531,16 @@ mod tests {
         assert_eq!((j.indexed(), j.keyed()), (3, 0));
         assert!(!j.has(3));
         for i in 0..3 {
-            assert_eq!(j.row(i).unwrap(), Some((row(i).key, row(i).cells)));
+            assert_eq!(j.row(i).unwrap(), Some(row(i)));
         }
         assert_eq!(j.row(3).unwrap(), None);
         j.append(&row(3)).unwrap();
-        assert_eq!(j.row(3).unwrap(), Some((row(3).key, row(3).cells)));
+        assert_eq!(j.row(3).unwrap(), Some(row(3)));
         drop(j);
         let mut j = open(&path, FOR);
         assert_eq!(j.indexed(), 4);
-        assert_eq!(j.row(3).unwrap(), Some((row(3).key, row(3).cells)));
-        assert_eq!(j.row(1).unwrap(), Some((row(1).key, row(1).cells)));
+        assert_eq!(j.row(3).unwrap(), Some(row(3)));
+        assert_eq!(j.row(1).unwrap(), Some(row(1)));
     }
 
     #[test]
@@ -526,14 +558,14 @@ mod tests {
         };
         let mut j = open(&path, edited);
         assert_eq!((j.indexed(), j.keyed()), (0, 2));
-        assert_eq!(j.by_key(&row(1).key), Some(&row(1).cells));
+        assert_eq!(j.by_key(&row(1).key), Some(&(row(1).status, row(1).cells)));
         assert_eq!(j.row(0).unwrap(), None);
         j.append(&row(5)).unwrap();
         drop(j);
         // Rewritten for the edited plan: the key-only rows and the new indexed one.
         let mut j = open(&path, edited);
         assert_eq!((j.indexed(), j.keyed()), (1, 2));
-        assert_eq!(j.row(5).unwrap(), Some((row(5).key, row(5).cells)));
+        assert_eq!(j.row(5).unwrap(), Some(row(5)));
         // The first format: `<key>\t<cells>\t<crc>`, no point.
         let mut v1 = String::from("ellipsoid-study-journal 1 fp\n");
         for i in 0..3 {
@@ -556,7 +588,7 @@ mod tests {
         std::fs::write(&path, v1).unwrap();
         let j = open(&path, FOR);
         assert_eq!((j.indexed(), j.keyed()), (0, 3));
-        assert_eq!(j.by_key(&row(2).key), Some(&row(2).cells));
+        assert_eq!(j.by_key(&row(2).key), Some(&(row(2).status, row(2).cells)));
         drop(j);
         let first = std::fs::read_to_string(&path).unwrap();
         assert!(first.starts_with("ellipsoid-study-journal 2 fp plan\n"));

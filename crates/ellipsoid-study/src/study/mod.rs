@@ -109,14 +109,8 @@ pub fn execute(
     let mut j = execute_with(study, path, threads, cancel, None, progress)?.journal;
     (0..n)
         .map(|index| {
-            let (key, cells) = j.row(index)?.ok_or_else(|| {
+            j.row(index)?.ok_or_else(|| {
                 ExecError::Internal(format!("point {index} has no row in the journal"))
-            })?;
-            Ok(PointResult {
-                index,
-                key,
-                cells,
-                trajectory: None,
             })
         })
         .collect()
@@ -143,11 +137,11 @@ impl Finished {
                 path: path.to_owned(),
                 source: std::io::Error::other(m),
             };
-            let (key, cells) = journal
+            let r = journal
                 .row(index)
                 .map_err(|e| fail(e.to_string()))?
                 .ok_or_else(|| fail(format!("point {index} has no row in the journal")))?;
-            Ok(study.row(index, key, cells))
+            Ok(study.row(index, r.key, r.cells))
         });
         table::write_rows(path, &study.columns, rows, &study.plan.source)
     }
@@ -260,7 +254,7 @@ fn run_points(
         }
         tally.done += 1;
         tally.resumed += usize::from(resumed);
-        if RowStatus::failed(RowStatus::of(&r.cells)) {
+        if r.status.failed() {
             tally.failed += 1;
         }
         if let Some(out) = results.as_deref_mut() {
@@ -294,13 +288,15 @@ fn run_points(
             for (index, r) in resolved {
                 let known = r.as_ref().ok().and_then(|r| {
                     let j = journal.as_deref()?;
-                    j.by_key(&r.key).map(|cells| (r.key.clone(), cells.clone()))
+                    let (status, cells) = j.by_key(&r.key)?;
+                    Some((r.key.clone(), *status, cells.clone()))
                 });
                 match known {
-                    Some((key, cells)) => {
+                    Some((key, status, cells)) => {
                         let row = PointResult {
                             index,
                             key,
+                            status,
                             cells,
                             trajectory: None,
                         };

@@ -53,28 +53,43 @@ impl RowStatus {
         }
     }
 
-    /// The status of a row's outcome cells (the first is `status`), read where rows come
-    /// in from a journal; `None` when that cell names no status.
-    pub fn of(cells: &[Cell]) -> Option<Self> {
+    /// The status of a row's outcome cells (the first is `status`), parsed once where
+    /// rows come in from a journal; `Err` with the cell's text (`~` for no value) when
+    /// it names no status.
+    pub fn of(cells: &[Cell]) -> Result<Self, String> {
         match cells.first() {
-            Some(Cell::Text(s)) => Self::named(s),
-            _ => None,
+            Some(Cell::Text(s)) => Self::named(s).ok_or_else(|| format!("{s:?}")),
+            Some(Cell::Int(i)) => Err(i.to_string()),
+            Some(Cell::Float(f)) => Err(f.to_string()),
+            Some(Cell::Null) | None => Err("~".to_owned()),
         }
     }
 
+    /// Every status a row can have: how a run ended ([`StatusKind::NAMES`]), `invalid`,
+    /// `internal_error`.
+    pub fn names() -> impl Iterator<Item = &'static str> {
+        StatusKind::NAMES
+            .into_iter()
+            .chain([RowStatus::Invalid.name(), RowStatus::InternalError.name()])
+    }
+
     /// Whether a row of this status counts as failed in the tally: its run did not end
-    /// where the scene asked ([`StatusKind::finished`]), or the point did not run. A row
-    /// whose status cell names no status (`None`) counts as failed too.
-    pub fn failed(status: Option<Self>) -> bool {
-        !matches!(status, Some(RowStatus::Ran(kind)) if kind.finished())
+    /// where the scene asked ([`StatusKind::finished`]), or the point did not run.
+    pub fn failed(self) -> bool {
+        !matches!(self, RowStatus::Ran(kind) if kind.finished())
     }
 }
 
-/// The outcome of one point: its key and the outcome cells (status … rhs_evals).
+/// The outcome of one point: its key, its status and the outcome cells (status …
+/// rhs_evals).
 #[derive(Debug, Clone, PartialEq)]
 pub struct PointResult {
     pub index: usize,
     pub key: String,
+    /// How the point ended, typed: set where its run finishes, or parsed once where its
+    /// row is read from a journal. Its `status` cell (the first of `cells`) is
+    /// `status.name()`.
+    pub status: RowStatus,
     pub cells: Vec<Cell>,
     /// The sampled trajectory, when asked for ([`Study::run_point_with`]) and the point
     /// ran (a point rejected before it starts has none).
@@ -153,17 +168,19 @@ impl Study {
                 return Some(PointResult {
                     index,
                     key: String::new(),
+                    status: RowStatus::Invalid,
                     cells: self.failed(RowStatus::Invalid, format!("{key}: {rule}")),
                     trajectory: None,
                 });
             }
         };
         let key = resolved.key.clone();
-        let (cells, trajectory) = catch_unwind(AssertUnwindSafe(|| {
+        let (status, cells, trajectory) = catch_unwind(AssertUnwindSafe(|| {
             self.run_resolved(&resolved, cancel, keep)
         }))
         .unwrap_or_else(|p| {
             Some((
+                RowStatus::InternalError,
                 self.failed(
                     RowStatus::InternalError,
                     ellipsoid_core::error::panic_message(&*p),
@@ -174,6 +191,7 @@ impl Study {
         Some(PointResult {
             index,
             key,
+            status,
             cells,
             trajectory,
         })
@@ -184,10 +202,17 @@ impl Study {
         resolved: &Resolved,
         cancel: Option<&Arc<AtomicBool>>,
         keep: bool,
-    ) -> Option<(Vec<Cell>, Option<Trajectory>)> {
+    ) -> Option<(RowStatus, Vec<Cell>, Option<Trajectory>)> {
+        let invalid = |message: String| {
+            Some((
+                RowStatus::Invalid,
+                self.failed(RowStatus::Invalid, message),
+                None,
+            ))
+        };
         let scenario = match self.scenario(resolved) {
             Ok(s) => s,
-            Err(e) => return Some((self.failed(RowStatus::Invalid, e.first().to_string()), None)),
+            Err(e) => return invalid(e.first().to_string()),
         };
         let cols = self.outcome_columns();
         let layout = Layout::of(&scenario.scene.body);
@@ -264,7 +289,7 @@ impl Study {
         let finished = match finished {
             Ok(f) => f,
             Err(ellipsoid_io::run::Failure::Scenario(e)) => {
-                return Some((self.failed(RowStatus::Invalid, e.to_string()), None));
+                return invalid(e.to_string());
             }
             Err(ellipsoid_io::run::Failure::Sink(never)) => match never {},
         };
@@ -279,17 +304,14 @@ impl Study {
                 Cell::Null
             }
         };
+        let status = RowStatus::Ran(finished.summary.status.kind());
         let last = &outcome.final_sample;
         let fin = columns::values(last);
         let mut e = 0;
         let cells = cols
             .iter()
             .map(|c| match &c.role {
-                Role::Status => Cell::Text(
-                    RowStatus::Ran(finished.summary.status.kind())
-                        .name()
-                        .to_owned(),
-                ),
+                Role::Status => Cell::Text(status.name().to_owned()),
                 Role::Message => Cell::Text(finished.summary.message.clone()),
                 Role::TFinal => finite(outcome.final_sample.t),
                 Role::Observed(name) => outcome
@@ -319,7 +341,7 @@ impl Study {
                 Role::Point | Role::Axis { .. } | Role::Key => Cell::Null,
             })
             .collect();
-        Some((cells, traj))
+        Some((status, cells, traj))
     }
 
     /// The outcome cells of a point that produced no run.

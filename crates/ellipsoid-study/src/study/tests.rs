@@ -602,20 +602,59 @@ fn the_tally_counts_as_failed_exactly_the_rows_whose_run_did_not_finish() {
     // core says the run did not end where the scene asked (section_full included).
     for kind in StatusKind::ALL {
         let cells = [Cell::Text(RowStatus::Ran(kind).name().into())];
-        let status = RowStatus::of(&cells);
-        assert_eq!(status, Some(RowStatus::Ran(kind)));
-        assert_eq!(
-            RowStatus::failed(status),
-            !kind.finished(),
-            "{}",
-            kind.name()
-        );
+        let status = RowStatus::of(&cells).unwrap();
+        assert_eq!(status, RowStatus::Ran(kind));
+        assert_eq!(status.failed(), !kind.finished(), "{}", kind.name());
     }
     for st in [RowStatus::Invalid, RowStatus::InternalError] {
         assert_eq!(RowStatus::named(st.name()), Some(st));
-        assert!(RowStatus::failed(Some(st)));
+        assert!(st.failed());
     }
-    // A cell that names no status (an edited journal) counts as failed.
-    assert_eq!(RowStatus::of(&[Cell::Text("done".into())]), None);
-    assert!(RowStatus::failed(RowStatus::of(&[Cell::Null])));
+    assert_eq!(RowStatus::names().count(), StatusKind::ALL.len() + 2);
+    // A cell that names no status (an edited journal) is refused, its text given back.
+    assert_eq!(
+        RowStatus::of(&[Cell::Text("done".into())]),
+        Err("\"done\"".into())
+    );
+    assert_eq!(RowStatus::of(&[Cell::Null]), Err("~".into()));
+}
+
+/// A journal row whose status cell names no status (its CRC recomputed, as an edit that
+/// knows the format would) is refused when the study resumes: the error names the
+/// journal, the line and the value, and the journal is left as it was.
+#[test]
+fn an_unknown_status_in_a_journal_row_is_an_error_naming_the_journal_line_and_value() {
+    let dir = tempfile::tempdir().unwrap();
+    let j = dir.path().join("j");
+    let s = study(FRICTION).unwrap();
+    let mut journal = open_journal(&s, &j);
+    for i in [3, 0] {
+        journal.append(&s.run_point(i, None).unwrap()).unwrap();
+    }
+    drop(journal);
+    let text = std::fs::read_to_string(&j).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let body = lines[2].rsplit_once('\t').unwrap().0;
+    assert!(body.contains("\ts\"completed\"\t"), "{body}");
+    let body = body.replace("\ts\"completed\"\t", "\ts\"finished\"\t");
+    let edited = format!(
+        "{}\n{}\n{body}\t{:08x}\n",
+        lines[0],
+        lines[1],
+        crc32fast::hash(body.as_bytes())
+    );
+    std::fs::write(&j, &edited).unwrap();
+    let cancel = Arc::new(AtomicBool::new(false));
+    let e = execute(&s, Some(&j), 1, &cancel, |_| {})
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with(&format!(
+            "{}:3: the row's status \"finished\" is not one of completed, observed, ",
+            j.display()
+        )),
+        "{e}"
+    );
+    assert!(e.contains(", invalid, internal_error; "), "{e}");
+    assert_eq!(std::fs::read_to_string(&j).unwrap(), edited);
 }
