@@ -413,6 +413,12 @@ const ROWS_ELSEWHERE: &[(&[usize], &str, &str)] = &[
         "tests/campaign.rs (random scenes; a landing whose own motion lifts it needs a state \
          tuned to N = 0, which no scene file here holds)",
     ),
+    (
+        &[21],
+        "sliding | the integrator's pace check fails, the slip held at the cone's edge | on the plane",
+        "tests/campaign.rs, random_scenes_whose_slip_was_held_at_the_cone_edge_end_physically \
+         (14 random scenes; a scene file would need a state tuned to the cone's edge)",
+    ),
 ];
 
 fn load(scene: &Scene) -> (Outcome, Vec<Sample>) {

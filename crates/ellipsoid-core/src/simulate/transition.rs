@@ -25,6 +25,7 @@
 //! | any contact | N ↓ 0 | `on_lift_off = "stop"` | stop `lost_contact` | |
 //! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact |
 //! | any contact | N ↓ 0 | flight inconsistent | stop `inconsistent_contact` | |
+//! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|) (`SlidingPhase::on_failure`) | [`on_plane`] | sticking impulse, at the last accepted state |
 //!
 //! Flight is consistent where the gap's acceleration with no contact force is not into
 //! the plane ([`flight_is_consistent`]).
