@@ -189,6 +189,7 @@ fn every_bundled_scenario_has_a_test() {
         "egg-jump",
         "drop",
         "tippe-top-jump",
+        "tippe-top-jump-stem",
         "tippe-top-stem",
         "top-on-peg",
     ];
@@ -397,6 +398,49 @@ fn scenario_tippe_top_jump_hops_while_turning_over() {
     let events = s["events"].as_array().unwrap();
     assert!(events.iter().any(|e| e["kind"] == "touchdown"));
     assert!(events.iter().all(|e| e.get("surface").is_none()));
+}
+
+/// The hopping top with its stem: it hops on its ball before the stem first touches, the
+/// stem touches with the ball on the plane, at θ* = arccos((r2 − r1)/13 mm), and the
+/// rocking between ball and stem ends where both rest on the plane: θ = θ* and G at
+/// r1 + 7 mm·10/13 (docs/physics.md, "Contact spheres"), each surface's gap zero.
+#[test]
+fn scenario_tippe_top_jump_stem_hops_then_rocks_between_ball_and_stem() {
+    let (s, _, _) = run_scenario("tippe-top-jump-stem", None, "several_contacts");
+    let events = s["events"].as_array().unwrap();
+    let first = events
+        .iter()
+        .position(|e| e["kind"] == "contact_surface")
+        .expect("the stem touches");
+    assert_eq!(events[first]["to"], "stem");
+    let hops = events[..first]
+        .iter()
+        .filter(|e| e["kind"] == "lift_off")
+        .count();
+    assert!(hops >= 5, "{hops} hops before the stem touches");
+    // Thereafter every touchdown is on the surface the contact moves to, the other one.
+    let landed: Vec<&str> = events[first..]
+        .iter()
+        .filter(|e| e["kind"] == "touchdown")
+        .map(|e| e["surface"].as_str().unwrap())
+        .collect();
+    assert!(landed.len() > 20, "{landed:?}");
+    assert!(
+        landed.windows(2).filter(|w| w[0] == w[1]).count() <= 2,
+        "{landed:?}"
+    );
+    let theta_star = ((0.005_f64 - 0.015) / 0.013).acos();
+    let f = &s["final"];
+    let theta = f["theta"].as_f64().unwrap();
+    let z = f["z"].as_f64().unwrap();
+    assert!((theta - theta_star).abs() < 1e-9, "θ = {theta}");
+    assert!(
+        (z - (0.015 + 0.007 * 10.0 / 13.0)).abs() < 1e-12,
+        "z_G = {z}"
+    );
+    for gap in ["gap_ellipsoid", "gap_stem"] {
+        assert!(f[gap].as_f64().unwrap().abs() < 1e-12, "{gap}: {}", f[gap]);
+    }
 }
 
 /// The stem touches down after the top passes π/2, the summary names the surfaces, the

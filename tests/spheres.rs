@@ -349,14 +349,15 @@ fn val_classic_top_sleeps_above_the_critical_spin_and_falls_below() {
     }
 }
 
-/// The hopping tippe top with its stem rocks between ball and stem with ever smaller
-/// bounces. Every surface stays on or above the plane in every row (a gap that starts a
-/// phase at zero by round-off is a zero the integrator never reports: unless the phase
-/// takes it at once, the surface sinks through the plane unseen); E + W balances through
-/// the hundreds of impacts; the run ends with a clear status and physical numbers.
+/// The hopping tippe top with its stem (scenarios/tippe-top-jump-stem.toml) rocks between
+/// ball and stem with ever smaller bounces. Every surface stays on or above the plane in
+/// every row (a gap that starts a phase at zero by round-off is a zero the integrator never
+/// reports: unless the phase takes it at once, the surface sinks through the plane unseen);
+/// E + W balances through the dozens of impacts; the run ends with a clear status and
+/// physical numbers.
 #[test]
 fn a_body_rocking_between_two_surfaces_never_passes_through_the_plane() {
-    let file = "tests/data/spheres/tippe-top-jump-stem.toml";
+    let file = "scenarios/tippe-top-jump-stem.toml";
     let (out, samples) = load(file, &[]);
     let sc = ellipsoid_core::scenario::load(&root().join(file), &[] as &[&str]).unwrap();
     let layout = ellipsoid_core::columns::Layout::of(&sc.scene.body);
