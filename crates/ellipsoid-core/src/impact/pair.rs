@@ -1,5 +1,5 @@
 //! Impact at two contacts at once (docs/physics.md, "Contact spheres", "Impact at two
-//! contacts"; not yet called by the hybrid machine): Newton's law at each contact with
+//! contacts"; the hybrid machine's `transition::pair_touchdown`): Newton's law at each contact with
 //! Coulomb friction, the event-driven impact of Pfeiffer & Glocker (*Multibody Dynamics
 //! with Unilateral Contacts*, 1996, ch. 7), in world axes, with impulses P_i = (P_t,i, Λ_i) at the contact points C_i:
 //! ```text

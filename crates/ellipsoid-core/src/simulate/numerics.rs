@@ -83,6 +83,13 @@ pub(super) const SLIP_SEED: f64 = 1e-12;
 /// [`Numerics::gap_resolution`]).
 const GAP_ROUNDOFF: f64 = 4.0;
 
+/// The rise, in gap resolutions δz, below which a second surface's rebound is not
+/// resolved while the body touches the plane with another (docs/physics.md, "Settling at a
+/// second surface"): its gap h_1(ζ) − h_2(ζ) is a difference of two heights, located on
+/// the contact phase's dense output, and bounces that rise 4 to 8 δz stall there instead
+/// of decaying (random scenes with contact spheres).
+pub(super) const SECOND_GAP_RISE: f64 = 16.0;
+
 /// Newton steps that take a touchdown back to gap = 0 (`transition::back_to_contact`);
 /// each is one RK4 step of the flight system, and the first already leaves a gap of
 /// O(a δz²/v_n²).

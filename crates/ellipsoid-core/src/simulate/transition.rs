@@ -11,10 +11,11 @@
 //! | flight | touchdown | rebound ≤ v_settle, N > 0 there | [`on_plane`] | back to gap = 0, plastic impact, z_G and v_Gz from the contact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the impact | as a touchdown | flight form, impact at the new surface |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v⁺\| ≤ v_settle), the new one persistent, both N > 0, both slipping above the slip band | two contacts | impact at the new surface; contact form; second constraint restored, its energy change in W |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | the previous phase | impact at the new surface; contact form |
-//! | any contact | another surface's gap ↓ −δz | otherwise (the pressed one approaches; rolling; two contacts inconsistent) | stop `several_contacts` | |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the new one's impact | as a touchdown | flight form, impact at the new surface |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0, both slipping above the slip band | two contacts | plastic impact at the new surface; contact form; second constraint restored, its energy change in W |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | [`on_plane`] for the pressed surface | impact at the new surface; contact form |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle), not rolling | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_pair`), plastic where both stay and one rebounds; loss in W, an impact event per surface |
+//! | any contact | another surface's gap ↓ −δz | otherwise (rolling and the pressed one does not separate; no pair solution; two contacts inconsistent) | stop `several_contacts` | |
 //! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
 //! | two contacts | a slip ↓ the slip band's width, or a third surface's gap ↓ −δz | | stop `several_contacts` | |
 //! | two contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
@@ -30,10 +31,11 @@
 //! Flight is consistent where the gap's acceleration with no contact force is not into
 //! the plane ([`flight_is_consistent`]).
 
-use nalgebra::Vector2;
+use nalgebra::{Vector2, Vector3};
 
-use crate::body::Surface;
+use crate::body::{Body, Surface};
 use crate::effects::Effect;
+use crate::geometry::Contact;
 use crate::impact::{self, Approach, Tangential};
 use crate::integrate::{IntegrateError, OdeSystem, rk4_step};
 use crate::invariants::Invariants;
@@ -41,7 +43,9 @@ use crate::model::{Kinematics, Rolling, Sliding};
 use crate::state::{self, State};
 
 use super::context::Context;
-use super::numerics::{BACK_STEPS, GAP_ACCEL_ROUNDOFF, PAINLEVE_COLLAPSE, SLIP_SEED};
+use super::numerics::{
+    BACK_STEPS, GAP_ACCEL_ROUNDOFF, PAINLEVE_COLLAPSE, SECOND_GAP_RISE, SLIP_SEED,
+};
 use super::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
 use super::phase::{
     FlightPhase, FrictionlessPhase, Next, RollingPhase, TwoContactsPhase, phase, set_reference,
@@ -295,19 +299,26 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let lowest = Kinematics::flying(&ctx.scene.body, y).contact.surface;
-    let (next, _) = land(ctx, lowest, t, y, events);
-    next
+    land(ctx, lowest, t, y, events)
 }
 
 /// Surface `touching` reached the plane (its gap located at −δz) at (t, y) while the body
-/// was in contact on another surface in mode `from`. Its impact is taken as a touchdown
-/// from flight — the state in flight form, the contact's impulse zero — which is the
-/// solution of the two-contact impact where the contact that was pressed separates after
-/// it (its normal velocity > 0; docs/physics.md, "Contact spheres"): then the run goes on
-/// as after any touchdown. Where it would not separate — its normal velocity after the
-/// impact not above the settling speed, the smallest a flight can resolve — both surfaces
-/// stay on the plane: the run stops at the located state with status `several_contacts`
-/// (contact on two surfaces at once is not simulated).
+/// was in contact on another, `pressed`, in mode `from` (docs/physics.md, "Contact
+/// spheres"). The state is put in flight form and taken back to `touching`'s zero gap, and
+/// its impact is first taken alone, `pressed`'s impulse zero. With v_k⁺ the pressed
+/// surface's normal velocity after it and v_settle,k its settling speed:
+/// - v_k⁺ > v_settle,k: `pressed` separates, which solves the impact at two contacts; the
+///   run goes on as after a touchdown from flight ([`land`]'s rule);
+/// - |v_k⁺| ≤ v_settle,k: `pressed` stays; `touching` stays too where its rebound is within
+///   its own settling speed on `pressed` ([`second_settling_speed`]), and the impact is
+///   then taken plastic;
+/// - v_k⁺ < −v_settle,k: the impulse at `touching` alone would drive `pressed` into the
+///   plane, and the impact is taken at both contacts at once ([`pair_touchdown`]).
+///
+/// The outcome goes on the plane by [`settle`]. The rolling model stops with
+/// `several_contacts` unless `pressed` separates (its no-slip law is not taken at two
+/// contacts), as does a pair impact that has no solution or two contacts the two-contact
+/// phase cannot take; the run then ends at the located state.
 pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     from: Mode,
@@ -316,61 +327,184 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
+    let body = &ctx.scene.body;
     let pressed = ctx.surface.get();
     let (t0, y0, before) = (*t, *y, events.len());
     to_flight(ctx, from, y);
-    let (next, y_after) = land(ctx, touching, t, y, events);
-    let kin = Kinematics::flying_at(&ctx.scene.body, pressed, &y_after);
-    let approach = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
+    let strike = Strike::new(ctx, touching, t, y);
+    let law = tangential(ctx.scene.contact);
+    let single = strike.impact(law, ctx.scene.landing.restitution);
+    let approach = normal_velocity(body, pressed, &single.1);
     // The pressed surface's settling speed: its own contact's deceleration.
-    let landed = ctx.surface.replace(pressed);
-    let settle = settling_speed(ctx, &y_after, &kin);
-    ctx.surface.set(landed);
-    if approach > settle {
-        return next;
-    }
-    // The pressed surface stays on the plane (it neither leaves nor, beyond the settling
-    // speed, approaches it, which would need an impulse there too): the body goes on
-    // touching with it, and with the new surface too where that one stays.
-    let stays = approach >= -settle && from != Mode::Rolling;
-    let rebounds = matches!(next, Next::Go(Mode::Flight));
-    if stays {
-        let mut on = y_after;
-        ctx.surface.set(pressed);
-        clear_flight_slots(ctx, &mut on);
-        let kept =
-            |e: &EventRecord| matches!(e.kind, EventKind::Touchdown { .. } | EventKind::Impact(_));
-        if rebounds {
-            renew_reference(ctx, &mut on);
-            retain_from(events, before, kept);
-            *y = on;
-            return Next::Go(from);
+    let pressed_settles = |y: &State| {
+        on_surface(ctx, pressed, || {
+            settling_speed(ctx, y, &Kinematics::flying_at(body, pressed, y))
+        })
+    };
+    let onto_pressed = |y: &State| second_settling_speed(ctx, from, pressed, touching, y);
+    let settle_k = pressed_settles(&single.1);
+    let outcome = if approach < -settle_k {
+        pair_touchdown(ctx, &strike, pressed, law, pressed_settles, onto_pressed)
+    } else if approach > settle_k {
+        let flight_settles =
+            |y: &State| on_surface(ctx, touching, || settling_speed(ctx, y, &strike.kin));
+        let (hit, after, settles) = strike.settled(law, single, flight_settles);
+        let staying = if settles {
+            Staying::One(touching)
+        } else {
+            Staying::Neither
+        };
+        Some((staying, after, vec![strike.report(&hit)]))
+    } else if from != Mode::Rolling {
+        let (hit, after, settles) = strike.settled(law, single, onto_pressed);
+        let staying = if settles {
+            Staying::Both {
+                first: pressed,
+                second: touching,
+            }
+        } else {
+            Staying::One(pressed)
+        };
+        Some((staying, after, vec![strike.report(&hit)]))
+    } else {
+        None
+    };
+    let next = outcome.map(|(staying, after, reports)| {
+        events.push(EventRecord {
+            kind: EventKind::Touchdown {
+                speed: -normal_velocity(body, touching, &strike.pre),
+                surface: touching,
+            },
+            t: *t,
+        });
+        *y = after;
+        settle(ctx, from, touching, staying, *t, y, &reports, events)
+    });
+    match next {
+        Some(Next::Stop(Status::SeveralContacts { .. }, _)) | None => {
+            events.truncate(before);
+            ctx.surface.set(pressed);
+            (*t, *y) = (t0, y0);
+            Next::Stop(
+                Status::SeveralContacts {
+                    touching,
+                    pressed,
+                    approach,
+                },
+                from,
+            )
         }
-        ctx.second.set(touching);
-        if let Some(on) = onto_two_contacts(ctx, on) {
-            retain_from(events, before, kept);
-            switch(events, *t, from, Mode::TwoContacts);
-            *y = on;
-            return Next::Go(Mode::TwoContacts);
-        }
+        Some(next) => next,
     }
-    events.truncate(before);
-    ctx.surface.set(pressed);
-    (*t, *y) = (t0, y0);
-    Next::Stop(
-        Status::SeveralContacts {
-            touching,
-            pressed,
-            approach,
-        },
-        from,
-    )
 }
 
-/// Keeps of `events[from..]` those that pass `keep`.
-fn retain_from(events: &mut Vec<EventRecord>, from: usize, keep: impl Fn(&EventRecord) -> bool) {
-    let tail: Vec<EventRecord> = events.drain(from..).filter(|e| keep(e)).collect();
-    events.extend(tail);
+/// The impact of `strike` at its surface j and at the surface `pressed` (k) at once
+/// (`impact::resolve_pair`, docs/physics.md "Impact at two contacts"), with the scene's
+/// restitution and friction law. A contact stays where its normal velocity after the impact
+/// is within its settling speed: j's on the plane with k in contact (`onto_pressed`,
+/// [`second_settling_speed`]), k's its own (`pressed_settles`). Where both stay and one of
+/// them rebounds, the impact is taken again with e = 0 (the plastic impact that ends a
+/// bounce sequence the phase could not resolve, section "Settling"). Returns who stays, the
+/// state after the impact (flight form, its loss in W) and an impact report per surface (the
+/// loss on the struck one's); `None` where the impact has no solution (the rolling model's
+/// no-slip law; an iteration that does not converge).
+fn pair_touchdown<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    strike: &Strike,
+    pressed: Surface,
+    law: Tangential,
+    pressed_settles: impl Fn(&State) -> f64,
+    onto_pressed: impl Fn(&State) -> f64,
+) -> Option<(Staying, State, Vec<ImpactReport>)> {
+    let kin = &strike.kin;
+    let lever = Contact::of(&ctx.scene.body, pressed, kin.contact.zeta, kin.omega).r;
+    let second = kin.rot * lever;
+    let solve = |e: f64| {
+        let hit = impact::resolve_pair(&strike.approach, second, law, e)?;
+        let after = strike.after(hit.v_g, hit.omega, hit.energy_loss);
+        let stays = [
+            hit.normal_velocity[0].1 <= onto_pressed(&after),
+            hit.normal_velocity[1].1 <= pressed_settles(&after),
+        ];
+        Some((hit, after, stays))
+    };
+    let (mut hit, mut after, mut stays) = solve(ctx.scene.landing.restitution)?;
+    if hit.restitution > 0.0
+        && stays == [true, true]
+        && hit.normal_velocity.iter().any(|v| v.1 > 0.0)
+    {
+        (hit, after, stays) = solve(0.0)?;
+    }
+    let staying = match stays {
+        [true, true] => Staying::Both {
+            first: pressed,
+            second: strike.surface,
+        },
+        [true, false] => Staying::One(strike.surface),
+        [false, true] => Staying::One(pressed),
+        [false, false] => Staying::Neither,
+    };
+    // The loss is the impact's, reported at the struck surface: split between the
+    // contacts as the work of each impulse, −P_i·(v_i⁻ + v_i⁺)/2, a share can be negative
+    // (with friction one impulse can speed the body up while the other slows it more).
+    let reports = [strike.surface, pressed]
+        .into_iter()
+        .enumerate()
+        .map(|(i, surface)| ImpactReport {
+            impulse: hit.impulse[i],
+            energy_loss: if i == 0 { hit.energy_loss } else { 0.0 },
+            stuck: hit.stuck[i],
+            rebound: hit.normal_velocity[i].1,
+            persistent: false,
+            surface,
+        })
+        .collect();
+    Some((staying, after, reports))
+}
+
+/// The settling speed of surface `surface`'s gap while the body touches the plane with
+/// `pressed` in mode `mode` (docs/physics.md, "Settling at a second surface"), at the
+/// flight-form state `y`: √(2 a k δz), a the deceleration of that gap g = h_1 − h_2 (z_G =
+/// h_1 on `pressed`) under the phase's dynamics and k = `SECOND_GAP_RISE`,
+/// ```text
+///   a = −g̈ = (u_1 − u_2)·ω̇ + κ_1 − κ_2,
+/// ```
+/// ω̇ the phase's, with `pressed` in contact (u_i = r_i × ζ, κ_i as in z̈_G = −u·ω̇ − κ). A
+/// rebound of `surface` below it rises less than k δz before that dynamics brings it back,
+/// which the located gap does not resolve.
+fn second_settling_speed<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    mode: Mode,
+    pressed: Surface,
+    surface: Surface,
+    y: &State,
+) -> f64 {
+    on_surface(ctx, pressed, || {
+        let mut on = *y;
+        clear_flight_slots(ctx, &mut on);
+        renew_reference(ctx, &mut on);
+        let kin = Kinematics::new(&ctx.body(), &on, false);
+        let omega_dot = phase::<E>(mode).response(ctx, &on).omega_dot;
+        let other = Contact::of(&ctx.scene.body, surface, kin.contact.zeta, kin.omega);
+        let decel = (kin.contact.u - other.u).dot(&omega_dot) + kin.contact.kappa - other.kappa;
+        ctx.numerics.settling_speed(SECOND_GAP_RISE * decel, &kin)
+    })
+}
+
+/// `f` evaluated with `surface` as the surface in contact (`Context::surface` restored
+/// after).
+fn on_surface<E, R>(ctx: &Context<'_, E>, surface: Surface, f: impl FnOnce() -> R) -> R {
+    let was = ctx.surface.replace(surface);
+    let r = f();
+    ctx.surface.set(was);
+    r
+}
+
+/// The normal velocity of `surface`'s lowest point at the flight-form state `y`,
+/// v_n = v_Gz + e3·(R (ω × r)) \[m/s\].
+fn normal_velocity(body: &Body, surface: Surface, y: &State) -> f64 {
+    let kin = Kinematics::flying_at(body, surface, y);
+    kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z
 }
 
 /// The contact-form state `y` (on `Context::surface`) on both surfaces: the second
@@ -446,51 +580,23 @@ pub(super) fn leave_second<E: Effect + Copy + 'static>(
     }
 }
 
-/// The touchdown of `surface` ([`touchdown`]), also returning the state right after the
-/// impact (in flight form).
+/// The touchdown of `surface` from flight ([`touchdown`]): its impact, with the scene's
+/// restitution unless the rebound is within the settling speed after it (then plastic),
+/// and the outcome on the plane ([`settle`]).
 fn land<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     surface: Surface,
     t: &mut f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
-) -> (Next, State) {
-    let body = &ctx.scene.body;
-    (*t, *y) = back_to_contact(ctx, surface, *t, y);
-    let kin = Kinematics::flying_at(body, surface, y);
+) -> Next {
+    let strike = Strike::new(ctx, surface, t, y);
     touch(ctx, surface, *t, events);
-    let rot = kin.rot;
-    let approach = Approach {
-        mass: body.mass(),
-        inertia_inv: rot * body.inertia_inv() * rot.transpose(),
-        r: rot * kin.contact.r,
-        v_g: kin.v_g,
-        omega: rot * kin.omega,
-    };
     let law = tangential(ctx.scene.contact);
-    let pre = *y;
-    // The state after an impact: its velocities, the loss in W, and no gap (it is zero to
-    // round-off at the located contact).
-    let after = |hit: &impact::Impact| {
-        let mut y = pre;
-        y[state::VEL] = hit.v_g.x;
-        y[state::VEL + 1] = hit.v_g.y;
-        y[state::VEL_Z] = hit.v_g.z;
-        y.fixed_rows_mut::<3>(state::OMEGA)
-            .copy_from(&rot.tr_mul(&hit.omega));
-        y[state::WORK] += hit.energy_loss;
-        y[state::HEIGHT] = kin.contact.height;
-        y
-    };
-    let mut hit = impact::resolve(&approach, law, ctx.scene.landing.restitution);
-    *y = after(&hit);
+    let hit = strike.impact(law, ctx.scene.landing.restitution);
     // The settling speed after the impact: its rates decide what presses the body down.
-    let settles = hit.normal_velocity.1 <= settling_speed(ctx, y, &kin);
-    if settles && hit.normal_velocity.1 > 0.0 {
-        hit = impact::resolve(&approach, law, 0.0);
-        *y = after(&hit);
-    }
-    let after_impact = *y;
+    let (hit, after, settles) =
+        strike.settled(law, hit, |y: &State| settling_speed(ctx, y, &strike.kin));
     events.push(EventRecord {
         kind: EventKind::Touchdown {
             speed: -hit.normal_velocity.0,
@@ -498,63 +604,235 @@ fn land<E: Effect + Copy + 'static>(
         },
         t: *t,
     });
-    let report = |persistent| {
-        EventKind::Impact(ImpactReport {
+    *y = after;
+    let staying = if settles {
+        Staying::One(surface)
+    } else {
+        Staying::Neither
+    };
+    settle(
+        ctx,
+        Mode::Flight,
+        surface,
+        staying,
+        *t,
+        y,
+        &[strike.report(&hit)],
+        events,
+    )
+}
+
+/// A surface at its touchdown: the flight-form state taken back to the surface's zero gap
+/// ([`back_to_contact`]) and the body there as the impact law sees it.
+struct Strike {
+    surface: Surface,
+    /// The state at zero gap, before the impact (flight form).
+    pre: State,
+    kin: Kinematics,
+    approach: Approach,
+}
+
+impl Strike {
+    /// `surface` touching down at (t, y), `t` moved back to its zero gap.
+    fn new<E: Effect + Copy + 'static>(
+        ctx: &Context<'_, E>,
+        surface: Surface,
+        t: &mut f64,
+        y: &State,
+    ) -> Self {
+        let body = &ctx.scene.body;
+        let pre;
+        (*t, pre) = back_to_contact(ctx, surface, *t, y);
+        let kin = Kinematics::flying_at(body, surface, &pre);
+        let rot = kin.rot;
+        let approach = Approach {
+            mass: body.mass(),
+            inertia_inv: rot * body.inertia_inv() * rot.transpose(),
+            r: rot * kin.contact.r,
+            v_g: kin.v_g,
+            omega: rot * kin.omega,
+        };
+        Strike {
+            surface,
+            pre,
+            kin,
+            approach,
+        }
+    }
+
+    /// The state after an impact that leaves G at `v_g` and the body turning at `omega`
+    /// (world), its kinetic-energy `loss` booked in W, and no gap (it is zero to round-off
+    /// at the located contact).
+    fn after(&self, v_g: Vector3<f64>, omega: Vector3<f64>, loss: f64) -> State {
+        let mut y = self.pre;
+        y[state::VEL] = v_g.x;
+        y[state::VEL + 1] = v_g.y;
+        y[state::VEL_Z] = v_g.z;
+        y.fixed_rows_mut::<3>(state::OMEGA)
+            .copy_from(&self.kin.rot.tr_mul(&omega));
+        y[state::WORK] += loss;
+        y[state::HEIGHT] = self.kin.contact.height;
+        y
+    }
+
+    /// The impact at the surface alone with restitution `e`, and the state after it.
+    fn impact(&self, law: Tangential, e: f64) -> (impact::Impact, State) {
+        let hit = impact::resolve(&self.approach, law, e);
+        let after = self.after(hit.v_g, hit.omega, hit.energy_loss);
+        (hit, after)
+    }
+
+    /// The impact `hit` (with the state after it) kept where its rebound exceeds the
+    /// settling speed `settles` gives at the state after it, else taken again plastic;
+    /// with whether the surface stays on the plane.
+    fn settled(
+        &self,
+        law: Tangential,
+        (hit, after): (impact::Impact, State),
+        settles: impl Fn(&State) -> f64,
+    ) -> (impact::Impact, State, bool) {
+        let rebound = hit.normal_velocity.1;
+        if rebound > settles(&after) {
+            return (hit, after, false);
+        }
+        if rebound > 0.0 {
+            let (hit, after) = self.impact(law, 0.0);
+            return (hit, after, true);
+        }
+        (hit, after, true)
+    }
+
+    /// The report of the impact `hit` at the surface (its outcome, `persistent`, is filled
+    /// in by [`settle`]).
+    fn report(&self, hit: &impact::Impact) -> ImpactReport {
+        ImpactReport {
             impulse: hit.impulse,
             energy_loss: hit.energy_loss,
             stuck: hit.stuck,
             rebound: hit.normal_velocity.1,
-            persistent,
-            surface,
-        })
-    };
-    let impact = |events: &mut Vec<EventRecord>, persistent| {
-        events.push(EventRecord {
-            kind: report(persistent),
-            t: *t,
-        })
-    };
-    if !settles {
-        impact(events, false);
-        return (Next::Go(Mode::Flight), after_impact);
+            persistent: false,
+            surface: self.surface,
+        }
     }
-    let mut landed = *y;
-    clear_flight_slots(ctx, &mut landed);
-    let next = match on_plane(ctx, Arrival::Landing { stuck: hit.stuck }, &mut landed) {
-        Placed::SlipStopped => {
-            impact(events, true);
-            *y = landed;
+}
+
+/// The surfaces an impact leaves on the plane.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Staying {
+    Neither,
+    One(Surface),
+    /// Both: `first` the surface whose geometry the two-contact phase takes.
+    Both {
+        first: Surface,
+        second: Surface,
+    },
+}
+
+/// Where the body goes after an impact in mode `from` at `struck` (the touching surface)
+/// at t, `y` the flight-form state after it: the one tail of every touchdown.
+/// - Neither surface stays: flight.
+/// - One stays: that surface's phase by the rule "on the plane" ([`on_plane`], with z_G,
+///   v_Gz from the contact, their kinetic energy in W), where the plane pushes there
+///   (N > 0); else flight from the state on the plane where flight is consistent, else
+///   stop `inconsistent_contact`; a landing the rule ends stops `slip_stopped`.
+/// - Both stay: the two-contact phase ([`onto_two_contacts`]), or, where it cannot take
+///   them, stop `several_contacts`.
+///
+/// Records each surface's impact (`reports`, persistent where it stays on the plane) and
+/// the mode switch.
+#[allow(clippy::too_many_arguments)]
+fn settle<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    from: Mode,
+    struck: Surface,
+    staying: Staying,
+    t: f64,
+    y: &mut State,
+    reports: &[ImpactReport],
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    let record = |events: &mut Vec<EventRecord>, on: &[Surface]| {
+        for r in reports {
             events.push(EventRecord {
-                kind: EventKind::SlipStop,
-                t: *t,
+                kind: EventKind::Impact(ImpactReport {
+                    persistent: on.contains(&r.surface),
+                    ..*r
+                }),
+                t,
             });
-            Next::Stop(Status::SlipStopped, Mode::Sliding)
         }
-        Placed::In(mode) if pushes(ctx, mode, &landed) => {
-            impact(events, true);
-            *y = landed;
-            switch(events, *t, Mode::Flight, mode);
-            Next::Go(mode)
-        }
-        // The body's own motion lifts it: it flies on from rest relative to the plane,
-        // unless flight is inconsistent there too.
-        // The state it flies from is the one on the plane (for rolling, stuck): the
-        // consistency of flight was decided there.
-        Placed::In(mode) => match flight_is_consistent(ctx, mode, &landed) {
-            Ok(()) => {
-                impact(events, false);
-                *y = landed;
-                to_flight(ctx, mode, y);
-                Next::Go(Mode::Flight)
-            }
-            Err(status) => {
-                impact(events, true);
-                *y = landed;
-                Next::Stop(status, mode)
-            }
-        },
     };
-    (next, after_impact)
+    let go = |events: &mut Vec<EventRecord>, to: Mode| {
+        if to != from {
+            switch(events, t, from, to);
+        }
+        Next::Go(to)
+    };
+    match staying {
+        Staying::Neither => {
+            touch(ctx, struck, t, events);
+            record(events, &[]);
+            go(events, Mode::Flight)
+        }
+        Staying::One(surface) => {
+            touch(ctx, surface, t, events);
+            let stuck = reports.iter().any(|r| r.surface == surface && r.stuck);
+            let mut landed = *y;
+            clear_flight_slots(ctx, &mut landed);
+            let placed = on_plane(ctx, Arrival::Landing { stuck }, &mut landed);
+            *y = landed;
+            match placed {
+                Placed::SlipStopped => {
+                    record(events, &[surface]);
+                    events.push(EventRecord {
+                        kind: EventKind::SlipStop,
+                        t,
+                    });
+                    Next::Stop(Status::SlipStopped, Mode::Sliding)
+                }
+                Placed::In(mode) if pushes(ctx, mode, y) => {
+                    record(events, &[surface]);
+                    go(events, mode)
+                }
+                // The body's own motion lifts it: it flies on from rest relative to the
+                // plane, unless flight is inconsistent there too. The state it flies from
+                // is the one on the plane (for rolling, stuck): the consistency of flight
+                // was decided there.
+                Placed::In(mode) => match flight_is_consistent(ctx, mode, y) {
+                    Ok(()) => {
+                        record(events, &[]);
+                        to_flight(ctx, mode, y);
+                        go(events, Mode::Flight)
+                    }
+                    Err(status) => {
+                        record(events, &[surface]);
+                        Next::Stop(status, mode)
+                    }
+                },
+            }
+        }
+        Staying::Both { first, second } => {
+            touch(ctx, first, t, events);
+            ctx.second.set(second);
+            let mut on = *y;
+            clear_flight_slots(ctx, &mut on);
+            match onto_two_contacts(ctx, on) {
+                Some(on) => {
+                    record(events, &[first, second]);
+                    *y = on;
+                    go(events, Mode::TwoContacts)
+                }
+                None => Next::Stop(
+                    Status::SeveralContacts {
+                        touching: second,
+                        pressed: first,
+                        approach: normal_velocity(&ctx.scene.body, first, y),
+                    },
+                    from,
+                ),
+            }
+        }
+    }
 }
 
 /// Makes `surface` the one in contact from t on, recording the change of surface (bodies
