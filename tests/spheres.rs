@@ -216,52 +216,67 @@ fn the_tippe_top_on_its_stem_rises_falls_back_and_rests_on_two_contacts() {
     );
 }
 
-/// A top lying at rest on its rim and its peg on a frictionless table (the angle where
-/// both touch; G between the contacts) settles on both within nanoseconds and stays: the
-/// two normal forces of the two-contact law equal the statics — N_1 + N_2 = m g and no
-/// moment about G, Σ N_i (R r_i) × e3 = 0 — to 1e-12, and E is conserved.
+/// A top lying at rest on its rim and its peg (the angle where both touch; G between the
+/// contacts) settles on both within nanoseconds and stays: the two normal forces of the
+/// two-contact law equal the statics — N_1 + N_2 = m g and no moment about G,
+/// Σ N_i (R r_i) × e3 = 0 — to 1e-12, and E is conserved. On a frictionless table both
+/// contacts slide; on a Coulomb table (μ = 0.5) both stick, with no horizontal force.
 #[test]
 fn val_two_contacts_at_rest_carry_the_statics_normal_forces() {
-    let (out, samples) = load("tests/data/spheres/top-lying.toml", &[]);
-    assert!(out.status.completed(), "{:?}", out.status);
-    assert!(samples[1..].iter().all(|s| s.mode == Mode::TwoContacts));
-    let body = out_body();
-    let y = out.final_state;
-    let system = System {
-        body: body.touching(Surface::Ellipsoid),
-        gravity: G,
-        contact: TwoContacts {
-            friction: 0.0,
-            disc: None,
-            other: Surface::Sphere(0),
-        },
-        effects: (),
-    };
-    let ev = system.evaluate(&y);
-    let (n_rim, n_peg) = (
-        ev.response.normal - ev.response.second_normal,
-        ev.response.second_normal,
-    );
-    // The statics: the horizontal levers (world) of the two contacts about G.
-    let rot = ev.kin.rot;
-    let zeta = ev.kin.contact.zeta;
-    let lever = |s: Surface| rot * Contact::of(&body, s, zeta, Vector3::zeros()).r;
-    let (l1, l2) = (lever(Surface::Ellipsoid), lever(Surface::Sphere(0)));
-    let along = (l2 - l1).xy().normalize();
-    let (x1, x2) = (l1.xy().dot(&along), l2.xy().dot(&along));
-    let mg = 0.1 * G;
-    let (s1, s2) = (mg * x2 / (x2 - x1), -mg * x1 / (x2 - x1));
-    eprintln!(
-        "MEASURED two contacts at rest: rim {n_rim} N (statics {s1}), peg {n_peg} N (statics {s2})"
-    );
-    assert!(s1 > 0.0 && s2 > 0.0, "G lies between the contacts");
-    assert!((n_rim - s1).abs() <= 1e-12 * mg, "rim {n_rim} vs {s1}");
-    assert!((n_peg - s2).abs() <= 1e-12 * mg, "peg {n_peg} vs {s2}");
-    let drift = out
-        .drift
-        .get(ellipsoid_core::invariants::Invariant::Energy)
-        .unwrap();
-    assert!(drift.abs() < 1e-12, "E drift {drift:e}");
+    for (set, friction, sticks) in [
+        (&[] as &[&str], 0.0, [false; 2]),
+        (
+            &["contact.model=\"coulomb\"", "contact.friction=0.5"][..],
+            0.5,
+            [true; 2],
+        ),
+    ] {
+        let (out, samples) = load("tests/data/spheres/top-lying.toml", set);
+        assert!(out.status.completed(), "{:?}", out.status);
+        assert!(samples[1..].iter().all(|s| s.mode == Mode::TwoContacts));
+        let body = out_body();
+        let y = out.final_state;
+        let system = System {
+            body: body.touching(Surface::Ellipsoid),
+            gravity: G,
+            contact: TwoContacts {
+                friction,
+                disc: None,
+                other: Surface::Sphere(0),
+                sticks,
+            },
+            effects: (),
+        };
+        let ev = system.evaluate(&y);
+        let forces = system.contact.forces(&system.body, G, &ev.kin, &ev.load);
+        let [n_rim, n_peg] = forces.normal;
+        // The statics: the horizontal levers (world) of the two contacts about G.
+        let rot = ev.kin.rot;
+        let zeta = ev.kin.contact.zeta;
+        let lever = |s: Surface| rot * Contact::of(&body, s, zeta, Vector3::zeros()).r;
+        let (l1, l2) = (lever(Surface::Ellipsoid), lever(Surface::Sphere(0)));
+        let along = (l2 - l1).xy().normalize();
+        let (x1, x2) = (l1.xy().dot(&along), l2.xy().dot(&along));
+        let mg = 0.1 * G;
+        let (s1, s2) = (mg * x2 / (x2 - x1), -mg * x1 / (x2 - x1));
+        let friction_force = forces.tangential[0].norm() + forces.tangential[1].norm();
+        eprintln!(
+            "MEASURED two contacts at rest (μ = {friction}): rim {n_rim} N (statics {s1}), \
+             peg {n_peg} N (statics {s2}), horizontal forces {friction_force:e} N"
+        );
+        assert!(s1 > 0.0 && s2 > 0.0, "G lies between the contacts");
+        assert!((n_rim - s1).abs() <= 1e-12 * mg, "rim {n_rim} vs {s1}");
+        assert!((n_peg - s2).abs() <= 1e-12 * mg, "peg {n_peg} vs {s2}");
+        assert!(friction_force <= 1e-12 * mg, "{friction_force:e}");
+        let drift = out
+            .drift
+            .get(ellipsoid_core::invariants::Invariant::Energy)
+            .or(out
+                .drift
+                .get(ellipsoid_core::invariants::Invariant::EnergyPlusWork))
+            .unwrap();
+        assert!(drift.abs() < 1e-12, "E drift {drift:e}");
+    }
 }
 
 /// The top of tests/data/spheres/top-lying.toml.

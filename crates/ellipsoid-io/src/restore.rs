@@ -223,6 +223,10 @@ fn event(e: &Value, names: &Names, layout: &Layout) -> Result<EventRecord, Strin
             from: surface(body, text("from")?)?,
             to: surface(body, text("to")?)?,
         },
+        "grip" => EventKind::Grip {
+            surface: surface(body, text("surface")?)?,
+            sticks: flag("sticks")?,
+        },
         "touchdown" => EventKind::Touchdown {
             speed: number(e.get("speed"), "speed")?,
             surface: struck()?,

@@ -275,6 +275,10 @@ fn event_json(names: &Names, layout: &columns::Layout, e: &EventRecord) -> Value
             m.insert("from".into(), Value::from(body.surface_name(*from)));
             m.insert("to".into(), Value::from(body.surface_name(*to)));
         }
+        EventKind::Grip { surface, sticks } => {
+            m.insert("surface".into(), Value::from(body.surface_name(*surface)));
+            m.insert("sticks".into(), Value::from(*sticks));
+        }
         EventKind::SlipStop | EventKind::LostContact | EventKind::LiftOff | EventKind::Painleve => {
         }
     }

@@ -497,7 +497,7 @@ impl Trajectory {
     /// Event times [s] by name (solve_ivp's `t_events`): one float64 array per observable
     /// of the scenario (by its `name`) and per built-in event kind ("slip_stop",
     /// "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve",
-    /// "contact_surface"), empty when it did not occur.
+    /// "contact_surface", "grip"), empty when it did not occur.
     #[getter]
     fn t_events<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
         result_helper(slf, "t_events")
@@ -760,8 +760,9 @@ impl Trajectory {
     /// Located events, in time order: dicts `{"kind": ..., "t": [s]}`, kind one of
     /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "lift_off",
     /// "touchdown", "impact", "painleve", "contact_surface" (with "from" and "to", the
-    /// surfaces by name), "observed" (with "name" and "state", a dict of every column at
-    /// the event). A touchdown and an impact of a body with contact spheres name the
+    /// surfaces by name), "grip" (with "surface" and "sticks": with two surfaces in
+    /// contact, that surface's contact started to stick, or to slide), "observed" (with
+    /// "name" and "state", a dict of every column at the event). A touchdown and an impact of a body with contact spheres name the
     /// `surface` struck.
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

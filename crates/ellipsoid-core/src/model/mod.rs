@@ -26,7 +26,7 @@ pub use flight::Flight;
 pub use frictionless::Frictionless;
 pub use rolling::Rolling;
 pub use sliding::{Sliding, SlipBand};
-pub use two_contacts::TwoContacts;
+pub use two_contacts::{Forces, Hold, TwoContacts};
 pub use viscous::Viscous;
 
 use nalgebra::{Matrix3, Vector2, Vector3};

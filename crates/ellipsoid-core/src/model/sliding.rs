@@ -62,7 +62,12 @@ impl SlipBand {
     /// S = |v_G| + |ω||r| the speed scale [m/s] (0 for [`SlipBand::NONE`]).
     #[inline]
     pub fn width(&self, kin: &Kinematics) -> f64 {
-        let scale = Sliding::speed_scale(kin);
+        self.width_at(Sliding::speed_scale(kin))
+    }
+
+    /// The band's width for the speed scale `scale` [m/s].
+    #[inline]
+    pub fn width_at(&self, scale: f64) -> f64 {
         (self.relative * scale)
             .max(self.absolute)
             .min(self.cap * scale)

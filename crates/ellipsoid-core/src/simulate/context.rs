@@ -31,6 +31,8 @@ pub(super) struct Context<'s, E> {
     pub(super) surface: Cell<Surface>,
     /// The second surface in contact in the two-contact phase (`phase::two_contacts`).
     pub(super) second: Cell<Surface>,
+    /// Which of the two contacts stick in the two-contact phase (the first, the second).
+    pub(super) sticks: Cell<[bool; 2]>,
 }
 
 impl<E> Context<'_, E> {
@@ -49,6 +51,7 @@ impl<'s, E: Copy> Context<'s, E> {
             cancel,
             surface: Cell::new(Surface::Ellipsoid),
             second: Cell::new(Surface::Ellipsoid),
+            sticks: Cell::new([false; 2]),
         }
     }
 

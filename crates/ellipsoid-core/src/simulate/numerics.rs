@@ -184,9 +184,12 @@ impl Numerics {
         }
     }
 
-    /// The slip below which one of two contacts counts as stopped [m/s] (the run then
-    /// ends: sticking at one of two contacts is not simulated): the sliding law's slip
-    /// band width at that contact ([`SlipBand::width`]), at least its stop threshold. The
+    /// The slip below which one of two contacts counts as stopped [m/s] (in the Coulomb
+    /// model it sticks there; docs/physics.md, "Two contacts"): the sliding law's slip
+    /// band width ([`SlipBand::width_at`]), at least the stop threshold, both for the
+    /// speed scale S' = max(S, √(g L)), as a contact disc's stop takes it: where the whole
+    /// body barely moves (settling on two contacts from rest), S is of the size of the
+    /// slip itself, and a stop relative to S alone is never reached. The
     /// two-contact law has no band: its friction direction turns at a rate ∝ 1/|v_C| all
     /// the way down, and DOPRI5 at rtol 1e-10 held such slips near the floor (1.0–1.02
     /// floors where instrumented) with collapsing steps until the pace check ended the
@@ -195,7 +198,10 @@ impl Numerics {
     /// crossed the floor. At the band's edge both cross in a few steps; the stop moves by
     /// at most the time friction takes to remove the band's slip, band/(μ g).
     pub(super) fn two_contact_stop(&self, kin: &Kinematics) -> f64 {
-        self.band.width(kin).max(self.stop_threshold(kin, false))
+        let scale = Sliding::speed_scale(kin).max(self.gravity_speed);
+        (self.band.width_at(scale))
+            .max(self.slip_floor * scale)
+            .max(self.v_min)
     }
 
     /// Whether stop speed `speed` has stopped at `kin`: within [`SLIP_ACCEPT`] stop

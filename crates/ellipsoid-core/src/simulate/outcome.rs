@@ -64,6 +64,9 @@ pub enum EventKind {
     Observed { index: usize, sample: Box<Sample> },
     /// The body's surface in contact changed (bodies with contact spheres).
     ContactSurface { from: Surface, to: Surface },
+    /// With two surfaces in contact, `surface`'s contact started to stick (`sticks`) or
+    /// to slide (docs/physics.md, "Two contacts").
+    Grip { surface: Surface, sticks: bool },
 }
 
 impl EventKind {
@@ -78,6 +81,7 @@ impl EventKind {
             EventKind::Impact(_) => "impact",
             EventKind::Painleve => "painleve",
             EventKind::ContactSurface { .. } => "contact_surface",
+            EventKind::Grip { .. } => "grip",
             EventKind::Observed { .. } => "observed",
         }
     }

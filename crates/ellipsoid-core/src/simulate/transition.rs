@@ -39,7 +39,7 @@ use crate::geometry::Contact;
 use crate::impact::{self, Approach, Tangential};
 use crate::integrate::{IntegrateError, OdeSystem, rk4_step};
 use crate::invariants::Invariants;
-use crate::model::{Kinematics, Rolling, Sliding};
+use crate::model::{Hold, Kinematics, Rolling, Sliding};
 use crate::state::{self, State};
 
 use super::context::Context;
@@ -316,9 +316,9 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
 ///   plane, and the impact is taken at both contacts at once ([`pair_touchdown`]).
 ///
 /// The outcome goes on the plane by [`settle`]. The rolling model stops with
-/// `several_contacts` unless `pressed` separates (its no-slip law is not taken at two
-/// contacts), as does a pair impact that has no solution or two contacts the two-contact
-/// phase cannot take; the run then ends at the located state.
+/// `several_contacts` where the impact needs both contacts (its no-slip law is not taken
+/// at two contacts), as does a pair impact that has no solution or two contacts the
+/// two-contact phase cannot take; the run then ends at the located state.
 pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     from: Mode,
@@ -355,7 +355,7 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
             Staying::Neither
         };
         Some((staying, after, vec![strike.report(&hit)]))
-    } else if from != Mode::Rolling {
+    } else {
         let (hit, after, settles) = strike.settled(law, single, onto_pressed);
         let staying = if settles {
             Staying::Both {
@@ -366,8 +366,6 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
             Staying::One(pressed)
         };
         Some((staying, after, vec![strike.report(&hit)]))
-    } else {
-        None
     };
     let next = outcome.map(|(staying, after, reports)| {
         events.push(EventRecord {
@@ -509,14 +507,16 @@ fn normal_velocity(body: &Body, surface: Surface, y: &State) -> f64 {
 
 /// The contact-form state `y` (on `Context::surface`) on both surfaces: the second
 /// contact's constraint restored (`TwoContacts::project`, the energy it changes booked in
-/// W), where both normal forces are positive, the law consistent and, with friction, both
-/// contacts slipping above the two-contact phase's slip stop
-/// (`Numerics::two_contact_stop`: sticking at one of two contacts is not simulated);
-/// else `None`.
+/// W) and the contacts' grip settled ([`settle_grip`]: in the Coulomb model a contact
+/// whose slip is within the two-contact phase's slip stop, `Numerics::two_contact_stop`,
+/// sticks; in the rolling model both do), where then both normal forces are positive and
+/// the law consistent; else `None` — also where, in the other models, a contact's slip is
+/// within its stop (a stop there ends the run, as it does on one contact).
 fn onto_two_contacts<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     mut y: State,
 ) -> Option<State> {
+    ctx.sticks.set([false; 2]);
     let sys = ctx.system::<TwoContactsPhase>();
     let energy = |y: &State| {
         Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
@@ -527,20 +527,176 @@ fn onto_two_contacts<E: Effect + Copy + 'static>(
     // the gap's resolution and the settling speed): the energy it takes is booked in W, as
     // a persistent landing books its rebound's, so that E + W stays exact.
     y[state::WORK] += before - energy(&y);
-    let ev = sys.evaluate(&y);
-    let r = &ev.response;
-    let pressed = r.second_normal > 0.0 && r.normal - r.second_normal > 0.0;
-    let slipping = ctx.scene.contact.friction().is_none_or(|mu| mu == 0.0) || {
-        let slips = |kin: &Kinematics| kin.slip.norm() > ctx.numerics.two_contact_stop(kin);
+    let stopped = {
+        let ev = sys.evaluate(&y);
         let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
-        slips(&ev.kin)
-            && slips(&Kinematics {
-                contact,
-                slip,
-                ..ev.kin
-            })
+        let second = Kinematics {
+            contact,
+            slip,
+            ..ev.kin
+        };
+        [&ev.kin, &second].map(|kin| kin.slip.norm() <= ctx.numerics.two_contact_stop(kin))
     };
-    (pressed && r.painleve > PAINLEVE_COLLAPSE && slipping).then_some(y)
+    let sticks = match ctx.scene.contact {
+        ContactModel::Rolling => [true; 2],
+        ContactModel::Coulomb { .. } if ctx.scene.disc.is_none() => stopped,
+        ContactModel::Frictionless | ContactModel::Viscous { .. } => [false; 2],
+        _ if stopped.contains(&true) => return None,
+        _ => [false; 2],
+    };
+    settle_grip(ctx, sticks, &mut y);
+    let r = ctx.system::<TwoContactsPhase>().evaluate(&y).response;
+    let pressed = r.second_normal > 0.0 && r.normal - r.second_normal > 0.0;
+    (pressed && r.painleve > PAINLEVE_COLLAPSE).then_some(y)
+}
+
+/// The grip of the two contacts at `y`, from `sticks` on: the sticking contacts' slips
+/// brought to zero by impulses at the contacts (`TwoContacts::impel`, the energy in W);
+/// then, in the Coulomb model, while a hold of a sticking contact fails (`model::Hold`,
+/// its margin < 0), the one that fails most is released ([`release_hold`]) and the rest
+/// checked again. Sets `Context::sticks`.
+fn settle_grip<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, sticks: [bool; 2], y: &mut State) {
+    ctx.sticks.set(sticks);
+    if sticks != [false; 2] {
+        let sys = ctx.system::<TwoContactsPhase>();
+        sys.contact.impel(&sys.body, y, [Vector2::zeros(); 2]);
+    }
+    let ContactModel::Coulomb { friction } = ctx.scene.contact else {
+        return;
+    };
+    for _ in 0..3 {
+        let sys = ctx.system::<TwoContactsPhase>();
+        let ev = sys.evaluate(y);
+        let forces = sys
+            .contact
+            .forces(&sys.body, sys.gravity, &ev.kin, &ev.load);
+        let holds = match ctx.sticks.get() {
+            [true, true] => vec![Hold::Contact(0), Hold::Contact(1), Hold::Line],
+            sticks => (0..2).filter(|&i| sticks[i]).map(Hold::Contact).collect(),
+        };
+        let worst = holds
+            .into_iter()
+            .map(|h| (h, forces.margin(h, friction)))
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        match worst {
+            Some((hold, margin)) if margin < 0.0 => release_hold(ctx, hold, y),
+            _ => return,
+        }
+    }
+}
+
+/// Releases `hold` at `y`: the contact (or, for [`Hold::Line`], both) starts to slide,
+/// with a seed of slip opposite the friction sticking needed — across the line C_1C_2
+/// where the other contact sticks on, along it for the line — of twice the two-contact
+/// slip stop, so that the slip-stop watch starts above its zero (as the one-contact
+/// sliding phase seeds its onset, docs/physics.md "Friction along the slip, and the
+/// onset's seed"); the seed's kinetic energy is booked in W (`TwoContacts::impel`).
+fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y: &mut State) {
+    let sys = ctx.system::<TwoContactsPhase>();
+    let ev = sys.evaluate(y);
+    let forces = sys
+        .contact
+        .forces(&sys.body, sys.gravity, &ev.kin, &ev.load);
+    let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
+    let second = Kinematics {
+        contact,
+        slip,
+        ..ev.kin
+    };
+    let size = [&ev.kin, &second].map(|kin| 2.0 * ctx.numerics.two_contact_stop(kin));
+    let unit = |v: Vector2<f64>, fallback: Vector2<f64>| {
+        if v.norm() > 0.0 {
+            v.normalize()
+        } else {
+            fallback
+        }
+    };
+    let line = forces.line;
+    let mut sticks = ctx.sticks.get();
+    let mut seed = [Vector2::zeros(); 2];
+    match hold {
+        Hold::Contact(i) => {
+            let t = forces.tangential[i];
+            let across = t - t.dot(&line) * line;
+            seed[i] = -unit(across, Vector2::new(-line.y, line.x)) * size[i];
+            sticks[i] = false;
+        }
+        Hold::Line => {
+            let along = (forces.tangential[0] + forces.tangential[1]).dot(&line);
+            let s = -along.signum() * line * size[0].max(size[1]);
+            seed = [s, s];
+            sticks = [false; 2];
+        }
+    }
+    sys.contact.impel(&sys.body, y, seed);
+    ctx.sticks.set(sticks);
+}
+
+/// A sliding contact of the two-contact phase stopped slipping at (t, y) (Coulomb model,
+/// point contacts): it sticks where its cone holds ([`settle_grip`], from `sticks`), and
+/// the phase goes on with the new grip; where a normal force is then not positive, that
+/// surface leaves ([`leave_second`]).
+pub(super) fn grip<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    sticks: [bool; 2],
+    t: f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    let before = ctx.sticks.get();
+    settle_grip(ctx, sticks, y);
+    record_grip(ctx, before, t, events);
+    go_on_two(ctx, t, y, events)
+}
+
+/// A hold of the two-contact phase failed at (t, y) (its margin reached zero): that
+/// contact, or both, slide from here ([`release_hold`], then [`settle_grip`]).
+pub(super) fn release<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    hold: Hold,
+    t: f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    let before = ctx.sticks.get();
+    release_hold(ctx, hold, y);
+    settle_grip(ctx, ctx.sticks.get(), y);
+    record_grip(ctx, before, t, events);
+    go_on_two(ctx, t, y, events)
+}
+
+/// Records a `grip` event for each of the two contacts whose sticking changed from
+/// `before`.
+fn record_grip<E>(ctx: &Context<'_, E>, before: [bool; 2], t: f64, events: &mut Vec<EventRecord>) {
+    let surfaces = [ctx.surface.get(), ctx.second.get()];
+    let now = ctx.sticks.get();
+    for i in (0..2).filter(|&i| now[i] != before[i]) {
+        events.push(EventRecord {
+            kind: EventKind::Grip {
+                surface: surfaces[i],
+                sticks: now[i],
+            },
+            t,
+        });
+    }
+}
+
+/// The two-contact phase goes on at (t, y) where both normal forces are positive; else
+/// the surface whose is not leaves.
+fn go_on_two<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    t: f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    let r = ctx.system::<TwoContactsPhase>().evaluate(y).response;
+    if r.normal - r.second_normal <= 0.0 {
+        leave_second(ctx, true, t, y, events)
+    } else if r.second_normal <= 0.0 {
+        leave_second(ctx, false, t, y, events)
+    } else {
+        Next::Go(Mode::TwoContacts)
+    }
 }
 
 /// One of the two surfaces in contact leaves the plane (its normal force reached zero:
@@ -555,11 +711,12 @@ pub(super) fn leave_second<E: Effect + Copy + 'static>(
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
+    let stuck = ctx.sticks.get()[usize::from(first_leaves)];
     if first_leaves {
         touch(ctx, ctx.second.get(), t, events);
     }
     let mut placed = *y;
-    match on_plane(ctx, Arrival::Landing { stuck: false }, &mut placed) {
+    match on_plane(ctx, Arrival::Landing { stuck }, &mut placed) {
         Placed::SlipStopped => {
             *y = placed;
             events.push(EventRecord {

@@ -11,7 +11,7 @@ import numpy as np
 from ellipsoid._ellipsoid import Scenario, Trajectory
 
 #: Built-in event kinds, as `Trajectory.events` names them (`kind`).
-EVENT_KINDS = ("slip_stop", "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve", "contact_surface")
+EVENT_KINDS = ("slip_stop", "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve", "contact_surface", "grip")
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:

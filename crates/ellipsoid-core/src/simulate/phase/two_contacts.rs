@@ -1,21 +1,24 @@
-//! Two surfaces in contact at once, both sliding (docs/physics.md, "Contact spheres"; the
-//! law `model::TwoContacts`): the surface in contact (`Context::surface`) and a second
-//! one (`Context::second`). Watches: each normal force (g = N_1, g = N_2: that surface
-//! leaves, and the body goes on touching with the other), each contact's slip falling to
-//! its stop (the slip band's width), the law's Painlevé denominator, and any third
-//! surface's gap. A slip that stops or a third contact ends the run (`several_contacts`:
-//! sticking at one of two contacts, or three contacts, is not simulated).
+//! Two surfaces in contact at once, each sliding or sticking (docs/physics.md, "Contact
+//! spheres"; the law `model::TwoContacts`): the surface in contact (`Context::surface`)
+//! and a second one (`Context::second`), which stick where `Context::sticks` says.
+//! Watches: each normal force (g = N_1, g = N_2: that surface leaves, and the body goes
+//! on touching with the other), each sliding contact's slip falling to its stop (the slip
+//! band's width: in the Coulomb model it sticks there, `transition::grip`), each hold of
+//! the sticking ones (`model::Hold`: the cone left, that contact or both slide,
+//! `transition::release`), the law's Painlevé denominator while a contact slides, and
+//! any third surface's gap (three contacts are not simulated: `several_contacts`).
 
 use crate::body::Surface;
 use crate::effects::Effect;
-use crate::model::{Evaluation, Kinematics, System, TwoContacts};
+use crate::model::{Evaluation, Hold, Kinematics, System, TwoContacts};
 use crate::state::State;
 
 use super::{Next, Phase, touch_gap};
 use crate::simulate::context::Context;
 use crate::simulate::numerics::PAINLEVE_COLLAPSE;
 use crate::simulate::outcome::{EventRecord, Mode, Status};
-use crate::simulate::transition::{leave_second, painleve};
+use crate::simulate::scene::ContactModel;
+use crate::simulate::transition::{grip, leave_second, painleve, release};
 
 pub(in crate::simulate) struct TwoContactsPhase;
 
@@ -30,6 +33,8 @@ pub(in crate::simulate) enum TwoContactsWatch {
     FirstSlip,
     /// g = |v_C2| − its stop.
     SecondSlip,
+    /// g = the margin of a sticking contact's hold ([`Hold`]).
+    Holds(Hold),
     /// g = the law's Painlevé denominator − [`PAINLEVE_COLLAPSE`].
     Painleve,
     /// A third surface's gap ([`touch_gap`]).
@@ -46,6 +51,7 @@ impl Phase for TwoContactsPhase {
             friction: ctx.scene.contact.friction().unwrap_or(0.0),
             disc: ctx.scene.disc,
             other: ctx.second.get(),
+            sticks: ctx.sticks.get(),
         }
     }
 
@@ -55,17 +61,26 @@ impl Phase for TwoContactsPhase {
         let third = (ctx.scene.body.surfaces())
             .filter(|&s| s != first && s != second)
             .map(Touch);
-        let slips = ctx
-            .scene
-            .contact
-            .friction()
-            .is_some_and(|mu| mu > 0.0)
-            .then_some([FirstSlip, SecondSlip])
+        let sticks = ctx.sticks.get();
+        let friction = ctx.scene.contact.friction().is_some_and(|mu| mu > 0.0);
+        let slips = [FirstSlip, SecondSlip]
             .into_iter()
-            .flatten();
-        [First, Second, Painleve]
+            .enumerate()
+            .filter(move |&(i, _)| friction && !sticks[i])
+            .map(|(_, w)| w);
+        // Holds only in the Coulomb model (the rolling model's friction is unbounded).
+        let coulomb = matches!(ctx.scene.contact, ContactModel::Coulomb { .. });
+        let holds = match sticks {
+            [true, true] => vec![Hold::Contact(0), Hold::Contact(1), Hold::Line],
+            _ => (0..2).filter(|&i| sticks[i]).map(Hold::Contact).collect(),
+        };
+        let holds = holds.into_iter().filter(move |_| coulomb).map(Holds);
+        let painleve = (sticks != [true, true]).then_some(Painleve);
+        [First, Second]
             .into_iter()
+            .chain(painleve)
             .chain(slips)
+            .chain(holds)
             .chain(third)
             .collect()
     }
@@ -91,6 +106,10 @@ impl Phase for TwoContactsPhase {
                     ..ev.kin
                 })
             }
+            TwoContactsWatch::Holds(hold) => sys
+                .contact
+                .forces(&sys.body, sys.gravity, &ev.kin, &ev.load)
+                .margin(hold, ctx.scene.contact.friction().unwrap_or(0.0)),
             TwoContactsWatch::Painleve => r.painleve - PAINLEVE_COLLAPSE,
             TwoContactsWatch::Touch(surface) => touch_gap(ctx, ev, surface),
         }
@@ -127,7 +146,18 @@ impl Phase for TwoContactsPhase {
         match watch {
             TwoContactsWatch::First => leave_second(ctx, true, *t, y, events),
             TwoContactsWatch::Second => leave_second(ctx, false, *t, y, events),
-            TwoContactsWatch::FirstSlip | TwoContactsWatch::SecondSlip => stop(ctx.second.get()),
+            TwoContactsWatch::FirstSlip | TwoContactsWatch::SecondSlip
+                if !matches!(ctx.scene.contact, ContactModel::Coulomb { .. })
+                    || ctx.scene.disc.is_some() =>
+            {
+                stop(ctx.second.get())
+            }
+            TwoContactsWatch::FirstSlip | TwoContactsWatch::SecondSlip => {
+                let mut sticks = ctx.sticks.get();
+                sticks[usize::from(watch == TwoContactsWatch::SecondSlip)] = true;
+                grip(ctx, sticks, *t, y, events)
+            }
+            TwoContactsWatch::Holds(hold) => release(ctx, hold, *t, y, events),
             TwoContactsWatch::Painleve => painleve(
                 Mode::TwoContacts,
                 ctx.system::<Self>().evaluate(y).response.painleve,
