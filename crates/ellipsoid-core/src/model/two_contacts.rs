@@ -69,7 +69,10 @@ pub struct Forces {
     pub omega_dot: Vector3<f64>,
     /// The Painlevé denominator (see the module docs).
     pub painleve: f64,
-    /// The power of the contact forces, −Σ_i (F_i·v_Ci + t_i·ω) \[W\].
+    /// The power of the contact forces, −Σ_i (F_i·v_Ci + t_i·ω) \[W\], a sticking
+    /// contact's F_i·v_Ci taken as zero: its slip is the integration's drift (removed after
+    /// every step by [`TwoContacts::impel`], which books the energy it takes), and the
+    /// force's work on it, of either sign, would make W fall.
     pub power: f64,
     /// With both contacts sticking, the unit vector along C_1C_2 (world, horizontal);
     /// else zero.
@@ -312,7 +315,11 @@ impl TwoContacts {
             force: kin.rot * (at[0] + at[1]),
             omega_dot,
             painleve,
-            power: -tangential[0].dot(&p.slip[0]) - tangential[1].dot(&p.slip[1]) - torque.dot(&w),
+            power: -(0..2)
+                .filter(|&i| !self.sticks[i])
+                .map(|i| tangential[i].dot(&p.slip[i]))
+                .sum::<f64>()
+                - torque.dot(&w),
             line,
         }
     }
