@@ -527,21 +527,11 @@ fn onto_two_contacts<E: Effect + Copy + 'static>(
     // the gap's resolution and the settling speed): the energy it takes is booked in W, as
     // a persistent landing books its rebound's, so that E + W stays exact.
     y[state::WORK] += before - energy(&y);
-    let stopped = {
-        let ev = sys.evaluate(&y);
-        let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
-        let second = Kinematics {
-            contact,
-            slip,
-            ..ev.kin
-        };
-        [&ev.kin, &second].map(|kin| kin.slip.norm() <= ctx.numerics.two_contact_stop(kin))
-    };
     let sticks = match ctx.scene.contact {
         ContactModel::Rolling => [true; 2],
-        ContactModel::Coulomb { .. } if ctx.scene.disc.is_none() => stopped,
         ContactModel::Frictionless | ContactModel::Viscous { .. } => [false; 2],
-        _ if stopped.contains(&true) => return None,
+        ContactModel::Coulomb { .. } if ctx.scene.disc.is_none() => [false; 2],
+        _ if stopped(ctx, &y).contains(&true) => return None,
         _ => [false; 2],
     };
     settle_grip(ctx, sticks, &mut y);
@@ -550,16 +540,45 @@ fn onto_two_contacts<E: Effect + Copy + 'static>(
     (pressed && r.painleve > PAINLEVE_COLLAPSE).then_some(y)
 }
 
-/// The grip of the two contacts at `y`, from `sticks` on: the sticking contacts' slips
-/// brought to zero by impulses at the contacts (`TwoContacts::impel`, the energy in W);
-/// then, in the Coulomb model, while a hold of a sticking contact fails (`model::Hold`,
-/// its margin < 0), the one that fails most is released ([`release_hold`]) and the rest
-/// checked again. Sets `Context::sticks`.
-fn settle_grip<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, sticks: [bool; 2], y: &mut State) {
-    ctx.sticks.set(sticks);
-    if sticks != [false; 2] {
-        let sys = ctx.system::<TwoContactsPhase>();
-        sys.contact.impel(&sys.body, y, [Vector2::zeros(); 2]);
+/// Whether each contact's slip at the contact-form state `y` (`Context::sticks` as the
+/// law's) is within the two-contact slip stop (`Numerics::two_contact_stop`).
+fn stopped<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> [bool; 2] {
+    let sys = ctx.system::<TwoContactsPhase>();
+    let ev = sys.evaluate(y);
+    let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
+    let second = Kinematics {
+        contact,
+        slip,
+        ..ev.kin
+    };
+    [&ev.kin, &second].map(|kin| kin.slip.norm() <= ctx.numerics.two_contact_stop(kin))
+}
+
+/// The grip of the two contacts at `y`, from `sticks` on: in the Coulomb model (point
+/// contacts) every contact whose slip is within the slip stop sticks too ([`stopped`]:
+/// a slip left below the stop would never cross it, and its friction would flip with
+/// every step); the sticking contacts' slips are brought to zero by impulses at the
+/// contacts (`TwoContacts::impel`, the energy in W); then, in the Coulomb model, while a
+/// hold of a sticking contact fails (`model::Hold`, its margin < 0), the one that fails
+/// most is released ([`release_hold`]) and the rest checked again. Sets
+/// `Context::sticks`.
+fn settle_grip<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    mut sticks: [bool; 2],
+    y: &mut State,
+) {
+    let coulomb = matches!(ctx.scene.contact, ContactModel::Coulomb { .. });
+    // Sticking one contact changes the other's slip: it is checked again after.
+    for _ in 0..2 {
+        if coulomb && ctx.scene.disc.is_none() {
+            let stopped = stopped(ctx, y);
+            sticks = [0, 1].map(|i| sticks[i] || stopped[i]);
+        }
+        ctx.sticks.set(sticks);
+        if sticks != [false; 2] {
+            let sys = ctx.system::<TwoContactsPhase>();
+            sys.contact.impel(&sys.body, y, [Vector2::zeros(); 2]);
+        }
     }
     let ContactModel::Coulomb { friction } = ctx.scene.contact else {
         return;
