@@ -402,11 +402,12 @@ fn scenario_tippe_top_jump_hops_while_turning_over() {
 
 /// The hopping top with its stem: it hops on its ball before the stem first touches, the
 /// stem touches with the ball on the plane, at θ* = arccos((r2 − r1)/13 mm), and the
-/// rocking between ball and stem ends where both rest on the plane: θ = θ* and G at
-/// r1 + 7 mm·10/13 (docs/physics.md, "Contact spheres"), each surface's gap zero.
+/// rocking between ball and stem ends where both rest on the plane, where the top stays:
+/// θ = θ* and G at r1 + 7 mm·10/13 (docs/physics.md, "Contact spheres"), each surface's
+/// gap zero, at t_end.
 #[test]
 fn scenario_tippe_top_jump_stem_hops_then_rocks_between_ball_and_stem() {
-    let (s, _, _) = run_scenario("tippe-top-jump-stem", None, "several_contacts");
+    let (s, _, _) = run_scenario("tippe-top-jump-stem", None, "completed");
     let events = s["events"].as_array().unwrap();
     let first = events
         .iter()
@@ -418,6 +419,22 @@ fn scenario_tippe_top_jump_stem_hops_then_rocks_between_ball_and_stem() {
         .filter(|e| e["kind"] == "lift_off")
         .count();
     assert!(hops >= 5, "{hops} hops before the stem touches");
+    // Once on both surfaces, the stem's contact sticks and later slides again (a hold
+    // released), and the ball's sticks (docs/physics.md, "Two contacts").
+    let grips: Vec<(&str, bool)> = (events.iter())
+        .filter(|e| e["kind"] == "grip")
+        .map(|e| {
+            (
+                e["surface"].as_str().unwrap(),
+                e["sticks"].as_bool().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        grips,
+        [("stem", true), ("stem", false), ("ellipsoid", true)],
+        "{grips:?}"
+    );
     // Thereafter every touchdown is on the surface the contact moves to, the other one.
     let landed: Vec<&str> = events[first..]
         .iter()

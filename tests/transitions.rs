@@ -214,12 +214,12 @@ const ROWS: &[Row] = &[
         row: [
             "any contact",
             "another surface's gap ↓ −δz",
-            "rolling, the pressed surface does not separate",
+            "rolling, the pressed surface approaches",
             "stop several_contacts",
         ],
         scene: Scene {
             file: "tests/data/spheres/top-on-peg-rolling.toml",
-            set: &[],
+            set: &["initial.theta=0.6"],
         },
         expect: Expect::Stops {
             after: None,
@@ -396,6 +396,18 @@ const ROWS_ELSEWHERE: &[(&[usize], &str, &str)] = &[
         "any contact | second touchdown | the pressed surface approaches | by who stays after the impact at both",
         "tests/pair_impact.rs (the top of scenarios/top-on-peg.toml falling onto its rim: impulse at \
          both contacts, both persistent, sliding → two contacts at the rim's touchdown)",
+    ),
+    (
+        &[23],
+        "two contacts | a slip ↓ the slip stop | Coulomb | two contacts, that contact sticking",
+        "tests/grip.rs (a top sliding on its rim and peg: grip events, the rim then the peg, \
+         and the steady roll after)",
+    ),
+    (
+        &[24],
+        "two contacts | a hold's margin ↓ 0 | | that contact sliding",
+        "tests/cli.rs, the hopping tippe top with its stem (the stem's grip released at \
+         1.016 s)",
     ),
     (
         &[13],

@@ -12,12 +12,12 @@
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the new one's impact | as a touchdown | flight form, impact at the new surface |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0, both slipping above the slip band | two contacts | plastic impact at the new surface; contact form; second constraint restored, its energy change in W |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0 once the grip is settled ([`settle_grip`]: Coulomb, a slip within the slip stop sticks; rolling model, both stick; otherwise both slipping above it) | two contacts | plastic impact at the new surface; contact form; second constraint restored and sticking impulses, their energy change in W |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | [`on_plane`] for the pressed surface | impact at the new surface; contact form |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle), not rolling | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_pair`), plastic where both stay and one rebounds; loss in W, an impact event per surface |
-//! | any contact | another surface's gap ↓ −δz | otherwise (rolling and the pressed one does not separate; no pair solution; two contacts inconsistent) | stop `several_contacts` | |
+//! | any contact | another surface's gap ↓ −δz | otherwise (rolling and the pressed one approaches; no pair solution; two contacts inconsistent) | stop `several_contacts` | |
 //! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
-//! | two contacts | a slip ↓ the slip band's width, or a third surface's gap ↓ −δz | | stop `several_contacts` | |
+//! | two contacts | a slip ↓ the slip stop (sliding model, contact disc), or a third surface's gap ↓ −δz | | stop `several_contacts` | |
 //! | two contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
 //! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
 //! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
@@ -27,6 +27,8 @@
 //! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact |
 //! | any contact | N ↓ 0 | flight inconsistent | stop `inconsistent_contact` | |
 //! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|) (`SlidingPhase::on_failure`) | [`on_plane`] | sticking impulse, at the last accepted state |
+//! | two contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | Coulomb model, point contacts | two contacts, that contact sticking ([`grip`]) | sticking impulses, energy in W; every hold checked |
+//! | two contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | two contacts, that contact (the line's: both) sliding ([`release`]) | seed slip of twice the stop, its energy in W |
 //!
 //! Flight is consistent where the gap's acceleration with no contact force is not into
 //! the plane ([`flight_is_consistent`]).
