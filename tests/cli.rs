@@ -477,17 +477,21 @@ fn scenario_tippe_top_stem_rises_on_its_stem_and_rests_on_two_contacts() {
     );
     let inverted = events.iter().find(|e| e["kind"] == "observed").unwrap();
     assert!(inverted["t"].as_f64().unwrap() < first["t"].as_f64().unwrap());
-    // Touchdowns and impacts name the surface struck: the one the contact moves to where
-    // it moves (a surface that rebounds while the other stays pressed moves nothing).
+    // Touchdowns and impacts name the surface struck: where a touchdown moves the
+    // contact, the touchdown just before the change of surface and the impact just after
+    // it name the surface it moves to (a surface that rebounds while the other stays
+    // pressed moves nothing; a surface leaving two contacts moves it with no touchdown).
     let mut struck = 0;
     for (k, e) in events.iter().enumerate() {
         if e["kind"] == "touchdown" || e["kind"] == "impact" {
             assert!(e["surface"] == "ellipsoid" || e["surface"] == "stem", "{e}");
-            let before = &events[k.saturating_sub(2)..k];
-            if let Some(moved) = before.iter().find(|b| b["kind"] == "contact_surface") {
-                assert_eq!(e["surface"], moved["to"], "{e}");
-                struck += 1;
-            }
+        }
+        if e["kind"] == "contact_surface" && k > 0 && events[k - 1]["kind"] == "touchdown" {
+            let (touchdown, impact) = (&events[k - 1], &events[k + 1]);
+            assert_eq!(impact["kind"], "impact", "{impact}");
+            assert_eq!(touchdown["surface"], e["to"], "{touchdown}");
+            assert_eq!(impact["surface"], e["to"], "{impact}");
+            struck += 1;
         }
     }
     assert!(struck > 100, "{struck}");
