@@ -102,7 +102,9 @@ def outcome(traj: ellipsoid.Trajectory) -> str:
     names = {"mode_switch": ("mode switch", "mode switches"), "slip_stop": ("slip stop", "slip stops"),
              "lift_off": ("lift-off", "lift-offs"), "touchdown": ("touchdown", "touchdowns"),
              "impact": ("impact", "impacts"), "observed": ("observed crossing", "observed crossings"),
-             "lost_contact": ("loss of contact", "losses of contact"), "painleve": ("Painlevé stop", "Painlevé stops")}
+             "lost_contact": ("loss of contact", "losses of contact"), "painleve": ("Painlevé stop", "Painlevé stops"),
+             "grip": ("change of grip", "changes of grip"),
+             "contact_surface": ("change of surface", "changes of surface")}
     events = ", ".join(f"{n} {names.get(k, (k, k))[n != 1]}" for k, n in sorted(kinds.items()))
     theta = traj.theta
     text = (f"{traj.status} at t = {sig(float(traj.t[-1]))} s; θ {deg(theta[0])} → {deg(theta[-1])}"

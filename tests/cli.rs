@@ -192,6 +192,7 @@ fn every_bundled_scenario_has_a_test() {
         "tippe-top-jump-stem",
         "tippe-top-stem",
         "top-on-peg",
+        "top-falls-onto-rim",
     ];
     for entry in std::fs::read_dir(scenarios()).unwrap() {
         let path = entry.unwrap().path();
@@ -583,6 +584,116 @@ fn scenario_top_on_peg_sleeps() {
     );
     assert!(column(&h, &rows, "gap_ellipsoid").iter().all(|v| *v > 0.01));
     assert!(column(&h, &rows, "gap_peg").iter().all(|v| *v == 0.0));
+}
+
+/// The top on its peg spun at 60 rad/s from 0.3 rad falls onto its rim: the rim strikes
+/// while the peg is pressed (one impact at both), the top slides on both until each slip
+/// stops, and from then on it rolls about the line through both contacts (docs/physics.md,
+/// "Two contacts"). That roll fixes the tilt where both gaps vanish, holds G's height (so
+/// N_rim + N_peg = m g), turns ω horizontal (φ̇ = −ψ̇ cos θ) and, with no slip, keeps the
+/// energy and the precession rate.
+#[test]
+fn scenario_top_falls_onto_rim_and_rolls() {
+    let (s, h, rows) = run_scenario("top-falls-onto-rim", None, "completed");
+    let events = s["events"].as_array().unwrap();
+    let of = |kind: &'static str| events.iter().filter(move |e| e["kind"] == kind);
+    let strike = of("touchdown").next().expect("the rim touches down");
+    assert_eq!(strike["surface"], "ellipsoid");
+    let struck: Vec<_> = of("impact")
+        .map(|e| e["surface"].as_str().unwrap())
+        .collect();
+    assert_eq!(struck, ["ellipsoid", "peg"], "one impact at both contacts");
+    let grips: Vec<_> = of("grip").collect();
+    assert!(grips.iter().all(|g| g["sticks"] == true), "{grips:?}");
+    let mut gripped: Vec<_> = grips
+        .iter()
+        .map(|g| g["surface"].as_str().unwrap())
+        .collect();
+    gripped.sort();
+    assert_eq!(gripped, ["ellipsoid", "peg"]);
+    let t_roll = grips
+        .iter()
+        .map(|g| g["t"].as_f64().unwrap())
+        .fold(0.0, f64::max);
+    let t_strike = strike["t"].as_f64().unwrap();
+    assert!(t_strike < t_roll && t_roll < 2.0, "{t_strike} {t_roll}");
+
+    let t = column(&h, &rows, "t");
+    let mode = column_text(&h, &rows, "mode");
+    for (ti, m) in t.iter().zip(&mode) {
+        if *ti < t_strike {
+            assert!(m.ends_with("@peg"), "{ti}: {m}");
+        } else if *ti > t_strike {
+            assert_eq!(*m, "two_contacts@ellipsoid+peg", "{ti}");
+        }
+    }
+    let rolling: Vec<usize> = (0..t.len()).filter(|&i| t[i] > t_roll).collect();
+    assert!(rolling.len() > 500);
+    let [
+        theta,
+        phi_dot,
+        psi_dot,
+        energy,
+        work,
+        n_rim,
+        n_peg,
+        slip_rim,
+        slip_peg,
+        gap_rim,
+    ] = [
+        "theta",
+        "phi_dot",
+        "psi_dot",
+        "energy",
+        "work",
+        "normal_force_ellipsoid",
+        "normal_force_peg",
+        "slip_speed_ellipsoid",
+        "slip_speed_peg",
+        "gap_ellipsoid",
+    ]
+    .map(|name| column(&h, &rows, name));
+    let first = rolling[0];
+    let weight = 0.1 * 9.81;
+    for &i in &rolling {
+        assert!((theta[i] - theta[first]).abs() < 1e-12, "θ at {}", t[i]);
+        assert!(
+            (phi_dot[i] / phi_dot[first] - 1.0).abs() < 1e-9,
+            "φ̇ at {}",
+            t[i]
+        );
+        let horizontal = phi_dot[i] + psi_dot[i] * theta[i].cos();
+        assert!(
+            horizontal.abs() < 1e-9 * phi_dot[i].abs(),
+            "ω_z at {}",
+            t[i]
+        );
+        assert!((energy[i] - energy[first]).abs() < 1e-12, "E at {}", t[i]);
+        assert_eq!(work[i], work[first], "W at {}", t[i]);
+        assert!((n_rim[i] + n_peg[i] - weight).abs() < 1e-9 * weight);
+        assert!(n_rim[i] > 0.1 && n_peg[i] > 0.1, "both pressed at {}", t[i]);
+        assert!(
+            slip_rim[i] < 1e-12 && slip_peg[i] < 1e-12,
+            "slip at {}",
+            t[i]
+        );
+        assert_eq!(gap_rim[i], 0.0);
+    }
+    // The tilt is the one where the rim and the peg touch the plane together: the disc's
+    // lowest point lies √(a² sin²θ + c² cos²θ) below its centre G, the peg's d cos θ + r.
+    let (a, c, d, r) = (0.03_f64, 0.005_f64, 0.04_f64, 0.001_f64);
+    let gap =
+        |th: f64| (a * a * th.sin().powi(2) + c * c * th.cos().powi(2)).sqrt() - d * th.cos() - r;
+    let (mut lo, mut hi) = (0.0, 1.5);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if gap(mid) < 0.0 { lo = mid } else { hi = mid }
+    }
+    assert!(
+        (theta[first] - lo).abs() < 1e-12,
+        "θ {} vs {lo}",
+        theta[first]
+    );
 }
 
 #[test]
