@@ -13,6 +13,7 @@ mod common;
 
 use common::campaign::{self, Rng, run, with};
 use ellipsoid_core::integrate::Method;
+use ellipsoid_core::simulate::{ContactModel, EventKind, EventRecord};
 use rayon::prelude::*;
 
 const SEED: u64 = 24;
@@ -68,6 +69,33 @@ fn random_scenes_that_stalled_or_drifted_on_two_contacts_end_physically() {
 fn random_scenes_whose_second_surface_bounced_at_round_off_end_physically() {
     let mut scenes = with_spheres(25, &[260, 739, 827, 899]);
     scenes.extend(with_spheres(26, &[957, 987]));
+    assert_all_physical(&scenes);
+}
+
+/// Random rolling scenes with contact spheres where a second surface struck while the
+/// pressed one rolled and the impact needed impulses at both contacts, which the rolling
+/// model's no-slip law at two contacts now takes (docs/physics.md, "Impact at two
+/// contacts"; the runs stopped with `several_contacts` there before): seed 25 scenes 4,
+/// 239 and 327, seed 26 scene 233, seed 27 scene 73. Each run's physics is checked as in
+/// the campaign, and each takes an impact at both contacts (an impact event at each
+/// surface at one instant).
+#[test]
+fn random_rolling_scenes_whose_impact_needed_both_contacts_end_physically() {
+    let mut scenes = with_spheres(25, &[4, 239, 327]);
+    scenes.extend(with_spheres(26, &[233]));
+    scenes.extend(with_spheres(27, &[73]));
+    for scene in &scenes {
+        assert!(matches!(scene.contact, ContactModel::Rolling));
+        let events = run(scene).outcome.events;
+        let impact = |e: &EventRecord| match e.kind {
+            EventKind::Impact(report) => Some((e.t, report.surface)),
+            _ => None,
+        };
+        let pair = events
+            .windows(2)
+            .any(|w| matches!((impact(&w[0]), impact(&w[1])), (Some(a), Some(b)) if a.0 == b.0 && a.1 != b.1));
+        assert!(pair, "no impact at both contacts");
+    }
     assert_all_physical(&scenes);
 }
 

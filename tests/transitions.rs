@@ -214,7 +214,7 @@ const ROWS: &[Row] = &[
         row: [
             "any contact",
             "another surface's gap ↓ −δz",
-            "rolling, the pressed surface approaches",
+            "no pair solution (rolling: sticking the struck contact would pull)",
             "stop several_contacts",
         ],
         scene: Scene {
@@ -304,6 +304,28 @@ const ROWS: &[Row] = &[
             after: Some("slip_stop"),
             status: "slip_stopped",
             mode: Mode::Sliding,
+        },
+    },
+    Row {
+        table: 13,
+        row: [
+            "two contacts",
+            "a slip ↓ its stop",
+            "sliding model",
+            "stop slip_stopped",
+        ],
+        scene: Scene {
+            file: "tests/data/spheres/top-lying.toml",
+            set: &[
+                "contact.model=\"sliding\"",
+                "contact.friction=0.3",
+                "initial.phi_dot=2",
+            ],
+        },
+        expect: Expect::Stops {
+            after: Some("slip_stop"),
+            status: "slip_stopped",
+            mode: Mode::TwoContacts,
         },
     },
     Row {
@@ -410,9 +432,9 @@ const ROWS_ELSEWHERE: &[(&[usize], &str, &str)] = &[
          1.016 s)",
     ),
     (
-        &[13],
-        "two contacts | a slip ↓ floor, or a third surface's gap ↓ −δz | stop several_contacts",
-        "tests/campaign.rs, the campaign with contact spheres (2 of its 100 scenes end so)",
+        &[25],
+        "two contacts | a third surface's gap ↓ −δz | stop several_contacts",
+        "tests/campaign.rs, the campaign with contact spheres (bodies with two spheres)",
     ),
     (
         &[9, 14],

@@ -385,9 +385,9 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
             approach,
         } => format!(
             "two surfaces on the plane at t = {t} s, the {} and the {} (normal velocity {} m/s), in a way that is \
-             not simulated: an impact needing impulses at both contacts under the rolling model or with no \
-             solution, a slip stopping on two in the sliding model or with a contact disc, or a third surface \
-             touching while on two (docs/physics.md, \"Contact spheres\")",
+             not simulated: an impact at both contacts with no solution, two contacts where a normal force \
+             would not be positive, or a third surface touching while on two (docs/physics.md, \"Contact \
+             spheres\")",
             scene.body.surface_name(*touching),
             scene.body.surface_name(*pressed),
             number(*approach)

@@ -17,6 +17,22 @@
 //! frictionless, with one e at both contacts, it is −(1 − e)/(2(1 + e)) ΛᵀWΛ ≤ 0. With
 //! friction and e > 0 Newton's law can add energy (Kane's paradox; Glocker, Multibody
 //! Syst. Dyn. 2013): where it would, the impact is taken with e = 0.
+//!
+//! The no-slip law (the rolling model) is the limit μ → ∞: a contact either separates
+//! (P_i = 0, ξ_n,i ≥ 0) or stays and sticks (ξ_i = 0, Λ_i ≥ 0, P_t,i free). Its active set
+//! S is found by trying each (the struck one, the pressed one, both), solving
+//! W_SS P_S = −ξ⁻_S by the least-norm solution (with both stuck W_SS is singular: the
+//! equal and opposite tangential pair along C_1C_2 does nothing, as in the two-contact
+//! phase), and keeping the first whose conditions hold. The law can have two solutions
+//! (a separating contact's tangential velocity is free, so the problem is not monotone):
+//! a contact that separates with no impulse, and the same contact held sticking by a
+//! tangential impulse larger than its normal one. The smaller set is taken: it is a
+//! solution of Coulomb's law at every μ above the other contact's need, the other only
+//! above |P_t|/Λ at the held contact. For e = 0 the energy change is −½PᵀWP ≤ 0. No set
+//! holds where sticking the struck contact would take a pulling normal impulse (Λ < 0)
+//! and the other is driven in if it takes none: there Coulomb's solution slides at the
+//! struck contact with a tangential impulse that grows with μ, and the law has no limit
+//! (`None`).
 
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -112,25 +128,25 @@ fn project_cone(p: Vector3<f64>, mu: f64) -> Vector3<f64> {
 
 /// Resolves the impact of `body` on the plane at two contacts at once, the first at
 /// `body.r`, the second at lever arm `second` (world), with Newton's restitution e at
-/// both and the tangential law (see the module docs). `None` for the no-slip law (the
-/// rolling model at two contacts is not simulated) and where the iteration does not
-/// converge.
+/// both and the tangential law (see the module docs). `None` where the iteration does not
+/// converge or, for the no-slip law, no active set satisfies its conditions.
 pub fn resolve_pair(
     body: &Approach,
     second: Vector3<f64>,
     tangential: Tangential,
     restitution: f64,
 ) -> Option<PairImpact> {
-    let mu = match tangential {
-        Tangential::Frictionless => 0.0,
-        Tangential::Coulomb { friction } => friction.max(0.0),
-        Tangential::NoSlip => return None,
-    };
     let pair = Pair::new(body, &second);
     let e = restitution.clamp(0.0, 1.0);
-    let hit = solve(body, &pair, &second, mu, e)?;
-    if e > 0.0 && mu > 0.0 && hit.energy_loss < 0.0 {
-        return solve(body, &pair, &second, mu, 0.0);
+    let law = |e| match tangential {
+        Tangential::Frictionless => solve(body, &pair, &second, 0.0, e),
+        Tangential::Coulomb { friction } => solve(body, &pair, &second, friction.max(0.0), e),
+        Tangential::NoSlip => stick(body, &pair, &second, e),
+    };
+    let hit = law(e)?;
+    // Only friction can make Newton's law add energy (the module docs).
+    if e > 0.0 && hit.energy_loss < 0.0 && tangential != Tangential::Frictionless {
+        return law(0.0);
     }
     Some(hit)
 }
@@ -178,6 +194,61 @@ fn solve(
             return None;
         }
     }
+    Some(outcome(body, pair, second, p, e, sweeps))
+}
+
+/// The no-slip law of the module docs with restitution `e`: the first active set whose
+/// least-norm impulses satisfy its conditions (Λ_i ≥ 0 where a contact stays, ξ_n,j ≥ 0
+/// where it separates), to [`STICK_TOL`] of the velocity and impulse scales. The sets
+/// are tried smallest first: where a contact can separate with no impulse, it does.
+fn stick(body: &Approach, pair: &Pair, second: &Vector3<f64>, e: f64) -> Option<PairImpact> {
+    let target = |i: usize| -e * pair.v0[3 * i + 2].min(0.0);
+    let scale = pair.v0.norm();
+    let tol = STICK_TOL * scale;
+    // Rows of a contact that separates are the identity on its (zero) impulse, scaled as
+    // W so that the least-norm cut-off treats both blocks alike.
+    let unit = pair.w.norm() / 6.0_f64.sqrt();
+    [[true, false], [false, true], [true, true]]
+        .into_iter()
+        .find_map(|stays| {
+            let (mut a, mut rhs) = (Matrix6::identity() * unit, Vector6::zeros());
+            for i in (0..2).filter(|&i| stays[i]) {
+                for j in (0..2).filter(|&j| stays[j]) {
+                    let block = pair.w.fixed_view::<3, 3>(3 * i, 3 * j).into_owned();
+                    a.fixed_view_mut::<3, 3>(3 * i, 3 * j).copy_from(&block);
+                }
+                let xi = pair.v0.fixed_rows::<3>(3 * i) - Vector3::z() * target(i);
+                rhs.fixed_rows_mut::<3>(3 * i).copy_from(&(-xi));
+            }
+            let p = a.svd(true, true).solve(&rhs, STICK_TOL * unit).ok()?;
+            let v = pair.velocity(&p);
+            let holds = (0..2).all(|i| {
+                if stays[i] {
+                    let xi = v.fixed_rows::<3>(3 * i) - Vector3::z() * target(i);
+                    p[3 * i + 2] >= -tol * pair.rho[i] && xi.norm() <= tol
+                } else {
+                    v[3 * i + 2] >= target(i) - tol
+                }
+            });
+            holds.then(|| outcome(body, pair, second, p, e, 0))
+        })
+}
+
+/// Most relative residual of the no-slip law's conditions (its least-norm solve is exact
+/// to a few ulps of the velocity scale times W's conditioning).
+const STICK_TOL: f64 = 1e-10;
+
+/// The impact with impulses `p` (both contacts, world): the velocities after, the loss
+/// −P·(v⁻ + v⁺)/2 (a negative value within its round-off bound reported as 0), and which
+/// contacts are left not slipping.
+fn outcome(
+    body: &Approach,
+    pair: &Pair,
+    second: &Vector3<f64>,
+    p: Vector6,
+    e: f64,
+    sweeps: u32,
+) -> PairImpact {
     let v_after = pair.velocity(&p);
     let loss = -p.dot(&(pair.v0 + v_after)) * 0.5;
     let round_off = 64.0 * f64::EPSILON * p.norm() * (pair.v0.norm() + v_after.norm());
@@ -190,7 +261,7 @@ fn solve(
     let total = impulse[0] + impulse[1];
     let moment = body.r.cross(&impulse[0]) + second.cross(&impulse[1]);
     let slip_tol = super::SLIP_TOL * pair.v0.norm();
-    Some(PairImpact {
+    PairImpact {
         v_g: body.v_g + total / body.mass,
         omega: body.omega + body.inertia_inv * moment,
         impulse,
@@ -199,7 +270,7 @@ fn solve(
         stuck: [0, 1].map(|i| v_after.fixed_rows::<2>(3 * i).norm() <= slip_tol),
         restitution: e,
         sweeps,
-    })
+    }
 }
 
 #[cfg(test)]
@@ -336,9 +407,82 @@ mod tests {
         assert!(plastic > 0, "no case of Kane's paradox was met");
     }
 
+    /// The no-slip law against an independent path, the Gauss–Seidel Coulomb solve at a
+    /// friction high enough that it leaves every contact that stays sticking inside its
+    /// cone (where it does, and with the same contacts taking impulse, the two laws
+    /// coincide): the same velocities after; and the law's own conditions, with the energy
+    /// never rising, in every case. As in the rolling model, the second contact is at rest
+    /// (rolling) and the first strikes.
     #[test]
-    fn the_no_slip_law_is_not_taken_at_two_contacts() {
-        let (body, second) = rod(Vector3::new(0.0, 0.0, -1.0), Vector3::zeros());
-        assert!(resolve_pair(&body, second, Tangential::NoSlip, 0.0).is_none());
+    fn no_slip_pair_is_coulomb_with_enough_friction() {
+        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut uniform = || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        };
+        let [mut compared, mut both, mut one, mut none] = [0; 4];
+        for _ in 0..300 {
+            let w = Vector3::new(10.0 * uniform(), 10.0 * uniform(), 30.0 * uniform());
+            let (body, second) = rod(Vector3::zeros(), w);
+            let strike = w.cross(&(body.r - second)).z;
+            let w = if strike < 0.0 { w } else { -w };
+            let (body, second) = rod(-w.cross(&second), w);
+            let e = uniform().abs();
+            let coulomb = |mu: f64, e: f64| {
+                resolve_pair(&body, second, Tangential::Coulomb { friction: mu }, e)
+            };
+            let Some(hit) = resolve_pair(&body, second, Tangential::NoSlip, e) else {
+                // Sticking the struck contact would pull; Coulomb's solution slides there,
+                // its tangential impulse growing with μ.
+                let grip = |mu: f64| coulomb(mu, e).map(|c| c.impulse[0].xy().norm());
+                if let (Some(p3), Some(p10)) = (grip(3.0), grip(10.0)) {
+                    assert!(p10 > 1.5 * p3, "{p3} {p10}");
+                }
+                none += 1;
+                continue;
+            };
+            let before = kinetic(&body, &body.v_g, &body.omega);
+            let after = kinetic(&body, &hit.v_g, &hit.omega);
+            assert!(
+                after <= before * (1.0 + 1e-12),
+                "energy rose {before} → {after}"
+            );
+            assert!((before - after - hit.energy_loss).abs() <= 1e-10 * before);
+            let scale = w.norm() * 0.2;
+            for (i, ri) in [body.r, second].iter().enumerate() {
+                let v = hit.v_g + hit.omega.cross(ri);
+                let target = -hit.restitution * (body.v_g + body.omega.cross(ri)).z.min(0.0);
+                let p = hit.impulse[i];
+                assert!(p.z >= -1e-12, "Λ_{i} = {}", p.z);
+                if p == Vector3::zeros() {
+                    assert!(v.z >= target - 1e-10 * scale, "ξ_n,{i} = {}", v.z - target);
+                } else {
+                    assert!((v - Vector3::z() * target).norm() <= 1e-10 * scale, "ξ_{i}");
+                }
+            }
+            match hit.impulse.iter().filter(|p| p.z > 0.0).count() {
+                2 => both += 1,
+                _ => one += 1,
+            }
+            let Some(slid) = coulomb(3.0, hit.restitution) else {
+                continue;
+            };
+            let inside = (0..2).all(|i| {
+                let p = slid.impulse[i];
+                p.xy().norm() < 3.0 * p.z * (1.0 - 1e-6) || p == Vector3::zeros()
+            });
+            let same_set = (0..2).all(|i| (slid.impulse[i].z > 0.0) == (hit.impulse[i].z > 0.0));
+            if inside && same_set && slid.restitution == hit.restitution {
+                compared += 1;
+                assert!((slid.v_g - hit.v_g).norm() <= 1e-8 * scale, "v_G");
+                assert!((slid.omega - hit.omega).norm() <= 1e-8 * scale / 0.2, "ω");
+            }
+        }
+        assert!(
+            compared > 200 && both > 200 && one > 10 && none < 10,
+            "{compared} {both} {one} {none}"
+        );
     }
 }

@@ -151,19 +151,27 @@ struct Pair {
 }
 
 impl TwoContacts {
-    /// The second contact's geometry and horizontal slip v_C2 = v_G + (ω × r_2)_h.
+    /// Each contact's kinematics: `kin` (the first's) and the second's, `kin` with the
+    /// second contact's geometry and horizontal slip v_C2 = v_G + (ω × r_2)_h.
     #[inline]
-    pub fn second(&self, body: &Body, kin: &Kinematics) -> (Contact, Vector2<f64>) {
-        let c = Contact::of(body, self.other, kin.contact.zeta, kin.omega);
-        let slip = kin.v_g.xy() + (kin.rot * kin.omega.cross(&c.r)).xy();
-        (c, slip)
+    pub fn each(&self, body: &Body, kin: &Kinematics) -> [Kinematics; 2] {
+        let contact = Contact::of(body, self.other, kin.contact.zeta, kin.omega);
+        let slip = kin.v_g.xy() + (kin.rot * kin.omega.cross(&contact.r)).xy();
+        [
+            *kin,
+            Kinematics {
+                contact,
+                slip,
+                ..*kin
+            },
+        ]
     }
 
     fn pair(&self, body: &Body, kin: &Kinematics) -> Pair {
-        let (c2, slip2) = self.second(body, kin);
+        let [_, second] = self.each(body, kin);
         Pair {
-            contact: [kin.contact, c2],
-            slip: [kin.slip, slip2],
+            contact: [kin.contact, second.contact],
+            slip: [kin.slip, second.slip],
             rot: kin.rot,
             omega: kin.omega,
         }

@@ -151,11 +151,10 @@ pub enum Status {
     },
     /// Two surfaces on the plane in a way that is not simulated (an error; docs/physics.md,
     /// "Contact spheres"): surface `touching` reached the plane while `pressed` was in
-    /// contact and the impact would need impulses at both where the scene's law cannot
-    /// take them (the rolling model, no solution; `pressed` approaching at `approach` < 0
-    /// \[m/s\] after the impact at `touching` alone), or the two-contact phase cannot take
-    /// them (a normal force ≤ 0), or, on two surfaces, a slip stopped in the sliding model
-    /// or with a contact disc, or a third surface (`touching`) touched (`approach` = 0).
+    /// contact and the impact at both has no solution (`pressed` approaching at `approach`
+    /// < 0 \[m/s\] after the impact at `touching` alone), or the two-contact phase cannot
+    /// take them (a normal force ≤ 0), or a third surface (`touching`) touched while on two
+    /// (`approach` = 0).
     SeveralContacts {
         touching: Surface,
         pressed: Surface,

@@ -14,10 +14,10 @@
 //! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the new one's impact | as a touchdown | flight form, impact at the new surface |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0 once the grip is settled ([`settle_grip`]: Coulomb, a slip within the slip stop sticks; rolling model, both stick; otherwise both slipping above it) | two contacts | plastic impact at the new surface; contact form; second constraint restored and sticking impulses, their energy change in W |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | [`on_plane`] for the pressed surface | impact at the new surface; contact form |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle), not rolling | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_pair`), plastic where both stay and one rebounds; loss in W, an impact event per surface |
-//! | any contact | another surface's gap ↓ −δz | otherwise (rolling and the pressed one approaches; no pair solution; two contacts inconsistent) | stop `several_contacts` | |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle) | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_pair`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
+//! | any contact | another surface's gap ↓ −δz | otherwise (no pair solution; two contacts inconsistent) | stop `several_contacts` | |
 //! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
-//! | two contacts | a slip ↓ the slip stop (sliding model, contact disc), or a third surface's gap ↓ −δz | | stop `several_contacts` | |
+//! | two contacts | a slip ↓ its stop ([`above_stop`]; a disc's: slip and spin) | sliding model, contact disc | stop `slip_stopped` | |
 //! | two contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
 //! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
 //! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
@@ -29,6 +29,7 @@
 //! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|) (`SlidingPhase::on_failure`) | [`on_plane`] | sticking impulse, at the last accepted state |
 //! | two contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | Coulomb model, point contacts | two contacts, that contact sticking ([`grip`]) | sticking impulses, energy in W; every hold checked |
 //! | two contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | two contacts, that contact (the line's: both) sliding ([`release`]) | seed slip of twice the stop, its energy in W |
+//! | two contacts | a third surface's gap ↓ −δz | | stop `several_contacts` | |
 //!
 //! Flight is consistent where the gap's acceleration with no contact force is not into
 //! the plane ([`flight_is_consistent`]).
@@ -50,8 +51,8 @@ use super::numerics::{
 };
 use super::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
 use super::phase::{
-    FlightPhase, FrictionlessPhase, Next, RollingPhase, TwoContactsPhase, phase, set_reference,
-    slip_has_stopped, slip_is_zero,
+    FlightPhase, FrictionlessPhase, Next, RollingPhase, TwoContactsPhase, above_stop, grips, phase,
+    set_reference, slip_has_stopped, slip_is_zero,
 };
 use super::scene::{ContactModel, LiftOff};
 
@@ -317,10 +318,9 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
 /// - v_k⁺ < −v_settle,k: the impulse at `touching` alone would drive `pressed` into the
 ///   plane, and the impact is taken at both contacts at once ([`pair_touchdown`]).
 ///
-/// The outcome goes on the plane by [`settle`]. The rolling model stops with
-/// `several_contacts` where the impact needs both contacts (its no-slip law is not taken
-/// at two contacts), as does a pair impact that has no solution or two contacts the
-/// two-contact phase cannot take; the run then ends at the located state.
+/// The outcome goes on the plane by [`settle`]. A pair impact that has no solution, or two
+/// contacts the two-contact phase cannot take, stop the run with `several_contacts` at the
+/// located state.
 pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     from: Mode,
@@ -407,7 +407,8 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
 /// bounce sequence the phase could not resolve, section "Settling"). Returns who stays, the
 /// state after the impact (flight form, its loss in W) and an impact report per surface (the
 /// loss on the struck one's); `None` where the impact has no solution (the rolling model's
-/// no-slip law; an iteration that does not converge).
+/// no-slip law where sticking the struck contact would pull; an iteration that does not
+/// converge).
 fn pair_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     strike: &Strike,
@@ -510,14 +511,15 @@ fn normal_velocity(body: &Body, surface: Surface, y: &State) -> f64 {
 /// The contact-form state `y` (on `Context::surface`) on both surfaces: the second
 /// contact's constraint restored (`TwoContacts::project`, the energy it changes booked in
 /// W) and the contacts' grip settled ([`settle_grip`]: in the Coulomb model a contact
-/// whose slip is within the two-contact phase's slip stop, `Numerics::two_contact_stop`,
-/// sticks; in the rolling model both do), where then both normal forces are positive and
-/// the law consistent; else `None` — also where, in the other models, a contact's slip is
-/// within its stop (a stop there ends the run, as it does on one contact).
+/// whose slip is within its stop on two contacts (`phase::above_stop`) sticks; in the
+/// rolling model both do). It goes into the two-contact phase where then both normal
+/// forces are positive and the law consistent; it is `Placed::SlipStopped` where, in the
+/// sliding model or with a contact disc, a contact's slip is within its stop (the run ends
+/// there, as it does on one contact); else `None`.
 fn onto_two_contacts<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     mut y: State,
-) -> Option<State> {
+) -> Option<(State, Placed)> {
     ctx.sticks.set([false; 2]);
     let sys = ctx.system::<TwoContactsPhase>();
     let energy = |y: &State| {
@@ -532,28 +534,24 @@ fn onto_two_contacts<E: Effect + Copy + 'static>(
     let sticks = match ctx.scene.contact {
         ContactModel::Rolling => [true; 2],
         ContactModel::Frictionless | ContactModel::Viscous { .. } => [false; 2],
-        ContactModel::Coulomb { .. } if ctx.scene.disc.is_none() => [false; 2],
-        _ if stopped(ctx, &y).contains(&true) => return None,
+        _ if grips(ctx) => [false; 2],
+        _ if stopped(ctx, &y).contains(&true) => return Some((y, Placed::SlipStopped)),
         _ => [false; 2],
     };
     settle_grip(ctx, sticks, &mut y);
     let r = ctx.system::<TwoContactsPhase>().evaluate(&y).response;
     let pressed = r.second_normal > 0.0 && r.normal - r.second_normal > 0.0;
-    (pressed && r.painleve > PAINLEVE_COLLAPSE).then_some(y)
+    (pressed && r.painleve > PAINLEVE_COLLAPSE).then_some((y, Placed::In(Mode::TwoContacts)))
 }
 
 /// Whether each contact's slip at the contact-form state `y` (`Context::sticks` as the
-/// law's) is within the two-contact slip stop (`Numerics::two_contact_stop`).
+/// law's) is within its stop on two contacts (`phase::above_stop`).
 fn stopped<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> [bool; 2] {
     let sys = ctx.system::<TwoContactsPhase>();
     let ev = sys.evaluate(y);
-    let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
-    let second = Kinematics {
-        contact,
-        slip,
-        ..ev.kin
-    };
-    [&ev.kin, &second].map(|kin| kin.slip.norm() <= ctx.numerics.two_contact_stop(kin))
+    sys.contact
+        .each(&sys.body, &ev.kin)
+        .map(|kin| above_stop(ctx, &kin) <= 0.0)
 }
 
 /// The grip of the two contacts at `y`, from `sticks` on: in the Coulomb model (point
@@ -569,10 +567,9 @@ fn settle_grip<E: Effect + Copy + 'static>(
     mut sticks: [bool; 2],
     y: &mut State,
 ) {
-    let coulomb = matches!(ctx.scene.contact, ContactModel::Coulomb { .. });
     // Sticking one contact changes the other's slip: it is checked again after.
     for _ in 0..2 {
-        if coulomb && ctx.scene.disc.is_none() {
+        if grips(ctx) {
             let stopped = stopped(ctx, y);
             sticks = [0, 1].map(|i| sticks[i] || stopped[i]);
         }
@@ -618,13 +615,8 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
     let forces = sys
         .contact
         .forces(&sys.body, sys.gravity, &ev.kin, &ev.load);
-    let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
-    let second = Kinematics {
-        contact,
-        slip,
-        ..ev.kin
-    };
-    let size = [&ev.kin, &second].map(|kin| 2.0 * ctx.numerics.two_contact_stop(kin));
+    let size =
+        (sys.contact.each(&sys.body, &ev.kin)).map(|kin| 2.0 * ctx.numerics.two_contact_stop(&kin));
     let unit = |v: Vector2<f64>, fallback: Vector2<f64>| {
         if v.norm() > 0.0 {
             v.normalize()
@@ -913,8 +905,9 @@ enum Staying {
 ///   v_Gz from the contact, their kinetic energy in W), where the plane pushes there
 ///   (N > 0); else flight from the state on the plane where flight is consistent, else
 ///   stop `inconsistent_contact`; a landing the rule ends stops `slip_stopped`.
-/// - Both stay: the two-contact phase ([`onto_two_contacts`]), or, where it cannot take
-///   them, stop `several_contacts`.
+/// - Both stay: the two-contact phase ([`onto_two_contacts`]), a stop `slip_stopped`
+///   where the model ends at the slip stop, or, where the phase cannot take them (a
+///   normal force ≤ 0, the law inconsistent), stop `several_contacts`.
 ///
 /// Records each surface's impact (`reports`, persistent where it stays on the plane) and
 /// the mode switch.
@@ -995,10 +988,19 @@ fn settle<E: Effect + Copy + 'static>(
             let mut on = *y;
             clear_flight_slots(ctx, &mut on);
             match onto_two_contacts(ctx, on) {
-                Some(on) => {
+                Some((on, placed)) => {
                     record(events, &[first, second]);
                     *y = on;
-                    go(events, Mode::TwoContacts)
+                    match placed {
+                        Placed::In(mode) => go(events, mode),
+                        Placed::SlipStopped => {
+                            events.push(EventRecord {
+                                kind: EventKind::SlipStop,
+                                t,
+                            });
+                            Next::Stop(Status::SlipStopped, Mode::TwoContacts)
+                        }
+                    }
                 }
                 None => Next::Stop(
                     Status::SeveralContacts {

@@ -59,7 +59,7 @@ pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
 pub(super) use sliding::{SlidingPhase, set_reference, slip_has_stopped, slip_is_zero};
-pub(super) use two_contacts::TwoContactsPhase;
+pub(super) use two_contacts::{TwoContactsPhase, above_stop, grips};
 pub(super) use viscous::ViscousPhase;
 
 /// The contact phase in force (docs/physics.md, models 1–5).

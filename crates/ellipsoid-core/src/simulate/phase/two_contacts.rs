@@ -2,8 +2,9 @@
 //! spheres"; the law `model::TwoContacts`): the surface in contact (`Context::surface`)
 //! and a second one (`Context::second`), which stick where `Context::sticks` says.
 //! Watches: each normal force (g = N_1, g = N_2: that surface leaves, and the body goes
-//! on touching with the other), each sliding contact's slip falling to its stop (the slip
-//! band's width: in the Coulomb model it sticks there, `transition::grip`), each hold of
+//! on touching with the other), each sliding contact's slip falling to its stop
+//! ([`above_stop`]: in the Coulomb model it sticks there, `transition::grip`; the sliding
+//! model and a contact disc end there, as on one contact), each hold of
 //! the sticking ones (`model::Hold`: the cone left, that contact or both slide,
 //! `transition::release`), the law's Painlevé denominator while a contact slides, and
 //! any third surface's gap (three contacts are not simulated: `several_contacts`).
@@ -13,10 +14,10 @@ use crate::effects::Effect;
 use crate::model::{Evaluation, Hold, Kinematics, System, TwoContacts};
 use crate::state::State;
 
-use super::{Next, Phase, touch_gap};
+use super::{Next, Phase, SlidingPhase, touch_gap};
 use crate::simulate::context::Context;
 use crate::simulate::numerics::PAINLEVE_COLLAPSE;
-use crate::simulate::outcome::{EventRecord, Mode, Status};
+use crate::simulate::outcome::{EventKind, EventRecord, Mode, Status};
 use crate::simulate::scene::ContactModel;
 use crate::simulate::transition::{grip, leave_second, painleve, release};
 
@@ -29,9 +30,9 @@ pub(in crate::simulate) enum TwoContactsWatch {
     First,
     /// g = N_2 (the second surface leaves).
     Second,
-    /// g = |v_C1| − its stop (the first contact's slip stops; `Numerics::two_contact_stop`).
+    /// g = the first contact's slip above its stop ([`above_stop`]).
     FirstSlip,
-    /// g = |v_C2| − its stop.
+    /// g = the second contact's slip above its stop.
     SecondSlip,
     /// g = the margin of a sticking contact's hold ([`Hold`]).
     Holds(Hold),
@@ -93,19 +94,12 @@ impl Phase for TwoContactsPhase {
         _y: &State,
     ) -> f64 {
         let r = &ev.response;
-        let above_stop = |kin: &Kinematics| kin.slip.norm() - ctx.numerics.two_contact_stop(kin);
+        let slip = |i: usize| above_stop(ctx, &sys.contact.each(&sys.body, &ev.kin)[i]);
         match watch {
             TwoContactsWatch::First => r.normal - r.second_normal,
             TwoContactsWatch::Second => r.second_normal,
-            TwoContactsWatch::FirstSlip => above_stop(&ev.kin),
-            TwoContactsWatch::SecondSlip => {
-                let (contact, slip) = sys.contact.second(&sys.body, &ev.kin);
-                above_stop(&Kinematics {
-                    contact,
-                    slip,
-                    ..ev.kin
-                })
-            }
+            TwoContactsWatch::FirstSlip => slip(0),
+            TwoContactsWatch::SecondSlip => slip(1),
             TwoContactsWatch::Holds(hold) => sys
                 .contact
                 .forces(&sys.body, sys.gravity, &ev.kin, &ev.load)
@@ -146,11 +140,12 @@ impl Phase for TwoContactsPhase {
         match watch {
             TwoContactsWatch::First => leave_second(ctx, true, *t, y, events),
             TwoContactsWatch::Second => leave_second(ctx, false, *t, y, events),
-            TwoContactsWatch::FirstSlip | TwoContactsWatch::SecondSlip
-                if !matches!(ctx.scene.contact, ContactModel::Coulomb { .. })
-                    || ctx.scene.disc.is_some() =>
-            {
-                stop(ctx.second.get())
+            TwoContactsWatch::FirstSlip | TwoContactsWatch::SecondSlip if !grips(ctx) => {
+                events.push(EventRecord {
+                    kind: EventKind::SlipStop,
+                    t: *t,
+                });
+                Next::Stop(Status::SlipStopped, Mode::TwoContacts)
             }
             TwoContactsWatch::FirstSlip | TwoContactsWatch::SecondSlip => {
                 let mut sticks = ctx.sticks.get();
@@ -167,5 +162,25 @@ impl Phase for TwoContactsPhase {
             ),
             TwoContactsWatch::Touch(surface) => stop(surface),
         }
+    }
+}
+
+/// Whether a contact whose slip stops on two contacts sticks there: in the Coulomb model
+/// with point contacts. In the sliding model, and with a contact disc (which sticks only
+/// where its spin has stopped too, which it does not take), the run ends there with
+/// status `slip_stopped`, as on one contact (docs/physics.md, "Two contacts").
+pub(in crate::simulate) fn grips<E>(ctx: &Context<'_, E>) -> bool {
+    matches!(ctx.scene.contact, ContactModel::Coulomb { .. }) && ctx.scene.disc.is_none()
+}
+
+/// How far the slip of the contact with kinematics `kin` is above its stop on two contacts
+/// \[m/s\]: with point contacts |v_C| − `Numerics::two_contact_stop`; with a contact disc
+/// its stop speed √(|v_C|² + (R ω_n)²) (`Sliding::stop_speed`) less the threshold the
+/// one-contact phase stops at (`Numerics::stop_threshold`): through v_C = 0 the disc's law
+/// is smooth while it spins.
+pub(in crate::simulate) fn above_stop<E>(ctx: &Context<'_, E>, kin: &Kinematics) -> f64 {
+    match ctx.scene.disc {
+        None => kin.slip.norm() - ctx.numerics.two_contact_stop(kin),
+        Some(_) => SlidingPhase::law(ctx).stop_speed(kin) - ctx.numerics.stop_threshold(kin, true),
     }
 }
