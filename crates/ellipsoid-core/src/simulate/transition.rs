@@ -909,8 +909,8 @@ enum Staying {
 ///   where the model ends at the slip stop, or, where the phase cannot take them (a
 ///   normal force ≤ 0, the law inconsistent), stop `several_contacts`.
 ///
-/// Records each surface's impact (`reports`, persistent where it stays on the plane) and
-/// the mode switch.
+/// Records each surface's impact (`reports`, persistent where it stays on the plane), the
+/// mode switch and, entering two contacts, a `grip` event for each contact that sticks.
 #[allow(clippy::too_many_arguments)]
 fn settle<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
@@ -992,7 +992,11 @@ fn settle<E: Effect + Copy + 'static>(
                     record(events, &[first, second]);
                     *y = on;
                     match placed {
-                        Placed::In(mode) => go(events, mode),
+                        Placed::In(mode) => {
+                            let next = go(events, mode);
+                            record_grip(ctx, [false; 2], t, events);
+                            next
+                        }
                         Placed::SlipStopped => {
                             events.push(EventRecord {
                                 kind: EventKind::SlipStop,
