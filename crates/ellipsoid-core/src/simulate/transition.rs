@@ -1149,28 +1149,13 @@ pub(super) fn renew_reference<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, 
 }
 
 /// A persistent landing's state with z_G and v_Gz given by the contact from now on
-/// (their slots cleared for the slip reference). The contact's residual normal velocity
-/// v_n = v_Gz + u·ω (u = r × ζ: a rebound below the settling speed, or, at a second
-/// touchdown, the pressed surface's v_k⁺) is first removed by a normal impulse Λ at C,
-/// ```text
-///   Λ = −v_n/k,   k = 1/m + u·I⁻¹u,   v_Gz += Λ/m,   ω += Λ I⁻¹u
-/// ```
-/// (v_Gz then follows from the contact, v_Gz = −u·ω),
-/// an impulse that takes ½ v_n²/k of kinetic energy (docs/physics.md, "Settling"); setting v_Gz to
-/// the contact's alone would change it by m v_Gz v_n, of either sign. The energy the map
-/// changes is booked in W, so E + W stays exact and W does not fall.
+/// (their slots cleared for the slip reference): the kinetic energy of the rebound this
+/// removes (below the settling speed) is booked in W, so E + W stays exact.
 fn clear_flight_slots<E>(ctx: &Context<'_, E>, y: &mut State) {
     let body = &ctx.body();
     let energy =
         |kin: &Kinematics| Invariants::from_kinematics(body, ctx.scene.gravity, kin, 0.0).energy;
     let flying = energy(&Kinematics::flying(body, y));
-    let kin = Kinematics::flying_at(body, body.surface(), y);
-    let u = kin.contact.u;
-    let i_inv_u = body.inertia_inv() * u;
-    let impulse = -(kin.v_g.z + u.dot(&kin.omega)) / (1.0 / body.mass() + u.dot(&i_inv_u));
-    for i in 0..3 {
-        y[state::OMEGA + i] += impulse * i_inv_u[i];
-    }
     y[state::HEIGHT] = 0.0;
     y[state::VEL_Z] = 0.0;
     y[state::WORK] += flying - energy(&Kinematics::new(body, y, false));
