@@ -72,7 +72,11 @@ pub struct Forces {
     /// The power of the contact forces, −Σ_i (F_i·v_Ci + t_i·ω) \[W\], a sticking
     /// contact's F_i·v_Ci taken as zero: its slip is the integration's drift (removed after
     /// every step by [`TwoContacts::impel`], which books the energy it takes), and the
-    /// force's work on it, of either sign, would make W fall.
+    /// force's work on it, of either sign, would make W fall. With both sticking, t_i·ω is
+    /// taken on ω's part along C_1C_2, the one turn the constraints leave: the rest is drift
+    /// too (zero on the constraints), and a power that is zero there and positive at the
+    /// stages off them would make W fall through the negative weights of the
+    /// Runge–Kutta quadrature (a spin friction's, 2e-15 J a step).
     pub power: f64,
     /// With both contacts sticking, the unit vector along C_1C_2 (world, horizontal);
     /// else zero.
@@ -316,6 +320,13 @@ impl TwoContacts {
             torque += x[k] * pulls[k].torque;
         }
         let tangential = [(kin.rot * at[0]).xy(), (kin.rot * at[1]).xy()];
+        // Both sticking, the body can only turn about C_1C_2: the rest of ω is drift.
+        let turn = if self.sticks == [true, true] {
+            let e = kin.rot.tr_mul(&Vector3::new(line.x, line.y, 0.0));
+            e * e.dot(&w)
+        } else {
+            w
+        };
         Forces {
             normal: [at[0].dot(&zeta), at[1].dot(&zeta)],
             tangential,
@@ -327,7 +338,7 @@ impl TwoContacts {
                 .filter(|&i| !self.sticks[i])
                 .map(|i| tangential[i].dot(&p.slip[i]))
                 .sum::<f64>()
-                - torque.dot(&w),
+                - torque.dot(&turn),
             line,
         }
     }
