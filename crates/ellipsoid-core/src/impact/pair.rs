@@ -291,6 +291,16 @@ mod tests {
         (body, Vector3::new(-0.12, 0.01, -0.05))
     }
 
+    /// Uniform numbers in [−1, 1) from a xorshift generator seeded with `seed`.
+    fn uniform(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+        }
+    }
+
     fn kinetic(body: &Approach, v_g: &Vector3<f64>, omega: &Vector3<f64>) -> f64 {
         let inertia = body.inertia_inv.try_inverse().unwrap();
         0.5 * body.mass * v_g.norm_squared() + 0.5 * omega.dot(&(inertia * omega))
@@ -368,13 +378,7 @@ mod tests {
     #[test]
     fn coulomb_pair_obeys_the_law_and_never_adds_energy() {
         // Random approaches, half of them elastic (e = 1).
-        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
-        let mut uniform = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut uniform = uniform(0x2545_f491_4f6c_dd1d);
         let (mut slid, mut plastic) = (0, 0);
         for _ in 0..300 {
             let v = Vector3::new(uniform(), uniform(), -1.0 - uniform().abs());
@@ -415,13 +419,7 @@ mod tests {
     /// (rolling) and the first strikes.
     #[test]
     fn no_slip_pair_is_coulomb_with_enough_friction() {
-        let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
-        let mut uniform = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut uniform = uniform(0x9e37_79b9_7f4a_7c15);
         let [mut compared, mut both, mut one, mut none] = [0; 4];
         for _ in 0..300 {
             let w = Vector3::new(10.0 * uniform(), 10.0 * uniform(), 30.0 * uniform());

@@ -94,12 +94,13 @@ impl Phase for TwoContactsPhase {
         _y: &State,
     ) -> f64 {
         let r = &ev.response;
-        let slip = |i: usize| above_stop(ctx, &sys.contact.each(&sys.body, &ev.kin)[i]);
         match watch {
             TwoContactsWatch::First => r.normal - r.second_normal,
             TwoContactsWatch::Second => r.second_normal,
-            TwoContactsWatch::FirstSlip => slip(0),
-            TwoContactsWatch::SecondSlip => slip(1),
+            TwoContactsWatch::FirstSlip => above_stop(ctx, &ev.kin),
+            TwoContactsWatch::SecondSlip => {
+                above_stop(ctx, &sys.contact.each(&sys.body, &ev.kin)[1])
+            }
             TwoContactsWatch::Holds(hold) => sys
                 .contact
                 .forces(&sys.body, sys.gravity, &ev.kin, &ev.load)
