@@ -10,7 +10,7 @@ use std::path::Path;
 use common::{G, run};
 use ellipsoid_core::body::{Body, Sphere, Surface};
 use ellipsoid_core::geometry::{self, Contact};
-use ellipsoid_core::model::{System, TwoContacts};
+use ellipsoid_core::model::{Contacts, System};
 use ellipsoid_core::simulate::{EventKind, Mode, Outcome, Sample, Status};
 use nalgebra::{Matrix3, Vector3};
 
@@ -224,11 +224,11 @@ fn the_tippe_top_on_its_stem_rises_falls_back_and_rests_on_two_contacts() {
 #[test]
 fn val_two_contacts_at_rest_carry_the_statics_normal_forces() {
     for (set, friction, sticks) in [
-        (&[] as &[&str], 0.0, [false; 2]),
+        (&[] as &[&str], 0.0, [false; 3]),
         (
             &["contact.model=\"coulomb\"", "contact.friction=0.5"][..],
             0.5,
-            [true; 2],
+            [true; 3],
         ),
     ] {
         let (out, samples) = load("tests/data/spheres/top-lying.toml", set);
@@ -239,17 +239,18 @@ fn val_two_contacts_at_rest_carry_the_statics_normal_forces() {
         let system = System {
             body: body.touching(Surface::Ellipsoid),
             gravity: G,
-            contact: TwoContacts {
+            contact: Contacts {
                 friction,
                 disc: None,
-                other: Surface::Sphere(0),
+                others: [Surface::Sphere(0); 2],
+                count: 2,
                 sticks,
             },
             effects: (),
         };
         let ev = system.evaluate(&y);
         let forces = system.contact.forces(&system.body, G, &ev.kin, &ev.load);
-        let [n_rim, n_peg] = forces.normal;
+        let [n_rim, n_peg, _] = forces.normal;
         // The statics: the horizontal levers (world) of the two contacts about G.
         let rot = ev.kin.rot;
         let zeta = ev.kin.contact.zeta;

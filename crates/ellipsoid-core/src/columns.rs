@@ -352,7 +352,7 @@ mod tests {
             drift: v,
             gap: v,
             mode: Mode::Sliding,
-            touching: [None, None],
+            touching: [None; crate::model::MOST_CONTACTS],
         }
     }
 

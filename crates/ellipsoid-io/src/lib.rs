@@ -208,7 +208,7 @@ mod tests {
             slip_speed: 0.0,
             gap: 0.0,
             mode: Mode::Sliding,
-            touching: [None, None],
+            touching: [None; ellipsoid_core::model::MOST_CONTACTS],
         }
     }
 

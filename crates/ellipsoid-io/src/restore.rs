@@ -7,6 +7,7 @@ use ellipsoid_core::body::{Body, Surface};
 use ellipsoid_core::columns::{Layout, NUMERIC, NUMERIC_COLUMNS, SURFACE_COLUMNS};
 use ellipsoid_core::integrate::{IntegrateError, Method, Stats};
 use ellipsoid_core::invariants::{Drift, Invariant, Invariants};
+use ellipsoid_core::model::MOST_CONTACTS;
 use ellipsoid_core::scenario::Scenario;
 use ellipsoid_core::simulate::{
     Chatter, EventKind, EventRecord, ImpactReport, Mode, Sample, Status,
@@ -31,10 +32,9 @@ pub fn sample(layout: &Layout, v: &[f64], label: &str) -> Option<Sample> {
         Surface::Sphere(k) => v[NUMERIC + SURFACE_COLUMNS.len() * (k + 1)],
     };
     let touching = match (mode, surfaces.as_slice()) {
-        (Mode::Flight, _) => [None, None],
-        (_, []) => [Some((Surface::Ellipsoid, v[17])), None],
-        (_, [a]) => [Some((*a, normal(*a))), None],
-        (_, [a, b, ..]) => [Some((*a, normal(*a))), Some((*b, normal(*b)))],
+        (Mode::Flight, _) => [None; MOST_CONTACTS],
+        (_, []) => std::array::from_fn(|i| (i == 0).then_some((Surface::Ellipsoid, v[17]))),
+        (_, on) => std::array::from_fn(|i| on.get(i).map(|&s| (s, normal(s)))),
     };
     Some(Sample {
         t: v[0],

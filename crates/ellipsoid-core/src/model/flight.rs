@@ -36,7 +36,7 @@ impl ContactLaw for Flight {
             normal: 0.0,
             omega_dot: body.inertia_inv() * free,
             painleve: f64::INFINITY,
-            second_normal: 0.0,
+            other_normals: [0.0; super::MOST_CONTACTS - 1],
             contact_power: None,
         }
     }

@@ -13,20 +13,20 @@
 //! constraint cannot drift. The contact law ([`ContactLaw`]) decides F from the
 //! acceleration-level constraint z̈_G = −u·ω̇ − κ (and, when rolling, v_C = 0).
 
+pub mod contacts;
 pub mod contensou;
 pub mod flight;
 mod frictionless;
 mod rolling;
 pub mod sliding;
-mod two_contacts;
 mod viscous;
 
+pub use contacts::{Contacts, Forces, Hold, MOST_CONTACTS};
 pub use contensou::ContactDisc;
 pub use flight::Flight;
 pub use frictionless::Frictionless;
 pub use rolling::Rolling;
 pub use sliding::{Sliding, SlipBand};
-pub use two_contacts::{Forces, Hold, TwoContacts};
 pub use viscous::Viscous;
 
 use nalgebra::{Matrix3, Vector2, Vector3};
@@ -134,9 +134,9 @@ pub struct Response {
     /// The factor multiplying N in the unilateral contact equation; ≤ 0 means a
     /// Painlevé inconsistency (sliding). Infinite where it does not apply.
     pub painleve: f64,
-    /// With two surfaces in contact ([`TwoContacts`]), the normal force at the second
-    /// \[N\] (`normal` is then the sum); 0 otherwise.
-    pub second_normal: f64,
+    /// With several surfaces in contact ([`Contacts`]), the normal forces at the others
+    /// \[N\] (`normal` is then the sum of all); 0 otherwise.
+    pub other_normals: [f64; MOST_CONTACTS - 1],
     /// The power the contact forces dissipate, where the law computes it (two contacts)
     /// \[W\]; `None`: −F·v_C − N τ_N·ω of the one contact ([`Evaluation::dissipation`]).
     pub contact_power: Option<f64>,
@@ -310,7 +310,7 @@ pub(crate) fn unilateral(
         normal,
         omega_dot: i_inv * (normal * lever + free),
         painleve,
-        second_normal: 0.0,
+        other_normals: [0.0; MOST_CONTACTS - 1],
         contact_power: None,
     }
 }

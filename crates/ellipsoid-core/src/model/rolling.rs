@@ -90,7 +90,7 @@ impl ContactLaw for Rolling {
             normal,
             omega_dot: i_inv * (c.r.cross(&f_b) + normal * load.torque_per_normal + free),
             painleve: f64::INFINITY,
-            second_normal: 0.0,
+            other_normals: [0.0; super::MOST_CONTACTS - 1],
             contact_power: None,
         }
     }

@@ -9,7 +9,7 @@ use nalgebra::Vector3;
 
 use crate::body::{Body, Surface};
 use crate::invariants::Invariants;
-use crate::model::{ContactLaw, Evaluation, System};
+use crate::model::{ContactLaw, Evaluation, MOST_CONTACTS, System};
 use crate::state::{self, EulerAngles, State};
 
 use super::numerics::Numerics;
@@ -29,10 +29,13 @@ pub(super) struct Context<'s, E> {
     /// in flight): the contact phases' geometry is this surface's. Changed only by the
     /// transitions (`transition::touch`).
     pub(super) surface: Cell<Surface>,
-    /// The second surface in contact in the two-contact phase (`phase::two_contacts`).
-    pub(super) second: Cell<Surface>,
-    /// Which of the two contacts stick in the two-contact phase (the first, the second).
-    pub(super) sticks: Cell<[bool; 2]>,
+    /// The other surfaces in contact in the several-contact phases (`phase::contacts`),
+    /// in order: the first `count − 1`.
+    pub(super) others: Cell<[Surface; MOST_CONTACTS - 1]>,
+    /// How many surfaces are in contact in the several-contact phases (2 or 3).
+    pub(super) count: Cell<usize>,
+    /// Which contacts stick in the several-contact phases (`surface`, then `others`).
+    pub(super) sticks: Cell<[bool; MOST_CONTACTS]>,
 }
 
 impl<E> Context<'_, E> {
@@ -50,8 +53,9 @@ impl<'s, E: Copy> Context<'s, E> {
             effects,
             cancel,
             surface: Cell::new(Surface::Ellipsoid),
-            second: Cell::new(Surface::Ellipsoid),
-            sticks: Cell::new([false; 2]),
+            others: Cell::new([Surface::Ellipsoid; MOST_CONTACTS - 1]),
+            count: Cell::new(2),
+            sticks: Cell::new([false; MOST_CONTACTS]),
         }
     }
 
@@ -81,15 +85,20 @@ impl<'s, E: Copy> Context<'s, E> {
         let inv = Invariants::from_kinematics(&sys.body, sys.gravity, kin, y[state::WORK]);
         let position = Vector3::new(y[state::POS], y[state::POS + 1], kin.z_g());
         let normal_force = self.numerics.reported_normal(&sys.body, sys.gravity, ev);
-        let second = ev.response.second_normal;
-        let touching = match mode {
-            Mode::Flight => [None, None],
-            Mode::TwoContacts => [
-                Some((self.surface.get(), normal_force - second)),
-                Some((self.second.get(), second)),
-            ],
-            _ => [Some((self.surface.get(), normal_force)), None],
+        let others = ev.response.other_normals;
+        let count = match mode {
+            Mode::Flight => 0,
+            Mode::TwoContacts | Mode::ThreeContacts => self.count.get(),
+            _ => 1,
         };
+        let touching = std::array::from_fn(|i| match i {
+            _ if i >= count => None,
+            0 => Some((
+                self.surface.get(),
+                normal_force - others.iter().sum::<f64>(),
+            )),
+            _ => Some((self.others.get()[i - 1], others[i - 1])),
+        });
         let sample = Sample {
             t,
             position,

@@ -7,6 +7,7 @@ use nalgebra::{Vector2, Vector3};
 use crate::body::Surface;
 use crate::integrate::{IntegrateError, Stats};
 use crate::invariants::{Drift, Invariants};
+use crate::model::MOST_CONTACTS;
 use crate::state::{EulerAngles, State};
 
 pub use super::phase::Mode;
@@ -37,9 +38,9 @@ pub struct Sample {
     /// Height of the body's lowest point above the plane \[m\] (0 in contact).
     pub gap: f64,
     pub mode: Mode,
-    /// The surfaces in contact, each with its normal force \[N\]: none in flight, a
-    /// second only in the two-contact phase (their sum is `normal_force`).
-    pub touching: [Option<(Surface, f64)>; 2],
+    /// The surfaces in contact, each with its normal force \[N\]: none in flight, more
+    /// than one only in the several-contact phases (their sum is `normal_force`).
+    pub touching: [Option<(Surface, f64)>; MOST_CONTACTS],
 }
 
 /// What happened during a run.

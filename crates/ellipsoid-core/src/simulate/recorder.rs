@@ -183,7 +183,7 @@ mod tests {
             drift: 0.0,
             gap: 0.0,
             mode: Mode::Rolling,
-            touching: [None, None],
+            touching: [None; crate::model::MOST_CONTACTS],
         };
         assert!(rec.emit(&mut s, &inv).is_continue());
         s.omega.y = f64::NAN;

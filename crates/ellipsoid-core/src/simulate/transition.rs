@@ -42,7 +42,7 @@ use crate::geometry::Contact;
 use crate::impact::{self, Approach, Tangential};
 use crate::integrate::{IntegrateError, OdeSystem, rk4_step};
 use crate::invariants::Invariants;
-use crate::model::{Hold, Kinematics, Rolling, Sliding};
+use crate::model::{Contacts, Hold, Kinematics, MOST_CONTACTS, Rolling, Sliding, System};
 use crate::state::{self, State};
 
 use super::context::Context;
@@ -51,8 +51,8 @@ use super::numerics::{
 };
 use super::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
 use super::phase::{
-    FlightPhase, FrictionlessPhase, Next, RollingPhase, TwoContactsPhase, above_stop, grips, phase,
-    set_reference, slip_has_stopped, slip_is_zero,
+    ContactsPhase, FlightPhase, FrictionlessPhase, Next, RollingPhase, above_stop, contacts_mode,
+    grips, holds, normal, phase, set_reference, slip_has_stopped, slip_is_zero, touching,
 };
 use super::scene::{ContactModel, LiftOff};
 
@@ -360,10 +360,7 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     } else {
         let (hit, after, settles) = strike.settled(law, single, onto_pressed);
         let staying = if settles {
-            Staying::Both {
-                first: pressed,
-                second: touching,
-            }
+            Staying::several(&[pressed, touching])
         } else {
             Staying::One(pressed)
         };
@@ -437,10 +434,7 @@ fn pair_touchdown<E: Effect + Copy + 'static>(
         (hit, after, stays) = solve(0.0)?;
     }
     let staying = match stays {
-        [true, true] => Staying::Both {
-            first: pressed,
-            second: strike.surface,
-        },
+        [true, true] => Staying::several(&[pressed, strike.surface]),
         [true, false] => Staying::One(strike.surface),
         [false, true] => Staying::One(pressed),
         [false, false] => Staying::Neither,
@@ -508,91 +502,97 @@ fn normal_velocity(body: &Body, surface: Surface, y: &State) -> f64 {
     kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z
 }
 
-/// The contact-form state `y` (on `Context::surface`) on both surfaces: the second
-/// contact's constraint restored (`TwoContacts::project`, the energy it changes booked in
-/// W) and the contacts' grip settled ([`settle_grip`]: in the Coulomb model a contact
-/// whose slip is within its stop on two contacts (`phase::above_stop`) sticks; in the
-/// rolling model both do). It goes into the two-contact phase where then both normal
-/// forces are positive and the law consistent; it is `Placed::SlipStopped` where, in the
-/// sliding model or with a contact disc, a contact's slip is within its stop (the run ends
-/// there, as it does on one contact); else `None`.
-fn onto_two_contacts<E: Effect + Copy + 'static>(
+/// The several-contact system of the surfaces in contact (`Context::count` of them).
+fn contacts<E: Copy>(ctx: &Context<'_, E>) -> System<Contacts, E> {
+    match ctx.count.get() {
+        2 => ctx.system::<ContactsPhase<2>>(),
+        _ => ctx.system::<ContactsPhase<3>>(),
+    }
+}
+
+/// The contact-form state `y` (on `Context::surface`) on the surfaces in contact
+/// (`Context::surface`, `Context::others`, `Context::count`): the other contacts'
+/// constraints restored (`Contacts::project`, the energy it changes booked in W) and the
+/// contacts' grip settled ([`settle_grip`]: in the Coulomb model a contact whose slip is
+/// within its stop on several contacts (`phase::above_stop`) sticks; in the rolling model
+/// all do). It goes into the several-contact phase where then every normal force is
+/// positive and the law consistent; it is `Placed::SlipStopped` where, in the sliding
+/// model or with a contact disc, a contact's slip is within its stop (the run ends there,
+/// as it does on one contact); else `None`.
+fn onto_contacts<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     mut y: State,
 ) -> Option<(State, Placed)> {
-    ctx.sticks.set([false; 2]);
-    let sys = ctx.system::<TwoContactsPhase>();
+    ctx.sticks.set([false; MOST_CONTACTS]);
+    let sys = contacts(ctx);
     let energy = |y: &State| {
         Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
     };
     let before = energy(&y);
     sys.project(&mut y);
-    // The projection removes the second contact's residual gap and normal velocity (within
-    // the gap's resolution and the settling speed): the energy it takes is booked in W, as
-    // a persistent landing books its rebound's, so that E + W stays exact.
+    // The projection removes the other contacts' residual gaps and normal velocities
+    // (within the gap's resolution and the settling speed): the energy it takes is booked
+    // in W, as a persistent landing books its rebound's, so that E + W stays exact.
     y[state::WORK] += before - energy(&y);
     let sticks = match ctx.scene.contact {
-        ContactModel::Rolling => [true; 2],
-        ContactModel::Frictionless | ContactModel::Viscous { .. } => [false; 2],
-        _ if grips(ctx) => [false; 2],
+        ContactModel::Rolling => [true; MOST_CONTACTS],
+        ContactModel::Frictionless | ContactModel::Viscous { .. } => [false; MOST_CONTACTS],
+        _ if grips(ctx) => [false; MOST_CONTACTS],
         _ if stopped(ctx, &y).contains(&true) => return Some((y, Placed::SlipStopped)),
-        _ => [false; 2],
+        _ => [false; MOST_CONTACTS],
     };
     settle_grip(ctx, sticks, &mut y);
-    let r = ctx.system::<TwoContactsPhase>().evaluate(&y).response;
-    let pressed = r.second_normal > 0.0 && r.normal - r.second_normal > 0.0;
-    (pressed && r.painleve > PAINLEVE_COLLAPSE).then_some((y, Placed::In(Mode::TwoContacts)))
+    let r = contacts(ctx).evaluate(&y).response;
+    let pressed = (0..ctx.count.get()).all(|i| normal(&r, i) > 0.0);
+    (pressed && r.painleve > PAINLEVE_COLLAPSE)
+        .then_some((y, Placed::In(contacts_mode(ctx.count.get()))))
 }
 
 /// Whether each contact's slip at the contact-form state `y` (`Context::sticks` as the
-/// law's) is within its stop on two contacts (`phase::above_stop`).
-fn stopped<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> [bool; 2] {
-    let sys = ctx.system::<TwoContactsPhase>();
-    let ev = sys.evaluate(y);
-    sys.contact
-        .each(&sys.body, &ev.kin)
-        .map(|kin| above_stop(ctx, &kin) <= 0.0)
+/// law's) is within its stop on several contacts (`phase::above_stop`).
+fn stopped<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> [bool; MOST_CONTACTS] {
+    let sys = contacts(ctx);
+    let each = sys.contact.each(&sys.body, &sys.evaluate(y).kin);
+    std::array::from_fn(|i| i < ctx.count.get() && above_stop(ctx, &each[i]) <= 0.0)
 }
 
-/// The grip of the two contacts at `y`, from `sticks` on: in the Coulomb model (point
+/// The grip of the contacts at `y`, from `sticks` on: in the Coulomb model (point
 /// contacts) every contact whose slip is within the slip stop sticks too ([`stopped`]:
 /// a slip left below the stop would never cross it, and its friction would flip with
 /// every step); the sticking contacts' slips are brought to zero by impulses at the
-/// contacts (`TwoContacts::impel`, the energy in W); then, in the Coulomb model, while a
+/// contacts (`Contacts::impel`, the energy in W); then, in the Coulomb model, while a
 /// hold of a sticking contact fails (`model::Hold`, its margin < 0), the one that fails
 /// most is released ([`release_hold`]) and the rest checked again. Sets
 /// `Context::sticks`.
 fn settle_grip<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
-    mut sticks: [bool; 2],
+    mut sticks: [bool; MOST_CONTACTS],
     y: &mut State,
 ) {
-    // Sticking one contact changes the other's slip: it is checked again after.
-    for _ in 0..2 {
+    let count = ctx.count.get();
+    // Sticking one contact changes the others' slips: they are checked again after.
+    for _ in 0..count {
         if grips(ctx) {
             let stopped = stopped(ctx, y);
-            sticks = [0, 1].map(|i| sticks[i] || stopped[i]);
+            sticks = std::array::from_fn(|i| sticks[i] || stopped[i]);
         }
         ctx.sticks.set(sticks);
-        if sticks != [false; 2] {
-            let sys = ctx.system::<TwoContactsPhase>();
-            sys.contact.impel(&sys.body, y, [Vector2::zeros(); 2]);
+        if sticks[..count].contains(&true) {
+            let sys = contacts(ctx);
+            sys.contact
+                .impel(&sys.body, y, [Vector2::zeros(); MOST_CONTACTS]);
         }
     }
     let ContactModel::Coulomb { friction } = ctx.scene.contact else {
         return;
     };
-    for _ in 0..3 {
-        let sys = ctx.system::<TwoContactsPhase>();
+    for _ in 0..=count {
+        let sys = contacts(ctx);
         let ev = sys.evaluate(y);
         let forces = sys
             .contact
             .forces(&sys.body, sys.gravity, &ev.kin, &ev.load);
-        let holds = match ctx.sticks.get() {
-            [true, true] => vec![Hold::Contact(0), Hold::Contact(1), Hold::Line],
-            sticks => (0..2).filter(|&i| sticks[i]).map(Hold::Contact).collect(),
-        };
-        let worst = holds
+        let worst = holds(ctx)
             .into_iter()
             .map(|h| (h, forces.margin(h, friction)))
             .min_by(|a, b| a.1.total_cmp(&b.1));
@@ -603,14 +603,15 @@ fn settle_grip<E: Effect + Copy + 'static>(
     }
 }
 
-/// Releases `hold` at `y`: the contact (or, for [`Hold::Line`], both) starts to slide,
-/// with a seed of slip opposite the friction sticking needed — across the line C_1C_2
-/// where the other contact sticks on, along it for the line — of twice the two-contact
-/// slip stop, so that the slip-stop watch starts above its zero (as the one-contact
-/// sliding phase seeds its onset, docs/physics.md "Friction along the slip, and the
-/// onset's seed"); the seed's kinetic energy is booked in W (`TwoContacts::impel`).
+/// Releases `hold` at `y`: the contact (or, for [`Hold::Line`], both of the line) starts
+/// to slide, with a seed of slip opposite the friction sticking needed — across the line
+/// C_1C_2 where the other contact of a sticking pair sticks on, along it for the line — of
+/// twice the several-contact slip stop, so that the slip-stop watch starts above its zero
+/// (as the one-contact sliding phase seeds its onset, docs/physics.md "Friction along the
+/// slip, and the onset's seed"); the seed's kinetic energy is booked in W
+/// (`Contacts::impel`).
 fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y: &mut State) {
-    let sys = ctx.system::<TwoContactsPhase>();
+    let sys = contacts(ctx);
     let ev = sys.evaluate(y);
     let forces = sys
         .contact
@@ -626,7 +627,7 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
     };
     let line = forces.line;
     let mut sticks = ctx.sticks.get();
-    let mut seed = [Vector2::zeros(); 2];
+    let mut seed = [Vector2::zeros(); MOST_CONTACTS];
     match hold {
         Hold::Contact(i) => {
             let t = forces.tangential[i];
@@ -635,23 +636,26 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
             sticks[i] = false;
         }
         Hold::Line => {
-            let along = (forces.tangential[0] + forces.tangential[1]).dot(&line);
-            let s = -along.signum() * line * size[0].max(size[1]);
-            seed = [s, s];
-            sticks = [false; 2];
+            let [i, j] = forces.pair;
+            let along = (forces.tangential[i] + forces.tangential[j]).dot(&line);
+            let s = -along.signum() * line * size[i].max(size[j]);
+            for k in [i, j] {
+                seed[k] = s;
+                sticks[k] = false;
+            }
         }
     }
     sys.contact.impel(&sys.body, y, seed);
     ctx.sticks.set(sticks);
 }
 
-/// A sliding contact of the two-contact phase stopped slipping at (t, y) (Coulomb model,
-/// point contacts): it sticks where its cone holds ([`settle_grip`], from `sticks`), and
-/// the phase goes on with the new grip; where a normal force is then not positive, that
-/// surface leaves ([`leave_second`]).
+/// A sliding contact of the several-contact phase stopped slipping at (t, y) (Coulomb
+/// model, point contacts): it sticks where its cone holds ([`settle_grip`], from
+/// `sticks`), and the phase goes on with the new grip; where a normal force is then not
+/// positive, that surface leaves ([`leave`]).
 pub(super) fn grip<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
-    sticks: [bool; 2],
+    sticks: [bool; MOST_CONTACTS],
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
@@ -659,11 +663,12 @@ pub(super) fn grip<E: Effect + Copy + 'static>(
     let before = ctx.sticks.get();
     settle_grip(ctx, sticks, y);
     record_grip(ctx, before, t, events);
-    go_on_two(ctx, t, y, events)
+    go_on(ctx, t, y, events)
 }
 
-/// A hold of the two-contact phase failed at (t, y) (its margin reached zero): that
-/// contact, or both, slide from here ([`release_hold`], then [`settle_grip`]).
+/// A hold of the several-contact phase failed at (t, y) (its margin reached zero): that
+/// contact, or the two of the line, slide from here ([`release_hold`], then
+/// [`settle_grip`]).
 pub(super) fn release<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     hold: Hold,
@@ -675,15 +680,19 @@ pub(super) fn release<E: Effect + Copy + 'static>(
     release_hold(ctx, hold, y);
     settle_grip(ctx, ctx.sticks.get(), y);
     record_grip(ctx, before, t, events);
-    go_on_two(ctx, t, y, events)
+    go_on(ctx, t, y, events)
 }
 
-/// Records a `grip` event for each of the two contacts whose sticking changed from
-/// `before`.
-fn record_grip<E>(ctx: &Context<'_, E>, before: [bool; 2], t: f64, events: &mut Vec<EventRecord>) {
-    let surfaces = [ctx.surface.get(), ctx.second.get()];
+/// Records a `grip` event for each contact whose sticking changed from `before`.
+fn record_grip<E>(
+    ctx: &Context<'_, E>,
+    before: [bool; MOST_CONTACTS],
+    t: f64,
+    events: &mut Vec<EventRecord>,
+) {
+    let surfaces = touching(ctx);
     let now = ctx.sticks.get();
-    for i in (0..2).filter(|&i| now[i] != before[i]) {
+    for i in (0..surfaces.len()).filter(|&i| now[i] != before[i]) {
         events.push(EventRecord {
             kind: EventKind::Grip {
                 surface: surfaces[i],
@@ -694,42 +703,78 @@ fn record_grip<E>(ctx: &Context<'_, E>, before: [bool; 2], t: f64, events: &mut 
     }
 }
 
-/// The two-contact phase goes on at (t, y) where both normal forces are positive; else
-/// the surface whose is not leaves.
-fn go_on_two<E: Effect + Copy + 'static>(
+/// The several-contact phase goes on at (t, y) where every normal force is positive; else
+/// the surface whose is least leaves ([`leave`]).
+fn go_on<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let r = ctx.system::<TwoContactsPhase>().evaluate(y).response;
-    if r.normal - r.second_normal <= 0.0 {
-        leave_second(ctx, true, t, y, events)
-    } else if r.second_normal <= 0.0 {
-        leave_second(ctx, false, t, y, events)
-    } else {
-        Next::Go(Mode::TwoContacts)
+    let r = contacts(ctx).evaluate(y).response;
+    let count = ctx.count.get();
+    let least = (0..count)
+        .map(|i| (i, normal(&r, i)))
+        .min_by(|a, b| a.1.total_cmp(&b.1));
+    match least {
+        Some((i, n)) if !(n > 0.0) => leave(ctx, i, t, y, events),
+        _ => Next::Go(contacts_mode(count)),
     }
 }
 
-/// One of the two surfaces in contact leaves the plane (its normal force reached zero:
-/// the first, `Context::surface`, with `first_leaves`, else the second) at (t, y): the
-/// body goes on touching with the other alone, which enters the phase the rule "on the
-/// plane" gives ([`on_plane`]), or leaves the plane as well where it does not push
-/// ([`lift_off`]).
-pub(super) fn leave_second<E: Effect + Copy + 'static>(
+/// A third surface touches down while two are in contact: not simulated yet, stop
+/// `several_contacts`.
+pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
-    first_leaves: bool,
+    surface: Surface,
+    _t: &mut f64,
+    _y: &mut State,
+    _events: &mut Vec<EventRecord>,
+) -> Next {
+    Next::Stop(
+        Status::SeveralContacts {
+            touching: surface,
+            pressed: ctx.surface.get(),
+            approach: 0.0,
+        },
+        Mode::TwoContacts,
+    )
+}
+
+/// Contact `i` of the several-contact phase leaves the plane (its normal force reached
+/// zero) at (t, y): the body goes on touching with the others — with two, the
+/// two-contact phase ([`go_on`]); with one, the phase the rule "on the plane" gives
+/// ([`on_plane`]), or it leaves the plane as well where that one does not push
+/// ([`lift_off`]).
+pub(super) fn leave<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    i: usize,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let stuck = ctx.sticks.get()[usize::from(first_leaves)];
-    if first_leaves {
-        touch(ctx, ctx.second.get(), t, events);
+    let count = ctx.count.get();
+    let from = contacts_mode(count);
+    let mut surfaces = touching(ctx);
+    let mut sticks = ctx.sticks.get()[..count].to_vec();
+    surfaces.remove(i);
+    sticks.remove(i);
+    if i == 0 {
+        touch(ctx, surfaces[0], t, events);
+    }
+    if count > 2 {
+        ctx.count.set(count - 1);
+        ctx.others.set(std::array::from_fn(|k| {
+            surfaces.get(k + 1).copied().unwrap_or(surfaces[0])
+        }));
+        ctx.sticks.set(std::array::from_fn(|k| {
+            sticks.get(k).copied().unwrap_or(false)
+        }));
+        switch(events, t, from, contacts_mode(count - 1));
+        return go_on(ctx, t, y, events);
     }
     let mut placed = *y;
-    match on_plane(ctx, Arrival::Landing { stuck }, &mut placed) {
+    match on_plane(ctx, Arrival::Landing { stuck: sticks[0] }, &mut placed) {
         Placed::SlipStopped => {
             *y = placed;
             events.push(EventRecord {
@@ -741,7 +786,7 @@ pub(super) fn leave_second<E: Effect + Copy + 'static>(
         Placed::In(mode) => {
             *y = placed;
             if pushes(ctx, mode, y) {
-                switch(events, t, Mode::TwoContacts, mode);
+                switch(events, t, from, mode);
                 Next::Go(mode)
             } else {
                 lift_off(ctx, mode, t, y, events)
@@ -891,11 +936,22 @@ impl Strike {
 enum Staying {
     Neither,
     One(Surface),
-    /// Both: `first` the surface whose geometry the two-contact phase takes.
-    Both {
-        first: Surface,
-        second: Surface,
+    /// Several, the first `count` of `surfaces`: the first the one whose geometry the
+    /// several-contact phase takes.
+    Several {
+        surfaces: [Surface; MOST_CONTACTS],
+        count: usize,
     },
+}
+
+impl Staying {
+    /// `surfaces` (two or three) stay.
+    fn several(surfaces: &[Surface]) -> Staying {
+        Staying::Several {
+            surfaces: std::array::from_fn(|i| surfaces.get(i).copied().unwrap_or(surfaces[0])),
+            count: surfaces.len(),
+        }
+    }
 }
 
 /// Where the body goes after an impact in mode `from` at `struck` (the touching surface)
@@ -905,7 +961,7 @@ enum Staying {
 ///   v_Gz from the contact, their kinetic energy in W), where the plane pushes there
 ///   (N > 0); else flight from the state on the plane where flight is consistent, else
 ///   stop `inconsistent_contact`; a landing the rule ends stops `slip_stopped`.
-/// - Both stay: the two-contact phase ([`onto_two_contacts`]), a stop `slip_stopped`
+/// - Several stay: the several-contact phase ([`onto_contacts`]), a stop `slip_stopped`
 ///   where the model ends at the slip stop, or, where the phase cannot take them (a
 ///   normal force ≤ 0, the law inconsistent), stop `several_contacts`.
 ///
@@ -982,19 +1038,20 @@ fn settle<E: Effect + Copy + 'static>(
                 },
             }
         }
-        Staying::Both { first, second } => {
-            touch(ctx, first, t, events);
-            ctx.second.set(second);
+        Staying::Several { surfaces, count } => {
+            touch(ctx, surfaces[0], t, events);
+            ctx.others.set([surfaces[1], surfaces[2]]);
+            ctx.count.set(count);
             let mut on = *y;
             clear_flight_slots(ctx, &mut on);
-            match onto_two_contacts(ctx, on) {
+            match onto_contacts(ctx, on) {
                 Some((on, placed)) => {
-                    record(events, &[first, second]);
+                    record(events, &surfaces[..count]);
                     *y = on;
                     match placed {
                         Placed::In(mode) => {
                             let next = go(events, mode);
-                            record_grip(ctx, [false; 2], t, events);
+                            record_grip(ctx, [false; MOST_CONTACTS], t, events);
                             next
                         }
                         Placed::SlipStopped => {
@@ -1002,15 +1059,15 @@ fn settle<E: Effect + Copy + 'static>(
                                 kind: EventKind::SlipStop,
                                 t,
                             });
-                            Next::Stop(Status::SlipStopped, Mode::TwoContacts)
+                            Next::Stop(Status::SlipStopped, contacts_mode(count))
                         }
                     }
                 }
                 None => Next::Stop(
                     Status::SeveralContacts {
-                        touching: second,
-                        pressed: first,
-                        approach: normal_velocity(&ctx.scene.body, first, y),
+                        touching: surfaces[count - 1],
+                        pressed: surfaces[0],
+                        approach: normal_velocity(&ctx.scene.body, surfaces[0], y),
                     },
                     from,
                 ),

@@ -21,7 +21,7 @@
 //! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left, lift-off |
 //! | flight | F = 0 | gap z_G − h(ζ) + δz of the lowest surface | touchdown |
 //! | viscous | F = N(e3 − μ_v v_C) | N, Painlevé denominator | lift-off, Painlevé |
-//! | two contacts | sliding at two surfaces (`model::TwoContacts`) | N_1, N_2, each slip − floor, Painlevé denominator, a third surface's gap | one surface leaves; stop `several_contacts` or `painleve` |
+//! | two contacts, three contacts | each contact sliding or sticking (`model::Contacts`) | each N_i, each sliding slip − floor, each sticking hold, Painlevé denominator, another surface's gap | a surface leaves, a contact grips or slides, a third touches down; stop `slip_stopped`, `painleve`, or a fourth surface `several_contacts` |
 //!
 //! With contact spheres every contact phase also watches each other surface's gap
 //! ([`touch_gap`]), whose touchdown is `transition::second_touchdown`.
@@ -30,11 +30,11 @@
 //! sliding phase watches N, √(\|v_C\|² + (R ω_n)²) − floor and the Painlevé denominator;
 //! slip and spin stopping together ends the run (see `sliding`).
 
+mod contacts;
 mod flight;
 mod frictionless;
 mod rolling;
 mod sliding;
-mod two_contacts;
 mod viscous;
 
 use std::marker::PhantomData;
@@ -55,11 +55,13 @@ use super::machine::{Segment, segment};
 use super::outcome::{EventRecord, Sample, Status};
 use super::recorder::Recorder;
 
+pub(super) use contacts::{
+    ContactsPhase, above_stop, contacts_mode, grips, holds, normal, touching,
+};
 pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
 pub(super) use sliding::{SlidingPhase, set_reference, slip_has_stopped, slip_is_zero};
-pub(super) use two_contacts::{TwoContactsPhase, above_stop, grips};
 pub(super) use viscous::ViscousPhase;
 
 /// The contact phase in force (docs/physics.md, models 1–5).
@@ -71,31 +73,34 @@ pub enum Mode {
     Rolling,
     /// Off the plane (docs/physics.md, "Flight").
     Flight,
-    /// Two surfaces on the plane at once, both sliding (docs/physics.md, "Contact
-    /// spheres").
+    /// Two surfaces on the plane at once (docs/physics.md, "Several contacts").
     TwoContacts,
     /// Viscous sliding friction (docs/physics.md, "Viscous sliding").
     Viscous,
+    /// Three surfaces on the plane at once (docs/physics.md, "Several contacts").
+    ThreeContacts,
 }
 
 impl Mode {
     /// Every mode, in [`Mode::NAMES`] order.
-    pub const ALL: [Mode; 6] = [
+    pub const ALL: [Mode; 7] = [
         Mode::Frictionless,
         Mode::Sliding,
         Mode::Rolling,
         Mode::Flight,
         Mode::TwoContacts,
         Mode::Viscous,
+        Mode::ThreeContacts,
     ];
     /// Their names in output files.
-    pub const NAMES: [&'static str; 6] = [
+    pub const NAMES: [&'static str; 7] = [
         "frictionless",
         "sliding",
         "rolling",
         "flight",
         "two_contacts",
         "viscous",
+        "three_contacts",
     ];
 
     /// Its name in output files.
@@ -111,7 +116,8 @@ pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyP
         Mode::Sliding => &Registered::<SlidingPhase>(PhantomData),
         Mode::Rolling => &Registered::<RollingPhase>(PhantomData),
         Mode::Flight => &Registered::<FlightPhase>(PhantomData),
-        Mode::TwoContacts => &Registered::<TwoContactsPhase>(PhantomData),
+        Mode::TwoContacts => &Registered::<ContactsPhase<2>>(PhantomData),
+        Mode::ThreeContacts => &Registered::<ContactsPhase<3>>(PhantomData),
         Mode::Viscous => &Registered::<ViscousPhase>(PhantomData),
     }
 }
