@@ -316,7 +316,7 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
 ///   its own settling speed on `pressed` ([`second_settling_speed`]), and the impact is
 ///   then taken plastic;
 /// - v_k⁺ < −v_settle,k: the impulse at `touching` alone would drive `pressed` into the
-///   plane, and the impact is taken at both contacts at once ([`pair_touchdown`]).
+///   plane, and the impact is taken at both contacts at once ([`contacts_touchdown`]).
 ///
 /// The outcome goes on the plane by [`settle`]. A pair impact that has no solution, or two
 /// contacts the two-contact phase cannot take, stop the run with `several_contacts` at the
@@ -346,7 +346,11 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     let onto_pressed = |y: &State| second_settling_speed(ctx, from, pressed, touching, y);
     let settle_k = pressed_settles(&single.1);
     let outcome = if approach < -settle_k {
-        pair_touchdown(ctx, &strike, pressed, law, pressed_settles, onto_pressed)
+        let settles = |i: usize, y: &State| match i {
+            0 => onto_pressed(y),
+            _ => pressed_settles(y),
+        };
+        contacts_touchdown(ctx, &strike, &[pressed], law, settles)
     } else if approach > settle_k {
         let flight_settles =
             |y: &State| on_surface(ctx, touching, || settling_speed(ctx, y, &strike.kin));
@@ -395,57 +399,64 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     }
 }
 
-/// The impact of `strike` at its surface j and at the surface `pressed` (k) at once
-/// (`impact::resolve_pair`, docs/physics.md "Impact at two contacts"), with the scene's
-/// restitution and friction law. A contact stays where its normal velocity after the impact
-/// is within its settling speed: j's on the plane with k in contact (`onto_pressed`,
-/// [`second_settling_speed`]), k's its own (`pressed_settles`). Where both stay and one of
-/// them rebounds, the impact is taken again with e = 0 (the plastic impact that ends a
-/// bounce sequence the phase could not resolve, section "Settling"). Returns who stays, the
-/// state after the impact (flight form, its loss in W) and an impact report per surface (the
-/// loss on the struck one's); `None` where the impact has no solution (the rolling model's
-/// no-slip law where sticking the struck contact would pull; an iteration that does not
+/// The impact of `strike` at its surface j and at the surfaces `pressed` at once
+/// (`impact::resolve_contacts`, docs/physics.md "Impact at several contacts"), with the
+/// scene's restitution and friction law. A contact stays where its normal velocity after
+/// the impact is within its settling speed `settles(i, y)` (i = 0 the struck surface, then
+/// `pressed`'s). Where all stay and one of them rebounds, the impact is taken again with
+/// e = 0 (the plastic impact that ends a bounce sequence the phase could not resolve,
+/// section "Settling"). Returns who stays (the pressed surfaces first), the state after
+/// the impact (flight form, its loss in W) and an impact report per surface (the loss on
+/// the struck one's); `None` where the impact has no solution (the rolling model's no-slip
+/// law where sticking the struck contact would pull; an iteration that does not
 /// converge).
-fn pair_touchdown<E: Effect + Copy + 'static>(
+fn contacts_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     strike: &Strike,
-    pressed: Surface,
+    pressed: &[Surface],
     law: Tangential,
-    pressed_settles: impl Fn(&State) -> f64,
-    onto_pressed: impl Fn(&State) -> f64,
+    settles: impl Fn(usize, &State) -> f64,
 ) -> Option<(Staying, State, Vec<ImpactReport>)> {
     let kin = &strike.kin;
-    let lever = Contact::of(&ctx.scene.body, pressed, kin.contact.zeta, kin.omega).r;
-    let second = kin.rot * lever;
+    let levers: Vec<Vector3<f64>> = (pressed.iter())
+        .map(|&s| kin.rot * Contact::of(&ctx.scene.body, s, kin.contact.zeta, kin.omega).r)
+        .collect();
+    let surfaces: Vec<Surface> = std::iter::once(strike.surface)
+        .chain(pressed.iter().copied())
+        .collect();
     let solve = |e: f64| {
-        let hit = impact::resolve_pair(&strike.approach, second, law, e)?;
+        let hit = impact::resolve_contacts(&strike.approach, &levers, law, e)?;
         let after = strike.after(hit.v_g, hit.omega, hit.energy_loss);
-        let stays = [
-            hit.normal_velocity[0].1 <= onto_pressed(&after),
-            hit.normal_velocity[1].1 <= pressed_settles(&after),
-        ];
+        let stays: Vec<bool> = (0..surfaces.len())
+            .map(|i| hit.normal_velocity[i].1 <= settles(i, &after))
+            .collect();
         Some((hit, after, stays))
     };
     let (mut hit, mut after, mut stays) = solve(ctx.scene.landing.restitution)?;
     if hit.restitution > 0.0
-        && stays == [true, true]
-        && hit.normal_velocity.iter().any(|v| v.1 > 0.0)
+        && stays.iter().all(|&s| s)
+        && hit.normal_velocity[..surfaces.len()].iter().any(|v| v.1 > 0.0)
     {
         (hit, after, stays) = solve(0.0)?;
     }
-    let staying = match stays {
-        [true, true] => Staying::several(&[pressed, strike.surface]),
-        [true, false] => Staying::One(strike.surface),
-        [false, true] => Staying::One(pressed),
-        [false, false] => Staying::Neither,
+    // The pressed surfaces first: the several-contact phase takes the first's geometry.
+    let staying: Vec<Surface> = (1..surfaces.len())
+        .chain([0])
+        .filter(|&i| stays[i])
+        .map(|i| surfaces[i])
+        .collect();
+    let staying = match staying.as_slice() {
+        [] => Staying::Neither,
+        [one] => Staying::One(*one),
+        several => Staying::several(several),
     };
     // The loss is the impact's, reported at the struck surface: split between the
     // contacts as the work of each impulse, −P_i·(v_i⁻ + v_i⁺)/2, a share can be negative
-    // (with friction one impulse can speed the body up while the other slows it more).
-    let reports = [strike.surface, pressed]
-        .into_iter()
+    // (with friction one impulse can speed the body up while another slows it more).
+    let reports = surfaces
+        .iter()
         .enumerate()
-        .map(|(i, surface)| ImpactReport {
+        .map(|(i, &surface)| ImpactReport {
             impulse: hit.impulse[i],
             energy_loss: if i == 0 { hit.energy_loss } else { 0.0 },
             stuck: hit.stuck[i],
@@ -455,6 +466,68 @@ fn pair_touchdown<E: Effect + Copy + 'static>(
         })
         .collect();
     Some((staying, after, reports))
+}
+
+/// A third surface `surface` touches down while two are in contact (the two-contact
+/// phase's gap watch) at (t, y): the impact at the three contacts at once
+/// ([`contacts_touchdown`]), in flight form, each pressed contact staying within its own
+/// settling speed ([`settling_speed`] on that surface), the struck one within its
+/// settling speed on the first pressed one ([`second_settling_speed`]). The outcome goes
+/// on the plane by [`settle`] (three contacts, two, one, or flight). An impact with no
+/// solution, or three contacts the three-contact phase cannot take, stop the run with
+/// `several_contacts` at the located state.
+pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    surface: Surface,
+    t: &mut f64,
+    y: &mut State,
+    events: &mut Vec<EventRecord>,
+) -> Next {
+    let body = &ctx.scene.body;
+    let pressed = touching(ctx);
+    let (t0, y0, before) = (*t, *y, events.len());
+    let (others, sticks) = (ctx.others.get(), ctx.sticks.get());
+    to_flight(ctx, Mode::TwoContacts, y);
+    let strike = Strike::new(ctx, surface, t, y);
+    let law = tangential(ctx.scene.contact);
+    let settles = |i: usize, y: &State| match i {
+        0 => second_settling_speed(ctx, Mode::TwoContacts, pressed[0], surface, y),
+        _ => on_surface(ctx, pressed[i - 1], || {
+            settling_speed(ctx, y, &Kinematics::flying_at(body, pressed[i - 1], y))
+        }),
+    };
+    let next = contacts_touchdown(ctx, &strike, &pressed, law, settles).map(
+        |(staying, after, reports)| {
+            events.push(EventRecord {
+                kind: EventKind::Touchdown {
+                    speed: -normal_velocity(body, surface, &strike.pre),
+                    surface,
+                },
+                t: *t,
+            });
+            *y = after;
+            settle(ctx, Mode::TwoContacts, surface, staying, *t, y, &reports, events)
+        },
+    );
+    match next {
+        Some(Next::Stop(Status::SeveralContacts { .. }, _)) | None => {
+            events.truncate(before);
+            ctx.surface.set(pressed[0]);
+            ctx.others.set(others);
+            ctx.count.set(2);
+            ctx.sticks.set(sticks);
+            (*t, *y) = (t0, y0);
+            Next::Stop(
+                Status::SeveralContacts {
+                    touching: surface,
+                    pressed: pressed[0],
+                    approach: normal_velocity(body, surface, &strike.pre),
+                },
+                Mode::TwoContacts,
+            )
+        }
+        Some(next) => next,
+    }
 }
 
 /// The settling speed of surface `surface`'s gap while the body touches the plane with
@@ -720,25 +793,6 @@ fn go_on<E: Effect + Copy + 'static>(
         Some((i, n)) if !(n > 0.0) => leave(ctx, i, t, y, events),
         _ => Next::Go(contacts_mode(count)),
     }
-}
-
-/// A third surface touches down while two are in contact: not simulated yet, stop
-/// `several_contacts`.
-pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
-    ctx: &Context<'_, E>,
-    surface: Surface,
-    _t: &mut f64,
-    _y: &mut State,
-    _events: &mut Vec<EventRecord>,
-) -> Next {
-    Next::Stop(
-        Status::SeveralContacts {
-            touching: surface,
-            pressed: ctx.surface.get(),
-            approach: 0.0,
-        },
-        Mode::TwoContacts,
-    )
 }
 
 /// Contact `i` of the several-contact phase leaves the plane (its normal force reached
