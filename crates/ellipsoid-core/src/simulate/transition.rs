@@ -421,7 +421,7 @@ fn pair_touchdown<E: Effect + Copy + 'static>(
     let lever = Contact::of(&ctx.scene.body, pressed, kin.contact.zeta, kin.omega).r;
     let second = kin.rot * lever;
     let solve = |e: f64| {
-        let hit = impact::resolve_pair(&strike.approach, second, law, e)?;
+        let hit = impact::resolve_contacts(&strike.approach, &[second], law, e)?;
         let after = strike.after(hit.v_g, hit.omega, hit.energy_loss);
         let stays = [
             hit.normal_velocity[0].1 <= onto_pressed(&after),
