@@ -564,7 +564,6 @@ mod tests {
         );
     }
 
-    const TANG: f64 = 0.2;
     #[test]
     fn the_no_slip_sets_are_tried_by_size_then_struck_first() {
         let order = |count| -> Vec<Vec<usize>> {
@@ -708,7 +707,7 @@ mod tests {
         let mut compared = [0; 3];
         for _ in 0..300 {
             let normal = [-0.1 - uniform().abs(), uniform(), 5.0];
-            let (body, levers) = tripod(&mut uniform, 0.8, TANG, normal);
+            let (body, levers) = tripod(&mut uniform, 0.8, 0.2, normal);
             let e = uniform().abs();
             let scale = speed(&body, &levers);
             for (k, law) in laws.into_iter().enumerate() {
@@ -722,14 +721,7 @@ mod tests {
                 // The third contact separates after the two-contact impact.
                 assert!((two.v_g + two.omega.cross(&levers[2])).z > 0.0);
                 assert_eq!(three.impulse[2], Vector3::zeros());
-                assert!(
-                    (three.v_g - two.v_g).norm() <= 1e-12 * scale,
-                    "{law:?} v_G {:?} {:?} {:?} {:?}",
-                    two.impulse,
-                    three.impulse,
-                    two.normal_velocity,
-                    three.normal_velocity
-                );
+                assert!((three.v_g - two.v_g).norm() <= 1e-12 * scale, "{law:?} v_G");
                 let turn = (three.omega - two.omega).norm() * 0.2;
                 assert!(turn <= 1e-12 * scale, "{law:?} ω");
                 for i in 0..2 {
@@ -748,6 +740,7 @@ mod tests {
 
     /// Random impacts at three contacts, the struck one approaching, the others approaching
     /// or leaving: every law's conditions hold at every contact and the energy never rises.
+    /// Prints the Gauss–Seidel sweeps (median, most) and how often each law has no solution.
     #[test]
     fn random_three_contact_impacts_obey_their_laws() {
         let mut uniform = uniform(0x6a09_e667_f3bc_c909);
@@ -760,7 +753,7 @@ mod tests {
                 2.0 * uniform(),
                 2.0 * uniform(),
             ];
-            let (body, levers) = tripod(&mut uniform, 0.8, TANG, normal);
+            let (body, levers) = tripod(&mut uniform, 0.8, 0.2, normal);
             let others = &levers[1..];
             let e = if uniform() > 0.0 {
                 1.0
@@ -819,7 +812,7 @@ mod tests {
             &staying[1][1..],
         );
         assert!(stalled <= 3, "{stalled} of 600 did not converge");
-        assert!(plastic > 0, "no case of Kane's paradox was met");
+        assert!(plastic > 0, "no impact was taken plastic");
         assert!(none[1] < 30, "{none:?}");
         assert!(
             staying[1][1] > 10 && staying[1][2] > 10 && staying[1][3] > 10,
