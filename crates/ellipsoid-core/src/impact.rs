@@ -16,10 +16,10 @@
 
 use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 
-mod pair;
+mod contacts;
 mod slip;
 
-pub use pair::{PairImpact, resolve_pair};
+pub use contacts::{ContactsImpact, resolve_contacts};
 
 use slip::{Drive, SlipEnd};
 

@@ -14,7 +14,7 @@
 //! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the new one's impact | as a touchdown | flight form, impact at the new surface |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0 once the grip is settled ([`settle_grip`]: Coulomb, a slip within the slip stop sticks; rolling model, both stick; otherwise both slipping above it) | two contacts | plastic impact at the new surface; contact form; second constraint restored and sticking impulses, their energy change in W |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | [`on_plane`] for the pressed surface | impact at the new surface; contact form |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle) | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_pair`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle) | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_contacts`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
 //! | any contact | another surface's gap ↓ −δz | otherwise (no pair solution; two contacts inconsistent) | stop `several_contacts` | |
 //! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
 //! | two contacts | a slip ↓ its stop ([`above_stop`]; a disc's: slip and spin) | sliding model, contact disc | stop `slip_stopped` | |
@@ -435,7 +435,9 @@ fn contacts_touchdown<E: Effect + Copy + 'static>(
     let (mut hit, mut after, mut stays) = solve(ctx.scene.landing.restitution)?;
     if hit.restitution > 0.0
         && stays.iter().all(|&s| s)
-        && hit.normal_velocity[..surfaces.len()].iter().any(|v| v.1 > 0.0)
+        && hit.normal_velocity[..surfaces.len()]
+            .iter()
+            .any(|v| v.1 > 0.0)
     {
         (hit, after, stays) = solve(0.0)?;
     }
@@ -506,7 +508,16 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
                 t: *t,
             });
             *y = after;
-            settle(ctx, Mode::TwoContacts, surface, staying, *t, y, &reports, events)
+            settle(
+                ctx,
+                Mode::TwoContacts,
+                surface,
+                staying,
+                *t,
+                y,
+                &reports,
+                events,
+            )
         },
     );
     match next {
