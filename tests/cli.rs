@@ -421,7 +421,7 @@ fn scenario_tippe_top_jump_stem_hops_then_rocks_between_ball_and_stem() {
         .count();
     assert!(hops >= 5, "{hops} hops before the stem touches");
     // Once on both surfaces, the stem's contact sticks and later slides again (a hold
-    // released), and the ball's sticks (docs/physics.md, "Two contacts").
+    // released), and the ball's sticks (docs/physics.md, "Several contacts").
     let grips: Vec<(&str, bool)> = (events.iter())
         .filter(|e| e["kind"] == "grip")
         .map(|e| {
@@ -589,7 +589,7 @@ fn scenario_top_on_peg_sleeps() {
 /// The top on its peg spun at 60 rad/s from 0.3 rad falls onto its rim: the rim strikes
 /// while the peg is pressed (one impact at both), the top slides on both until each slip
 /// stops, and from then on it rolls about the line through both contacts (docs/physics.md,
-/// "Two contacts"). That roll fixes the tilt where both gaps vanish, holds G's height (so
+/// "Several contacts"). That roll fixes the tilt where both gaps vanish, holds G's height (so
 /// N_rim + N_peg = m g), turns ω horizontal (φ̇ = −ψ̇ cos θ) and, with no slip, keeps the
 /// energy and the precession rate.
 #[test]

@@ -1,4 +1,4 @@
-//! Sticking at two contacts (docs/physics.md, "Two contacts"): a top lying on its rim and
+//! Sticking at two contacts (docs/physics.md, "Several contacts"): a top lying on its rim and
 //! its peg rolls about the line joining them — about a fixed point on the plane, at a
 //! constant rate, with no slip and no dissipation — and a top sliding on both stops
 //! slipping at each, sticks, and rolls on so.

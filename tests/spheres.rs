@@ -483,3 +483,104 @@ fn an_observable_watches_a_surface_s_own_column() {
         .to_string();
     assert!(err.contains("gap_peg") && err.contains("gap_stem"), "{err}");
 }
+
+/// A disc on two legs (tests/data/spheres/tripod.toml) falls from one leg onto the other,
+/// tips onto its rim, rocks between rim and legs with plastic impacts — the impact at
+/// the rim while both legs press is taken at all three contacts (docs/physics.md, "A third
+/// surface touching down") — and comes to rest on all three (mode `three_contacts`).
+/// - Coulomb (μ = 0.5): at rest, the three normal forces equal the statics — Σ N_i = m g
+///   and no moment about G, a 3 × 3 system solved here from each surface's lowest point
+///   (`Contact::of`) — to 1e-12 m g; the three gaps equal to 1e-12 m; E + W constant.
+/// - Frictionless, spun about its axis: the plane pushes only vertically, so the
+///   horizontal momentum (zero) and the vertical angular momentum L_z stay as they were
+///   through every impact and on three contacts, where the disc spins on at its rate
+///   about the vertical; E + W constant.
+#[test]
+fn val_three_contacts_at_rest_carry_the_statics_normal_forces() {
+    let file = "tests/data/spheres/tripod.toml";
+    let on_three = |out: &Outcome, samples: &[Sample]| {
+        assert!(out.status.completed(), "{:?}", out.status);
+        let entered = (out.events.iter().rev())
+            .find_map(|e| match e.kind {
+                EventKind::ModeSwitch {
+                    to: Mode::ThreeContacts,
+                    ..
+                } => Some(e.t),
+                _ => None,
+            })
+            .expect("the disc reaches three contacts");
+        let after: Vec<&Sample> = samples.iter().filter(|s| s.t > entered).collect();
+        assert!(after.len() > 100, "{entered}");
+        assert!(after.iter().all(|s| s.mode == Mode::ThreeContacts));
+        let balance = out
+            .drift
+            .get(ellipsoid_core::invariants::Invariant::EnergyPlusWork);
+        assert!(balance.unwrap().abs() < 1e-11, "E + W {balance:?}");
+        entered
+    };
+    let (out, samples) = load(file, &["contact.model=\"coulomb\"", "contact.friction=0.5"]);
+    let entered = on_three(&out, &samples);
+    let sc = ellipsoid_core::scenario::load(&root().join(file), &[] as &[&str]).unwrap();
+    let body = sc.scene.body;
+    let y = out.final_state;
+    let rot = ellipsoid_core::state::rotation(&y);
+    let zeta = rot.row(2).transpose();
+    let surfaces = [Surface::Ellipsoid, Surface::Sphere(0), Surface::Sphere(1)];
+    let heights = surfaces.map(|s| geometry::height(&body, s, zeta));
+    assert!(
+        heights.iter().all(|h| (h - heights[0]).abs() <= 1e-12),
+        "{heights:?}"
+    );
+    let levers = surfaces.map(|s| rot * Contact::of(&body, s, zeta, Vector3::zeros()).r);
+    let mg = body.mass() * G;
+    let statics = Matrix3::from_fn(|row, i| match row {
+        0 => 1.0,
+        1 => levers[i].x,
+        _ => levers[i].y,
+    })
+    .lu()
+    .solve(&Vector3::new(mg, 0.0, 0.0))
+    .unwrap();
+    let last = samples.last().unwrap();
+    let reported = surfaces.map(|s| {
+        (last.touching.iter().flatten())
+            .find(|t| t.0 == s)
+            .map(|t| t.1)
+            .expect("every surface in contact")
+    });
+    let speed = last.velocity.norm() + last.omega.norm() * 0.04;
+    eprintln!(
+        "MEASURED the tripod (Coulomb) rests on three contacts from {entered:.6} s: N = \
+         {reported:?} N, statics {statics:?}, speed {speed:e} m/s"
+    );
+    assert!(statics.iter().all(|&n| n > 0.0), "G over the triangle");
+    for i in 0..3 {
+        assert!(
+            (reported[i] - statics[i]).abs() <= 1e-12 * mg,
+            "{i}: {reported:?}"
+        );
+    }
+    assert!(speed < 1e-12, "at rest: {speed:e}");
+
+    let (out, samples) = load(file, &["initial.psi_dot=3"]);
+    let entered = on_three(&out, &samples);
+    let lz = |s: &Sample| {
+        let rot = s.angles.rotation().to_rotation_matrix().into_inner();
+        (rot * body.inertia() * s.omega).z
+    };
+    let (lz0, spin) = (lz(&samples[0]), samples.last().unwrap().omega_world.z);
+    let worst = samples
+        .iter()
+        .map(|s| {
+            (lz(s) - lz0)
+                .abs()
+                .max(s.velocity.xy().norm() * body.mass())
+        })
+        .fold(0.0, f64::max);
+    eprintln!(
+        "MEASURED the tripod (frictionless, ψ̇0 = 3) on three contacts from {entered:.6} s, \
+         spinning at {spin} rad/s; L_z {lz0:e}, worst change of L_z or m|v_G,h| {worst:e}"
+    );
+    assert!(worst <= 1e-8 * lz0.abs(), "{worst:e} of {lz0:e}");
+    assert!(spin.abs() > 1.0, "it spins on: {spin}");
+}

@@ -11,7 +11,7 @@
 //! energy        J       E = ½m|v_G|² + ½ωᵀIω + m g z_G
 //! normal_force  N       N = F·e3
 //! slip_speed    m/s     |v_C|, speed of the material contact point
-//! mode          -       contact regime: frictionless | sliding | rolling | flight | two_contacts | viscous
+//! mode          -       contact regime: frictionless | sliding | rolling | flight | two_contacts | viscous | three_contacts
 //! work          J       work dissipated so far (friction and effects)
 //! omega_world_* rad/s   angular velocity in world axes (omega_world_z: the vertical spin)
 //! contact_x, _y m       the contact point C on the plane

@@ -25,8 +25,8 @@ use crate::scenario::PyScenario;
 /// `theta`, `phi`, `psi` [rad] (z-x-z Euler angles); `theta_dot`, `phi_dot`, `psi_dot`
 /// [rad/s]; `omega_x`, `omega_y`, `omega_z` [rad/s] (body axes); `vx`, `vy`, `vz` [m/s]
 /// (velocity of G); `energy` [J]; `normal_force` [N]; `slip_speed` [m/s] (speed of the
-/// contact point); `mode` (str array: "frictionless", "sliding", "rolling", "flight" or
-/// "two_contacts");
+/// contact point); `mode` (str array: "frictionless", "sliding", "rolling", "flight",
+/// "viscous", "two_contacts" or "three_contacts");
 /// `work` [J]
 /// (dissipated so far); `omega_world_x`, `omega_world_y`, `omega_world_z` [rad/s] (world
 /// axes); `contact_x`, `contact_y` [m] (contact point on the plane); `drift` [1]
@@ -444,8 +444,8 @@ impl Trajectory {
     fn gap<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         self.named(py, "gap")
     }
-    /// Contact regime of each sample: "frictionless", "sliding", "rolling", "flight" or
-    /// "two_contacts" (numpy str array); for a body with contact spheres, the surfaces in
+    /// Contact regime of each sample: "frictionless", "sliding", "rolling", "flight",
+    /// "viscous", "two_contacts" or "three_contacts" (numpy str array); for a body with contact spheres, the surfaces in
     /// contact after `@` ("sliding@stem", "two_contacts@ellipsoid+stem").
     #[getter]
     fn mode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

@@ -185,7 +185,7 @@ impl Numerics {
     }
 
     /// The slip below which one of two contacts counts as stopped [m/s] (in the Coulomb
-    /// model it sticks there; docs/physics.md, "Two contacts"): the sliding law's slip
+    /// model it sticks there; docs/physics.md, "Several contacts"): the sliding law's slip
     /// band width ([`SlipBand::width_at`]), at least the stop threshold, both for the
     /// speed scale S' = max(S, √(g L)), as a contact disc's stop takes it: where the whole
     /// body barely moves (settling on two contacts from rest), S is of the size of the

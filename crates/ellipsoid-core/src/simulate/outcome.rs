@@ -66,7 +66,7 @@ pub enum EventKind {
     /// The body's surface in contact changed (bodies with contact spheres).
     ContactSurface { from: Surface, to: Surface },
     /// With two surfaces in contact, `surface`'s contact started to stick (`sticks`) or
-    /// to slide (docs/physics.md, "Two contacts"); entering two contacts, one for each
+    /// to slide (docs/physics.md, "Several contacts"); entering two contacts, one for each
     /// contact that sticks.
     Grip { surface: Surface, sticks: bool },
 }

@@ -17,8 +17,8 @@
 //! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle) | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_contacts`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
 //! | any contact | another surface's gap ↓ −δz | otherwise (no pair solution; two contacts inconsistent) | stop `several_contacts` | |
 //! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
-//! | two contacts | a slip ↓ its stop ([`above_stop`]; a disc's: slip and spin) | sliding model, contact disc | stop `slip_stopped` | |
-//! | two contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
+//! | two or three contacts | a slip ↓ its stop ([`above_stop`]; a disc's: slip and spin) | sliding model, contact disc | stop `slip_stopped` | |
+//! | two or three contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
 //! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
 //! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
 //! | sliding | Painlevé denominator ↓ 10⁻³ (N → ∞ beyond) | | stop `painleve` | |
@@ -27,9 +27,11 @@
 //! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact |
 //! | any contact | N ↓ 0 | flight inconsistent | stop `inconsistent_contact` | |
 //! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|) (`SlidingPhase::on_failure`) | [`on_plane`] | sticking impulse, at the last accepted state |
-//! | two contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | Coulomb model, point contacts | two contacts, that contact sticking ([`grip`]) | sticking impulses, energy in W; every hold checked |
-//! | two contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | two contacts, that contact (the line's: both) sliding ([`release`]) | seed slip of twice the stop, its energy in W |
-//! | two contacts | a third surface's gap ↓ −δz | | stop `several_contacts` | |
+//! | two or three contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | Coulomb model, point contacts | the same contacts, that one sticking ([`grip`]) | sticking impulses, energy in W; every hold checked |
+//! | two or three contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | the same contacts, that one (the line's: both) sliding ([`release`]) | seed slip of twice the stop, its energy in W |
+//! | two contacts | a third surface's gap ↓ −δz | | by who stays after the impact at the three contacts: three → three contacts ([`onto_contacts`]), two → two contacts, one → [`on_plane`], none → flight; no solution, three contacts inconsistent → stop `several_contacts` | flight form, back to its zero gap; impact at the three contacts (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
+//! | three contacts | N_i ↓ 0 | | two contacts, the other two ([`go_on`]) | |
+//! | three contacts | a fourth surface's gap ↓ −δz | | stop `several_contacts` | |
 //!
 //! Flight is consistent where the gap's acceleration with no contact force is not into
 //! the plane ([`flight_is_consistent`]).
