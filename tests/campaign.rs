@@ -99,6 +99,38 @@ fn random_rolling_scenes_whose_impact_needed_both_contacts_end_physically() {
     assert_all_physical(&scenes);
 }
 
+/// Random scenes with two contact spheres in which a third surface touches down while two
+/// are in contact, and the impact is taken at the three at once (docs/physics.md, "A third
+/// surface touching down"; the runs stopped with `several_contacts` there before): seed 26
+/// scenes 24 and 183, seed 27 scenes 2, 128, 169 and 209. Each run's physics is checked as
+/// in the campaign, and each takes an impact at three surfaces at one instant.
+#[test]
+fn random_scenes_whose_third_surface_touched_down_on_two_end_physically() {
+    let mut scenes = with_spheres(26, &[24, 183]);
+    scenes.extend(with_spheres(27, &[2, 128, 169, 209]));
+    let reached: Vec<bool> = scenes
+        .par_iter()
+        .map(|scene| {
+            let events = run(scene).outcome.events;
+            assert!(
+                campaign::impact_at_three(&events),
+                "no impact at three contacts"
+            );
+            events.iter().any(|e| {
+                matches!(
+                    e.kind,
+                    EventKind::ModeSwitch {
+                        to: ellipsoid_core::simulate::Mode::ThreeContacts,
+                        ..
+                    }
+                )
+            })
+        })
+        .collect();
+    eprintln!("MEASURED scenes that went on in three_contacts: {reached:?}");
+    assert_all_physical(&scenes);
+}
+
 /// A random scene with contact spheres whose W fell by 1.8e-14 J (the check "W never
 /// decreases"), seed 27 scene 677: on two sticking contacts the spin friction's power on
 /// ω's drift off the line C_1C_2, zero on the constraints and positive at DOPRI5's stages

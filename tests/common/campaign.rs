@@ -324,3 +324,20 @@ pub fn distance(scene: &Scene, a: &Sample, b: &Sample) -> f64 {
     .into_iter()
     .fold(0.0, f64::max)
 }
+
+/// Whether `events` hold an impact at three surfaces at one instant (a third surface's
+/// touchdown while two are in contact, docs/physics.md "A third surface touching down").
+pub fn impact_at_three(events: &[simulate::EventRecord]) -> bool {
+    let impact = |e: &simulate::EventRecord| match e.kind {
+        EventKind::Impact(report) => Some((e.t, report.surface)),
+        _ => None,
+    };
+    events
+        .windows(3)
+        .any(|w| match (impact(&w[0]), impact(&w[1]), impact(&w[2])) {
+            (Some(a), Some(b), Some(c)) => {
+                a.0 == b.0 && b.0 == c.0 && a.1 != b.1 && b.1 != c.1 && a.1 != c.1
+            }
+            _ => false,
+        })
+}

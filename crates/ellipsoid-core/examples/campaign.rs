@@ -5,7 +5,8 @@
 //! cargo run --release -p ellipsoid-core --example campaign -- --seed 24 --count 2000 [--show N] [--spheres]
 //! ```
 //! prints, per method, how many runs ended with each status and how many broke a check,
-//! then each failing scene; `--show N` prints scene N's two runs in detail; `--spheres`
+//! the scenes whose DOP853 run took an impact at three contacts at once, then each
+//! failing scene; `--show N` prints scene N's two runs in detail; `--spheres`
 //! gives each body one or two random contact spheres (`campaign::with_spheres`).
 
 #[path = "../../../tests/common/campaign.rs"]
@@ -63,11 +64,15 @@ fn main() {
     }
     let mut table: BTreeMap<(&str, &str), usize> = BTreeMap::new();
     let mut failures = Vec::new();
+    let mut three = Vec::new();
     for (i, scene) in scenes.iter().enumerate() {
         if show.is_some_and(|s| s != i) {
             continue;
         }
         let r853 = run(scene);
+        if campaign::impact_at_three(&r853.outcome.events) {
+            three.push(i);
+        }
         let r5 = run(&with(scene, Method::Dopri5, campaign::RTOL));
         for (name, r) in [("dop853", &r853), ("dopri5", &r5)] {
             *table.entry((name, r.outcome.status.name())).or_default() += 1;
@@ -108,6 +113,7 @@ fn main() {
     for ((method, status), n) in &table {
         println!("{method:8} {status:22} {n}");
     }
+    println!("impact at three contacts (dop853): scenes {three:?}");
     println!("{} failures", failures.len());
     for f in &failures {
         println!("{f}");
