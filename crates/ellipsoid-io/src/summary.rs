@@ -384,9 +384,9 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
             pressed,
             approach,
         } => format!(
-            "two surfaces on the plane at t = {t} s, the {} and the {} (normal velocity {} m/s), in a way that is \
-             not simulated: an impact at both contacts with no solution, two contacts where a normal force \
-             would not be positive, or a third surface touching while on two (docs/physics.md, \"Contact \
+            "several surfaces on the plane at t = {t} s, the {} and the {} (normal velocity {} m/s), in a way \
+             that is not simulated: an impact at the contacts with no solution, contacts where a normal force \
+             would not be positive, or a fourth surface touching while on three (docs/physics.md, \"Contact \
              spheres\")",
             scene.body.surface_name(*touching),
             scene.body.surface_name(*pressed),

@@ -151,12 +151,13 @@ pub enum Status {
         normal: f64,
         gap_acceleration: f64,
     },
-    /// Two surfaces on the plane in a way that is not simulated (an error; docs/physics.md,
-    /// "Contact spheres"): surface `touching` reached the plane while `pressed` was in
-    /// contact and the impact at both has no solution (`pressed` approaching at `approach`
-    /// < 0 \[m/s\] after the impact at `touching` alone), or the two-contact phase cannot
-    /// take them (a normal force ≤ 0), or a third surface (`touching`) touched while on two
-    /// (`approach` = 0).
+    /// Several surfaces on the plane in a way that is not simulated (an error;
+    /// docs/physics.md, "Contact spheres"): surface `touching` reached the plane while
+    /// `pressed` (and perhaps another) was in contact and the impact at them has no solution
+    /// (`pressed` approaching at `approach` \[m/s\] after the impact at `touching` alone, or
+    /// `touching`'s own approach at a third touchdown), or the several-contact phase cannot
+    /// take them (a normal force ≤ 0, three contact points on one line), or a fourth
+    /// surface (`touching`) touched while on three (`approach` = 0).
     SeveralContacts {
         touching: Surface,
         pressed: Surface,

@@ -10,9 +10,9 @@
 //! A new phase touches four files: its module here; this file (its `mod` line, its
 //! [`Mode`] and its arm of the registry [`phase`]); its transitions (`transition`); its
 //! contact law (a module of `model`, named in `model/mod.rs`). The compiler lists every
-//! match that must learn the new mode and watches. (The two-contact phase, the first added
-//! this way, also needed a second normal force and the law's own dissipated power in
-//! `model::Response`, and its second surface in the [`Context`].)
+//! match that must learn the new mode and watches. (The several-contact phases, the first added
+//! this way, also needed the other contacts' normal forces and the law's own dissipated
+//! power in `model::Response`, and their other surfaces in the [`Context`].)
 //!
 //! | phase | law | watches (g falling through 0) | on the event |
 //! |---|---|---|---|
