@@ -471,13 +471,7 @@ mod tests {
             let hit = resolve_contacts(&body, &[second], Tangential::Coulomb { friction: mu }, e)
                 .expect("converges");
             assert_law(&body, &[second], &hit, mu, 1e-9);
-            let before = kinetic(&body, &body.v_g, &body.omega);
-            let after = kinetic(&body, &hit.v_g, &hit.omega);
-            assert!(
-                after <= before * (1.0 + 1e-12),
-                "energy rose {before} → {after}"
-            );
-            assert!((before - after - hit.energy_loss).abs() <= 1e-10 * before);
+            assert_energy(&body, &hit);
             slid += hit.stuck.iter().filter(|s| !**s).count();
             plastic += usize::from(hit.restitution != e);
         }
@@ -519,13 +513,7 @@ mod tests {
                 none += 1;
                 continue;
             };
-            let before = kinetic(&body, &body.v_g, &body.omega);
-            let after = kinetic(&body, &hit.v_g, &hit.omega);
-            assert!(
-                after <= before * (1.0 + 1e-12),
-                "energy rose {before} → {after}"
-            );
-            assert!((before - after - hit.energy_loss).abs() <= 1e-10 * before);
+            assert_energy(&body, &hit);
             let scale = w.norm() * 0.2;
             for (i, ri) in [body.r, second].iter().enumerate() {
                 let v = hit.v_g + hit.omega.cross(ri);
