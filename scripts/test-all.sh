@@ -16,6 +16,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fuzz_seconds="${ELLIPSOID_FUZZ_SECONDS:-60}"
+# Each stage's heading gives the time since the start (s): CI's budget is 30 min.
+stage() { echo "== [${SECONDS} s] $1"; }
 
 # 1. A fresh venv: the Python test tools, and CMake when the system's cannot build HDF5.
 rm -rf .venv
@@ -49,23 +51,23 @@ fi
 # 2. The cheap checks first (the user docs, formatting, lints: a red CI should say why at
 #    once), then the Rust tests of every crate but the Python extension (tested below
 #    through its wheel).
-echo "== docs: no commit hashes, history of the work or load averages; links resolve"
+stage "docs: no commit hashes, history of the work or load averages; links resolve"
 .venv/bin/python scripts/check-docs.py
-echo "== cargo fmt --check, cargo clippy"
+stage "cargo fmt --check, cargo clippy"
 cargo fmt --all --check
 cargo clippy --release --all-targets --features ellipsoid-cli/hdf5 -- -D warnings
-echo "== cargo test"
+stage "cargo test"
 cargo test --release
 
 # 3. Fuzzing: the scenario parser and validation, from the bundled scenarios, for a fixed
 #    budget (crashes are saved in target/fuzz/crashes and fail the run).
-echo "== fuzz (${fuzz_seconds} s)"
+stage "fuzz (${fuzz_seconds} s)"
 cargo run --release --quiet -p ellipsoid-core --example fuzz_scenario -- --seconds "$fuzz_seconds"
 
 # 4. Python: the manylinux wheel built by scripts/build-wheel.sh (maturin, HDF5 included),
 #    installed in the venv, then pytest. The command-line tool that `cargo test --release`
 #    just built is the reference of the parity tests.
-echo "== python"
+stage "python"
 target="${CARGO_TARGET_DIR:-target}"
 case "$target" in /*) ;; *) target="$PWD/$target" ;; esac
 export ELLIPSOID_CLI="$target/release/ellipsoid"
@@ -85,7 +87,7 @@ grep -q '"manylinux_2_17_x86_64"' <<<"$tag" \
 
 # 4b. A fresh venv installs the wheel (numpy, matplotlib, pandas from PyPI) and runs the
 #     README's Python quick start, in a directory of its own.
-echo "== the README's quick start in a fresh venv"
+stage "the README's quick start in a fresh venv"
 qs="$target/quickstart"
 rm -rf "$qs" && mkdir -p "$qs"
 python3 -m venv "$qs/venv"
@@ -104,7 +106,7 @@ ln -s "$PWD/scenarios" "$qs/scenarios"
 #     quick start run with it. The build shares this target directory, so the dependencies
 #     (HDF5's C library included) are compiled already; the workspace's own crates are
 #     cleaned first, so that they do compile from the sdist's sources.
-echo "== the sdist, built from source in a fresh venv"
+stage "the sdist, built from source in a fresh venv"
 sd="$target/sdist"
 rm -rf "$sd" && mkdir -p "$sd"
 .venv/bin/maturin sdist -m crates/ellipsoid-py/Cargo.toml -o "$sd"
@@ -118,7 +120,7 @@ ln -s "$PWD/scenarios" "$sd/scenarios"
 (cd "$sd" && venv/bin/python quickstart.py)
 
 # 5. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
-echo "== browser"
+stage "browser"
 .venv/bin/python -m pytest -q tests/browser
 
 # 6. The documentation against the installed wheel: every tutorial notebook executed by
@@ -126,11 +128,11 @@ echo "== browser"
 #    target/site/examples) and their pages in docs/tutorials current, the gallery current (a
 #    bundled scenario without an entry fails), the API reference built by pdoc without a
 #    warning or an undocumented member and equal to its page docs/api.md.
-echo "== notebooks, gallery, API reference"
+stage "notebooks, gallery, API reference"
 .venv/bin/python scripts/run-notebooks.py --html "$target/site/examples"
 .venv/bin/python scripts/run-notebooks.py --check-pages docs/tutorials
 .venv/bin/python scripts/gallery.py --check
 .venv/bin/python scripts/steady-diagrams.py --check
 .venv/bin/python scripts/api-docs.py -o "$target/site/api" --check-markdown docs/api.md
 
-echo "all tests passed"
+echo "all tests passed in ${SECONDS} s"
