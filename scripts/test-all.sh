@@ -60,16 +60,18 @@ stage "cargo test"
 cargo test --release
 
 # 3. Fuzzing: the scenario parser and validation, from the bundled scenarios, for a fixed
-#    budget (crashes are saved in target/fuzz/crashes and fail the run).
+#    budget (crashes are saved in target/fuzz/crashes and fail the run). `cargo test` has
+#    built the example with the workspace's features; `cargo run -p ellipsoid-core` would
+#    build it again with that crate's alone (3 minutes of a cold CI run).
+target="${CARGO_TARGET_DIR:-target}"
+case "$target" in /*) ;; *) target="$PWD/$target" ;; esac
 stage "fuzz (${fuzz_seconds} s)"
-cargo run --release --quiet -p ellipsoid-core --example fuzz_scenario -- --seconds "$fuzz_seconds"
+"$target/release/examples/fuzz_scenario" --seconds "$fuzz_seconds"
 
 # 4. Python: the manylinux wheel built by scripts/build-wheel.sh (maturin, HDF5 included),
 #    installed in the venv, then pytest. The command-line tool that `cargo test --release`
 #    just built is the reference of the parity tests.
 stage "python"
-target="${CARGO_TARGET_DIR:-target}"
-case "$target" in /*) ;; *) target="$PWD/$target" ;; esac
 export ELLIPSOID_CLI="$target/release/ellipsoid"
 [ -x "$ELLIPSOID_CLI" ] || cargo build --release -p ellipsoid-cli
 export ELLIPSOID_EXPECT_HDF5=1

@@ -584,3 +584,100 @@ fn val_three_contacts_at_rest_carry_the_statics_normal_forces() {
     assert!(worst <= 1e-8 * lz0.abs(), "{worst:e} of {lz0:e}");
     assert!(spin.abs() > 1.0, "it spins on: {spin}");
 }
+
+/// The tripod of tests/data/spheres/tripod.toml spun fast (frictionless, ψ̇0 = 80 rad/s):
+/// on its legs, it nutates and its rim grazes the plane again and again, each time at a
+/// lower speed (5e-3, 1e-4, 4e-6, 1e-7 m/s, ...). Where the impact at the three contacts
+/// leaves all three within their settling speeds but the rim would pull (N ≤ 0 on three
+/// contacts), the contacts that stay are the consistent subset (docs/physics.md, "Which
+/// contacts stay": for frictionless contacts the solution of the normal forces'
+/// complementarity problem): the legs, the rim's gap opening. The run used to stop there
+/// with `several_contacts`. Asserted: the run completes; some rim touchdown leaves the
+/// legs in contact and the rim off the plane; no cascade of touchdowns (at most 10 within
+/// any microsecond: the residual velocities of the contacts that stay are removed with
+/// all three constraints, so the rim left out is not driven back into the plane); no
+/// surface below the plane by more than 1e-8 m and no normal force < 0 in any sample;
+/// E + W, the horizontal momentum (zero) and L_z kept, the plane pushing only vertically.
+#[test]
+fn val_a_fast_tripod_goes_on_on_its_legs_where_its_rim_grazes() {
+    let file = "tests/data/spheres/tripod.toml";
+    let (out, samples) = load(file, &["initial.psi_dot=80", "output.t_end=2"]);
+    assert!(out.status.completed(), "{:?}", out.status);
+    let sc = ellipsoid_core::scenario::load(&root().join(file), &[] as &[&str]).unwrap();
+    let body = sc.scene.body;
+
+    // A rim touchdown whose impacts leave the legs pressed and the rim off the plane.
+    let legs_alone = out.events.windows(4).filter(|w| {
+        let persistent = |e: &ellipsoid_core::simulate::EventRecord, s: Surface| match &e.kind {
+            EventKind::Impact(r) => (r.surface == s).then_some(r.persistent),
+            _ => None,
+        };
+        matches!(
+            w[0].kind,
+            EventKind::Touchdown {
+                surface: Surface::Ellipsoid,
+                ..
+            }
+        ) && w[1..]
+            .iter()
+            .any(|e| persistent(e, Surface::Ellipsoid) == Some(false))
+            && w[1..]
+                .iter()
+                .any(|e| persistent(e, Surface::Sphere(0)) == Some(true))
+            && w[1..]
+                .iter()
+                .any(|e| persistent(e, Surface::Sphere(1)) == Some(true))
+    });
+    let left_out = legs_alone.count();
+    let touchdowns: Vec<f64> = (out.events.iter())
+        .filter(|e| matches!(e.kind, EventKind::Touchdown { .. }))
+        .map(|e| e.t)
+        .collect();
+    let crowd = (touchdowns.iter())
+        .map(|&t| touchdowns.iter().filter(|&&u| (u - t).abs() < 1e-6).count())
+        .max()
+        .unwrap_or(0);
+    let surfaces = [Surface::Ellipsoid, Surface::Sphere(0), Surface::Sphere(1)];
+    let mut deepest = f64::INFINITY;
+    for s in &samples {
+        let zeta = s
+            .angles
+            .rotation()
+            .to_rotation_matrix()
+            .into_inner()
+            .row(2)
+            .transpose();
+        for surface in surfaces {
+            deepest = deepest.min(s.position.z - geometry::height(&body, surface, zeta));
+        }
+        for (_, n) in s.touching.iter().flatten() {
+            assert!(*n >= 0.0, "N = {n} at t = {}", s.t);
+        }
+    }
+    let lz = |s: &Sample| {
+        let rot = s.angles.rotation().to_rotation_matrix().into_inner();
+        (rot * body.inertia() * s.omega).z
+    };
+    let lz0 = lz(&samples[0]);
+    let worst = (samples.iter())
+        .map(|s| {
+            (lz(s) - lz0)
+                .abs()
+                .max(s.velocity.xy().norm() * body.mass())
+        })
+        .fold(0.0, f64::max);
+    let balance = (out.drift)
+        .get(ellipsoid_core::invariants::Invariant::EnergyPlusWork)
+        .unwrap();
+    eprintln!(
+        "MEASURED the fast tripod: {} touchdowns, {left_out} leaving the legs alone, at most \
+         {crowd} within 1 µs; deepest gap {deepest:e} m; L_z {lz0:e}, worst change of L_z or \
+         m|v_G,h| {worst:e}; E + W {balance:e}",
+        touchdowns.len()
+    );
+    assert!(left_out >= 1, "no rim touchdown left the legs alone");
+    assert!(crowd <= 10, "{crowd} touchdowns within 1 µs");
+    assert!(deepest >= -1e-8, "{deepest:e} m");
+    assert!(worst <= 1e-8 * lz0.abs(), "{worst:e} of {lz0:e}");
+    assert!(balance.abs() < 1e-11, "E + W {balance:e}");
+}

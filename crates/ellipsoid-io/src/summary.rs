@@ -385,8 +385,9 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
             approach,
         } => format!(
             "several surfaces on the plane at t = {t} s, the {} and the {} (normal velocity {} m/s), in a way \
-             that is not simulated: an impact at the contacts with no solution, contacts where a normal force \
-             would not be positive, or a fourth surface touching while on three (docs/physics.md, \"Contact \
+             that is not simulated: an impact at the contacts with no solution, no set of the contacts on \
+             which every normal force is positive and no other surface is driven into the plane, or a fourth \
+             surface touching while on three (docs/physics.md, \"Contact \
              spheres\")",
             scene.body.surface_name(*touching),
             scene.body.surface_name(*pressed),

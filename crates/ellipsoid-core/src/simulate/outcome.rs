@@ -156,8 +156,9 @@ pub enum Status {
     /// `pressed` (and perhaps another) was in contact and the impact at them has no solution
     /// (`pressed` approaching at `approach` \[m/s\] after the impact at `touching` alone, or
     /// `touching`'s own approach at a third touchdown), or the several-contact phase cannot
-    /// take them (a normal force ≤ 0, three contact points on one line), or a fourth
-    /// surface (`touching`) touched while on three (`approach` = 0).
+    /// take them or any subset of them (on each a normal force ≤ 0 or another surface
+    /// driven into the plane: "Which contacts stay"; three contact points on one line), or
+    /// a fourth surface (`touching`) touched while on three (`approach` = 0).
     SeveralContacts {
         touching: Surface,
         pressed: Surface,

@@ -12,10 +12,10 @@
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the new one's impact | as a touchdown | flight form, impact at the new surface |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0 once the grip is settled ([`settle_grip`]: Coulomb, a slip within the slip stop sticks; rolling model, both stick; otherwise both slipping above it) | two contacts | plastic impact at the new surface; contact form; second constraint restored and sticking impulses, their energy change in W |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0 once the grip is settled ([`settle_grip`]: Coulomb, a slip within the slip stop sticks; rolling model, both stick; otherwise both slipping above it); else the first consistent of the pressed one, the new one, none ([`active_set`]) | two contacts (or as the set) | plastic impact at the new surface; contact form; second constraint restored and sticking impulses, their energy change in W |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | [`on_plane`] for the pressed surface | impact at the new surface; contact form |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle) | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_contacts`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
-//! | any contact | another surface's gap ↓ −δz | otherwise (no pair solution; two contacts inconsistent) | stop `several_contacts` | |
+//! | any contact | another surface's gap ↓ −δz | otherwise (no pair solution; no consistent set of the two) | stop `several_contacts` | |
 //! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
 //! | two or three contacts | a slip ↓ its stop ([`above_stop`]; a disc's: slip and spin) | sliding model, contact disc | stop `slip_stopped` | |
 //! | two or three contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
@@ -29,7 +29,7 @@
 //! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|) (`SlidingPhase::on_failure`) | [`on_plane`] | sticking impulse, at the last accepted state |
 //! | two or three contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | Coulomb model, point contacts | the same contacts, that one sticking ([`grip`]) | sticking impulses, energy in W; every hold checked |
 //! | two or three contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | the same contacts, that one (the line's: both) sliding ([`release`]) | seed slip of twice the stop, its energy in W |
-//! | two contacts | a third surface's gap ↓ −δz | | by who stays after the impact at the three contacts: three → three contacts ([`onto_contacts`]), two → two contacts, one → [`on_plane`], none → flight; no solution, three contacts inconsistent → stop `several_contacts` | flight form, back to its zero gap; impact at the three contacts (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
+//! | two contacts | a third surface's gap ↓ −δz | | by who stays after the impact at the three contacts, at rest together ([`rest_on`]), then the first consistent set of them ([`active_set`]): three → three contacts ([`onto_contacts`]), two → two contacts, one → [`on_plane`], none → flight; no solution, no consistent set → stop `several_contacts` | flight form, back to its zero gap; impact at the three contacts (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
 //! | three contacts | N_i ↓ 0 | | two contacts, the other two ([`go_on`]) | |
 //! | three contacts | a fourth surface's gap ↓ −δz | | stop `several_contacts` | |
 //!
@@ -264,12 +264,8 @@ pub(super) fn flight_is_consistent<E: Effect + Copy + 'static>(
     y: &State,
 ) -> Result<(), Status> {
     let free = ctx.system::<FrictionlessPhase>().evaluate(y);
-    let mass = ctx.scene.body.mass();
-    let accel = -free.response.normal * free.response.painleve / mass;
-    let scale = ctx.scene.gravity
-        + free.kin.omega.norm_squared() * ctx.scene.body.semi_axes().max()
-        + free.load.force.norm() / mass;
-    if accel >= -GAP_ACCEL_ROUNDOFF * scale {
+    let accel = -free.response.normal * free.response.painleve / ctx.scene.body.mass();
+    if accel >= -gap_accel_roundoff(ctx, &free.kin, free.load.force.norm()) {
         return Ok(());
     }
     Err(Status::InconsistentContact {
@@ -277,6 +273,16 @@ pub(super) fn flight_is_consistent<E: Effect + Copy + 'static>(
         normal: phase_normal(ctx, from, y),
         gap_acceleration: accel,
     })
+}
+
+/// The round-off of a gap's acceleration at kinematics `kin` under an applied force of
+/// magnitude `force` \[m/s²\]: `GAP_ACCEL_ROUNDOFF` of its scale g + |ω|² a_max + |f|/m.
+fn gap_accel_roundoff<E>(ctx: &Context<'_, E>, kin: &Kinematics, force: f64) -> f64 {
+    let body = &ctx.scene.body;
+    GAP_ACCEL_ROUNDOFF
+        * (ctx.scene.gravity
+            + kin.omega.norm_squared() * body.semi_axes().max()
+            + force / body.mass())
 }
 
 /// N of contact mode `mode` at `y` \[N\].
@@ -545,14 +551,10 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
 
 /// The settling speed of surface `surface`'s gap while the body touches the plane with
 /// `pressed` in mode `mode` (docs/physics.md, "Settling at a second surface"), at the
-/// flight-form state `y`: √(2 a k δz), a the deceleration of that gap g = h_1 − h_2 (z_G =
-/// h_1 on `pressed`) under the phase's dynamics and k = `SECOND_GAP_RISE`,
-/// ```text
-///   a = −g̈ = (u_1 − u_2)·ω̇ + κ_1 − κ_2,
-/// ```
-/// ω̇ the phase's, with `pressed` in contact (u_i = r_i × ζ, κ_i as in z̈_G = −u·ω̇ − κ). A
-/// rebound of `surface` below it rises less than k δz before that dynamics brings it back,
-/// which the located gap does not resolve.
+/// flight-form state `y`: √(2 a k δz), a the deceleration of that gap under the phase's
+/// dynamics ([`gap_deceleration`]) and k = `SECOND_GAP_RISE`. A rebound of `surface`
+/// below it rises less than k δz before that dynamics brings it back, which the located
+/// gap does not resolve.
 fn second_settling_speed<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     mode: Mode,
@@ -564,12 +566,30 @@ fn second_settling_speed<E: Effect + Copy + 'static>(
         let mut on = *y;
         clear_flight_slots(ctx, &mut on);
         renew_reference(ctx, &mut on);
+        let decel = gap_deceleration(ctx, mode, surface, &on);
         let kin = Kinematics::new(&ctx.body(), &on, false);
-        let omega_dot = phase::<E>(mode).response(ctx, &on).omega_dot;
-        let other = Contact::of(&ctx.scene.body, surface, kin.contact.zeta, kin.omega);
-        let decel = (kin.contact.u - other.u).dot(&omega_dot) + kin.contact.kappa - other.kappa;
         ctx.numerics.settling_speed(SECOND_GAP_RISE * decel, &kin)
     })
+}
+
+/// The deceleration of surface `surface`'s gap g = h_1 − h_2 (z_G = h_1 on
+/// `Context::surface`, the pressed one) under the dynamics of mode `mode` at the
+/// contact-form state `on` \[m/s²\],
+/// ```text
+///   a = −g̈ = (u_1 − u_2)·ω̇ + κ_1 − κ_2,
+/// ```
+/// ω̇ the phase's (u_i = r_i × ζ, κ_i as in z̈_G = −u·ω̇ − κ): a > 0 drives `surface`
+/// into the plane.
+fn gap_deceleration<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    mode: Mode,
+    surface: Surface,
+    on: &State,
+) -> f64 {
+    let kin = Kinematics::new(&ctx.body(), on, false);
+    let omega_dot = phase::<E>(mode).response(ctx, on).omega_dot;
+    let other = Contact::of(&ctx.scene.body, surface, kin.contact.zeta, kin.omega);
+    (kin.contact.u - other.u).dot(&omega_dot) + kin.contact.kappa - other.kappa
 }
 
 /// `f` evaluated with `surface` as the surface in contact (`Context::surface` restored
@@ -830,10 +850,7 @@ pub(super) fn leave<E: Effect + Copy + 'static>(
         touch(ctx, surfaces[0], t, events);
     }
     if count > 2 {
-        ctx.count.set(count - 1);
-        ctx.others.set(std::array::from_fn(|k| {
-            surfaces.get(k + 1).copied().unwrap_or(surfaces[0])
-        }));
+        set_contacts(ctx, &surfaces);
         ctx.sticks.set(std::array::from_fn(|k| {
             sticks.get(k).copied().unwrap_or(false)
         }));
@@ -1028,9 +1045,10 @@ impl Staying {
 ///   v_Gz from the contact, their kinetic energy in W), where the plane pushes there
 ///   (N > 0); else flight from the state on the plane where flight is consistent, else
 ///   stop `inconsistent_contact`; a landing the rule ends stops `slip_stopped`.
-/// - Several stay: the several-contact phase ([`onto_contacts`]), a stop `slip_stopped`
-///   where the model ends at the slip stop, or, where the phase cannot take them (a
-///   normal force ≤ 0, the law inconsistent), stop `several_contacts`.
+/// - Several stay: all at rest on the plane first ([`rest_on`]), then the first
+///   consistent set of them ([`active_set`]) goes on: several → the several-contact
+///   phase ([`onto_contacts`]) or a stop `slip_stopped` where the model ends at the slip
+///   stop, one or none as above; where no set is consistent, stop `several_contacts`.
 ///
 /// Records each surface's impact (`reports`, persistent where it stays on the plane), the
 /// mode switch and, entering two contacts, a `grip` event for each contact that sticks.
@@ -1062,6 +1080,27 @@ fn settle<E: Effect + Copy + 'static>(
         }
         Next::Go(to)
     };
+    let stuck = |surface: Surface| reports.iter().any(|r| r.surface == surface && r.stuck);
+    let several_contacts = |surfaces: &[Surface], y: &State| {
+        Next::Stop(
+            Status::SeveralContacts {
+                touching: surfaces[surfaces.len() - 1],
+                pressed: surfaces[0],
+                approach: normal_velocity(&ctx.scene.body, surfaces[0], y),
+            },
+            from,
+        )
+    };
+    let staying = match staying {
+        Staying::Several { surfaces, count } => {
+            rest_on(ctx, &surfaces[..count], y);
+            match active_set(ctx, &surfaces[..count], stuck, y) {
+                Some(set) => set,
+                None => return several_contacts(&surfaces[..count], y),
+            }
+        }
+        staying => staying,
+    };
     match staying {
         Staying::Neither => {
             touch(ctx, struck, t, events);
@@ -1070,10 +1109,15 @@ fn settle<E: Effect + Copy + 'static>(
         }
         Staying::One(surface) => {
             touch(ctx, surface, t, events);
-            let stuck = reports.iter().any(|r| r.surface == surface && r.stuck);
             let mut landed = *y;
             clear_flight_slots(ctx, &mut landed);
-            let placed = on_plane(ctx, Arrival::Landing { stuck }, &mut landed);
+            let placed = on_plane(
+                ctx,
+                Arrival::Landing {
+                    stuck: stuck(surface),
+                },
+                &mut landed,
+            );
             *y = landed;
             match placed {
                 Placed::SlipStopped => {
@@ -1107,8 +1151,7 @@ fn settle<E: Effect + Copy + 'static>(
         }
         Staying::Several { surfaces, count } => {
             touch(ctx, surfaces[0], t, events);
-            ctx.others.set([surfaces[1], surfaces[2]]);
-            ctx.count.set(count);
+            set_contacts(ctx, &surfaces[..count]);
             let mut on = *y;
             clear_flight_slots(ctx, &mut on);
             match onto_contacts(ctx, on) {
@@ -1130,14 +1173,145 @@ fn settle<E: Effect + Copy + 'static>(
                         }
                     }
                 }
-                None => Next::Stop(
-                    Status::SeveralContacts {
-                        touching: surfaces[count - 1],
-                        pressed: surfaces[0],
-                        approach: normal_velocity(&ctx.scene.body, surfaces[0], y),
-                    },
-                    from,
-                ),
+                None => several_contacts(&surfaces[..count], y),
+            }
+        }
+    }
+}
+
+/// The flight-form state `y` with each of `surfaces` (two or three, at zero gap within
+/// the located δz and normal velocities within their settling speeds) at rest on the
+/// plane: `Contacts::project` on them all (no contact sticking: the grip is settled by
+/// the placement after), its energy change booked in W as [`onto_contacts`] books it.
+/// Each then starts at zero gap and zero normal velocity, whichever go on in contact
+/// ([`active_set`]): one left out is not driven into the plane by the removal of the
+/// others' residual velocities, and its gap's acceleration alone decides. `Context` is
+/// as it was on return.
+fn rest_on<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, surfaces: &[Surface], y: &mut State) {
+    keeping(ctx, || {
+        set_contacts(ctx, surfaces);
+        ctx.sticks.set([false; MOST_CONTACTS]);
+        let sys = contacts(ctx);
+        let energy = |y: &State| {
+            Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
+        };
+        clear_flight_slots(ctx, y);
+        let before = energy(y);
+        sys.project(y);
+        y[state::WORK] += before - energy(y);
+        to_flight(ctx, contacts_mode(surfaces.len()), y);
+    })
+}
+
+/// `f` evaluated with the surfaces in contact and their grip (`Context::surface`,
+/// `others`, `count`, `sticks`) restored after.
+fn keeping<E, R>(ctx: &Context<'_, E>, f: impl FnOnce() -> R) -> R {
+    let saved = (
+        ctx.surface.get(),
+        ctx.others.get(),
+        ctx.count.get(),
+        ctx.sticks.get(),
+    );
+    let r = f();
+    ctx.surface.set(saved.0);
+    ctx.others.set(saved.1);
+    ctx.count.set(saved.2);
+    ctx.sticks.set(saved.3);
+    r
+}
+
+/// Makes `surfaces` (the first the one whose geometry the several-contact phase takes)
+/// the surfaces in contact, without recording the change ([`touch`] records it).
+fn set_contacts<E>(ctx: &Context<'_, E>, surfaces: &[Surface]) {
+    ctx.surface.set(surfaces[0]);
+    ctx.others.set(std::array::from_fn(|k| {
+        surfaces.get(k + 1).copied().unwrap_or(surfaces[0])
+    }));
+    ctx.count.set(surfaces.len());
+}
+
+/// The surfaces in contact after an impact that leaves `staying` (two or three, the
+/// pressed ones first) on the plane, at the flight-form state `y` (docs/physics.md,
+/// "Which contacts stay"): the first of their subsets, the larger first and within a
+/// size in the order of `staying`, then none, that is consistent ([`consistent`]). For
+/// frictionless contacts that is the solution of the complementarity problem of the
+/// normal forces, which exists and is unique (its matrix, the Delassus matrix
+/// W^T M⁻¹ W, is positive definite); with friction there may be none — the rolling
+/// model's analogue of Painlevé's paradox — and the answer is `None`. `stuck(s)`: the
+/// impact left no slip at surface s. `Context` is as it was on return.
+fn active_set<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    staying: &[Surface],
+    stuck: impl Fn(Surface) -> bool,
+    y: &State,
+) -> Option<Staying> {
+    let n = staying.len();
+    let sets = (0..=n)
+        .rev()
+        .flat_map(|k| (0..1usize << n).filter(move |m| m.count_ones() as usize == k));
+    for mask in sets {
+        let pick = |inside: bool| -> Vec<Surface> {
+            (0..n)
+                .filter(|i| (mask >> i & 1 == 1) == inside)
+                .map(|i| staying[i])
+                .collect()
+        };
+        let (set, out) = (pick(true), pick(false));
+        if keeping(ctx, || consistent(ctx, &set, &out, &stuck, y)) {
+            return Some(match set.as_slice() {
+                [] => Staying::Neither,
+                [one] => Staying::One(*one),
+                several => Staying::several(several),
+            });
+        }
+    }
+    None
+}
+
+/// Whether the surfaces `set` in contact and `out` off the plane, all at zero gap at the
+/// flight-form state `y`, are consistent: placed as [`settle`] places them
+/// ([`onto_contacts`] for several, [`on_plane`] for one), every contact pushes (N_i > 0)
+/// and no surface of `out` is driven into the plane (its [`gap_deceleration`] within
+/// round-off of zero or below); with none in contact, flight is consistent at each
+/// ([`flight_is_consistent`]). A placement that stops the run at the slip stop counts as
+/// consistent: the model ends there. Leaves `Context` changed.
+fn consistent<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    set: &[Surface],
+    out: &[Surface],
+    stuck: &impl Fn(Surface) -> bool,
+    y: &State,
+) -> bool {
+    let opens = |mode: Mode, on: &State| {
+        let kin = Kinematics::new(&ctx.body(), on, false);
+        out.iter()
+            .all(|&j| gap_deceleration(ctx, mode, j, on) <= gap_accel_roundoff(ctx, &kin, 0.0))
+    };
+    let contact_form = |surface: Surface| {
+        ctx.surface.set(surface);
+        let mut on = *y;
+        clear_flight_slots(ctx, &mut on);
+        on
+    };
+    match set {
+        [] => out.iter().all(|&j| {
+            let on = contact_form(j);
+            flight_is_consistent(ctx, Mode::Frictionless, &on).is_ok()
+        }),
+        [one] => {
+            let mut on = contact_form(*one);
+            match on_plane(ctx, Arrival::Landing { stuck: stuck(*one) }, &mut on) {
+                Placed::SlipStopped => true,
+                Placed::In(mode) => pushes(ctx, mode, &on) && opens(mode, &on),
+            }
+        }
+        several => {
+            let on = contact_form(several[0]);
+            set_contacts(ctx, several);
+            match onto_contacts(ctx, on) {
+                Some((on, Placed::In(mode))) => opens(mode, &on),
+                Some((_, Placed::SlipStopped)) => true,
+                None => false,
             }
         }
     }
