@@ -5,8 +5,9 @@
 //! cargo run --release -p ellipsoid-core --example campaign -- --seed 24 --count 2000 [--show N] [--spheres]
 //! ```
 //! prints, per method, how many runs ended with each status and how many broke a check,
-//! the scenes whose DOP853 run took an impact at three contacts at once, then each
-//! failing scene; `--show N` prints scene N's two runs in detail; `--spheres`
+//! the scenes whose DOP853 run took an impact at three contacts at once, and those whose
+//! DOP853 run stopped `several_contacts` (contact model, time, status), then each failing
+//! scene; `--show N` prints scene N's two runs in detail; `--spheres`
 //! gives each body one or two random contact spheres (`campaign::with_spheres`).
 
 #[path = "../../../tests/common/campaign.rs"]
@@ -16,6 +17,7 @@ use std::collections::BTreeMap;
 
 use campaign::{Rng, distance, run, with};
 use ellipsoid_core::integrate::Method;
+use ellipsoid_core::simulate::Status;
 
 fn main() {
     let mut seed = 24u64;
@@ -65,6 +67,7 @@ fn main() {
     let mut table: BTreeMap<(&str, &str), usize> = BTreeMap::new();
     let mut failures = Vec::new();
     let mut three = Vec::new();
+    let mut several = Vec::new();
     for (i, scene) in scenes.iter().enumerate() {
         if show.is_some_and(|s| s != i) {
             continue;
@@ -72,6 +75,12 @@ fn main() {
         let r853 = run(scene);
         if campaign::impact_at_three(&r853.outcome.events) {
             three.push(i);
+        }
+        if let Status::SeveralContacts { .. } = r853.outcome.status {
+            several.push(format!(
+                "scene {i} ({:?}) at t = {}: {:?}",
+                scene.contact, r853.outcome.final_sample.t, r853.outcome.status
+            ));
         }
         let r5 = run(&with(scene, Method::Dopri5, campaign::RTOL));
         for (name, r) in [("dop853", &r853), ("dopri5", &r5)] {
@@ -114,6 +123,9 @@ fn main() {
         println!("{method:8} {status:22} {n}");
     }
     println!("impact at three contacts (dop853): scenes {three:?}");
+    for s in &several {
+        println!("several_contacts (dop853): {s}");
+    }
     println!("{} failures", failures.len());
     for f in &failures {
         println!("{f}");
