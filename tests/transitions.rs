@@ -214,12 +214,14 @@ const ROWS: &[Row] = &[
         row: [
             "any contact",
             "another surface's gap ↓ −δz",
-            "no pair solution (rolling: sticking the struck contact would pull)",
+            "no pair solution, or no consistent set of the two (rolling: the peg touches \
+             down while the rim rolls, both within their settling speeds, and no set of \
+             them is consistent)",
             "stop several_contacts",
         ],
         scene: Scene {
             file: "tests/data/spheres/top-on-peg-rolling.toml",
-            set: &["initial.theta=0.6"],
+            set: &["initial.theta=0.6", "initial.theta_dot=5"],
         },
         expect: Expect::Stops {
             after: None,

@@ -1454,13 +1454,30 @@ pub(super) fn renew_reference<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, 
 
 /// A persistent landing's state with z_G and v_Gz given by the contact from now on
 /// (their slots cleared for the slip reference): the kinetic energy of the rebound this
-/// removes (below the settling speed) is booked in W, so E + W stays exact.
+/// removes (below the settling speed) is booked in W, so E + W stays exact. Taking v_Gz
+/// from the contact removes the residual normal velocity v_n = v_Gz + u·ω by a change of
+/// v_Gz alone, which changes the energy by m(v_n²/2 − v_Gz v_n): where that is a gain
+/// (unless v_Gz has v_n's sign and at least half its size), v_n is removed instead by a normal
+/// impulse P at the contact, P = −v_n/(1/m + u·I⁻¹u), ω += I⁻¹u P (body axes), which
+/// takes ½ v_n²/(1/m + u·I⁻¹u) ≥ 0 out (docs/physics.md, "Settling").
 fn clear_flight_slots<E>(ctx: &Context<'_, E>, y: &mut State) {
     let body = &ctx.body();
     let energy =
         |kin: &Kinematics| Invariants::from_kinematics(body, ctx.scene.gravity, kin, 0.0).energy;
     let flying = energy(&Kinematics::flying(body, y));
-    y[state::HEIGHT] = 0.0;
-    y[state::VEL_Z] = 0.0;
-    y[state::WORK] += flying - energy(&Kinematics::new(body, y, false));
+    let mut cleared = *y;
+    cleared[state::HEIGHT] = 0.0;
+    cleared[state::VEL_Z] = 0.0;
+    if energy(&Kinematics::new(body, &cleared, false)) > flying {
+        let kin = Kinematics::new(body, &cleared, false);
+        let u = kin.contact.u;
+        let v_n = y[state::VEL_Z] + u.dot(&kin.omega);
+        let turn = body.inertia_inv() * u;
+        let impulse = -v_n / (1.0 / body.mass() + u.dot(&turn));
+        for i in 0..3 {
+            cleared[state::OMEGA + i] += turn[i] * impulse;
+        }
+    }
+    cleared[state::WORK] += flying - energy(&Kinematics::new(body, &cleared, false));
+    *y = cleared;
 }
