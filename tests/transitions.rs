@@ -455,8 +455,13 @@ const ROWS_ELSEWHERE: &[(&[usize], &str, &str)] = &[
         &[26, 27],
         "three contacts | N_i ↓ 0 | two contacts; three contacts | a fourth surface's gap ↓ −δz | \
          stop several_contacts",
-        "not reached by a scene or a campaign yet (the campaign's bodies have at most three \
-         surfaces): no test covers these two rows",
+        "not reached by a scene or a campaign yet: no test covers these two rows. Row 27 \
+         cannot be reached by the three-contact phase's motion: three contacts fix ζ and \
+         every gap depends on ζ alone (docs/physics.md, \"Several contacts\"), so it is a \
+         guard. Row 26 needs friction whose moments about G turn a normal force to zero; \
+         the tripod (tests/data/spheres/tripod.toml) spun at 3 to 150 rad/s, sliding or \
+         Coulomb with μ up to 3, thrown at up to 2 m/s, enters three contacts late and \
+         stays there",
     ),
     (
         &[9, 14],
