@@ -1534,3 +1534,63 @@ fn run_writes_the_poincare_sections_table() {
     assert!(!dir.path().join("none.csv").exists());
     assert!(!dir.path().join("u.csv").exists());
 }
+
+/// The rolling top on its peg (tests/data/spheres/top-on-peg-rolling.toml) thrown down at
+/// θ̇0 = 5 rad/s from θ0 = 0.6: at t ≈ 0.974 s the peg touches down while the rim rolls, and
+/// no set of the two contacts is consistent under unbounded friction — the run stops
+/// `several_contacts` (exit 3), naming both surfaces, and its message names the remedy.
+/// The remedy holds: the same top under Coulomb friction, μ = 0.3 and 0.8, runs to t_end
+/// with E + W kept to 1e-10 of E(0) (from μ ≈ 1 on, sliding on the peg at the start is
+/// itself inconsistent, Painlevé's paradox, and the scene is refused).
+#[test]
+fn several_contacts_under_rolling_names_coulomb_friction_which_resolves_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../tests/data/spheres/top-on-peg-rolling.toml");
+    let json = dir.path().join("summary.json");
+    let run = |set: &[&str]| {
+        let mut args = vec![
+            "run",
+            file.to_str().unwrap(),
+            "-o",
+            "out.csv",
+            "--summary",
+            json.to_str().unwrap(),
+            "-q",
+            "--set",
+            "initial.theta=0.6",
+            "--set",
+            "initial.theta_dot=5",
+        ];
+        for s in set {
+            args.extend(["--set", s]);
+        }
+        let out = ellipsoid(dir.path(), &args);
+        assert_no_panic(&out);
+        (code(&out), read_json(&json))
+    };
+    let (exit, summary) = run(&[]);
+    let message = summary["message"].as_str().unwrap();
+    assert_eq!(
+        (exit, summary["status"].as_str()),
+        (3, Some("several_contacts")),
+        "{message}"
+    );
+    assert!(
+        message.contains("the peg") && message.contains("the ellipsoid"),
+        "{message}"
+    );
+    assert!(
+        message.contains("rolling model") && message.contains("model = \"coulomb\""),
+        "{message}"
+    );
+    for mu in ["0.3", "0.8"] {
+        let (exit, summary) = run(&[
+            "contact.model=\"coulomb\"",
+            &format!("contact.friction={mu}"),
+        ]);
+        assert_eq!(exit, 0, "μ = {mu}: {}", summary["message"]);
+        let balance = summary["drift"]["energy_plus_work"].as_f64().unwrap();
+        assert!(balance.abs() < 1e-10, "μ = {mu}: E + W {balance:e}");
+    }
+}

@@ -10,7 +10,8 @@ use ellipsoid_core::integrate::Stats;
 use ellipsoid_core::invariants::Invariants;
 use ellipsoid_core::scenario::Scenario;
 use ellipsoid_core::simulate::{
-    Chatter, Drift, EventKind, EventRecord, Outcome, RunWarning, Sample, Scene, Status,
+    Chatter, ContactModel, Drift, EventKind, EventRecord, Outcome, RunWarning, Sample, Scene,
+    Status,
 };
 use serde::Serialize;
 use serde::ser::SerializeStruct;
@@ -388,10 +389,18 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
              that is not simulated: an impact at the contacts with no solution, no set of the contacts on \
              which every normal force is positive and no other surface is driven into the plane, or a fourth \
              surface touching while on three (docs/physics.md, \"Contact \
-             spheres\")",
+             spheres\"){}",
             scene.body.surface_name(*touching),
             scene.body.surface_name(*pressed),
-            number(*approach)
+            number(*approach),
+            match scene.contact {
+                ContactModel::Rolling => {
+                    "; under the rolling model, whose friction is unbounded, this can be its analogue of \
+                     Painlevé's paradox (model = \"coulomb\" with a finite friction coefficient lets a \
+                     contact slide)"
+                }
+                _ => "",
+            }
         ),
         Status::NonFinite { column, value } => {
             format!(
