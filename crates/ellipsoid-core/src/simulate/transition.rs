@@ -618,7 +618,7 @@ fn contacts<E: Copy>(ctx: &Context<'_, E>) -> System<Contacts, E> {
 
 /// The contact-form state `y` (on `Context::surface`) on the surfaces in contact
 /// (`Context::surface`, `Context::others`, `Context::count`): the other contacts'
-/// constraints restored (`Contacts::project`, the energy it changes booked in W) and the
+/// constraints restored ([`restore_contacts`], the energy it changes booked in W) and the
 /// contacts' grip settled ([`settle_grip`]: in the Coulomb model a contact whose slip is
 /// within its stop on several contacts (`phase::above_stop`) sticks; in the rolling model
 /// all do). It goes into the several-contact phase where then every normal force is
@@ -629,17 +629,7 @@ fn onto_contacts<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     mut y: State,
 ) -> Option<(State, Placed)> {
-    ctx.sticks.set([false; MOST_CONTACTS]);
-    let sys = contacts(ctx);
-    let energy = |y: &State| {
-        Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
-    };
-    let before = energy(&y);
-    sys.project(&mut y);
-    // The projection removes the other contacts' residual gaps and normal velocities
-    // (within the gap's resolution and the settling speed): the energy it takes is booked
-    // in W, as a persistent landing books its rebound's, so that E + W stays exact.
-    y[state::WORK] += before - energy(&y);
+    restore_contacts(ctx, &mut y);
     let sticks = match ctx.scene.contact {
         ContactModel::Rolling => [true; MOST_CONTACTS],
         ContactModel::Frictionless | ContactModel::Viscous { .. } => [false; MOST_CONTACTS],
@@ -652,6 +642,22 @@ fn onto_contacts<E: Effect + Copy + 'static>(
     let pressed = (0..ctx.count.get()).all(|i| normal(&r, i) > 0.0);
     (pressed && r.painleve > PAINLEVE_COLLAPSE)
         .then_some((y, Placed::In(contacts_mode(ctx.count.get()))))
+}
+
+/// The contact-form state `y` on the surfaces in contact with their constraints restored
+/// (`Contacts::project`, no contact sticking: `Context::sticks` cleared). The projection
+/// removes the other contacts' residual gaps and normal velocities (within the gap's
+/// resolution and the settling speed): the energy it takes is booked in W, as a
+/// persistent landing books its rebound's, so that E + W stays exact.
+fn restore_contacts<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut State) {
+    ctx.sticks.set([false; MOST_CONTACTS]);
+    let sys = contacts(ctx);
+    let energy = |y: &State| {
+        Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
+    };
+    let before = energy(y);
+    sys.project(y);
+    y[state::WORK] += before - energy(y);
 }
 
 /// Whether each contact's slip at the contact-form state `y` (`Context::sticks` as the
@@ -1181,8 +1187,8 @@ fn settle<E: Effect + Copy + 'static>(
 
 /// The flight-form state `y` with each of `surfaces` (two or three, at zero gap within
 /// the located δz and normal velocities within their settling speeds) at rest on the
-/// plane: `Contacts::project` on them all (no contact sticking: the grip is settled by
-/// the placement after), its energy change booked in W as [`onto_contacts`] books it.
+/// plane: their constraints restored together ([`restore_contacts`]; the grip is
+/// settled by the placement after).
 /// Each then starts at zero gap and zero normal velocity, whichever go on in contact
 /// ([`active_set`]): one left out is not driven into the plane by the removal of the
 /// others' residual velocities, and its gap's acceleration alone decides. `Context` is
@@ -1190,15 +1196,8 @@ fn settle<E: Effect + Copy + 'static>(
 fn rest_on<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, surfaces: &[Surface], y: &mut State) {
     keeping(ctx, || {
         set_contacts(ctx, surfaces);
-        ctx.sticks.set([false; MOST_CONTACTS]);
-        let sys = contacts(ctx);
-        let energy = |y: &State| {
-            Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
-        };
         clear_flight_slots(ctx, y);
-        let before = energy(y);
-        sys.project(y);
-        y[state::WORK] += before - energy(y);
+        restore_contacts(ctx, y);
         to_flight(ctx, contacts_mode(surfaces.len()), y);
     })
 }
@@ -1468,8 +1467,8 @@ fn clear_flight_slots<E>(ctx: &Context<'_, E>, y: &mut State) {
     let mut cleared = *y;
     cleared[state::HEIGHT] = 0.0;
     cleared[state::VEL_Z] = 0.0;
-    if energy(&Kinematics::new(body, &cleared, false)) > flying {
-        let kin = Kinematics::new(body, &cleared, false);
+    let kin = Kinematics::new(body, &cleared, false);
+    if energy(&kin) > flying {
         let u = kin.contact.u;
         let v_n = y[state::VEL_Z] + u.dot(&kin.omega);
         let turn = body.inertia_inv() * u;
