@@ -79,6 +79,13 @@ const DISC_STOP_FLOORS: f64 = 10.0;
 /// slip's direction), far below every slip floor (≥ 1e-10).
 pub(super) const SLIP_SEED: f64 = 1e-12;
 
+/// The slip a contact released on several contacts starts with, in several-contact slip
+/// stops ([`Numerics::two_contact_stop`]): twice the stop, so that its slip-stop watch
+/// starts above its zero (docs/physics.md, "Several contacts"). Where a contact that stops
+/// cannot stick alone, another whose slip is within this seed stops with it
+/// (`transition::grip`).
+pub(super) const RELEASE_SEED_STOPS: f64 = 2.0;
+
 /// Round-off of the gap z_G − h(ζ), in units of ε (|z_G| + L) (see
 /// [`Numerics::gap_resolution`]).
 const GAP_ROUNDOFF: f64 = 4.0;

@@ -27,7 +27,7 @@
 //! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact |
 //! | any contact | N ↓ 0 | flight inconsistent | stop `inconsistent_contact` | |
 //! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|) (`SlidingPhase::on_failure`) | [`on_plane`] | sticking impulse, at the last accepted state |
-//! | two or three contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | Coulomb model, point contacts | the same contacts, that one sticking ([`grip`]) | sticking impulses, energy in W; every hold checked |
+//! | two or three contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | Coulomb model, point contacts | the same contacts, that one sticking ([`grip`]; where it cannot stick alone, with those whose slip is within a release's seed) | sticking impulses, energy in W; every hold checked |
 //! | two or three contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | the same contacts, that one (the line's: both) sliding ([`release`]) | seed slip of twice the stop, its energy in W |
 //! | two contacts | a third surface's gap ↓ −δz | | by who stays after the impact at the three contacts, at rest together ([`rest_on`]), then the first consistent set of them ([`active_set`]): three → three contacts ([`onto_contacts`]), two → two contacts, one → [`on_plane`], none → flight; no solution, no consistent set → stop `several_contacts` | flight form, back to its zero gap; impact at the three contacts (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
 //! | three contacts | N_i ↓ 0 | | two contacts, the other two ([`go_on`]) | |
@@ -49,7 +49,8 @@ use crate::state::{self, State};
 
 use super::context::Context;
 use super::numerics::{
-    BACK_STEPS, GAP_ACCEL_ROUNDOFF, PAINLEVE_COLLAPSE, SECOND_GAP_RISE, SLIP_SEED,
+    BACK_STEPS, GAP_ACCEL_ROUNDOFF, PAINLEVE_COLLAPSE, RELEASE_SEED_STOPS, SECOND_GAP_RISE,
+    SLIP_SEED,
 };
 use super::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
 use super::phase::{
@@ -718,7 +719,7 @@ fn settle_grip<E: Effect + Copy + 'static>(
 /// Releases `hold` at `y`: the contact (or, for [`Hold::Line`], both of the line) starts
 /// to slide, with a seed of slip opposite the friction sticking needed — across the line
 /// C_1C_2 where the other contact of a sticking pair sticks on, along it for the line — of
-/// twice the several-contact slip stop, so that the slip-stop watch starts above its zero
+/// [`RELEASE_SEED_STOPS`] several-contact slip stops, so that the slip-stop watch starts above its zero
 /// (as the one-contact sliding phase seeds its onset, docs/physics.md "Friction along the
 /// slip, and the onset's seed"); the seed's kinetic energy is booked in W
 /// (`Contacts::impel`).
@@ -728,8 +729,7 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
     let forces = sys
         .contact
         .forces(&sys.body, sys.gravity, &ev.kin, &ev.load);
-    let size =
-        (sys.contact.each(&sys.body, &ev.kin)).map(|kin| 2.0 * ctx.numerics.two_contact_stop(&kin));
+    let size = (sys.contact.each(&sys.body, &ev.kin)).map(|kin| seed_size(ctx, &kin));
     let unit = |v: Vector2<f64>, fallback: Vector2<f64>| {
         if v.norm() > 0.0 {
             v.normalize()
@@ -761,10 +761,21 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
     ctx.sticks.set(sticks);
 }
 
+/// The slip a contact with kinematics `kin` is released with on several contacts
+/// \[m/s\]: [`RELEASE_SEED_STOPS`] several-contact slip stops.
+fn seed_size<E>(ctx: &Context<'_, E>, kin: &Kinematics) -> f64 {
+    RELEASE_SEED_STOPS * ctx.numerics.two_contact_stop(kin)
+}
+
 /// A sliding contact of the several-contact phase stopped slipping at (t, y) (Coulomb
 /// model, point contacts): it sticks where its cone holds ([`settle_grip`], from
 /// `sticks`), and the phase goes on with the new grip; where a normal force is then not
-/// positive, that surface leaves ([`leave`]).
+/// positive, that surface leaves ([`leave`]). Where it cannot stick alone (its hold
+/// fails and releases it again), every other sliding contact whose slip is within a
+/// release's seed ([`seed_size`]) stops with it, and the grip is settled again from `y`
+/// with those: a seed of that size falls back to the stop within nanoseconds, and two
+/// contacts stopping together would otherwise trade seeds without end (docs/physics.md,
+/// "Several contacts").
 pub(super) fn grip<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     sticks: [bool; MOST_CONTACTS],
@@ -773,7 +784,20 @@ pub(super) fn grip<E: Effect + Copy + 'static>(
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let before = ctx.sticks.get();
+    let start = *y;
+    let with_near = {
+        let sys = contacts(ctx);
+        let each = sys.contact.each(&sys.body, &sys.evaluate(y).kin);
+        std::array::from_fn(|i| {
+            sticks[i] || (i < ctx.count.get() && each[i].slip.norm() <= seed_size(ctx, &each[i]))
+        })
+    };
     settle_grip(ctx, sticks, y);
+    if ctx.sticks.get() == before && with_near != sticks {
+        *y = start;
+        ctx.sticks.set(before);
+        settle_grip(ctx, with_near, y);
+    }
     record_grip(ctx, before, t, events);
     go_on(ctx, t, y, events)
 }
