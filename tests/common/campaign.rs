@@ -258,6 +258,14 @@ pub fn check(scene: &Scene, run: &Run) -> Result<(), String> {
         }
         last_w = last_w.max(s.work);
     }
+    // Time never runs back by more than [`STEP_BACK`]: a touchdown is taken back to its
+    // zero gap, at most a few fall times through the gap's round-off.
+    if let Some(w) = (out.events.windows(2)).find(|w| w[1].t < w[0].t - STEP_BACK) {
+        return Err(format!(
+            "an event at t = {} after one at t = {}",
+            w[1].t, w[0].t
+        ));
+    }
     for e in &out.events {
         if let EventKind::Impact(r) = &e.kind
             && r.energy_loss < -1e-12 * energy
@@ -276,6 +284,12 @@ pub fn check(scene: &Scene, run: &Run) -> Result<(), String> {
     let _ = scene;
     Ok(())
 }
+
+/// The most an event may come before the one recorded ahead of it \[s\]: a touchdown
+/// located at gap −δz is taken back to its zero gap, at most 4√(2δz/a) along the flight
+/// (a: g, or without gravity the gap's free deceleration; `transition::back_to_contact`),
+/// which with δz ~ 1e-16 m is 1e-8 s at g and 1e-6 s at a = 1e-3 m/s².
+pub const STEP_BACK: f64 = 1e-6;
 
 /// DOP853's own error at rtol 1e-10 above which a motion counts as sensitive at that
 /// tolerance (it amplifies the tolerance a thousandfold by t_end).

@@ -24,8 +24,15 @@
 //! (v_n,i⁻ > 0, Λ_i > 0, v_n,i⁺ = 0; for e = 1 the change is Σ Λ_i v_n,i⁻/2 over those).
 //! Where it would, the impact is taken with e = 0.
 //!
-//! The iteration can cycle instead of converging (the friction law is not monotone):
-//! 1 of 300 random three-contact Coulomb impacts in the module's test, which gives `None`.
+//! The impulses need not be unique where the velocities are: W = J M⁻¹ Jᵀ has the rank of
+//! the body's six velocities at most, so it is singular for three contacts, and for two an
+//! equal and opposite tangential pair along C_1C_2 does nothing (Jᵀ P = 0: no change of
+//! v_G, ω or the energy). The iteration is therefore taken as converged where a sweep no
+//! longer changes the contacts' velocities: its impulses can drift along W's null space
+//! without end (measured: an impulse split creeping by 4e-14 of its scale a sweep for
+//! 200,000 sweeps, a two-contact impact of the campaign with contact spheres, seed 7
+//! scene 24, whose velocities had converged at sweep 146). Where the iteration does not
+//! converge (the friction law is not monotone, so it may cycle), it gives `None`.
 //!
 //! The no-slip law (the rolling model) is the limit μ → ∞: a contact either separates
 //! (P_i = 0, ξ_n,i ≥ 0) or stays and sticks (ξ_i = 0, Λ_i ≥ 0, P_t,i free). Its active set
@@ -62,11 +69,12 @@ type Coupling = SMatrix<f64, { 3 * MOST_CONTACTS }, { 3 * MOST_CONTACTS }>;
 /// Most block Gauss–Seidel sweeps; the iteration converges linearly at a rate set by
 /// W's coupling of the contacts: medians of about 140 and at most 18,893 sweeps in two
 /// sets of 300 random two-contact impacts (the module's test and a milder one), a median
-/// of 94 and at most 3,902 in 600 random three-contact ones (the module's test).
+/// of 94 in 600 random three-contact ones (the module's test), all but one within 3,452
+/// sweeps and that one (Coulomb, μ = 0.83, e = 0) within 189,576.
 const MAX_SWEEPS: u32 = 200_000;
 
-/// The fixed point is reached where a sweep moves P by less than this, relative to the
-/// impulse scale |v⁻| max_i ρ_i.
+/// The fixed point is reached where a sweep changes the contacts' velocities
+/// v = v⁻ + W P by less than this, relative to |v⁻|.
 const CONVERGED: f64 = 1e-15;
 
 /// The outcome of [`resolve_contacts`]; entries at index ≥ `count` are zero (false).
@@ -208,25 +216,25 @@ fn solve(body: &Approach, contacts: &Contacts, mu: f64, e: f64) -> Option<Contac
     for i in 0..contacts.count {
         shift[3 * i + 2] = e * contacts.v0[3 * i + 2].min(0.0);
     }
-    // The impulse scale: what stops the fastest contact point through the softest block.
-    let scale = contacts.v0.norm() * contacts.rho.iter().fold(0.0_f64, |a, &b| a.max(b));
+    let scale = contacts.v0.norm();
     let mut p = Stacked::zeros();
     let mut sweeps = 0;
     loop {
         sweeps += 1;
-        let mut moved: f64 = 0.0;
+        let before = p;
         for i in 0..contacts.count {
             let xi = contacts.velocity_at(i, &p) + shift.fixed_rows::<3>(3 * i);
             let xi_hat = xi + Vector3::z() * (mu * xi.xy().norm());
             let old = p.fixed_rows::<3>(3 * i).into_owned();
             let new = project_cone(old - contacts.rho[i] * xi_hat, mu);
-            moved = moved.max((new - old).norm());
             p.fixed_rows_mut::<3>(3 * i).copy_from(&new);
         }
         if !p.iter().all(|x| x.is_finite()) {
             return None;
         }
-        if moved <= CONVERGED * scale {
+        // The sweep's change of the contacts' velocities: they (and v_G⁺, ω⁺) are what
+        // converges; the impulses need not, where W is singular (module docs).
+        if (contacts.w * (p - before)).norm() <= CONVERGED * scale {
             break;
         }
         if sweeps >= MAX_SWEEPS {
@@ -797,7 +805,7 @@ mod tests {
             &staying[0][1..],
             &staying[1][1..],
         );
-        assert!(stalled <= 3, "{stalled} of 600 did not converge");
+        assert!(stalled == 0, "{stalled} of 600 did not converge");
         assert!(plastic > 0, "no impact was taken plastic");
         assert!(none[1] < 30, "{none:?}");
         assert!(

@@ -1367,7 +1367,12 @@ pub(super) fn touch<E>(
 /// one RK4 step of the flight system from (t, y); |s| ≈ δz/|v_n|, a few ns, and never more
 /// than 4√(2δz/g), the time a fall from rest takes through a few δz: a grazing touchdown
 /// (v_n → 0, as when a body rocks between two surfaces) would otherwise send one RK4 step
-/// seconds back along the flight.
+/// seconds back along the flight. Without gravity the fall is at the gap's free
+/// deceleration |a| ([`settling_speed`]'s), and where that is zero too there is no going
+/// back: a bound from g alone was none at g = 0, and a surface leaving two contacts at
+/// N ↓ 0 with its gap and normal velocity at round-off below zero (−1e-16 m, −2e-11 m/s)
+/// was taken back 5 µs along a flight that never happened, to a state in which the body
+/// had been touching with both.
 fn back_to_contact<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     surface: Surface,
@@ -1378,7 +1383,16 @@ fn back_to_contact<E: Effect + Copy + 'static>(
     let dz = ctx
         .numerics
         .gap_resolution(&Kinematics::flying_at(body, surface, y));
-    let most = 4.0 * (2.0 * dz / ctx.scene.gravity.max(f64::MIN_POSITIVE)).sqrt();
+    let fall = if ctx.scene.gravity > 0.0 {
+        ctx.scene.gravity
+    } else {
+        on_surface(ctx, surface, || free_deceleration(ctx, y)).abs()
+    };
+    let most = if fall > 0.0 {
+        4.0 * (2.0 * dz / fall).sqrt()
+    } else {
+        0.0
+    };
     let gap_and_rate = |y: &State| {
         let kin = Kinematics::flying_at(body, surface, y);
         let v_n = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
@@ -1399,16 +1413,20 @@ fn back_to_contact<E: Effect + Copy + 'static>(
 }
 
 /// The settling speed at the touchdown state `y` (`Numerics::settling_speed`), with the
-/// gap's deceleration with no contact force a = (m g − f_z − m u·I⁻¹T − m κ)/m
-/// (see [`flight_is_consistent`]).
+/// gap's deceleration with no contact force ([`free_deceleration`]).
 fn settling_speed<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     y: &State,
     kin: &Kinematics,
 ) -> f64 {
+    ctx.numerics.settling_speed(free_deceleration(ctx, y), kin)
+}
+
+/// The deceleration of the gap of the surface in contact with no contact force at `y`,
+/// a = (m g − f_z − m u·I⁻¹T − m κ)/m \[m/s²\] (see [`flight_is_consistent`]).
+fn free_deceleration<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> f64 {
     let free = ctx.system::<FrictionlessPhase>().evaluate(y);
-    let decel = free.response.normal * free.response.painleve / ctx.scene.body.mass();
-    ctx.numerics.settling_speed(decel, kin)
+    free.response.normal * free.response.painleve / ctx.scene.body.mass()
 }
 
 /// The impact law of the scene's contact model: frictionless, Coulomb (sliding and
