@@ -161,3 +161,51 @@ fn with_restitution_the_rim_bounces_off_and_the_peg_stays() {
     let drift = out.drift.get(Invariant::EnergyPlusWork).unwrap();
     assert!(drift.abs() <= 1e-9, "E + W drifted {drift:e}");
 }
+
+/// Row 9 of the transition table (a second touchdown where the pressed surface stays and
+/// the new one rebounds), on the dumbbell of tests/data/spheres/dumbbell.toml: spheres a
+/// and b at d = 30 mm either side of G, m = 0.1 kg, I1 = m d². Level, each contact is the
+/// other's centre of percussion, W_ab = 1/m − d²/I1 = 0: the impulse at b leaves a's normal
+/// velocity at zero, so a stays pressed, and b, frictionless with e = 0.8, rebounds at e
+/// times its speed with the effective mass m_b = 1/W_bb = 1/(1/m + d²/I1) = m/2:
+/// P = m_b (1 + e) v, loss ½ m_b (1 − e²) v². The run goes on touching with a alone (no
+/// change of surface, no switch), and every later touchdown is b's again.
+#[test]
+fn a_sphere_striking_at_the_pressed_ones_centre_of_percussion_rebounds_while_it_stays() {
+    let (out, samples) = load("tests/data/spheres/dumbbell.toml", &[]);
+    let (m, d, i1, e) = (0.1, 0.03, 9e-5, 0.8);
+    let m_b = 1.0 / (1.0 / m + d * d / i1);
+    let touchdowns: Vec<(f64, f64, Surface)> = (out.events.iter())
+        .filter_map(|ev| match ev.kind {
+            EventKind::Touchdown { speed, surface } => Some((ev.t, speed, surface)),
+            _ => None,
+        })
+        .collect();
+    assert!(touchdowns.len() >= 3, "{:?}", out.events);
+    for &(t, v, surface) in &touchdowns {
+        assert_eq!(surface, Surface::Sphere(1), "at t = {t}");
+        let at: Vec<&EventKind> = (out.events.iter())
+            .filter(|ev| ev.t == t)
+            .map(|ev| &ev.kind)
+            .collect();
+        let [EventKind::Touchdown { .. }, EventKind::Impact(hit)] = at[..] else {
+            panic!("at t = {t}: {at:?}");
+        };
+        assert_eq!(hit.surface, Surface::Sphere(1));
+        assert!(!hit.persistent, "at t = {t}");
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
+        assert!(close(hit.rebound, e * v), "{} against {}", hit.rebound, e * v);
+        assert!(close(hit.impulse.z, m_b * (1.0 + e) * v), "{}", hit.impulse.z);
+        let loss = 0.5 * m_b * (1.0 - e * e) * v * v;
+        assert!(close(hit.energy_loss, loss), "{} against {loss}", hit.energy_loss);
+        let after = samples.iter().find(|s| s.t > t).expect("a row after");
+        assert_eq!(after.mode, Mode::Frictionless, "at t = {}", after.t);
+        assert!(
+            matches!(after.touching[0], Some((Surface::Sphere(0), n)) if n > 0.0),
+            "{:?}",
+            after.touching
+        );
+    }
+    let drift = out.drift.get(Invariant::EnergyPlusWork).expect("E + W");
+    assert!(drift.abs() < 1e-9, "E + W drift {drift:e}");
+}
