@@ -194,10 +194,23 @@ fn a_sphere_striking_at_the_pressed_ones_centre_of_percussion_rebounds_while_it_
         assert_eq!(hit.surface, Surface::Sphere(1));
         assert!(!hit.persistent, "at t = {t}");
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs();
-        assert!(close(hit.rebound, e * v), "{} against {}", hit.rebound, e * v);
-        assert!(close(hit.impulse.z, m_b * (1.0 + e) * v), "{}", hit.impulse.z);
+        assert!(
+            close(hit.rebound, e * v),
+            "{} against {}",
+            hit.rebound,
+            e * v
+        );
+        assert!(
+            close(hit.impulse.z, m_b * (1.0 + e) * v),
+            "{}",
+            hit.impulse.z
+        );
         let loss = 0.5 * m_b * (1.0 - e * e) * v * v;
-        assert!(close(hit.energy_loss, loss), "{} against {loss}", hit.energy_loss);
+        assert!(
+            close(hit.energy_loss, loss),
+            "{} against {loss}",
+            hit.energy_loss
+        );
         let after = samples.iter().find(|s| s.t > t).expect("a row after");
         assert_eq!(after.mode, Mode::Frictionless, "at t = {}", after.t);
         assert!(

@@ -681,3 +681,78 @@ fn val_a_fast_tripod_goes_on_on_its_legs_where_its_rim_grazes() {
     assert!(worst <= 1e-8 * lz0.abs(), "{worst:e} of {lz0:e}");
     assert!(balance.abs() < 1e-11, "E + W {balance:e}");
 }
+
+/// Four legs at once: the stool of tests/data/spheres/stool.toml dropped level, and
+/// tilted 0.001 to 0.05 rad in three directions. Four contacts are statically
+/// indeterminate, and the machine never needs them: a leg that reaches the plane at rest
+/// relative to it is watched from δz below and carries no force. Every run (measured) ends
+/// on the two legs of one diagonal, m g/2 each with G above their midpoint, the other two
+/// at zero gap with no force: one of the splits the statics admits (complementarity
+/// holds at each leg: zero gap, zero force). Asserted: every run ends `completed`, level
+/// (θ < 1e-12) and at rest (|v_G| and |ω| < 1e-9) on the plane, its normal forces summing to
+/// m g to 1e-12, no leg's gap below −1e-15 m in any row, E + W to 1e-9.
+#[test]
+fn val_a_stool_dropped_on_four_legs_comes_to_rest_level() {
+    let file = "tests/data/spheres/stool.toml";
+    let sc = ellipsoid_core::scenario::load(&root().join(file), &[] as &[&str]).unwrap();
+    let layout = ellipsoid_core::columns::Layout::of(&sc.scene.body);
+    let names = layout.numeric_columns();
+    let gaps: Vec<usize> = (0..names.len())
+        .filter(|&k| names[k].0.starts_with("gap_"))
+        .collect();
+    assert_eq!(gaps.len(), 5, "the disc's gap and four legs'");
+    let weight = 0.05 * 9.81;
+    let mut cases = vec![(0.0, 0.0)];
+    for theta in [1e-3, 1e-2, 5e-2] {
+        cases.extend([0.0, 0.3, std::f64::consts::FRAC_PI_4].map(|phi| (theta, phi)));
+    }
+    for (theta, phi) in cases {
+        let (t, p) = (
+            format!("initial.theta={theta}"),
+            format!("initial.phi={phi}"),
+        );
+        let (out, samples) = load(file, &[&t, &p]);
+        let case = format!("θ0 = {theta}, φ0 = {phi}");
+        assert!(
+            matches!(out.status, Status::Completed),
+            "{case}: {:?}",
+            out.status
+        );
+        let mut extra: Vec<f64> = Vec::new();
+        for s in &samples {
+            extra.clear();
+            extra.extend(ellipsoid_core::columns::values(s));
+            layout.surface_values(s, &mut extra);
+            for &k in &gaps {
+                assert!(
+                    extra[k] > -1e-15,
+                    "{case}, t = {}: {} = {}",
+                    s.t,
+                    names[k].0,
+                    extra[k]
+                );
+            }
+        }
+        let f = &out.final_sample;
+        assert!(
+            f.angles.theta.abs() < 1e-12,
+            "{case}: θ = {}",
+            f.angles.theta
+        );
+        assert!(
+            f.velocity.norm() < 1e-9 && f.omega.norm() < 1e-9,
+            "{case}: {f:?}"
+        );
+        let carried: f64 = f.touching.iter().flatten().map(|(_, n)| n).sum();
+        assert!(
+            (carried - weight).abs() < 1e-12 * weight,
+            "{case}: ΣN = {carried}"
+        );
+        assert!((f.normal_force - weight).abs() < 1e-12 * weight, "{case}");
+        let drift = (out.drift)
+            .get(ellipsoid_core::invariants::Invariant::EnergyPlusWork)
+            .unwrap();
+        assert!(drift.abs() < 1e-9, "{case}: E + W drift {drift:e}");
+        eprintln!("MEASURED {case}: ends {:?} on {:?}", f.mode, f.touching);
+    }
+}
