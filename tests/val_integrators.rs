@@ -1183,3 +1183,36 @@ fn inv_no_allocation_per_step() {
         );
     }
 }
+
+/// A state of size 1e-150 to 1e-170 (a body at rest on the plane carries velocities of
+/// that size, round-off of round-off): y' = −y from such y0 under atol 1e-12. DOP853's error norm,
+/// |h| ERR5 √(1/(N (ERR5 + 0.01 ERR3))) as in dop853.f, took the reciprocal of a subnormal
+/// sum of squares (errors of 1e-170 against scales of 1e-12), which overflowed: the step
+/// was `NonFinite`, and a dumbbell at rest on two contacts ended `solver_failure`. Every
+/// method reaches t_end, with y(1) = y0/e to 1e-2 (its error is measured against atol,
+/// so a few steps take the whole interval: 5e-4 under DOPRI5).
+#[test]
+fn a_state_whose_error_norm_is_subnormal_integrates() {
+    let decay = Decay { lambda: 1.0 };
+    for (method, size) in ADAPTIVE
+        .into_iter()
+        .flat_map(|m| (150..=170).map(move |k| (m, k)))
+    {
+        let y0 = SVector::from([10f64.powi(-size)]);
+        let sol = solve(method, &decay, y0, 1.0, &Options::new(1e-10, 1e-12));
+        assert!(
+            matches!(sol.stop, StopReason::Reached),
+            "{}, y0 = {:e}: {:?}",
+            method.name(),
+            y0[0],
+            sol.stop
+        );
+        let exact = y0[0] * (-1.0_f64).exp();
+        assert!(
+            (sol.y[0] - exact).abs() <= 1e-2 * exact,
+            "{}: {:e} against {exact:e}",
+            method.name(),
+            sol.y[0]
+        );
+    }
+}

@@ -255,6 +255,16 @@ impl Numerics {
         GAP_ROUNDOFF * f64::EPSILON * (kin.z_g().abs() + self.size)
     }
 
+    /// The round-off of a material point's normal velocity v_Gz + e3·(R (ω × r)) \[m/s\]:
+    /// 4ε (|v_G| + |ω| |r| + √(g L)), the last term for a body at rest, whose velocities
+    /// are themselves round-off (1e-41 m/s measured on a dumbbell resting on three
+    /// collinear contacts).
+    pub(super) fn velocity_resolution(&self, kin: &Kinematics, lever: f64) -> f64 {
+        GAP_ROUNDOFF
+            * f64::EPSILON
+            * (kin.v_g.norm() + kin.omega.norm() * lever + self.gravity_speed)
+    }
+
     /// The settling speed (docs/physics.md, "Settling") [m/s]: a rebound at v_n rises
     /// v_n²/(2a) before it falls back, a ≥ 0 the gap's deceleration with no contact force
     /// (g for a body that does not turn; more for one whose spin presses it on the plane),

@@ -139,14 +139,17 @@ pub(super) fn touch_gap<E>(ctx: &Context<'_, E>, ev: &Evaluation, surface: Surfa
         + ctx.numerics.gap_resolution(kin)
 }
 
-/// Whether `surface`'s lowest material point moves down: v_Gz + e3·(R (ω × r_k)) < 0,
-/// r_k its lever arm from G. One at rest (a body rolling about the line through both its
-/// contacts gives it exactly zero) is watched from δz below instead: taken as a touchdown
-/// at once, its null impact would lead back to the same phase and the same touchdown.
+/// Whether `surface`'s lowest material point moves down: v_Gz + e3·(R (ω × r_k)) below
+/// minus its round-off (`Numerics::velocity_resolution`), r_k its lever arm from G. One at
+/// rest (a body rolling about the line through both its contacts gives it zero, to
+/// round-off: a dumbbell resting on the contacts of its two end spheres gives the ball
+/// between them −1e-41 m/s) is watched from δz below instead: taken as a touchdown at
+/// once, its null impact would lead back to the same phase and the same touchdown.
 fn closing<E>(ctx: &Context<'_, E>, ev: &Evaluation, surface: Surface) -> bool {
     let kin = &ev.kin;
     let lever = geometry::Contact::of(&ctx.scene.body, surface, kin.contact.zeta, kin.omega).r;
-    kin.v_g.z + (kin.rot * kin.omega.cross(&lever)).z < 0.0
+    let v_n = kin.v_g.z + (kin.rot * kin.omega.cross(&lever)).z;
+    v_n < -ctx.numerics.velocity_resolution(kin, lever.norm())
 }
 
 /// An event function of a segment: one of its phase's watches (by its index in
