@@ -24,6 +24,39 @@ fn load(file: &str, set: &[&str]) -> (Outcome, Vec<Sample>) {
     run(&sc.scene)
 }
 
+/// Asserts that in every row of `samples` (a run of `file` with `set`) every surface's gap
+/// (the output's `gap_*` columns) is above −1e-15 m, and returns how many surfaces there
+/// are.
+fn assert_no_gap_below_the_plane(
+    file: &str,
+    set: &[&str],
+    samples: &[Sample],
+    case: &str,
+) -> usize {
+    let sc = ellipsoid_core::scenario::load(&root().join(file), set).unwrap();
+    let layout = ellipsoid_core::columns::Layout::of(&sc.scene.body);
+    let names = layout.numeric_columns();
+    let gaps: Vec<usize> = (0..names.len())
+        .filter(|&k| names[k].0.starts_with("gap_"))
+        .collect();
+    let mut row: Vec<f64> = Vec::new();
+    for s in samples {
+        row.clear();
+        row.extend(ellipsoid_core::columns::values(s));
+        layout.surface_values(s, &mut row);
+        for &k in &gaps {
+            assert!(
+                row[k] > -1e-15,
+                "{case}, t = {}: {} = {}",
+                s.t,
+                names[k].0,
+                row[k]
+            );
+        }
+    }
+    gaps.len()
+}
+
 /// The Leine–Glocker tippe top with its stem: ball r1 = 15 mm, G 3 mm below its centre,
 /// stem sphere r2 = 5 mm centred 13 mm above the ball's centre (16 mm above G).
 fn tippe_top_with_stem() -> Body {
@@ -375,28 +408,7 @@ fn val_classic_top_sleeps_above_the_critical_spin_and_falls_below() {
 fn a_body_rocking_between_two_surfaces_never_passes_through_the_plane() {
     let file = "scenarios/tippe-top-jump-stem.toml";
     let (out, samples) = load(file, &[]);
-    let sc = ellipsoid_core::scenario::load(&root().join(file), &[] as &[&str]).unwrap();
-    let layout = ellipsoid_core::columns::Layout::of(&sc.scene.body);
-    let names = layout.numeric_columns();
-    let gaps: Vec<usize> = (0..names.len())
-        .filter(|&k| names[k].0.starts_with("gap_"))
-        .collect();
-    assert_eq!(gaps.len(), 2);
-    let mut extra: Vec<f64> = Vec::new();
-    for s in &samples {
-        extra.clear();
-        extra.extend(ellipsoid_core::columns::values(s));
-        layout.surface_values(s, &mut extra);
-        for &k in &gaps {
-            assert!(
-                extra[k] > -1e-15,
-                "t = {}: {} = {}",
-                s.t,
-                names[k].0,
-                extra[k]
-            );
-        }
-    }
+    assert_eq!(assert_no_gap_below_the_plane(file, &[], &samples, file), 2);
     let impacts = out
         .events
         .iter()
@@ -694,13 +706,6 @@ fn val_a_fast_tripod_goes_on_on_its_legs_where_its_rim_grazes() {
 #[test]
 fn val_a_stool_dropped_on_four_legs_comes_to_rest_level() {
     let file = "tests/data/spheres/stool.toml";
-    let sc = ellipsoid_core::scenario::load(&root().join(file), &[] as &[&str]).unwrap();
-    let layout = ellipsoid_core::columns::Layout::of(&sc.scene.body);
-    let names = layout.numeric_columns();
-    let gaps: Vec<usize> = (0..names.len())
-        .filter(|&k| names[k].0.starts_with("gap_"))
-        .collect();
-    assert_eq!(gaps.len(), 5, "the disc's gap and four legs'");
     let weight = 0.05 * 9.81;
     let mut cases = vec![(0.0, 0.0)];
     for theta in [1e-3, 1e-2, 5e-2] {
@@ -718,21 +723,8 @@ fn val_a_stool_dropped_on_four_legs_comes_to_rest_level() {
             "{case}: {:?}",
             out.status
         );
-        let mut extra: Vec<f64> = Vec::new();
-        for s in &samples {
-            extra.clear();
-            extra.extend(ellipsoid_core::columns::values(s));
-            layout.surface_values(s, &mut extra);
-            for &k in &gaps {
-                assert!(
-                    extra[k] > -1e-15,
-                    "{case}, t = {}: {} = {}",
-                    s.t,
-                    names[k].0,
-                    extra[k]
-                );
-            }
-        }
+        let surfaces = assert_no_gap_below_the_plane(file, &[&t, &p], &samples, &case);
+        assert_eq!(surfaces, 5, "the disc and four legs");
         let f = &out.final_sample;
         assert!(
             f.angles.theta.abs() < 1e-12,
@@ -775,13 +767,6 @@ fn val_a_dumbbell_resting_on_three_contacts_in_a_line_stays_at_rest() {
     let file = "tests/data/spheres/dumbbell.toml";
     let grown = ["body.a=0.01", "body.c=0.01", "contact.restitution=0"];
     let mut set: Vec<&str> = grown.to_vec();
-    let sc = ellipsoid_core::scenario::load(&root().join(file), &set).unwrap();
-    let layout = ellipsoid_core::columns::Layout::of(&sc.scene.body);
-    let names = layout.numeric_columns();
-    let gaps: Vec<usize> = (0..names.len())
-        .filter(|&k| names[k].0.starts_with("gap_"))
-        .collect();
-    assert_eq!(gaps.len(), 3);
     let weight = 0.1 * 9.81;
     for method in ["solver.method=\"dop853\"", "solver.method=\"dopri5\""] {
         for spin in ["initial.psi_dot=0", "initial.psi_dot=5"] {
@@ -794,21 +779,10 @@ fn val_a_dumbbell_resting_on_three_contacts_in_a_line_stays_at_rest() {
                 "{case}: {:?}",
                 out.status
             );
-            let mut extra: Vec<f64> = Vec::new();
-            for s in &samples {
-                extra.clear();
-                extra.extend(ellipsoid_core::columns::values(s));
-                layout.surface_values(s, &mut extra);
-                for &k in &gaps {
-                    assert!(
-                        extra[k] > -1e-15,
-                        "{case}, t = {}: {} = {}",
-                        s.t,
-                        names[k].0,
-                        extra[k]
-                    );
-                }
-            }
+            assert_eq!(
+                assert_no_gap_below_the_plane(file, &set, &samples, &case),
+                3
+            );
             let f = &out.final_sample;
             assert_eq!(f.mode, Mode::TwoContacts, "{case}");
             let tilt = f.angles.theta - std::f64::consts::FRAC_PI_2;

@@ -719,10 +719,10 @@ fn settle_grip<E: Effect + Copy + 'static>(
 /// Releases `hold` at `y`: the contact (or, for [`Hold::Line`], both of the line) starts
 /// to slide, with a seed of slip opposite the friction sticking needed — across the line
 /// C_1C_2 where the other contact of a sticking pair sticks on, along it for the line — of
-/// [`RELEASE_SEED_STOPS`] several-contact slip stops, so that the slip-stop watch starts above its zero
-/// (as the one-contact sliding phase seeds its onset, docs/physics.md "Friction along the
-/// slip, and the onset's seed"); the seed's kinetic energy is booked in W
-/// (`Contacts::impel`).
+/// [`RELEASE_SEED_STOPS`] several-contact slip stops ([`seed_size`]), so that the slip-stop
+/// watch starts above its zero (as the one-contact sliding phase seeds its onset,
+/// docs/physics.md "Friction along the slip, and the onset's seed"); the seed's kinetic
+/// energy is booked in W (`Contacts::impel`).
 fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y: &mut State) {
     let sys = contacts(ctx);
     let ev = sys.evaluate(y);
