@@ -8,17 +8,17 @@
 //! model's power balance (see `model`).
 //!
 //! The effects a scenario may name are listed once, at the end of this file: each
-//! entry's key in `[effects]`, type, reader and `ellipsoid check` line give
-//! [`EffectSet`], its reading, its report and the monomorphising dispatch. A new effect
-//! is its physics here, its keys (unit, kind, doc line) in `scenario::schema::SCHEMA`
-//! and one entry of that list.
+//! entry's key in `[effects]`, type and `ellipsoid check` line give [`EffectSet`], its
+//! report and the monomorphising dispatch. A new effect is its physics here, one entry
+//! of that list, its keys (unit, kind, doc line) in `scenario::schema::SCHEMA` and its
+//! reader in the scenario format (`scenario::format::read_effects`, which the compiler
+//! holds to every field of [`EffectSet`]). The physics never reads the file format.
 
 use nalgebra::Vector3;
 use serde::Serialize;
 
 use crate::body::Body;
-use crate::model::Kinematics;
-use crate::scenario::{EffectReader, EffectTable, ScenarioError};
+use crate::kinematics::Kinematics;
 
 /// Generalised load of the optional effects.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -147,7 +147,7 @@ pub(crate) trait WithEffects {
     fn run<E: Effect + Copy + 'static>(self, effects: E) -> Self::Output;
 }
 
-/// Declares [`EffectSet`] from the list of effects below (`key: Type { read, report }`).
+/// Declares [`EffectSet`] from the list of effects below (`key: Type { report }`).
 macro_rules! effect_set {
     (@dispatch $set:ident, $run:ident, $acc:expr;) => {
         $run.run($acc)
@@ -161,7 +161,6 @@ macro_rules! effect_set {
     ($(
         $(#[$doc:meta])*
         $key:ident: $ty:ident {
-            read: $read:expr,
             report: $report:expr $(,)?
         }
     ),* $(,)?) => {
@@ -180,19 +179,6 @@ macro_rules! effect_set {
             /// Whether any effect is present.
             pub fn any(&self) -> bool {
                 false $(|| self.$key.is_some())*
-            }
-
-            /// Each effect from its key of the `[effects]` table, in order.
-            #[allow(clippy::result_large_err)] // the scenario's error, as in `scenario`
-            pub(crate) fn read(table: &EffectTable<'_, '_, '_>) -> Result<Self, ScenarioError> {
-                Ok(EffectSet {
-                    $($key: {
-                        #[allow(clippy::result_large_err)]
-                        let read: fn(&EffectReader<'_, '_, '_>) -> Result<Option<$ty>, ScenarioError> =
-                            $read;
-                        read(&table.at(stringify!($key)))?
-                    },)*
-                })
             }
 
             /// One line per effect present, as `ellipsoid check` reports it.
@@ -216,19 +202,12 @@ macro_rules! effect_set {
 }
 
 // The effects, each once: its key in `[effects]` (its keys, units and doc lines are in
-// `scenario::schema::SCHEMA`), its type above, how it is read and how `ellipsoid check`
-// reports it. The order is that of the key reference, of `check`'s report and of the
+// `scenario::schema::SCHEMA`, its reader in the scenario format), its type above and how
+// `ellipsoid check` reports it. The order is that of the key reference, of `check`'s report and of the
 // effects' sum in the right-hand side.
 effect_set! {
     /// Rolling resistance ([`RollingResistance`]).
     rolling_resistance: RollingResistance {
-        read: |r| {
-            let c = r.resistance("c_r, the rolling-resistance length (m)")?;
-            Ok(c.map(|(coefficient, regularisation)| RollingResistance {
-                coefficient,
-                regularisation,
-            }))
-        },
         report: |e| {
             format!(
                 "rolling resistance c_r = {} m (eps = {} rad/s)",
@@ -238,13 +217,6 @@ effect_set! {
     },
     /// Spin friction ([`SpinFriction`]).
     spin_friction: SpinFriction {
-        read: |r| {
-            let c = r.resistance("c_s, the spin-friction length (m)")?;
-            Ok(c.map(|(coefficient, regularisation)| SpinFriction {
-                coefficient,
-                regularisation,
-            }))
-        },
         report: |e| {
             format!(
                 "spin friction c_s = {} m (eps = {} rad/s)",
@@ -254,24 +226,6 @@ effect_set! {
     },
     /// Air drag ([`AirDrag`]).
     air_drag: AirDrag {
-        read: |r| {
-            r.table("{ linear = k (kg/s), angular = k_ω (kg m^2/s) }", |t| {
-                let linear = t.non_negative(
-                    "linear",
-                    "k, the linear drag coefficient (kg/s)",
-                    "the drag coefficient must be finite and non-negative (kg/s)",
-                )?;
-                let angular = t.non_negative(
-                    "angular",
-                    "k_ω, the angular drag coefficient (kg m^2/s)",
-                    "the drag coefficient must be finite and non-negative (kg m^2/s)",
-                )?;
-                Ok(AirDrag {
-                    linear: linear.unwrap_or(0.0),
-                    angular: angular.unwrap_or(0.0),
-                })
-            })
-        },
         report: |e| format!("air drag k = {} kg/s, k_w = {} kg m^2/s", e.linear, e.angular),
     },
 }

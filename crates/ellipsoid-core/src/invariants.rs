@@ -14,7 +14,7 @@ use nalgebra::Vector2;
 use serde::Serialize;
 
 use crate::body::Body;
-use crate::model::Kinematics;
+use crate::kinematics::Kinematics;
 use crate::state::{self, State};
 
 /// The invariant quantities of one state (SI units).

@@ -14,6 +14,7 @@ pub mod geometry;
 pub mod impact;
 pub mod integrate;
 pub mod invariants;
+pub mod kinematics;
 pub mod model;
 pub mod reference;
 pub mod scenario;

@@ -2,8 +2,6 @@
 //! samples of a run turned into them.
 pub use ellipsoid_core::columns::*;
 
-use ellipsoid_core::simulate::Sample;
-
 /// The numeric columns of `samples` ([`Layout::numeric_columns`] order), one vector per
 /// column, in one pass over the samples. Each column is allocated at its final length and
 /// written by index: pushing onto 27 vectors at once (a length and capacity check per

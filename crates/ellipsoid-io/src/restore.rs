@@ -4,7 +4,7 @@
 //! name and its sentence). Read back, the summary writes the same JSON.
 
 use ellipsoid_core::body::{Body, Surface};
-use ellipsoid_core::columns::{Layout, NUMERIC, NUMERIC_COLUMNS, SURFACE_COLUMNS};
+use ellipsoid_core::columns::{self, Layout, NUMERIC, NUMERIC_COLUMNS};
 use ellipsoid_core::integrate::{IntegrateError, Method, Stats};
 use ellipsoid_core::invariants::{Drift, Invariant, Invariants};
 use ellipsoid_core::model::MOST_CONTACTS;
@@ -12,8 +12,7 @@ use ellipsoid_core::scenario::Scenario;
 use ellipsoid_core::simulate::{
     Chatter, EventKind, EventRecord, ImpactReport, Mode, Sample, Status,
 };
-use ellipsoid_core::state::EulerAngles;
-use nalgebra::{Vector2, Vector3};
+use nalgebra::Vector3;
 use serde_json::{Map, Value, json};
 
 use crate::Summary;
@@ -21,45 +20,31 @@ use crate::summary::{CheckResult, Names};
 
 /// The sample whose numeric columns (`layout`'s order) are `v`, its mode label `label`:
 /// the inverse of `columns::values` and `Layout::{surface_values, mode}` (`None` for a
-/// label the layout cannot write).
+/// label the layout cannot write, or too few values).
 pub fn sample(layout: &Layout, v: &[f64], label: &str) -> Option<Sample> {
     let (mode, surfaces) = layout.parse_mode(label)?;
+    let fixed: &[f64; NUMERIC] = v.get(..NUMERIC)?.try_into().ok()?;
+    let total = fixed[columns::index("normal_force")?];
     // The normal force of a surface in contact: its column (a body with contact
     // spheres), or the one contact's.
-    let normal = |surface: Surface| match surface {
-        _ if layout.extra() == 0 => v[17],
-        Surface::Ellipsoid => v[NUMERIC],
-        Surface::Sphere(k) => v[NUMERIC + SURFACE_COLUMNS.len() * (k + 1)],
+    let normal = |surface: Surface| match layout.extra() {
+        0 => Some(total),
+        _ => v
+            .get(layout.surface_column("normal_force", surface)?)
+            .copied(),
     };
     let touching = match (mode, surfaces.as_slice()) {
         (Mode::Flight, _) => [None; MOST_CONTACTS],
-        (_, []) => std::array::from_fn(|i| (i == 0).then_some((Surface::Ellipsoid, v[17]))),
-        (_, on) => std::array::from_fn(|i| on.get(i).map(|&s| (s, normal(s)))),
+        (_, []) => std::array::from_fn(|i| (i == 0).then_some((Surface::Ellipsoid, total))),
+        (_, on) => {
+            let mut touching = [None; MOST_CONTACTS];
+            for (slot, &s) in touching.iter_mut().zip(on) {
+                *slot = Some((s, normal(s)?));
+            }
+            touching
+        }
     };
-    Some(Sample {
-        t: v[0],
-        position: Vector3::new(v[1], v[2], v[3]),
-        angles: EulerAngles {
-            theta: v[4],
-            phi: v[5],
-            psi: v[6],
-            theta_dot: v[7],
-            phi_dot: v[8],
-            psi_dot: v[9],
-        },
-        omega: Vector3::new(v[10], v[11], v[12]),
-        velocity: Vector3::new(v[13], v[14], v[15]),
-        energy: v[16],
-        normal_force: v[17],
-        slip_speed: v[18],
-        work: v[19],
-        omega_world: Vector3::new(v[20], v[21], v[22]),
-        contact: Vector2::new(v[23], v[24]),
-        drift: v[25],
-        gap: v[26],
-        mode,
-        touching,
-    })
+    Some(columns::sample(fixed, mode, touching))
 }
 
 /// The summary of a run of `scenario` whose JSON (`Summary::to_json`) is `json` and whose

@@ -34,10 +34,11 @@
 use nalgebra::{Matrix2, SMatrix, SVector, UnitQuaternion, Vector2, Vector3};
 
 use super::contensou::ContactDisc;
-use super::{ContactLaw, Kinematics, Response};
+use super::{ContactLaw, Response};
 use crate::body::{Body, Surface};
 use crate::effects::Wrench;
 use crate::geometry::{self, Contact};
+use crate::kinematics::Kinematics;
 use crate::state::{self, State};
 
 /// Most surfaces in contact at once that the law takes (the body's own and two others).

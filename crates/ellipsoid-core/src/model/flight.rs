@@ -7,9 +7,10 @@
 //! Effects that act through the normal force (rolling resistance, spin friction) vanish
 //! with it. The gap g = z_G − h(ζ) (`Kinematics::flying`) is the touchdown watch.
 
-use super::{ContactLaw, Kinematics, Response};
+use super::{ContactLaw, Response};
 use crate::body::Body;
 use crate::effects::Wrench;
+use crate::kinematics::Kinematics;
 use crate::state::State;
 use nalgebra::Vector3;
 

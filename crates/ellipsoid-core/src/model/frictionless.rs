@@ -3,9 +3,10 @@
 
 use nalgebra::Vector3;
 
-use super::{ContactLaw, Kinematics, Response, unilateral};
+use super::{ContactLaw, Response, unilateral};
 use crate::body::Body;
 use crate::effects::Wrench;
+use crate::kinematics::Kinematics;
 use crate::state::State;
 
 /// The plane pushes only along its normal.

@@ -11,9 +11,10 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use super::{ContactLaw, Kinematics, Response};
+use super::{ContactLaw, Response};
 use crate::body::Body;
 use crate::effects::Wrench;
+use crate::kinematics::Kinematics;
 use crate::state::{self, State};
 
 /// No slip at the contact point.

@@ -21,9 +21,10 @@
 use nalgebra::{Vector2, Vector3};
 
 use super::contensou::ContactDisc;
-use super::{ContactLaw, Kinematics, Response, unilateral};
+use super::{ContactLaw, Response, unilateral};
 use crate::body::Body;
 use crate::effects::Wrench;
+use crate::kinematics::Kinematics;
 use crate::state::{self, State};
 
 /// Coulomb friction while the contact point slips.

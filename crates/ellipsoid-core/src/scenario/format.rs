@@ -608,8 +608,9 @@ pub(super) fn read_rotation(
     Ok(q)
 }
 
-/// `[effects]`: g, then each optional effect as its entry of the effect list
-/// (`crate::effects`) reads it.
+/// `[effects]`: g, then each optional effect of [`EffectSet`] from its key (the struct
+/// literal names every field, so an effect added to `crate::effects` without a reader here
+/// does not compile).
 pub(super) fn read_effects(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, EffectSet)> {
     let Some(sec) = ctx.section(
         root,
@@ -629,75 +630,67 @@ pub(super) fn read_effects(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, Effect
             "g must be finite and non-negative (m/s^2)",
         )?
         .unwrap_or(DEFAULT_GRAVITY);
-    let effects = EffectSet::read(&EffectTable { ctx, sec: &sec })?;
+    let effects = EffectSet {
+        rolling_resistance: resistance(
+            ctx,
+            &sec,
+            "rolling_resistance",
+            "c_r, the rolling-resistance length (m)",
+        )?
+        .map(|(coefficient, regularisation)| RollingResistance {
+            coefficient,
+            regularisation,
+        }),
+        spin_friction: resistance(
+            ctx,
+            &sec,
+            "spin_friction",
+            "c_s, the spin-friction length (m)",
+        )?
+        .map(|(coefficient, regularisation)| SpinFriction {
+            coefficient,
+            regularisation,
+        }),
+        air_drag: read_air_drag(ctx, &sec)?,
+    };
     Ok((gravity, effects))
 }
 
-/// One key of `[effects]` as the effect list (`crate::effects`) reads it: the readers an
-/// effect's entry there may use, each giving the messages of the rest of the format.
-pub(crate) struct EffectReader<'r, 'c, 't> {
-    ctx: &'r Ctx<'c>,
-    sec: &'r Sec<'t>,
-    key: &'static str,
-}
-
-impl EffectReader<'_, '_, '_> {
-    /// `key = c` or `key = { coefficient = c, regularisation = ε }` → (c, ε), if present
-    /// (see [`resistance`]).
-    pub(crate) fn resistance(&self, what: &str) -> Result<Option<(f64, f64)>> {
-        resistance(self.ctx, self.sec, self.key, what)
-    }
-
-    /// `key = { … }`, its keys those the schema declares under it, read by `read`, if
-    /// present; `form` describes the table in a type error.
-    pub(crate) fn table<T>(
-        &self,
-        form: &str,
-        read: impl FnOnce(&EffectTable<'_, '_, '_>) -> Result<T>,
-    ) -> Result<Option<T>> {
-        let path = self.sec.full(self.key);
-        match self.ctx.section(self.sec, self.key, &keys(&path), form)? {
-            Some(sec) => read(&EffectTable {
-                ctx: self.ctx,
-                sec: &sec,
-            })
-            .map(Some),
-            None => Ok(None),
-        }
-    }
-}
-
-/// A table the effect list reads: `[effects]`, or an effect's own
-/// ([`EffectReader::table`]).
-pub(crate) struct EffectTable<'r, 'c, 't> {
-    ctx: &'r Ctx<'c>,
-    sec: &'r Sec<'t>,
-}
-
-impl EffectTable<'_, '_, '_> {
-    /// The reader of its key `key`.
-    pub(crate) fn at(&self, key: &'static str) -> EffectReader<'_, '_, '_> {
-        EffectReader {
-            ctx: self.ctx,
-            sec: self.sec,
-            key,
-        }
-    }
-
-    /// The number `key` (`what` it is, for a type error), finite and ≥ 0 or an error
-    /// stating `rule`, if present.
-    pub(crate) fn non_negative(&self, key: &str, what: &str, rule: &str) -> Result<Option<f64>> {
-        self.ctx.checked(self.sec, key, what, |v| v >= 0.0, rule)
-    }
+/// `air_drag = { linear = k (kg/s), angular = k_ω (kg m²/s) }`, each coefficient
+/// finite and ≥ 0, absent = 0.
+fn read_air_drag(ctx: &Ctx<'_>, effects: &Sec<'_>) -> Result<Option<AirDrag>> {
+    let path = effects.full("air_drag");
+    let Some(sec) = ctx.section(
+        effects,
+        "air_drag",
+        &keys(&path),
+        "{ linear = k (kg/s), angular = k_ω (kg m^2/s) }",
+    )?
+    else {
+        return Ok(None);
+    };
+    let linear = ctx.checked(
+        &sec,
+        "linear",
+        "k, the linear drag coefficient (kg/s)",
+        |v| v >= 0.0,
+        "the drag coefficient must be finite and non-negative (kg/s)",
+    )?;
+    let angular = ctx.checked(
+        &sec,
+        "angular",
+        "k_ω, the angular drag coefficient (kg m^2/s)",
+        |v| v >= 0.0,
+        "the drag coefficient must be finite and non-negative (kg m^2/s)",
+    )?;
+    Ok(Some(AirDrag {
+        linear: linear.unwrap_or(0.0),
+        angular: angular.unwrap_or(0.0),
+    }))
 }
 
 /// `key = c` or `key = { coefficient = c, regularisation = ε }` → (c, ε).
-pub(super) fn resistance(
-    ctx: &Ctx<'_>,
-    sec: &Sec<'_>,
-    key: &str,
-    what: &str,
-) -> Result<Option<(f64, f64)>> {
+fn resistance(ctx: &Ctx<'_>, sec: &Sec<'_>, key: &str, what: &str) -> Result<Option<(f64, f64)>> {
     const RULE: &str = "the coefficient must be finite and non-negative (m)";
     let Some(got) = sec.get(key) else {
         return Ok(None);

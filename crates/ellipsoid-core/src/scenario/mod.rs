@@ -30,6 +30,7 @@ use toml::de::{DeTable, DeValue};
 
 use crate::body::{Body, MAX_NAME, MAX_SPHERES, Sphere, uniform_inertia};
 use crate::columns::Layout;
+use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};
 use crate::integrate::{Direction, Method};
 use crate::model::{ContactDisc, contensou};
@@ -53,7 +54,6 @@ pub use collect::MAX_ERRORS;
 use collect::*;
 pub use file::{MAX_SCENARIO_BYTES, open_regular, read_bounded};
 use format::*;
-pub(crate) use format::{EffectReader, EffectTable};
 pub use path::{KEY_RULE, KeyPath, MAX_INDEX, PathError, Seg};
 use reader::*;
 use schema::{DIRECTIONS, ROTATION_AXES, keys};

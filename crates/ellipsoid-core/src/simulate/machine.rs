@@ -16,7 +16,8 @@ use crate::integrate::{
 use crate::invariants::{Conservation, Invariant, Invariants};
 use nalgebra::Vector3;
 
-use crate::model::{ContactLaw, Evaluation, Kinematics, System};
+use crate::kinematics::Kinematics;
+use crate::model::{ContactLaw, Evaluation, System};
 use crate::state::{self, EulerAngles, State};
 
 use super::context::Context;

@@ -6,8 +6,9 @@
 
 use crate::body::Body;
 use crate::integrate::{Method, Options};
+use crate::kinematics::Kinematics;
 use crate::model::sliding::SLIP_FLOOR;
-use crate::model::{Evaluation, Kinematics, Sliding, SlipBand};
+use crate::model::{Evaluation, Sliding, SlipBand};
 use crate::state;
 
 use super::scene::Scene;

@@ -2,46 +2,14 @@
 //! run ended ([`Status`], carrying its numbers), warnings and the [`Outcome`]. Names are
 //! declared here once; sentences are made by the callers (`ellipsoid-io`, the CLI, Python).
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::Vector3;
 
 use crate::body::Surface;
 use crate::integrate::{IntegrateError, Stats};
 use crate::invariants::{Drift, Invariants};
-use crate::model::MOST_CONTACTS;
-use crate::state::{EulerAngles, State};
+use crate::state::State;
 
-pub use super::phase::Mode;
-
-/// One output row (SI units; see `columns` for every column).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Sample {
-    pub t: f64,
-    /// Position of G \[m\] (z from the contact constraint).
-    pub position: Vector3<f64>,
-    pub angles: EulerAngles,
-    /// Body angular velocity [rad/s].
-    pub omega: Vector3<f64>,
-    /// Angular velocity in world axes [rad/s].
-    pub omega_world: Vector3<f64>,
-    /// Velocity of G [m/s].
-    pub velocity: Vector3<f64>,
-    /// The contact point C on the plane \[m\].
-    pub contact: Vector2<f64>,
-    pub energy: f64,
-    /// Dissipated work W \[J\].
-    pub work: f64,
-    pub normal_force: f64,
-    /// |v_C| [m/s].
-    pub slip_speed: f64,
-    /// Relative drift of the scene's conserved quantity (E, or E + W) since t = 0.
-    pub drift: f64,
-    /// Height of the body's lowest point above the plane \[m\] (0 in contact).
-    pub gap: f64,
-    pub mode: Mode,
-    /// The surfaces in contact, each with its normal force \[N\]: none in flight, more
-    /// than one only in the several-contact phases (their sum is `normal_force`).
-    pub touching: [Option<(Surface, f64)>; MOST_CONTACTS],
-}
+pub use crate::columns::{Mode, Sample};
 
 /// What happened during a run.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,7 +5,7 @@
 
 use crate::effects::Effect;
 use crate::error::{Brackets, Digits, ModelError, Value, number};
-use crate::model::Kinematics;
+use crate::kinematics::Kinematics;
 use crate::state::{self, State};
 
 use super::context::Context;

@@ -44,7 +44,8 @@ use crate::geometry::Contact;
 use crate::impact::{self, Approach, Tangential};
 use crate::integrate::{IntegrateError, OdeSystem, rk4_step};
 use crate::invariants::Invariants;
-use crate::model::{Contacts, Hold, Kinematics, MOST_CONTACTS, Rolling, Sliding, System};
+use crate::kinematics::Kinematics;
+use crate::model::{Contacts, Hold, MOST_CONTACTS, Rolling, Sliding, System};
 use crate::state::{self, State};
 
 use super::context::Context;

@@ -13,7 +13,8 @@
 
 use crate::body::Surface;
 use crate::effects::Effect;
-use crate::model::{Contacts, Evaluation, Hold, Kinematics, MOST_CONTACTS, Response, System};
+use crate::kinematics::Kinematics;
+use crate::model::{Contacts, Evaluation, Hold, MOST_CONTACTS, Response, System};
 use crate::state::State;
 
 use super::{Next, Phase, SlidingPhase, touch_gap};

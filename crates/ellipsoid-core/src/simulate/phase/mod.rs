@@ -39,8 +39,6 @@ mod viscous;
 
 use std::marker::PhantomData;
 
-use serde::Serialize;
-
 use crate::body::Surface;
 use crate::effects::Effect;
 use crate::error::ModelError;
@@ -52,8 +50,9 @@ use crate::state::{EulerAngles, State};
 
 use super::context::Context;
 use super::machine::{Segment, segment};
-use super::outcome::{EventRecord, Sample, Status};
+use super::outcome::{EventRecord, Status};
 use super::recorder::Recorder;
+use crate::columns::{Mode, Sample};
 
 pub(super) use contacts::{
     ContactsPhase, above_stop, contacts_mode, grips, holds, normal, touching,
@@ -63,51 +62,6 @@ pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
 pub(super) use sliding::{SlidingPhase, set_reference, slip_has_stopped, slip_is_zero};
 pub(super) use viscous::ViscousPhase;
-
-/// The contact phase in force (docs/physics.md, models 1–5).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Mode {
-    Frictionless,
-    Sliding,
-    Rolling,
-    /// Off the plane (docs/physics.md, "Flight").
-    Flight,
-    /// Two surfaces on the plane at once (docs/physics.md, "Several contacts").
-    TwoContacts,
-    /// Viscous sliding friction (docs/physics.md, "Viscous sliding").
-    Viscous,
-    /// Three surfaces on the plane at once (docs/physics.md, "Several contacts").
-    ThreeContacts,
-}
-
-impl Mode {
-    /// Every mode, in [`Mode::NAMES`] order.
-    pub const ALL: [Mode; 7] = [
-        Mode::Frictionless,
-        Mode::Sliding,
-        Mode::Rolling,
-        Mode::Flight,
-        Mode::TwoContacts,
-        Mode::Viscous,
-        Mode::ThreeContacts,
-    ];
-    /// Their names in output files.
-    pub const NAMES: [&'static str; 7] = [
-        "frictionless",
-        "sliding",
-        "rolling",
-        "flight",
-        "two_contacts",
-        "viscous",
-        "three_contacts",
-    ];
-
-    /// Its name in output files.
-    pub fn name(self) -> &'static str {
-        Mode::NAMES[self as usize]
-    }
-}
 
 /// The registry: the phase of each mode.
 pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyPhase<E> {

@@ -22,7 +22,8 @@ use crate::effects::Effect;
 use crate::integrate::{
     self, Action, Direction, Event, EventFn, IntegrateError, Method, StopReason,
 };
-use crate::model::{Evaluation, Kinematics, Sliding, System};
+use crate::kinematics::Kinematics;
+use crate::model::{Evaluation, Sliding, System};
 use crate::state::{self, State};
 
 use super::{Next, Phase, other_surfaces, touch_gap};

@@ -30,45 +30,86 @@
 use std::borrow::Cow;
 use std::sync::Arc;
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::{UnitQuaternion, Vector2, Vector3};
 
 use crate::body::{Body, Surface};
 use crate::geometry::{self, Contact};
-use crate::simulate::{Mode, Sample};
+use crate::model::MOST_CONTACTS;
+use crate::state::EulerAngles;
+
+mod sample;
+
+pub use sample::{Mode, Sample};
 
 /// Number of numeric columns.
 pub const NUMERIC: usize = 27;
 
-/// Numeric columns in file order (`mode` sits between `slip_speed` and `work`), with units.
-pub const NUMERIC_COLUMNS: [(&str, &str); NUMERIC] = [
-    ("t", "s"),
-    ("x", "m"),
-    ("y", "m"),
-    ("z", "m"),
-    ("theta", "rad"),
-    ("phi", "rad"),
-    ("psi", "rad"),
-    ("theta_dot", "rad/s"),
-    ("phi_dot", "rad/s"),
-    ("psi_dot", "rad/s"),
-    ("omega_x", "rad/s"),
-    ("omega_y", "rad/s"),
-    ("omega_z", "rad/s"),
-    ("vx", "m/s"),
-    ("vy", "m/s"),
-    ("vz", "m/s"),
-    ("energy", "J"),
-    ("normal_force", "N"),
-    ("slip_speed", "m/s"),
-    ("work", "J"),
-    ("omega_world_x", "rad/s"),
-    ("omega_world_y", "rad/s"),
-    ("omega_world_z", "rad/s"),
-    ("contact_x", "m"),
-    ("contact_y", "m"),
-    ("drift", "1"),
-    ("gap", "m"),
-];
+/// One numeric output column: its name, its unit (SI), and how its value is read off a
+/// [`Sample`] and written back into one (a row read back from a file).
+#[derive(Clone, Copy)]
+pub struct Column {
+    pub name: &'static str,
+    pub unit: &'static str,
+    /// Its value in a sample.
+    pub get: fn(&Sample) -> f64,
+    /// Sets it in a sample.
+    pub set: fn(&mut Sample, f64),
+}
+
+/// Declares [`COLUMNS`], each column once: `name [unit] field`, `field` the sample's
+/// field (or a component of one) that holds it.
+macro_rules! columns {
+    ($($name:ident [$unit:literal] $($field:ident).+),* $(,)?) => {
+        /// The numeric columns in file order (`mode` sits between `slip_speed` and `work`).
+        pub const COLUMNS: [Column; NUMERIC] = [$(Column {
+            name: stringify!($name),
+            unit: $unit,
+            get: |s| s.$($field).+,
+            set: |s, v| s.$($field).+ = v,
+        }),*];
+    };
+}
+
+columns! {
+    t ["s"] t,
+    x ["m"] position.x,
+    y ["m"] position.y,
+    z ["m"] position.z,
+    theta ["rad"] angles.theta,
+    phi ["rad"] angles.phi,
+    psi ["rad"] angles.psi,
+    theta_dot ["rad/s"] angles.theta_dot,
+    phi_dot ["rad/s"] angles.phi_dot,
+    psi_dot ["rad/s"] angles.psi_dot,
+    omega_x ["rad/s"] omega.x,
+    omega_y ["rad/s"] omega.y,
+    omega_z ["rad/s"] omega.z,
+    vx ["m/s"] velocity.x,
+    vy ["m/s"] velocity.y,
+    vz ["m/s"] velocity.z,
+    energy ["J"] energy,
+    normal_force ["N"] normal_force,
+    slip_speed ["m/s"] slip_speed,
+    work ["J"] work,
+    omega_world_x ["rad/s"] omega_world.x,
+    omega_world_y ["rad/s"] omega_world.y,
+    omega_world_z ["rad/s"] omega_world.z,
+    contact_x ["m"] contact.x,
+    contact_y ["m"] contact.y,
+    drift ["1"] drift,
+    gap ["m"] gap,
+}
+
+/// Numeric columns in file order, with units ([`COLUMNS`]' names and units).
+pub const NUMERIC_COLUMNS: [(&str, &str); NUMERIC] = {
+    let mut out = [("", ""); NUMERIC];
+    let mut k = 0;
+    while k < NUMERIC {
+        out[k] = (COLUMNS[k].name, COLUMNS[k].unit);
+        k += 1;
+    }
+    out
+};
 
 /// Index in [`NUMERIC_COLUMNS`] before which the `mode` column is written.
 pub const MODE_POSITION: usize = 19;
@@ -92,36 +133,37 @@ pub fn units() -> Vec<(&'static str, &'static str)> {
 
 /// The numeric values of a sample, in [`NUMERIC_COLUMNS`] order.
 pub fn values(s: &Sample) -> [f64; NUMERIC] {
-    let (p, a, w, v) = (&s.position, &s.angles, &s.omega, &s.velocity);
-    [
-        s.t,
-        p.x,
-        p.y,
-        p.z,
-        a.theta,
-        a.phi,
-        a.psi,
-        a.theta_dot,
-        a.phi_dot,
-        a.psi_dot,
-        w.x,
-        w.y,
-        w.z,
-        v.x,
-        v.y,
-        v.z,
-        s.energy,
-        s.normal_force,
-        s.slip_speed,
-        s.work,
-        s.omega_world.x,
-        s.omega_world.y,
-        s.omega_world.z,
-        s.contact.x,
-        s.contact.y,
-        s.drift,
-        s.gap,
-    ]
+    std::array::from_fn(|k| (COLUMNS[k].get)(s))
+}
+
+/// The sample whose numeric columns are `values` ([`NUMERIC_COLUMNS`] order), in `mode`
+/// and `touching` the plane with those surfaces: the inverse of [`values`].
+pub fn sample(
+    values: &[f64; NUMERIC],
+    mode: Mode,
+    touching: [Option<(Surface, f64)>; MOST_CONTACTS],
+) -> Sample {
+    let mut s = Sample {
+        t: 0.0,
+        position: Vector3::zeros(),
+        angles: EulerAngles::default(),
+        omega: Vector3::zeros(),
+        omega_world: Vector3::zeros(),
+        velocity: Vector3::zeros(),
+        contact: Vector2::zeros(),
+        energy: 0.0,
+        work: 0.0,
+        normal_force: 0.0,
+        slip_speed: 0.0,
+        drift: 0.0,
+        gap: 0.0,
+        mode,
+        touching,
+    };
+    for (column, &v) in COLUMNS.iter().zip(values) {
+        (column.set)(&mut s, v);
+    }
+    s
 }
 
 /// The columns of each surface of a body with contact spheres, named
@@ -211,6 +253,13 @@ impl Layout {
                 .position(|c| c.0 == name)
                 .map(|k| NUMERIC + k)
         })
+    }
+
+    /// The index among [`Layout::numeric_columns`] of `surface`'s column of `quantity`
+    /// (one of [`SURFACE_COLUMNS`]), if the layout has per-surface columns.
+    pub fn surface_column(&self, quantity: &str, surface: Surface) -> Option<usize> {
+        let body = self.body.as_ref()?;
+        self.index(&format!("{quantity}_{}", body.surface_name(surface)))
     }
 
     /// Appends the per-surface values of `s` to `out` ([`SURFACE_COLUMNS`] of each
@@ -324,11 +373,8 @@ pub fn non_finite(s: &Sample) -> Option<(&'static str, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::simulate::Mode;
-    use crate::state::EulerAngles;
-    use nalgebra::{Vector2, Vector3};
 
-    fn sample(v: f64) -> Sample {
+    fn sample_of(v: f64) -> Sample {
         let w = Vector3::new(v, v, v);
         Sample {
             t: v,
@@ -352,21 +398,43 @@ mod tests {
             drift: v,
             gap: v,
             mode: Mode::Sliding,
-            touching: [None; crate::model::MOST_CONTACTS],
+            touching: [None; MOST_CONTACTS],
         }
+    }
+
+    /// Each column is declared once: names are distinct, and reading a sample's values
+    /// back gives the sample (every field of [`Sample`] but `mode` and `touching` is a
+    /// column, each set by exactly its own column: all values distinct, so a column
+    /// reading or writing another's field fails).
+    #[test]
+    fn every_column_reads_back_its_own_field() {
+        let names: std::collections::BTreeSet<&str> = COLUMNS.iter().map(|c| c.name).collect();
+        assert_eq!(names.len(), NUMERIC);
+        assert_eq!(index("gap"), Some(NUMERIC - 1));
+        let v: [f64; NUMERIC] = std::array::from_fn(|k| 1.0 + k as f64 / 8.0);
+        let touching = [Some((Surface::Sphere(1), 2.5)), None, None];
+        let s = sample(&v, Mode::TwoContacts, touching);
+        assert_eq!(values(&s), v);
+        assert_eq!((s.mode, s.touching), (Mode::TwoContacts, touching));
+        let full = sample(
+            &values(&sample_of(0.75)),
+            Mode::Sliding,
+            [None; MOST_CONTACTS],
+        );
+        assert_eq!(full, sample_of(0.75));
     }
 
     /// Large finite values whose sum overflows are finite; +∞ and −∞ that cancel to NaN
     /// in the sum, or a lone NaN, are found by column.
     #[test]
     fn non_finite_sees_through_overflowing_and_cancelling_sums() {
-        assert_eq!(non_finite(&sample(1e308)), None);
-        assert_eq!(non_finite(&sample(-0.5)), None);
-        let mut s = sample(1.0);
+        assert_eq!(non_finite(&sample_of(1e308)), None);
+        assert_eq!(non_finite(&sample_of(-0.5)), None);
+        let mut s = sample_of(1.0);
         s.omega_world.y = f64::INFINITY;
         s.gap = f64::NEG_INFINITY;
         assert_eq!(non_finite(&s), Some(("omega_world_y", f64::INFINITY)));
-        let mut s = sample(1.0);
+        let mut s = sample_of(1.0);
         s.drift = f64::NAN;
         let (column, value) = non_finite(&s).unwrap();
         assert!(column == "drift" && value.is_nan());
