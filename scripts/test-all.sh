@@ -1,11 +1,10 @@
 #!/usr/bin/env bash
 # Runs every test of the project on a machine that has only the toolchains (Rust via
 # rustup, Python 3.10+, a C compiler): runs the Rust tests (release: the physics tests
-# integrate for real), a fixed 60 s fuzzing budget on the scenario parser, builds the
-# manylinux Python wheel (scripts/build-wheel.sh), installs it into a fresh venv and runs
-# pytest, and the README's quick start in a venv of its own; builds the sdist, checks its
-# contents, installs it from source in a fresh venv and runs the quick start with it; then
-# the viewer's browser tests, then the documentation's checks: no engineering record in
+# integrate for real), a fixed 60 s fuzzing budget on the scenario parser, builds the sdist
+# and from it the manylinux Python wheel (scripts/build-wheel.sh), checks the sdist's
+# contents, installs the wheel into a venv and runs pytest, and the README's quick start
+# in a fresh venv of its own; then the viewer's browser tests, then the documentation's checks: no engineering record in
 # the user docs, the tutorial notebooks executed, the gallery current, the API reference
 # built. Exits non-zero on the first failure.
 #
@@ -19,21 +18,29 @@ fuzz_seconds="${ELLIPSOID_FUZZ_SECONDS:-60}"
 # Each stage's heading gives the time since the start (s): CI's budget is 30 min.
 stage() { echo "== [${SECONDS} s] $1"; }
 
-# 1. A fresh venv: the Python test tools, and CMake when the system's cannot build HDF5.
+# Nothing here is profiled or debugged: no debug info to compile and link (the workspace's
+# release profile keeps it for profiling; the wheel is built without it anyway).
+export CARGO_PROFILE_RELEASE_DEBUG=false
+
+# 1. A fresh venv: CMake first when the system's cannot build HDF5 (the Rust build needs
+#    it), then the Python test tools, installed in the background while the Rust stages
+#    compile (waited for before the Python stage; its log in target/venv-install.log).
 rm -rf .venv
 python3 -m venv .venv
 pip=(.venv/bin/python -m pip install --quiet --disable-pip-version-check)
-# mpmath: reference values of some tests; dask[distributed] and pyarrow: the parameter-study
-# tests (a LocalCluster of 2 worker processes; Parquet tables read back).
-# nbclient, nbformat, ipykernel, nbconvert: the notebooks executed (tutorials, display tests)
-# and rendered; pdoc: the API reference; xarray: Trajectory.to_xarray.
-"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow \
-  xarray nbclient nbformat ipykernel nbconvert pdoc
 cmake_ok() { command -v cmake >/dev/null && printf '%s\n3.26\n' "$(cmake --version | head -1 | awk '{print $3}')" | sort -V -C -r 2>/dev/null; }
 if [ -z "${ELLIPSOID_CMAKE:-}" ] && ! cmake_ok; then
   "${pip[@]}" 'cmake>=3.26'
   export ELLIPSOID_CMAKE="$PWD/.venv/bin/cmake"   # run by scripts/cmake-hdf5
 fi
+# mpmath: reference values of some tests; dask[distributed] and pyarrow: the parameter-study
+# tests (a LocalCluster of 2 worker processes; Parquet tables read back).
+# nbclient, nbformat, ipykernel, nbconvert: the notebooks executed (tutorials, display tests)
+# and rendered; pdoc: the API reference; xarray: Trajectory.to_xarray.
+mkdir -p target
+"${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow \
+  xarray nbclient nbformat ipykernel nbconvert pdoc >target/venv-install.log 2>&1 &
+venv_install=$!
 if ! command -v h5dump >/dev/null; then
   sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo"
   $sudo apt-get install -y --no-install-recommends hdf5-tools \
@@ -52,7 +59,9 @@ fi
 #    once), then the Rust tests of every crate but the Python extension (tested below
 #    through its wheel).
 stage "docs: no commit hashes, history of the work or load averages; links resolve"
-.venv/bin/python scripts/check-docs.py
+python3 scripts/check-docs.py
+stage "core's modules in layers: no import circle"
+python3 scripts/check-layers.py
 stage "cargo fmt --check, cargo clippy"
 cargo fmt --all --check
 cargo clippy --release --all-targets --features ellipsoid-cli/hdf5 -- -D warnings
@@ -68,18 +77,22 @@ case "$target" in /*) ;; *) target="$PWD/$target" ;; esac
 stage "fuzz (${fuzz_seconds} s)"
 "$target/release/examples/fuzz_scenario" --seconds "$fuzz_seconds"
 
-# 4. Python: the manylinux wheel built by scripts/build-wheel.sh (maturin, HDF5 included),
+# 4. Python: the sdist, and the manylinux wheel built from it (scripts/build-wheel.sh:
+#    `pip wheel` of the sdist in an isolated build environment, maturin and CMake from PyPI
+#    as pyproject.toml asks, compiled by zig cc, HDF5 included: one compile proves the sdist
+#    builds from source and gives the wheel). The sdist's contents are checked
+#    (scripts/check-sdist.py: every file the build needs, no build output); the wheel is
 #    installed in the venv, then pytest. The command-line tool that `cargo test --release`
 #    just built is the reference of the parity tests.
-stage "python"
+stage "python: the sdist, the wheel built from it, pytest"
+wait "$venv_install" || { cat target/venv-install.log; echo "installing the Python test tools failed"; exit 1; }
 export ELLIPSOID_CLI="$target/release/ellipsoid"
 [ -x "$ELLIPSOID_CLI" ] || cargo build --release -p ellipsoid-cli
 export ELLIPSOID_EXPECT_HDF5=1
 export ELLIPSOID_EXPECT_BROWSER=1  # installed above: a browser test that cannot find it fails
-# The wheel for any Linux: manylinux_2_17 (zig cc links against glibc 2.17's symbols and
-# compiles HDF5), checked by auditwheel; pytest, the notebooks and the quick start run on it.
 rm -rf "$target/wheels"
 WHEEL_VENV=.venv scripts/build-wheel.sh "$target/wheels"
+.venv/bin/python scripts/check-sdist.py "$target"/wheels/ellipsoid-*.tar.gz
 # (auditwheel's whole report first: `grep -q` would close the pipe on it mid-report.)
 tag=$(.venv/bin/auditwheel show "$target"/wheels/ellipsoid-*.whl)
 grep -q '"manylinux_2_17_x86_64"' <<<"$tag" \
@@ -87,8 +100,8 @@ grep -q '"manylinux_2_17_x86_64"' <<<"$tag" \
 "${pip[@]}" "$target"/wheels/ellipsoid-*.whl
 .venv/bin/python -m pytest -q crates/ellipsoid-py/tests
 
-# 4b. A fresh venv installs the wheel (numpy, matplotlib, pandas from PyPI) and runs the
-#     README's Python quick start, in a directory of its own.
+# 4b. A fresh venv installs the wheel built from the sdist (numpy, matplotlib, pandas from
+#     PyPI) and runs the README's Python quick start, in a directory of its own.
 stage "the README's quick start in a fresh venv"
 qs="$target/quickstart"
 rm -rf "$qs" && mkdir -p "$qs"
@@ -101,25 +114,6 @@ open(sys.argv[1], "w", encoding="utf-8").write(re.findall(r"```python\n(.*?)```"
 EOF_QS
 ln -s "$PWD/scenarios" "$qs/scenarios"
 (cd "$qs" && venv/bin/python quickstart.py)
-
-# 4c. The source distribution (maturin sdist): its contents checked (scripts/check-sdist.py:
-#     every file the build needs, no build output), then built from source by pip in a
-#     fresh venv (maturin and CMake from PyPI, HDF5 compiled by the build) and the README's
-#     quick start run with it. The build shares this target directory, so the dependencies
-#     (HDF5's C library included) are compiled already; the workspace's own crates are
-#     cleaned first, so that they do compile from the sdist's sources.
-stage "the sdist, built from source in a fresh venv"
-sd="$target/sdist"
-rm -rf "$sd" && mkdir -p "$sd"
-.venv/bin/maturin sdist -m crates/ellipsoid-py/Cargo.toml -o "$sd"
-.venv/bin/python scripts/check-sdist.py "$sd"/ellipsoid-*.tar.gz
-cargo clean --release -p ellipsoid-core -p ellipsoid-io -p ellipsoid-study -p ellipsoid-py
-python3 -m venv "$sd/venv"
-CARGO_TARGET_DIR="$target" "$sd/venv/bin/python" -m pip install --quiet --disable-pip-version-check \
-  "$sd"/ellipsoid-*.tar.gz matplotlib pandas
-cp "$qs/quickstart.py" "$sd/quickstart.py"
-ln -s "$PWD/scenarios" "$sd/scenarios"
-(cd "$sd" && venv/bin/python quickstart.py)
 
 # 5. The 3-D viewer in a real browser (headless Chromium over the DevTools protocol).
 stage "browser"
