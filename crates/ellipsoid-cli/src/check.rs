@@ -64,6 +64,17 @@ fn describe(d: &Derived) -> String {
             body.com_offset_radial
         ),
     );
+    for sp in &body.spheres {
+        line(
+            "contact sphere",
+            format!(
+                "{}: radius {} m, centre {} m (body axes, from C0)",
+                sp.name,
+                sp.radius,
+                vec3(&sp.center)
+            ),
+        );
+    }
     line("gravity", format!("{} m/s^2", d.gravity));
     line(
         "contact model",
@@ -72,6 +83,10 @@ fn describe(d: &Derived) -> String {
                 format!("sliding (Coulomb, mu = {mu}; stops when the slip does)")
             }
             ("rolling", _) => "rolling without slipping".to_owned(),
+            ("viscous", _) => match d.contact.viscous_friction {
+                Some(mu_v) => format!("viscous (F_t = -mu_v N v_C, mu_v = {mu_v} s/m)"),
+                None => "viscous".to_owned(),
+            },
             ("coulomb", Some(mu)) => {
                 format!("coulomb (sliding and rolling with transitions, mu = {mu})")
             }

@@ -10,7 +10,7 @@ use std::ops::ControlFlow;
 use ellipsoid_core::geometry::Contact;
 use ellipsoid_core::integrate::Method;
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
-use ellipsoid_core::simulate::{self, EffectSet, Sample};
+use ellipsoid_core::simulate::{self, ContactModel, EffectSet, Sample};
 use nalgebra::{Matrix3, Vector3};
 use serde::Serialize;
 
@@ -58,6 +58,19 @@ pub struct BodyData {
     pub com_offset_radial: f64,
     /// m g \[N\].
     pub weight: f64,
+    /// The contact spheres, in the body's order (empty: the ellipsoid alone touches).
+    pub spheres: Vec<SphereData>,
+}
+
+/// A contact sphere fixed in the body.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SphereData {
+    /// Its name (its output columns and events name it).
+    pub name: String,
+    /// Its centre in body axes, from the ellipsoid's centre C0 \[m\].
+    pub center: [f64; 3],
+    /// Its radius \[m\].
+    pub radius: f64,
 }
 
 /// The contact model.
@@ -67,6 +80,8 @@ pub struct ContactData {
     pub model: &'static str,
     /// μ (sliding and coulomb), else None.
     pub friction: Option<f64>,
+    /// μ_v [s/m] (viscous), else None.
+    pub viscous_friction: Option<f64>,
     /// The contact disc (Coulomb–Contensou friction), None for a point contact.
     pub disc: Option<DiscData>,
 }
@@ -197,11 +212,24 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
             com_offset: arr(&g),
             com_offset_radial: radial * radial,
             weight: body.mass() * scene.gravity,
+            spheres: body
+                .spheres()
+                .iter()
+                .map(|sp| SphereData {
+                    name: sp.name.clone(),
+                    center: arr(&sp.center),
+                    radius: sp.radius,
+                })
+                .collect(),
         },
         gravity: scene.gravity,
         contact: ContactData {
             model,
             friction,
+            viscous_friction: match scene.contact {
+                ContactModel::Viscous { viscous_friction } => Some(viscous_friction),
+                _ => None,
+            },
             disc: scene.disc.map(|d| DiscData {
                 radius: d.radius,
                 law: d.law.name(),
@@ -313,6 +341,24 @@ mod tests {
         );
         assert_eq!((d.solver.method, d.solver.step), ("dop853", None));
         assert_eq!(d.output.samples, 10001);
+        assert!(d.body.spheres.is_empty() && d.contact.viscous_friction.is_none());
+    }
+
+    /// A tippe top's stem is listed with the body, as the scenario gives it.
+    #[test]
+    fn contact_spheres_are_reported() {
+        let d = derive(&load("tippe-top-stem.toml", &[])).unwrap();
+        let scenario = load("tippe-top-stem.toml", &[]);
+        let spheres = scenario.scene.body.spheres();
+        assert_eq!(d.body.spheres.len(), spheres.len());
+        assert!(!spheres.is_empty());
+        for (got, sp) in d.body.spheres.iter().zip(spheres) {
+            assert_eq!(
+                (got.name.as_str(), got.radius),
+                (sp.name.as_str(), sp.radius)
+            );
+            assert_eq!(got.center, arr(&sp.center));
+        }
     }
 
     #[test]
