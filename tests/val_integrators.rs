@@ -327,6 +327,7 @@ fn oscillator_events<'a>(direction: Direction, action: Action) -> Vec<Event<'a, 
         g: Box::new(|_, y: &Vector2<f64>| y[0]),
         direction,
         action,
+        curvature: None,
     }]
 }
 
@@ -476,6 +477,7 @@ fn val_event_dip_shorter_than_a_step_is_found() {
             g: Box::new(move |_, y: &Vector2<f64>| y[0] + depth),
             direction: Direction::Falling,
             action: Action::Continue,
+            curvature: None,
         }];
         let osc = HarmonicOscillator { omega: 2.0 };
         let sol = integrate(
@@ -517,6 +519,7 @@ fn val_event_zero_at_start_is_ignored() {
             g: Box::new(|_, y: &Vector2<f64>| y[1]),
             direction: Direction::Either,
             action: Action::Stop,
+            curvature: None,
         }];
         let (sol, _) = oscillator_run(method, &events, 10.0, &[]);
         assert_eq!(sol.stop, StopReason::Event { index: 0 });
@@ -542,11 +545,13 @@ fn val_events_in_one_step_are_ordered_and_terminal_cuts_the_step() {
                 g: Box::new(|_, y: &Vector2<f64>| y[0] - 0.4),
                 direction: Direction::Falling,
                 action: first_action,
+                curvature: None,
             },
             Event {
                 g: Box::new(|_, y: &Vector2<f64>| y[0] - 0.5),
                 direction: Direction::Falling,
                 action: second_action,
+                curvature: None,
             },
         ]
     };
@@ -682,6 +687,7 @@ fn inv_projection_applies_to_steps_samples_and_events() {
             g: Box::new(|_, y: &Vector2<f64>| y[1]),
             direction: Direction::Either,
             action: Action::Continue,
+            curvature: None,
         }];
         let samples: Vec<f64> = (1..50).map(|i| i as f64 * 0.37).collect();
         let mut worst: f64 = 0.0;
@@ -1139,11 +1145,13 @@ fn inv_no_allocation_per_step() {
                     g: Box::new(|_, y: &Vector2<f64>| y[0] - 2.0),
                     direction: Direction::Either,
                     action: Action::Continue,
+                    curvature: None,
                 },
                 Event {
                     g: Box::new(|_, y: &Vector2<f64>| y[1] - 3.0),
                     direction: Direction::Rising,
                     action: Action::Stop,
+                    curvature: None,
                 },
             ];
             let samples: Vec<f64> = (0..=(t_end as usize * 10))

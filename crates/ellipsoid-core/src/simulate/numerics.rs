@@ -98,6 +98,18 @@ const GAP_ROUNDOFF: f64 = 4.0;
 /// of decaying (random scenes with contact spheres).
 pub(super) const SECOND_GAP_RISE: f64 = 16.0;
 
+/// The depth below the plane, in units of the body's size L, beyond which a surface not
+/// in contact stops the run `below_plane` (`Numerics::penetration`): a million times the
+/// gap's round-off (4ε), where every located touchdown leaves gaps within a few δz (the
+/// deepest measured on the random scenes with contact spheres, −2e-17 m).
+const PENETRATION: f64 = 1e-9;
+
+/// Round-off of an event's time t, in units of ε |t|: four times the tolerance to which
+/// the integrator locates it (`integrate::events` `time_tolerance`, 4ε max(|t|, h)), and
+/// below which it takes no zero at the start of a segment (see
+/// [`Numerics::time_resolution`]).
+const TIME_ROUNDOFF: f64 = 16.0;
+
 /// Newton steps that take a touchdown back to gap = 0 (`transition::back_to_contact`);
 /// each is one RK4 step of the flight system, and the first already leaves a gap of
 /// O(a δz²/v_n²).
@@ -254,6 +266,24 @@ impl Numerics {
     /// touching it without approaching) is no touchdown.
     pub(super) fn gap_resolution(&self, kin: &Kinematics) -> f64 {
         GAP_ROUNDOFF * f64::EPSILON * (kin.z_g().abs() + self.size)
+    }
+
+    /// The body's size L \[m\]: its extent from C0.
+    pub(super) fn size(&self) -> f64 {
+        self.size
+    }
+
+    /// The penetration tolerance 1e-9 L \[m\] (see [`PENETRATION`]).
+    pub(super) fn penetration(&self) -> f64 {
+        PENETRATION * self.size
+    }
+
+    /// The time resolution of an event located at t, τ = 16 ε |t| \[s\]: two events closer
+    /// than it are one instant to the integrator (it takes no zero within round-off of a
+    /// segment's start), so a surface whose gap its approach closes within τ of another's
+    /// touchdown touches down with it (`transition::coinciding`).
+    pub(super) fn time_resolution(&self, t: f64) -> f64 {
+        TIME_ROUNDOFF * f64::EPSILON * t.abs()
     }
 
     /// The round-off of a material point's normal velocity v_Gz + e3·(R (ω × r)) \[m/s\]:
