@@ -314,6 +314,7 @@ pub fn status_text(status: &Status, body: &Body) -> String {
             approach,
         } => json!([name, surface(touching), surface(pressed), bits(*approach)]),
         Status::NonFinite { column, value } => json!([name, column, bits(*value)]),
+        Status::BelowPlane { surface: s, gap } => json!([name, surface(s), bits(*gap)]),
     };
     v.to_string()
 }
@@ -362,6 +363,10 @@ pub fn status(text: &str, body: &Body) -> Result<Status, String> {
         "cancelled" => Status::Cancelled,
         "observed" => Status::Observed { index: f.index()? },
         "section_full" => Status::SectionFull { index: f.index()? },
+        "below_plane" => Status::BelowPlane {
+            surface: surface(body, f.text()?)?,
+            gap: f.float()?,
+        },
         "painleve" => Status::Painleve {
             denominator: f.float()?,
             error: match f.next()? {
@@ -598,6 +603,10 @@ mod tests {
             Status::NonFinite {
                 column: "omega_z",
                 value: f64::NAN,
+            },
+            Status::BelowPlane {
+                surface: Surface::Sphere(0),
+                gap: -2.5e-9,
             },
             Status::Cancelled,
         ];

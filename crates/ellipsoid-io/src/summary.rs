@@ -407,6 +407,12 @@ pub fn status_message(scene: &Scene, status: &Status, t: f64) -> String {
                 "stopped at t = {t} s: the state became non-finite ({column} = {value}); the samples before it are kept"
             )
         }
+        Status::BelowPlane { surface, gap } => format!(
+            "stopped at t = {t} s: the {} is below the plane (gap {} m) while not in contact, a touchdown \
+             the simulation did not locate; no result past this point is reported (please report the scene)",
+            scene.body.surface_name(*surface),
+            number(*gap)
+        ),
         Status::Cancelled => format!("cancelled at t = {t} s"),
     }
 }

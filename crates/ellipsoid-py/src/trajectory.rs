@@ -738,8 +738,8 @@ impl Trajectory {
 
     /// Why the run ended (one of `Status::NAMES`): "completed", "observed" (a terminal
     /// observable), "lost_contact", "slip_stopped" (outcomes), or "painleve",
-    /// "solver_failure", "chattering", "non_finite", "cancelled" (on a SimulationError's
-    /// trajectory).
+    /// "solver_failure", "chattering", "non_finite", "below_plane", "cancelled" (on a
+    /// SimulationError's trajectory).
     #[getter]
     fn status(&self) -> &'static str {
         self.summary.status.name()

@@ -77,7 +77,7 @@ pub const MAX_SAMPLES: usize = 10_000_000;
 /// The invariants a `[check]` table may bound (declared in `invariants::Invariant`).
 pub const DRIFT_NAMES: [&str; 6] = crate::invariants::Invariant::NAMES;
 /// The run statuses a `[check]` table may expect (declared in `simulate::Status`).
-pub const STATUS_NAMES: [&str; 12] = crate::simulate::Status::NAMES;
+pub const STATUS_NAMES: [&str; 13] = crate::simulate::Status::NAMES;
 /// A parsed, validated scenario.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Scenario {

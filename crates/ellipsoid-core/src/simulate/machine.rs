@@ -7,9 +7,11 @@
 use std::cell::{Cell, RefCell};
 use std::ops::ControlFlow;
 
+use crate::body::Surface;
 use crate::columns;
 use crate::effects::Effect;
 use crate::error::ModelError;
+use crate::geometry;
 use crate::integrate::{
     self, Action, Direction, Event, OdeSystem, Options, Stats, StopReason, Warning,
 };
@@ -68,6 +70,9 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             Some(status) => status,
             None => loop {
                 let current = phase::<E>(mode);
+                if let Some(status) = self.below_plane(mode, &current.kinematics(self, &y)) {
+                    break status;
+                }
                 // A surface already below the plane where the phase starts touched it
                 // before: its event at once (the integrator finds only zeros crossed).
                 let mut before = events.len();
@@ -123,6 +128,11 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                             Slot::Phase(watch) => {
                                 current.on_event(self, watch, &mut t, &mut y, &mut events)
                             }
+                            // Located at the tolerance, to round-off.
+                            Slot::Guard => Next::Stop(
+                                self.deepest_status(mode, &current.kinematics(self, &y)),
+                                mode,
+                            ),
                         },
                     }
                 };
@@ -170,6 +180,46 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             final_invariants,
             sections: std::mem::take(&mut rec.sections),
         })
+    }
+
+    /// Whether `surface` is in contact with the plane in `mode`.
+    fn in_contact(&self, mode: Mode, surface: Surface) -> bool {
+        match mode {
+            Mode::Flight => false,
+            Mode::TwoContacts | Mode::ThreeContacts => {
+                surface == self.surface.get()
+                    || self.others.get()[..self.count.get() - 1].contains(&surface)
+            }
+            _ => surface == self.surface.get(),
+        }
+    }
+
+    /// The surface not in contact in `mode` lowest under the plane at `kin`, with its gap
+    /// g_k = z_G − h_k(ζ) \[m\] (`geometry::height`); `None` where every surface is in
+    /// contact.
+    fn deepest(&self, mode: Mode, kin: &Kinematics) -> Option<(Surface, f64)> {
+        let body = &self.scene.body;
+        (body.surfaces())
+            .filter(|&s| !self.in_contact(mode, s))
+            .map(|s| (s, kin.z_g() - geometry::height(body, s, kin.contact.zeta)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// The guard of every run (docs/physics.md, "The hybrid machine"): a surface not in
+    /// contact whose gap is below −(the penetration tolerance, `Numerics::penetration`)
+    /// is a touchdown the machine did not locate, and the run stops `below_plane` there
+    /// instead of going on inside the plane. Checked where every phase starts, as an
+    /// event of every segment at every accepted step, and at every sample before it is
+    /// emitted.
+    fn below_plane(&self, mode: Mode, kin: &Kinematics) -> Option<Status> {
+        let (_, gap) = self.deepest(mode, kin)?;
+        (gap < -self.numerics.penetration()).then(|| self.deepest_status(mode, kin))
+    }
+
+    /// [`Status::BelowPlane`] of the deepest surface not in contact at `kin`.
+    fn deepest_status(&self, mode: Mode, kin: &Kinematics) -> Status {
+        let (surface, gap) = self.deepest(mode, kin).unwrap_or((self.surface.get(), 0.0));
+        Status::BelowPlane { surface, gap }
     }
 
     /// Which invariants the scene conserves.
@@ -226,10 +276,14 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
         last: Memo::default(),
     };
     let phase_watches = P::watches(ctx);
+    // The guard where a surface can be off the plane: every one in flight, the others
+    // than those touching with contact spheres.
+    let guarded = P::MODE == Mode::Flight || !scene.body.spheres().is_empty();
     let watches: Vec<Slot> = (0..phase_watches.len())
         .map(Slot::Phase)
         .chain((0..scene.observe.len()).map(Slot::Observe))
         .chain((0..scene.sections.len()).map(Slot::Section))
+        .chain(guarded.then_some(Slot::Guard))
         .collect();
     // Observables unwrap φ and ψ against the last emitted row; they share one output
     // row per state.
@@ -278,6 +332,18 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
                 let kept = rec.sections[k].len() as u64;
                 crossing(&s.crossing, Action::StopAfter(s.max_points - kept))
             }
+            Slot::Guard => {
+                let tolerance = ctx.numerics.penetration();
+                Event {
+                    g: Box::new(move |t, y: &State| {
+                        sys.with(t, y, |ev| {
+                            ctx.deepest(P::MODE, &ev.kin).map_or(f64::INFINITY, |d| d.1)
+                        }) + tolerance
+                    }),
+                    direction: Direction::Falling,
+                    action: Action::Stop,
+                }
+            }
             Slot::Phase(i) => {
                 let w = phase_watches[i];
                 // A gap that starts at or below zero (by round-off, opening: see the
@@ -319,8 +385,12 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
         &events,
         samples,
         &mut |t, y| {
-            let (mut sample, inv) =
-                ctx.sample(law, P::MODE, t, y, &law.evaluate(y), Some(&rec.angles));
+            let ev = law.evaluate(y);
+            if let Some(status) = guarded.then(|| ctx.below_plane(P::MODE, &ev.kin)).flatten() {
+                rec.stopped = Some(status);
+                return ControlFlow::Break(());
+            }
+            let (mut sample, inv) = ctx.sample(law, P::MODE, t, y, &ev, Some(&rec.angles));
             rec.next_sample += 1;
             let flow = rec.emit(&mut sample, &inv);
             angles.set(rec.angles);

@@ -134,6 +134,12 @@ pub enum Status {
     },
     /// A sample held NaN or infinity: `column` = `value` (an error; never reported as a result).
     NonFinite { column: &'static str, value: f64 },
+    /// A surface not in contact was found below the plane, its gap `gap` < 0 \[m\] beyond
+    /// the run's penetration tolerance (an error: a touchdown the machine did not locate;
+    /// docs/physics.md, "The hybrid machine"). The run stops at the first phase start,
+    /// accepted step or sample where it is seen, never reporting a body inside the plane
+    /// as a result.
+    BelowPlane { surface: Surface, gap: f64 },
     /// The caller asked to stop.
     Cancelled,
 }
@@ -154,11 +160,12 @@ pub enum StatusKind {
     InconsistentContact,
     SeveralContacts,
     SectionFull,
+    BelowPlane,
 }
 
 impl StatusKind {
     /// Every kind, in the order of [`StatusKind::NAMES`].
-    pub const ALL: [StatusKind; 12] = [
+    pub const ALL: [StatusKind; 13] = [
         StatusKind::Completed,
         StatusKind::Observed,
         StatusKind::LostContact,
@@ -171,10 +178,11 @@ impl StatusKind {
         StatusKind::InconsistentContact,
         StatusKind::SeveralContacts,
         StatusKind::SectionFull,
+        StatusKind::BelowPlane,
     ];
 
     /// The names of every kind, as summaries and `[check]` tables spell them.
-    pub const NAMES: [&'static str; 12] = [
+    pub const NAMES: [&'static str; 13] = [
         "completed",
         "observed",
         "lost_contact",
@@ -187,6 +195,7 @@ impl StatusKind {
         "inconsistent_contact",
         "several_contacts",
         "section_full",
+        "below_plane",
     ];
 
     /// Its name in summaries (`status` field).
@@ -211,7 +220,7 @@ impl StatusKind {
 
 impl Status {
     /// The names of every status, as summaries and `[check]` tables spell them.
-    pub const NAMES: [&'static str; 12] = StatusKind::NAMES;
+    pub const NAMES: [&'static str; 13] = StatusKind::NAMES;
 
     /// Its kind, without its numbers.
     pub fn kind(&self) -> StatusKind {
@@ -228,6 +237,7 @@ impl Status {
             Status::InconsistentContact { .. } => StatusKind::InconsistentContact,
             Status::SeveralContacts { .. } => StatusKind::SeveralContacts,
             Status::SectionFull { .. } => StatusKind::SectionFull,
+            Status::BelowPlane { .. } => StatusKind::BelowPlane,
         }
     }
 
@@ -256,6 +266,7 @@ impl Status {
                 | Status::NonFinite { .. }
                 | Status::InconsistentContact { .. }
                 | Status::SeveralContacts { .. }
+                | Status::BelowPlane { .. }
         )
     }
 }

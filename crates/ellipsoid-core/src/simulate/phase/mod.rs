@@ -45,6 +45,7 @@ use crate::error::ModelError;
 use crate::geometry;
 use crate::integrate::IntegrateError;
 use crate::invariants::Invariants;
+use crate::kinematics::Kinematics;
 use crate::model::{ContactLaw, Evaluation, Response, System};
 use crate::state::{EulerAngles, State};
 
@@ -113,6 +114,9 @@ pub(super) enum Slot {
     Phase(usize),
     Observe(usize),
     Section(usize),
+    /// The guard: the deepest surface not in contact falling through the penetration
+    /// tolerance (`Context::below_plane`).
+    Guard,
 }
 
 /// What a phase's event leads to.
@@ -195,6 +199,8 @@ pub(super) trait AnyPhase<E> {
         prev: Option<&EulerAngles>,
     ) -> (Sample, Invariants);
     fn response(&self, ctx: &Context<'_, E>, y: &State) -> Response;
+    /// The kinematics of `y` under the phase's law.
+    fn kinematics(&self, ctx: &Context<'_, E>, y: &State) -> Kinematics;
     /// The first of the phase's gaps ([`Phase::gap_of`]) at or below zero and closing at
     /// `y`, by its watch number.
     fn overdue(&self, ctx: &Context<'_, E>, y: &State) -> Option<usize>;
@@ -241,6 +247,9 @@ impl<P: Phase, E: Effect + Copy + 'static> AnyPhase<E> for Registered<P> {
     }
     fn response(&self, ctx: &Context<'_, E>, y: &State) -> Response {
         ctx.system::<P>().evaluate(y).response
+    }
+    fn kinematics(&self, ctx: &Context<'_, E>, y: &State) -> Kinematics {
+        ctx.system::<P>().evaluate(y).kin
     }
     fn overdue(&self, ctx: &Context<'_, E>, y: &State) -> Option<usize> {
         let sys = ctx.system::<P>();
