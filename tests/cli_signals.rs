@@ -405,3 +405,87 @@ fn sigterm_while_a_resumed_study_prepares_exits_at_once() {
         "the rows are kept, now by key"
     );
 }
+
+/// Issue 48: Ctrl-C was ignored by `steady --vary` and `animate`: both ran to the end,
+/// exited 0 and overwrote their output. Now, as `run` and `study`, SIGINT stops them
+/// within a second with exit 130, the existing output untouched and no temporary left.
+#[test]
+fn sigint_stops_steady_vary_and_animate_with_130_and_the_old_output_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::write(d.join("table.csv"), "an earlier table\n").unwrap();
+    std::fs::write(d.join("anim.gif"), "an earlier animation").unwrap();
+    // A trajectory to animate: 20 s of the nutation scene at 1 ms.
+    let out = Command::new(BIN)
+        .args(["run", nutation().to_str().unwrap(), "-o", "traj.csv", "-q"])
+        .args(["--summary", "traj.json"])
+        .args(["--set", "output.t_end=20", "--set", "output.dt=1e-3"])
+        .current_dir(d)
+        .output()
+        .unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let scene = nutation();
+    let long: [&[&str]; 2] = [
+        // 10⁵ spins of the nutation body, with their critical values: about 8 s.
+        &[
+            "steady",
+            scene.to_str().unwrap(),
+            "--vary",
+            "initial.psi_dot=-200:200:100000",
+            "-o",
+            "table.csv",
+        ],
+        // 2000 frames of 2000 × 2000 px: minutes.
+        &[
+            "animate",
+            "traj.csv",
+            "--summary",
+            "traj.json",
+            "-o",
+            "anim.gif",
+            "--width",
+            "2000",
+            "--height",
+            "2000",
+            "--fps",
+            "100",
+            "--speed",
+            "0.01",
+        ],
+    ];
+    for args in long {
+        let mut child = Command::new(BIN)
+            .args(args)
+            .current_dir(d)
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(1500));
+        assert!(child.try_wait().unwrap().is_none(), "{args:?} ended early");
+        signal(&child, "INT");
+        let code = exits_within(&mut child, Duration::from_secs(1), args[0]);
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(code, Some(130), "{args:?}: {err}");
+        assert!(err.contains("interrupted by SIGINT"), "{err}");
+    }
+    assert_eq!(
+        std::fs::read_to_string(d.join("table.csv")).unwrap(),
+        "an earlier table\n"
+    );
+    assert_eq!(
+        std::fs::read_to_string(d.join("anim.gif")).unwrap(),
+        "an earlier animation"
+    );
+    assert_eq!(
+        tree(d),
+        ["anim.gif", "table.csv", "traj.csv", "traj.json"],
+        "no temporary left"
+    );
+}

@@ -659,3 +659,156 @@ fn steady_perturb_takes_the_viscous_law() {
         "growth {fitted} against Re λ = {rate}"
     );
 }
+
+/// Runs `ellipsoid steady SCENE ARGS`, failing if it takes more than `limit` (an input
+/// that never ends must be refused, not waited on).
+fn steady_within(scene: &std::path::Path, args: &[&str], limit: f64) -> std::process::Output {
+    let mut child = Command::new(BIN)
+        .arg("steady")
+        .arg(scene)
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed().as_secs_f64() > limit {
+            let _ = child.kill();
+            panic!("`steady {args:?}` still running after {limit} s");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.wait_with_output().unwrap()
+}
+
+/// Issue 48: the rolling-circle and precession families solved for θ at φ̇ = 0 panicked
+/// (exit 101, "Singular value was NaN"), and one such value killed a whole sweep. Now a
+/// single analysis is refused (exit 2) naming initial.phi_dot, and a sweep through it has
+/// a row "no steady motion" with the reason, the table's error column saying the same.
+#[test]
+fn steady_at_zero_precession_says_no_steady_motion_and_does_not_panic() {
+    let scene = scratch("lens-still.toml");
+    std::fs::write(&scene, LENS).unwrap();
+    for (family, model) in [
+        ("rolling-circle", "contact.model=\"rolling\""),
+        ("precession", "contact.model=\"frictionless\""),
+    ] {
+        let base = ["--family", family, "--solve", "theta", "--set", model];
+        let out = steady_within(
+            &scene,
+            &[&base[..], &["--set", "initial.phi_dot=0"]].concat(),
+            10.0,
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{family}: {err}");
+        assert!(
+            err.contains("initial.phi_dot = 0: no ") && !err.contains("internal error"),
+            "{family}: {err}"
+        );
+        let table = scratch(&format!("still-{family}.csv"));
+        let out = steady_within(
+            &scene,
+            &[
+                &base[..],
+                &[
+                    "--set",
+                    "initial.psi_dot=10",
+                    "--vary",
+                    "initial.phi_dot=-1:1:3",
+                    "-o",
+                ],
+                &[table.to_str().unwrap()],
+            ]
+            .concat(),
+            10.0,
+        );
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(
+            out.status.code(),
+            Some(0),
+            "{family}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let zero = text
+            .lines()
+            .find(|l| l.trim_start().starts_with("0 "))
+            .unwrap_or_else(|| panic!("{text}"));
+        assert!(
+            zero.contains("no steady motion: initial.phi_dot = 0"),
+            "{zero}"
+        );
+        let csv = std::fs::read_to_string(&table).unwrap();
+        let rows: Vec<&str> = csv.lines().skip(1).collect();
+        assert_eq!(rows.len(), 3, "{csv}");
+        assert!(rows[1].starts_with("0,") && rows[1].contains("without precession"));
+        if family == "rolling-circle" {
+            assert!(rows[0].ends_with(',') && rows[2].ends_with(','), "{csv}");
+        }
+    }
+}
+
+/// Issue 48: spins of 1e80 rad/s and up never returned, and at 1e40 the verdict was
+/// round-off. Now refused at once (exit 2) naming the quantity, its value and the rule,
+/// in a single analysis; in a sweep such values are rows without a steady motion.
+#[test]
+fn steady_refuses_rates_beyond_what_doubles_resolve_at_once() {
+    let scene = scratch("egg-fast.toml");
+    std::fs::write(&scene, EGG).unwrap();
+    for spin in ["1e40", "1e80", "1e200"] {
+        let set = format!("initial.psi_dot={spin}");
+        let out = steady_within(&scene, &["--set", &set], 5.0);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{spin}: {err}");
+        assert!(
+            err.contains(&format!(
+                "spin n = {spin} rad/s: a steady motion is analysed up to 100000 √(g/c_max)"
+            )),
+            "{err}"
+        );
+    }
+    let out = steady_within(&scene, &["--vary", "initial.psi_dot=100:1e200:3"], 5.0);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(
+        out.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        text.matches("no steady motion: spin n = ").count(),
+        2,
+        "{text}"
+    );
+}
+
+/// Issue 48: `--vary` over an unknown, a non-numeric or an out-of-range key exited 0 with
+/// a table of error rows. Now exit 2 naming the key and the rule, nothing written.
+#[test]
+fn vary_over_a_key_the_scenario_refuses_exits_2_and_writes_nothing() {
+    let scene = scratch("egg-vary.toml");
+    std::fs::write(&scene, EGG).unwrap();
+    let table = scratch("vary-never.csv");
+    for (vary, says) in [
+        ("body.colour=1:2:3", "unknown key"),
+        ("contact.model=1:2:3", "expected a string"),
+        ("body.mass=-1:1:3", "the mass must be positive"),
+    ] {
+        let out = steady_within(
+            &scene,
+            &["--vary", vary, "-o", table.to_str().unwrap()],
+            10.0,
+        );
+        let err = String::from_utf8_lossy(&out.stderr);
+        let key = vary.split('=').next().unwrap();
+        assert_eq!(out.status.code(), Some(2), "{vary}: {err}");
+        assert!(
+            err.contains(&format!("{key} = "))
+                && err.contains("the scenario refuses this value")
+                && err.contains(says),
+            "{vary}: {err}"
+        );
+        assert!(out.stdout.is_empty(), "{vary}: nothing printed");
+        assert!(!table.exists(), "{vary}");
+    }
+}

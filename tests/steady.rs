@@ -827,3 +827,272 @@ fn val_verdicts_agree_with_the_turn_over_map() {
     assert!(disagree.is_empty(), "{}", disagree.join("\n"));
     assert!(clear >= 600, "{clear} clear points");
 }
+
+/// A disc-like lens (a = 0.03 m, c = 0.004 m, uniform, 0.05 kg) rolling, tilted 1.7 rad,
+/// precessing at 1 rad/s (tests/cli_steady.rs's LENS).
+const LENS: &str = r#"
+[body]
+a = 0.03
+c = 0.004
+mass = 0.05
+inertia = "uniform"
+[initial]
+theta = 1.7
+phi_dot = 1.0
+psi_dot = 10.0
+[contact]
+model = "rolling"
+[output]
+t_end = 1.0
+dt = 0.01
+"#;
+
+/// A prolate egg (a = b = 0.02 m, c = 0.03 m, uniform, 0.06 kg) upright without friction.
+const EGG: &str = r#"
+[body]
+a = 0.02
+c = 0.03
+mass = 0.06
+inertia = "uniform"
+[initial]
+theta = 0.0
+psi_dot = 100.0
+[contact]
+model = "frictionless"
+[output]
+t_end = 1.0
+dt = 0.01
+"#;
+
+fn parsed(text: &str, sets: &[&str]) -> scenario::Scenario {
+    scenario::parse_all(text, "test.toml", sets).unwrap()
+}
+
+/// Issue 48: solved for θ at φ̇ = 0, the tilted families took F_n = φ̇ (…) = 0 as a
+/// divisor; the family's tangents were NaN and the singular value decomposition panicked
+/// ("Singular value was NaN"), killing a whole sweep. Now no steady motion, with the
+/// reason, and a sweep through φ̇ = 0 has a row without one between two that have.
+#[test]
+fn the_tilted_families_without_precession_have_no_steady_motion_and_do_not_panic() {
+    use steady::Solve;
+    for (family, model) in [
+        (Family::RollingCircle, "contact.model=\"rolling\""),
+        (Family::Precession, "contact.model=\"frictionless\""),
+    ] {
+        let base = parsed(LENS, &[model, "initial.phi_dot=0"]);
+        let e = steady::analyse_solving(&base.scene, family, Solve::Theta).unwrap_err();
+        assert_eq!(e.key(), "initial.phi_dot", "{e}");
+        assert!(e.to_string().contains("without precession"), "{e}");
+        let sw = steady::sweep_solving(
+            &parsed(LENS, &[model]),
+            family,
+            Solve::Theta,
+            "initial.phi_dot",
+            &[-1.0, 0.0, 1.0],
+            None,
+        )
+        .unwrap();
+        assert!(sw.rows[1].is_err(), "{family:?}");
+        assert!(sw.rows[0].is_ok() && sw.rows[2].is_ok(), "{family:?}");
+    }
+}
+
+/// Issue 48: an egg spinning at 1e80 rad/s never returned (the Schur iteration of a
+/// Jacobian of round-off does not converge, and had no bound), and at 1e40 the verdict was
+/// round-off. Rates beyond `MAX_RATE_RATIO` √(g/c_max) are refused at once, naming the
+/// quantity and the rule; a state too large for the Jacobian is refused by `linearize`.
+#[test]
+fn rates_beyond_what_doubles_resolve_are_refused_at_once() {
+    use steady::Solve;
+    let start = std::time::Instant::now();
+    for spin in [1e7, 1e40, 1e80, 1e200, f64::MAX] {
+        let set = format!("initial.psi_dot={spin:e}");
+        let scene = parsed(EGG, &[set.as_str()]).scene;
+        let e = steady::analyse(&scene, Family::Upright).unwrap_err();
+        let text = e.to_string();
+        assert!(
+            text.starts_with("spin n = ") && text.contains("analysed up to 100000 √(g/c_max)"),
+            "{text}"
+        );
+    }
+    for (set, key) in [
+        ("initial.phi_dot=1e10", "initial.phi_dot"),
+        // A precession rate of 1e-300 asks for an infinite spin.
+        ("initial.phi_dot=1e-300", "initial"),
+    ] {
+        let scene = parsed(LENS, &[set]).scene;
+        let e = steady::analyse_solving(&scene, Family::RollingCircle, Solve::Spin).unwrap_err();
+        assert_eq!(e.key(), key, "{set}: {e}");
+    }
+    let scene = parsed(EGG, &[]).scene;
+    let huge = steady::Phase::new(0.0, 0.0, 1.0, 1e300, 1e300, 1e300);
+    let e = steady::linearize_scene(&scene, Some(huge)).unwrap_err();
+    assert_eq!(e.key(), "state", "{e}");
+    assert!(start.elapsed() < std::time::Duration::from_secs(2));
+}
+
+/// Just below the rate bound the verdict is still the physics': Routh's rolling lens at
+/// Ω = 0.9 of the bound (|ω0| ≈ 0.89 of it) is stable, its largest real part within a
+/// fifth of the stability tolerance (measured 5e-11 of max |λ|; the round-off grows like
+/// 6e-16 of the rate in units of √(g/c_max), the worst body measured).
+#[test]
+fn val_the_fastest_rolling_lens_analysed_is_stable_within_round_off() {
+    let bound = steady::MAX_RATE_RATIO * (G / 0.03_f64).sqrt();
+    let set = format!("initial.phi_dot={:e}", 0.9 * bound);
+    let scene = parsed(LENS, &[set.as_str()]).scene;
+    let an = steady::analyse(&scene, Family::RollingCircle).unwrap();
+    let s = &an.spectrum;
+    assert!(s.stable(), "{:?}", s.eigenvalues());
+    assert!(
+        s.max_real().abs() <= 0.2 * steady::STABLE_TOLERANCE * s.scale(),
+        "{:?}",
+        s.eigenvalues()
+    );
+}
+
+/// Issue 48: hostile inputs to every steady entry point — the three given rates and the
+/// tilt at zero, subnormal, huge, infinite-making and ordinary values, every family and
+/// unknown, every contact law, sweeps, and `linearize` at hostile states. None may
+/// panic or take 2 s; every analysis returned has finite eigenvalues, a rate within the
+/// bound, and a verdict that its eigenvalues give (stable exactly when no real part is
+/// above `STABLE_TOLERANCE` of the scale). The scenario parser's fuzzer
+/// (`examples/fuzz_scenario.rs`) runs the same checks on the scenes it accepts.
+#[test]
+fn hostile_inputs_never_panic_hang_or_give_a_verdict_its_eigenvalues_contradict() {
+    use std::panic::{AssertUnwindSafe, catch_unwind};
+    use std::time::{Duration, Instant};
+    use steady::Solve;
+    const VALUES: [&str; 22] = [
+        "0",
+        "-0.0",
+        "5e-324",
+        "1e-300",
+        "1e-9",
+        "1e-3",
+        "0.5",
+        "1",
+        "-1",
+        "1.5707963267948966",
+        "3.141592653589793",
+        "3.1415926",
+        "17",
+        "-250",
+        "1e4",
+        "1e6",
+        "2e6",
+        "1e10",
+        "1e40",
+        "1e80",
+        "1e300",
+        "1.7976931348623157e308",
+    ];
+    const MODELS: [&str; 4] = [
+        "contact.model=\"frictionless\"",
+        "contact.model=\"rolling\"",
+        "contact.friction=0.3",
+        "contact.viscous_friction=1.0",
+    ];
+    const KEYS: [&str; 3] = ["initial.theta", "initial.phi_dot", "initial.psi_dot"];
+    let mut rng: u64 = 0x2545_f491_4f6c_dd1d;
+    let mut next = |n: usize| {
+        rng ^= rng << 13;
+        rng ^= rng >> 7;
+        rng ^= rng << 17;
+        (rng % n as u64) as usize
+    };
+    let (mut analysed, mut refused) = (0, 0);
+    for round in 0..1500 {
+        let text = [LENS, EGG][next(2)];
+        let mut sets: Vec<String> = vec![MODELS[next(4)].to_owned()];
+        if sets[0].contains("friction=") {
+            sets.insert(0, "contact.model=\"coulomb\"".into());
+        }
+        if sets.last().is_some_and(|s| s.contains("viscous_friction")) {
+            sets.insert(0, "contact.model=\"viscous\"".into());
+        }
+        for key in KEYS {
+            if next(3) > 0 {
+                sets.push(format!("{key}={}", VALUES[next(VALUES.len())]));
+            }
+        }
+        let Ok(base) = scenario::parse_all(text, "hostile.toml", &sets) else {
+            continue;
+        };
+        let family = [
+            Family::Upright,
+            Family::Inverted,
+            Family::Precession,
+            Family::RollingCircle,
+        ][next(4)];
+        let solve = [Solve::Spin, Solve::PhiDot, Solve::Theta][next(3)];
+        let what = format!("round {round}: {family:?} solving for {solve:?}, {sets:?}");
+        let start = Instant::now();
+        let outcome = catch_unwind(AssertUnwindSafe(|| {
+            let scene = &base.scene;
+            let bound = steady::MAX_RATE_RATIO
+                * (scene.gravity / scene.body.semi_axes().max()).sqrt()
+                * (1.0 + 1e-12);
+            let mut verdicts: Vec<(Vec<Complex<f64>>, bool, f64)> = Vec::new();
+            match steady::analyse_solving(scene, family, solve) {
+                Ok(an) => {
+                    let w = an.motion.at.fixed_rows::<3>(3).norm();
+                    assert!(w <= bound, "{what}: |ω0| = {w} beyond {bound}");
+                    let s = &an.spectrum;
+                    verdicts.push((s.eigenvalues(), s.stable(), s.scale()));
+                }
+                Err(e) => assert!(!e.to_string().is_empty()),
+            }
+            if let Ok(spin) = steady::viscous::analyse(scene, family) {
+                verdicts.push((spin.eigenvalues.clone(), spin.stable(), spin.scale()));
+            }
+            let key = KEYS[next(3)];
+            let values = [VALUES[next(22)], VALUES[next(22)], VALUES[next(22)]]
+                .map(|v| v.parse::<f64>().unwrap());
+            if let Ok(sw) = steady::sweep_solving(&base, family, solve, key, &values, None) {
+                for an in sw.rows.iter().flatten() {
+                    let s = &an.spectrum;
+                    verdicts.push((s.eigenvalues(), s.stable(), s.scale()));
+                }
+            }
+            let state = steady::Phase::from_fn(|_, _| VALUES[next(22)].parse::<f64>().unwrap());
+            if let Ok(lin) = steady::linearize_scene(scene, Some(state)) {
+                assert!(lin.jacobian.iter().all(|x| x.is_finite()), "{what}");
+            }
+            let _ = steady::linearize_scene(scene, None);
+            verdicts
+        }));
+        let took = start.elapsed();
+        assert!(took < Duration::from_secs(2), "{what}: took {took:?}");
+        let verdicts = match outcome {
+            Ok(v) => v,
+            Err(p) => panic!(
+                "{what}: panicked: {}",
+                ellipsoid_core::error::panic_message(&*p)
+            ),
+        };
+        if verdicts.is_empty() {
+            refused += 1;
+        }
+        for (eigenvalues, stable, scale) in verdicts {
+            analysed += 1;
+            assert!(
+                eigenvalues
+                    .iter()
+                    .all(|l| l.re.is_finite() && l.im.is_finite()),
+                "{what}: {eigenvalues:?}"
+            );
+            let max_real = eigenvalues
+                .iter()
+                .map(|l| l.re)
+                .fold(f64::NEG_INFINITY, f64::max);
+            assert!(scale.is_finite(), "{what}: scale {scale}");
+            assert_eq!(
+                stable,
+                max_real <= steady::STABLE_TOLERANCE * scale,
+                "{what}: verdict against {eigenvalues:?}"
+            );
+        }
+    }
+    eprintln!("{analysed} analyses, {refused} inputs without one");
+    assert!(analysed >= 300 && refused >= 300, "{analysed}, {refused}");
+}

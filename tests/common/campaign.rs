@@ -186,6 +186,61 @@ pub fn with_spheres(scene: &Scene, rng: &mut Rng) -> Option<Scene> {
     starts(&s).then_some(s)
 }
 
+/// A frictionless body like those that fell through the plane (issue 48): a = b = 7.1 mm,
+/// c = 18.6 mm, G 8.7 mm from C0 on the axis (either side), 5–100 g, tilted θ0 = 0.758 rad
+/// and spun ψ̇0 = 210 rad/s on the plane, with 1–8 small contact spheres (radius
+/// 0.15–1.1 mm, centres 40–48 mm from C0 in random directions: stems far out of the
+/// body), restitution in [0, 1]; `None` where the start is refused.
+pub fn frictionless_with_stems(rng: &mut Rng) -> Option<Scene> {
+    let base = scene(rng, Method::Dop853)?;
+    let (a, c) = (0.0071, 0.0186);
+    let m = rng.uniform(0.005, 0.1);
+    let axes = Vector3::new(a, a, c);
+    let u = uniform_inertia(axes, m);
+    let k = rng.uniform(0.7, 1.3);
+    let inertia = Matrix3::from_diagonal(&Vector3::new(
+        u[(0, 0)] * k,
+        u[(0, 0)] * k,
+        u[(2, 2)] * rng.uniform(0.7, 1.3),
+    ));
+    let side = if rng.chance(0.5) { 1.0 } else { -1.0 };
+    let spheres = (0..1 + rng.below(8))
+        .map(|k| Sphere {
+            name: format!("s{k}"),
+            center: rng.vector(1.0).normalize() * rng.uniform(0.04, 0.048),
+            radius: rng.uniform(0.00015, 0.0011),
+        })
+        .collect();
+    let body = Body::new(axes, m, inertia, Vector3::new(0.0, 0.0, 0.0087 * side))
+        .and_then(|b| b.with_spheres(spheres))
+        .ok()?;
+    let mut s = Scene {
+        body,
+        gravity: 9.81,
+        contact: ContactModel::Frictionless,
+        disc: None,
+        effects: EffectSet::default(),
+        ..base
+    };
+    s.landing.restitution = rng.uniform(0.0, 1.0);
+    s.initial = InitialState {
+        angles: EulerAngles {
+            theta: 0.758,
+            phi: 0.0,
+            psi: 0.0,
+            theta_dot: 0.0,
+            phi_dot: rng.uniform(-5.0, 5.0),
+            psi_dot: 210.0,
+        },
+        omega_body: None,
+        position: Vector2::zeros(),
+        velocity: None,
+        height: 0.0,
+        velocity_z: None,
+    };
+    starts(&s).then_some(s)
+}
+
 /// Whether a run of `scene` starts: the checks `simulate` makes at t = 0, with the
 /// scene's effects (`Scene::initial_state` leaves them out, and a rolling scene with
 /// effects can pass it and still be refused as the rolling model's Painlevé case at t = 0;

@@ -1,15 +1,19 @@
-//! Ctrl-C (SIGINT) and SIGTERM during `ellipsoid run`: the first one sets a flag that the
-//! integrator reads before every step, so the run stops at its next step; the command
-//! then drops its temporary files (deleting them), removes the directories it made, leaves
-//! existing outputs untouched, says so on standard error and exits 128 + the signal's
-//! number (130 for SIGINT, 143 for SIGTERM). A second signal of the same kind ends the
-//! process at once, by the signal's default action (its temporaries are then removed by
-//! the next run writing to the same directory, see `ellipsoid_io::atomic`).
+//! Ctrl-C (SIGINT) and SIGTERM during `ellipsoid run`, `study`, `steady --vary` and
+//! `animate`: the first one sets a flag that the work reads as it goes (the integrator
+//! before every step, a sweep before each value, an animation before each frame), so it
+//! stops within a step; the command then drops its temporary files (deleting them),
+//! removes the directories it made, leaves existing outputs untouched, says so on
+//! standard error and exits 128 + the signal's number (130 for SIGINT, 143 for SIGTERM).
+//! A second signal of the same kind ends the process at once, by the signal's default
+//! action (its temporaries are then removed by the next run writing to the same
+//! directory, see `ellipsoid_io::atomic`).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use signal_hook::consts::{SIGINT, SIGTERM};
+
+use crate::error::CliError;
 
 /// The signals a run stops on, with their names.
 const SIGNALS: [(i32, &str); 2] = [(SIGINT, "SIGINT"), (SIGTERM, "SIGTERM")];
@@ -50,5 +54,19 @@ impl Interrupt {
             .find(|(_, f)| f.load(Ordering::SeqCst))
             .map(|(s, _)| *s)
             .or(Some(SIGNALS[0]))
+    }
+
+    /// `Err(Interrupted)` if a signal came: `what` (e.g. "the sweep") was stopped and
+    /// nothing written.
+    pub fn check(&self, what: &str) -> Result<(), CliError> {
+        match self.received() {
+            None => Ok(()),
+            Some((signal, name)) => Err(CliError::Interrupted {
+                signal,
+                message: format!(
+                    "interrupted by {name}: {what} was stopped and nothing was written (existing output files are untouched)"
+                ),
+            }),
+        }
     }
 }

@@ -1,6 +1,8 @@
 //! `ellipsoid steady`: a steady motion of a scenario's body and its linear stability, or
 //! a family of them against one scenario key with its critical values
-//! (docs/physics.md, "Steady motions and their stability").
+//! (docs/physics.md, "Steady motions and their stability"). SIGINT or SIGTERM stops a
+//! sweep before its next value, nothing written (exit 130 or 143, `interrupt`); a value
+//! the scenario refuses refuses the sweep (exit 2, nothing written).
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -21,9 +23,11 @@ use ellipsoid_study::study::{Cell, Column, Type};
 use crate::cli::SteadyArgs;
 use crate::diagram::{self, Diagram};
 use crate::error::CliError;
+use crate::interrupt::Interrupt;
 use crate::visual::{check_output, put};
 
 pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
+    let interrupt = Interrupt::install();
     let family = Family::parse(&args.family).map_err(|e| CliError::Usage(format!("--{e}")))?;
     let solve = Solve::parse(&args.solve).map_err(|e| CliError::Usage(format!("--{e}")))?;
     let scenario = scenario::load_all(&args.scenario, &args.set)?;
@@ -57,6 +61,14 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         None => None,
     };
     let located = |e: ModelError| CliError::from(scenario.locate(&e));
+    // A sweep stopped by a signal ends in an error; the signal is what is reported.
+    let swept = |e: ModelError| {
+        interrupt
+            .check("the sweep")
+            .err()
+            .unwrap_or_else(|| located(e))
+    };
+    let cancel = Some(interrupt.any.as_ref());
     let viscous = matches!(scenario.scene.contact, ContactModel::Viscous { .. });
     if let Some(spec) = &args.perturb {
         let (k, epsilon) = parse_perturb(spec)?;
@@ -93,20 +105,25 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
             table_of(family, modes, "spin", &[an.motion.spin], &[Ok(an)])
         }
         (Some((key, values)), true) => {
-            let sw = steady::viscous::sweep(&scenario, family, &key, &values).map_err(located)?;
+            let sw =
+                steady::viscous::sweep(&scenario, family, &key, &values, cancel).map_err(swept)?;
+            interrupt.check("the sweep")?;
             print!("{}", summarise(&scenario, &sw));
             draw(&scenario, &sw, plot, args.quiet)?;
             table_of(family, viscous_modes, &sw.key, &sw.values, &sw.rows)
         }
         (Some((key, values)), false) => {
-            let sw =
-                steady::sweep_solving(&scenario, family, solve, &key, &values).map_err(located)?;
+            let sw = steady::sweep_solving(&scenario, family, solve, &key, &values, cancel)
+                .map_err(swept)?;
+            interrupt.check("the sweep")?;
             print!("{}", summarise(&scenario, &sw));
             draw(&scenario, &sw, plot, args.quiet)?;
             table_of(family, family.modes(), &sw.key, &sw.values, &sw.rows)
         }
     };
     if let Some(path) = &args.output {
+        // The last moment to honour a signal: after it, the table is put in place.
+        interrupt.check("the sweep")?;
         if TableFormat::from_path(path) == Ok(TableFormat::Parquet) {
             table::write(path, &columns, &rows, &scenario.source)?;
         } else {

@@ -8,7 +8,9 @@
 //! the scenes whose DOP853 run took an impact at three contacts at once, and those whose
 //! DOP853 run stopped `several_contacts` (contact model, time, status), then each failing
 //! scene; `--show N` prints scene N's two runs in detail; `--spheres`
-//! gives each body one or two random contact spheres (`campaign::with_spheres`).
+//! gives each body one or two random contact spheres (`campaign::with_spheres`); `--stems`
+//! draws frictionless bodies with small far-out spheres instead
+//! (`campaign::frictionless_with_stems`, docs/hard-cases.md row 33).
 
 #[path = "../../../tests/common/campaign.rs"]
 mod campaign;
@@ -24,6 +26,7 @@ fn main() {
     let mut count = 200usize;
     let mut show = None;
     let mut spheres = false;
+    let mut stems = false;
     let args: Vec<String> = std::env::args().skip(1).collect();
     let mut i = 0;
     while i < args.len() {
@@ -35,8 +38,9 @@ fn main() {
                     std::process::exit(2)
                 })
         };
-        if args[i] == "--spheres" {
-            spheres = true;
+        if args[i] == "--spheres" || args[i] == "--stems" {
+            spheres |= args[i] == "--spheres";
+            stems |= args[i] == "--stems";
             i += 1;
             continue;
         }
@@ -45,7 +49,9 @@ fn main() {
             "--count" => count = value(i).min(1_000_000) as usize,
             "--show" => show = Some(value(i) as usize),
             other => {
-                eprintln!("unknown argument {other}: --seed N, --count N, --show N, --spheres");
+                eprintln!(
+                    "unknown argument {other}: --seed N, --count N, --show N, --spheres, --stems"
+                );
                 std::process::exit(2)
             }
         }
@@ -54,7 +60,11 @@ fn main() {
     let mut rng = Rng::new(seed);
     let mut scenes = Vec::new();
     while scenes.len() < count {
-        let scene = campaign::scene(&mut rng, Method::Dop853);
+        let scene = if stems {
+            campaign::frictionless_with_stems(&mut rng)
+        } else {
+            campaign::scene(&mut rng, Method::Dop853)
+        };
         let scene = if spheres {
             scene.and_then(|s| campaign::with_spheres(&s, &mut rng))
         } else {

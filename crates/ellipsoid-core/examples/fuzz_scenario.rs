@@ -16,6 +16,9 @@
 //! Every input must: not panic; take under 2 s; on rejection give 1 to MAX_ERRORS errors,
 //! each one line of at most 1,000 characters, in file order, with a line and column inside
 //! the file; on acceptance give finite, increasing sample times ending at a finite t_end.
+//! An accepted scene is also analysed by `steady` (every family and unknown, the viscous
+//! spins, `linearize` at its initial state), which must not panic either, and whose every
+//! analysis must have finite eigenvalues and the verdict they give.
 //! A failing input is written to `target/fuzz/crashes/` and the run exits with status 1.
 
 use std::collections::HashSet;
@@ -25,6 +28,8 @@ use std::sync::LazyLock;
 use std::time::{Duration, Instant};
 
 use ellipsoid_core::scenario::{self, MAX_ERRORS, ScenarioErrors, schema};
+use ellipsoid_core::simulate::Scene;
+use ellipsoid_core::steady::{self, Family, STABLE_TOLERANCE, Solve};
 
 /// xorshift64*: small, fast, reproducible from the printed seed.
 struct Rng(u64);
@@ -313,6 +318,64 @@ fn outcome_shape(result: &Result<scenario::Scenario, ScenarioErrors>) -> String 
     }
 }
 
+/// `steady` of an accepted scene: every family, solving for each unknown, and the viscous
+/// spins; `linearize` at the initial state. Err(why) if an analysis has a non-finite
+/// eigenvalue or a verdict its eigenvalues do not give (stable exactly when no real part
+/// is above `STABLE_TOLERANCE` of the scale).
+fn check_steady(scene: &Scene) -> Result<(), String> {
+    let verdict = |what: String, eigenvalues: Vec<nalgebra::Complex<f64>>, stable, scale: f64| {
+        let max_real = eigenvalues
+            .iter()
+            .map(|l| l.re)
+            .fold(f64::NEG_INFINITY, f64::max);
+        if !eigenvalues
+            .iter()
+            .all(|l| l.re.is_finite() && l.im.is_finite())
+            || !scale.is_finite()
+        {
+            return Err(format!(
+                "{what}: eigenvalues {eigenvalues:?}, scale {scale}"
+            ));
+        }
+        if stable != (max_real <= STABLE_TOLERANCE * scale) {
+            return Err(format!("{what}: verdict {stable} against {eigenvalues:?}"));
+        }
+        Ok(())
+    };
+    for family in [
+        Family::Upright,
+        Family::Inverted,
+        Family::Precession,
+        Family::RollingCircle,
+    ] {
+        for solve in [Solve::Spin, Solve::PhiDot, Solve::Theta] {
+            if let Ok(an) = steady::analyse_solving(scene, family, solve) {
+                let s = &an.spectrum;
+                verdict(
+                    format!("steady {family:?} {solve:?}"),
+                    s.eigenvalues(),
+                    s.stable(),
+                    s.scale(),
+                )?;
+            }
+        }
+        if let Ok(spin) = steady::viscous::analyse(scene, family) {
+            verdict(
+                format!("viscous {family:?}"),
+                spin.eigenvalues.clone(),
+                spin.stable(),
+                spin.scale(),
+            )?;
+        }
+    }
+    if let Ok(lin) = steady::linearize_scene(scene, None)
+        && !lin.jacobian.iter().all(|x| x.is_finite())
+    {
+        return Err(format!("linearize: {}", lin.jacobian));
+    }
+    Ok(())
+}
+
 /// Checks an outcome; Err(why) if it breaks a property.
 fn check(
     text: Option<&str>,
@@ -433,10 +496,21 @@ fn main() {
                 scenario::load_all(&path, &sets)
             }
         }));
+        let steady = match &result {
+            Ok(Ok(s)) => {
+                catch_unwind(AssertUnwindSafe(|| check_steady(&s.scene))).unwrap_or_else(|p| {
+                    Err(format!(
+                        "steady panicked: {}",
+                        ellipsoid_core::error::panic_message(&*p)
+                    ))
+                })
+            }
+            _ => Ok(()),
+        };
         let took = t0.elapsed();
         runs += 1;
         let verdict = match &result {
-            Ok(r) => check(text.as_deref(), r, took),
+            Ok(r) => check(text.as_deref(), r, took).and(steady),
             Err(p) => Err(format!(
                 "panic: {}",
                 ellipsoid_core::error::panic_message(p)

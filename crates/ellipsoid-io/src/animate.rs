@@ -17,6 +17,7 @@
 //! palette, so no quantisation is needed.
 
 use std::io::Write;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -317,8 +318,14 @@ fn segment(buf: &mut [u8], mask: &[bool], width: u32, height: u32, a: (f64, f64)
 
 /// Renders the run in `table` (which needs t, x, y, z, theta, phi, psi and the body's
 /// shape) as an animated GIF written to `out`: frames at t = k·speed/fps from the first
-/// row to the last, at most [`MAX_FRAMES`]. Returns the number of frames.
-pub fn gif(table: &Table, opt: &Options, out: impl Write) -> Result<usize, String> {
+/// row to the last, at most [`MAX_FRAMES`]. Returns the number of frames, or an error
+/// if `cancel` is set before a frame (read before each one).
+pub fn gif(
+    table: &Table,
+    opt: &Options,
+    out: impl Write,
+    cancel: &AtomicBool,
+) -> Result<usize, String> {
     let (w, h) = (opt.width, opt.height);
     let mut enc = gif::Encoder::new(out, w as u16, h as u16, &palette(has_spheres(table)))
         .map_err(|e| e.to_string())?;
@@ -326,7 +333,7 @@ pub fn gif(table: &Table, opt: &Options, out: impl Write) -> Result<usize, Strin
         .map_err(|e| e.to_string())?;
     let delay = (100.0 / opt.fps).round().max(1.0) as u16;
     let mut prev: Option<Vec<u8>> = None;
-    render(table, opt, |buf| {
+    render(table, opt, cancel, |buf| {
         let frame = changed(buf, prev.as_deref(), w, h, delay);
         enc.write_frame(&frame).map_err(|e| e.to_string())?;
         prev = Some(buf.to_vec());
@@ -342,8 +349,8 @@ fn ffmpeg() -> std::ffi::OsString {
 /// Renders the run as an H.264 MP4 (yuv420p, which every player reads; odd sides padded by
 /// a pixel) through the system's ffmpeg, and returns its bytes and the number of frames.
 /// Without ffmpeg it fails, saying what is missing and how to get it (nothing is
-/// downloaded).
-pub fn mp4(table: &Table, opt: &Options) -> Result<(Vec<u8>, usize), String> {
+/// downloaded); it fails too if `cancel` is set before a frame, as [`gif`].
+pub fn mp4(table: &Table, opt: &Options, cancel: &AtomicBool) -> Result<(Vec<u8>, usize), String> {
     use std::process::{Command, Stdio};
     check(table, opt)?;
     let dir = tempfile::tempdir().map_err(|e| format!("cannot make a temporary directory: {e}"))?;
@@ -369,7 +376,7 @@ pub fn mp4(table: &Table, opt: &Options) -> Result<(Vec<u8>, usize), String> {
     let pal = palette(has_spheres(table));
     let mut stdin = child.stdin.take().expect("piped");
     let mut rgb = Vec::new();
-    let rendered = render(table, opt, |buf| {
+    let rendered = render(table, opt, cancel, |buf| {
         rgb.clear();
         rgb.extend(buf.iter().flat_map(|&c| {
             let k = 3 * usize::from(c);
@@ -429,10 +436,12 @@ pub fn check(table: &Table, opt: &Options) -> Result<Shape, String> {
 }
 
 /// Renders the frames of the run (see [`gif`]), each handed to `frame` as one palette
-/// index per pixel, row by row; returns their number.
+/// index per pixel, row by row; returns their number. Stops with an error when `cancel`
+/// is set (read before each frame: a frame takes milliseconds).
 fn render(
     table: &Table,
     opt: &Options,
+    cancel: &AtomicBool,
     mut frame: impl FnMut(&[u8]) -> Result<(), String>,
 ) -> Result<usize, String> {
     let shape = check(table, opt)?;
@@ -487,6 +496,9 @@ fn render(
     let text_scale = (h / 180).max(1);
     let mut row = 0;
     for k in 0..frames {
+        if cancel.load(Ordering::Relaxed) {
+            return Err(format!("interrupted after {k} of {frames} frames"));
+        }
         let tk = t0 + k as f64 * step;
         while row + 1 < t.len() && t[row + 1] <= tk {
             row += 1;

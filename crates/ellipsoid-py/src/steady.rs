@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
 use crate::errors;
+use crate::run;
 use crate::scenario::{PyScenario, resolve};
 
 /// A model error placed at its scenario key, as ScenarioError.
@@ -107,7 +108,8 @@ where
 /// eigenvalues (n × 4 complex; n × 2 for a tilted family, n × 6 under the viscous law),
 /// names (likewise), states (n × 6: ζ, ω), spin, theta, normal_force, stable, critical
 /// (list of dicts); for a tilted family also phi_dot and circles (n × 2: the radii of G's
-/// and the contact point's circles), None otherwise.
+/// and the contact point's circles), None otherwise. Ctrl-C stops a sweep before its next
+/// value and raises KeyboardInterrupt.
 #[pyfunction]
 #[pyo3(signature = (scenario, family, key = None, values = None, solve = "spin"))]
 pub fn steady_raw<'py>(
@@ -125,16 +127,31 @@ pub fn steady_raw<'py>(
     let k = key.as_deref();
     let (values, rows, critical) = match (&key, values, viscous) {
         (Some(key), Some(values), false) => {
-            let sw = py
-                .detach(|| steady::sweep_solving(&scenario, family, solve, key, &values))
-                .map_err(|e| located(py, &scenario, &e))?;
+            let (sw, interrupt) = run::detached(py, |cancel| {
+                steady::sweep_solving(
+                    &scenario,
+                    family,
+                    solve,
+                    key,
+                    &values,
+                    Some(cancel.as_ref()),
+                )
+            })?;
+            if let Some(e) = interrupt {
+                return Err(e);
+            }
+            let sw = sw.map_err(|e| located(py, &scenario, &e))?;
             let rows = summaries(py, &scenario, k, &sw.values, &sw.rows)?;
             (sw.values, rows, sw.critical)
         }
         (Some(key), Some(values), true) => {
-            let sw = py
-                .detach(|| steady::viscous::sweep(&scenario, family, key, &values))
-                .map_err(|e| located(py, &scenario, &e))?;
+            let (sw, interrupt) = run::detached(py, |cancel| {
+                steady::viscous::sweep(&scenario, family, key, &values, Some(cancel.as_ref()))
+            })?;
+            if let Some(e) = interrupt {
+                return Err(e);
+            }
+            let sw = sw.map_err(|e| located(py, &scenario, &e))?;
             let rows = summaries(py, &scenario, k, &sw.values, &sw.rows)?;
             (sw.values, rows, sw.critical)
         }

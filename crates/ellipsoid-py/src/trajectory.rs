@@ -738,8 +738,8 @@ impl Trajectory {
 
     /// Why the run ended (one of `Status::NAMES`): "completed", "observed" (a terminal
     /// observable), "lost_contact", "slip_stopped" (outcomes), or "painleve",
-    /// "solver_failure", "chattering", "non_finite", "cancelled" (on a SimulationError's
-    /// trajectory).
+    /// "solver_failure", "chattering", "non_finite", "below_plane", "cancelled" (on a
+    /// SimulationError's trajectory).
     #[getter]
     fn status(&self) -> &'static str {
         self.summary.status.name()
@@ -915,7 +915,8 @@ impl Trajectory {
     /// ending in `.mp4` writes the same frames as H.264 MP4, encoded by the system's ffmpeg
     /// (on the PATH, or named by $ELLIPSOID_FFMPEG). Returns the number of frames (at most
     /// 2000). Raises OutputError if the file cannot be written (or, for MP4, ffmpeg is
-    /// missing or fails: the message says what to install), ScenarioError for a bad option.
+    /// missing or fails: the message says what to install), ScenarioError for a bad option;
+    /// Ctrl-C stops it before the next frame and raises KeyboardInterrupt, nothing written.
     #[pyo3(signature = (path, *, width=None, height=None, fps=None, speed=None))]
     #[pyo3(text_signature = "(self, /, path, *, width=480, height=360, fps=25.0, speed=1.0)")]
     fn animate(
@@ -959,24 +960,34 @@ impl Trajectory {
             ));
         }
         let table = self.table();
-        let (bytes, frames) = if ext == "mp4" {
-            py.detach(|| ellipsoid_io::animate::mp4(&table, &opt))
-                .map_err(|e| {
-                    errors::output_error(
-                        py,
-                        &OutputError::Io {
-                            path: path.clone(),
-                            source: std::io::Error::other(e),
-                        },
-                    )
-                })?
-        } else {
-            let mut bytes = Vec::new();
-            let frames = py
-                .detach(|| ellipsoid_io::animate::gif(&table, &opt, &mut bytes))
-                .map_err(|e| errors::internal_error(py, &e))?;
-            (bytes, frames)
-        };
+        // Ctrl-C stops the frames (read before each) and raises KeyboardInterrupt,
+        // nothing written.
+        let (rendered, interrupt) = run::detached(py, |cancel| {
+            if ext == "mp4" {
+                ellipsoid_io::animate::mp4(&table, &opt, cancel).map_err(|e| (true, e))
+            } else {
+                let mut bytes = Vec::new();
+                ellipsoid_io::animate::gif(&table, &opt, &mut bytes, cancel)
+                    .map(|frames| (bytes, frames))
+                    .map_err(|e| (false, e))
+            }
+        })?;
+        if let Some(e) = interrupt {
+            return Err(e);
+        }
+        let (bytes, frames) = rendered.map_err(|(mp4, e)| {
+            if mp4 {
+                errors::output_error(
+                    py,
+                    &OutputError::Io {
+                        path: path.clone(),
+                        source: std::io::Error::other(e),
+                    },
+                )
+            } else {
+                errors::internal_error(py, &e)
+            }
+        })?;
         ellipsoid_io::atomic::write(&path, &bytes).map_err(|e| errors::output_error(py, &e))?;
         Ok(frames)
     }

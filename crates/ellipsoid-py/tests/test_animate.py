@@ -80,3 +80,14 @@ def test_the_cli_writes_the_same_gif(tmp_path: Path, cli: Path) -> None:
         b.seek(k)
         diff = np.abs(np.asarray(a.convert("RGB"), dtype=int) - np.asarray(b.convert("RGB"), dtype=int))
         assert (diff.max(axis=2) > 0).mean() < 0.01, k  # the CSV's round trip moves a few edge pixels at most
+
+
+def test_ctrl_c_interrupts_an_animation(tmp_path: Path) -> None:
+    # Issue 48: Ctrl-C ran the animation to its end; now it stops before the next frame,
+    # raises KeyboardInterrupt and writes nothing.
+    from conftest import INTERRUPT_MAIN, interrupt_inside
+
+    traj = ellipsoid.simulate(ellipsoid.load(REPO / "scenarios" / "nutation.toml", output={"t_end": 20.0, "dt": 1e-3}))
+    out = tmp_path / "long.gif"
+    interrupt_inside(INTERRUPT_MAIN, traj.animate, out, width=2000, height=2000, fps=100, speed=0.01)
+    assert not out.exists()

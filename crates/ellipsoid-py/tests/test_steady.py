@@ -156,3 +156,43 @@ def test_precession_given_two_of_theta_phi_dot_and_spin() -> None:
     assert res.spin[0] == pytest.approx(spin, rel=1e-15)
     with pytest.raises(ellipsoid.ScenarioError, match="solve"):
         ellipsoid.steady(frictionless, family="precession", solve="psi")
+
+
+def lens(phi_dot: float, model: str = "rolling") -> ellipsoid.Scenario:
+    """A disc-like lens (a = 0.03 m, c = 0.004 m) tilted 1.7 rad, spinning at 10 rad/s."""
+    return ellipsoid.Scenario(
+        body=dict(a=0.03, c=0.004, mass=0.05, inertia="uniform"),
+        initial=dict(theta=1.7, phi_dot=phi_dot, psi_dot=10.0),
+        contact=dict(model=model),
+        output=dict(t_end=1.0, dt=0.01),
+    )
+
+
+@pytest.mark.parametrize(("family", "model"), [("rolling-circle", "rolling"), ("precession", "frictionless")])
+def test_a_tilted_family_at_zero_precession_raises_scenario_error_not_a_panic(family: str, model: str) -> None:
+    # Issue 48: solved for θ at φ̇ = 0 this was a PanicException ("Singular value was NaN").
+    with pytest.raises(ellipsoid.ScenarioError, match="initial.phi_dot = 0"):
+        ellipsoid.steady(lens(0.0, model), family=family, solve="theta")
+    with pytest.raises(ellipsoid.ScenarioError, match="without precession"):
+        ellipsoid.steady(lens(1.0, model), family=family, solve="theta", vary={"initial.phi_dot": [-1.0, 0.0, 1.0]})
+
+
+def test_rates_beyond_what_doubles_resolve_are_refused_at_once() -> None:
+    # Issue 48: 1e80 rad/s never returned; now refused naming the quantity and the rule.
+    for spin in (1e40, 1e80, 1e300):
+        with pytest.raises(ellipsoid.ScenarioError, match=r"spin n = .*analysed up to 100000"):
+            ellipsoid.steady(egg(spin))
+
+
+def test_vary_over_a_key_the_scenario_refuses_names_it() -> None:
+    for key, values in (("body.colour", [1.0, 2.0]), ("body.mass", [-1.0, 1.0])):
+        with pytest.raises(ellipsoid.ScenarioError, match=rf"{key} = .*the scenario refuses this value"):
+            ellipsoid.steady(egg(100.0), vary={key: values})
+
+
+def test_ctrl_c_interrupts_a_long_sweep() -> None:
+    from conftest import INTERRUPT_MAIN, interrupt_inside
+
+    # 10⁵ spins: seconds of work, stopped before the next value.
+    values = np.linspace(-200.0, 200.0, 100_000)
+    interrupt_inside(INTERRUPT_MAIN, ellipsoid.steady, egg(), vary={"initial.psi_dot": values})

@@ -19,7 +19,7 @@ use super::linearize::tangent_basis;
 use super::reduce::{Phase, ReducedField, join};
 use super::tilted::Solve;
 use crate::body::Body;
-use crate::error::{Brackets, Digits, ModelError, Value};
+use crate::error::{Brackets, Digits, ModelError, Value, number};
 use crate::geometry::{Contact, hessian};
 use crate::simulate::{ContactModel, Scene};
 
@@ -119,6 +119,50 @@ pub struct SteadyMotion {
 /// Largest accepted residual |f(x0)| of a steady state, relative to the field's scale.
 pub(super) const RESIDUAL_TOLERANCE: f64 = 1e-9;
 
+/// Largest rate of a steady motion analysed, in units of the body's own rate √(g/c_max).
+/// The round-off in the eigenvalues' real parts grows with the rate: measured, at most
+/// 6e-16 (|ω|/√(g/c_max)) of max |λ| (the thin rolling lens, the worst of the bundled and
+/// test bodies; 1e-21 for an egg on its end), so at this bound it is 6e-11 of max |λ|,
+/// a sixteenth of the stability tolerance ([`super::STABLE_TOLERANCE`]); the weight m g is
+/// then 1e-10 of the spin's terms m |ω|² c_max. Beyond, the verdict would be round-off
+/// (an egg spinning at 1e30 rad/s came out "unstable" with Re λ = 1e23 /s, at 1e150 the
+/// decomposition did not converge).
+pub const MAX_RATE_RATIO: f64 = 1e5;
+
+/// Refuses a rate [rad/s] above [`MAX_RATE_RATIO`] √(g/c_max) of `body` under gravity
+/// `g`, or one that is not finite: the error is `at_fault` of the rule (which names the
+/// field and value).
+pub(super) fn check_rate(
+    body: &Body,
+    gravity: f64,
+    rate: f64,
+    at_fault: impl FnOnce(String) -> ModelError,
+) -> Result<(), ModelError> {
+    let natural = (gravity / body.semi_axes().max()).sqrt();
+    let bound = MAX_RATE_RATIO * natural;
+    if !(rate.abs() <= bound) {
+        return Err(at_fault(format!(
+            "a steady motion is analysed up to {} √(g/c_max) = {bound:.4e} rad/s (g = {} m/s^2, c_max = {} m): beyond, its eigenvalues in double precision are round-off (docs/physics.md, \"Steady motions and their stability\")",
+            number(MAX_RATE_RATIO),
+            number(gravity),
+            number(body.semi_axes().max())
+        )));
+    }
+    Ok(())
+}
+
+/// [`check_rate`] of a rate derived from the `[initial]` table, named `quantity`.
+pub(super) fn check_derived_rate(
+    body: &Body,
+    gravity: f64,
+    quantity: &'static str,
+    rate: f64,
+) -> Result<(), ModelError> {
+    check_rate(body, gravity, rate, |rule| {
+        ModelError::derived("initial", quantity, Value::Number(rate, "rad/s"), rule)
+    })
+}
+
 /// The steady motion of `family` that the scene defines: upright and inverted, the spin
 /// about the vertical is the scene's initial ω·ζ0 (`initial.omega_body`, or the Euler
 /// rates: at θ = 0, n = φ̇ + ψ̇); the tilted families, the scene's θ and φ̇ (and ψ, which
@@ -167,6 +211,7 @@ pub fn steady_motion(
     let init = &scene.initial;
     let omega_init = init.omega_body.unwrap_or_else(|| init.angles.omega_body());
     let spin = omega_init.dot(&zeta);
+    check_derived_rate(body, field.gravity(), "spin n", spin)?;
     upright_motion(field, family, zeta, spin)
 }
 

@@ -18,7 +18,7 @@ pub mod sweep;
 pub mod tilted;
 pub mod viscous;
 
-pub use families::{Circles, Family, SteadyMotion, started_at};
+pub use families::{Circles, Family, MAX_RATE_RATIO, SteadyMotion, started_at};
 pub use linearize::{COORDINATES, Linearization, Reduced, linearize};
 pub use perturb::perturbed;
 pub use reduce::{Phase, ReducedField};
@@ -56,7 +56,7 @@ pub fn analyse_solving(
 ) -> Result<Analysis, ModelError> {
     let field = ReducedField::from_scene(scene)?;
     let motion = families::steady_motion(&field, scene, family, solve)?;
-    Ok(analyse_motion(&field, motion))
+    analyse_motion(&field, motion)
 }
 
 /// The linearisation of `scene`'s reduced dynamics at `at` = (ζ, ω) (ζ normalised), or
@@ -81,13 +81,30 @@ pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization
             "the state (ζ1, ζ2, ζ3, ω1, ω2, ω3) must be finite with ζ ≠ 0",
         ));
     }
-    Ok(linearize(&field, &at, None))
+    let lin = linearize(&field, &at, None);
+    if !lin.jacobian.iter().all(|x| x.is_finite()) {
+        return Err(ModelError::invalid(
+            "state",
+            Value::State(Box::new([zeta, omega])),
+            "the Jacobian at this state is not finite in double precision (the state is too large)",
+        ));
+    }
+    Ok(lin)
 }
 
 /// The linearisation and spectrum of a steady `motion` of `field`: the Jacobian in the
 /// frame in which the motion is an equilibrium (turned about the body's c axis at the
-/// motion's `frame_rate`), the zeros of `motion.removed` taken out of its spectrum.
-pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Analysis {
+/// motion's `frame_rate`), the zeros of `motion.removed` taken out of its spectrum. An
+/// error if its angular velocity is beyond what doubles resolve
+/// ([`families::check_rate`]) or its Jacobian has no spectrum.
+pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Result<Analysis, ModelError> {
+    let (_, omega) = reduce::split(&motion.at);
+    families::check_derived_rate(
+        field.body(),
+        field.gravity(),
+        "angular velocity |ω0|",
+        omega.norm(),
+    )?;
     let generator = (motion.frame_rate != 0.0).then_some((Vector3::z(), motion.frame_rate));
     let linearization = linearize(field, &motion.at, generator);
     let (zeta, _) = reduce::split(&linearization.at);
@@ -99,18 +116,17 @@ pub fn analyse_motion(field: &ReducedField, motion: SteadyMotion) -> Analysis {
     let mut shape = shape(field.body(), zeta);
     shape.tilted = motion.family.tilted();
     let floor = if shape.tilted {
-        let (_, omega) = reduce::split(&motion.at);
         let axes = field.body().semi_axes();
         omega.norm().max((field.gravity() / axes.max()).sqrt())
     } else {
         0.0
     };
-    let spectrum = spectrum::spectrum(&linearization, &removed, &shape, floor);
-    Analysis {
+    let spectrum = spectrum::spectrum(&linearization, &removed, &shape, floor)?;
+    Ok(Analysis {
         motion,
         linearization,
         spectrum,
-    }
+    })
 }
 
 impl Analysis {

@@ -9,10 +9,16 @@
 //! span these directions, QᵀJQ = [[N, T], [0, B]] (N nilpotent), and the spectrum left is
 //! that of the (5 − k)×(5 − k) block B. An eigenvector u of B lifts to Q ((λ − N)⁻¹ T u, u),
 //! an eigenvector of J.
+//!
+//! The decompositions are bounded: a Jacobian with a non-finite entry is refused before
+//! them, and the Schur and singular value iterations stop after [`MAX_ITERATIONS`] (about
+//! 20 per eigenvalue converge for a finite matrix; LAPACK allows 30), so a matrix they cannot
+//! decompose is an error, never a panic or an endless loop.
 
 use nalgebra::{Complex, DMatrix, DVector, SVector, Vector3};
 
 use super::linearize::{Linearization, Reduced};
+use crate::error::{ModelError, Value};
 
 /// One eigenvalue, its eigenvector and what moves in it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,6 +80,9 @@ impl Spectrum {
 /// error (~1e-12, docs/physics.md), far below any growth a run could show.
 pub const STABLE_TOLERANCE: f64 = 1e-9;
 
+/// Most iterations of the Schur and singular value decompositions of one matrix.
+pub const MAX_ITERATIONS: usize = 1000;
+
 /// What the body looks like, for naming modes.
 #[derive(Debug, Clone, Copy)]
 pub struct Shape {
@@ -89,14 +98,21 @@ pub struct Shape {
 }
 
 /// The spectrum of `lin` with the zeros along `removed` (reduced directions, linearly
-/// independent, at most 4) taken out; `floor` as [`Spectrum::floor`].
-pub fn spectrum(lin: &Linearization, removed: &[Reduced], shape: &Shape, floor: f64) -> Spectrum {
+/// independent, at most 4) taken out; `floor` as [`Spectrum::floor`]. An error if the
+/// Jacobian or the removed directions are not finite, or the decompositions do not
+/// converge ([`reduced_modes`]).
+pub fn spectrum(
+    lin: &Linearization,
+    removed: &[Reduced],
+    shape: &Shape,
+    floor: f64,
+) -> Result<Spectrum, ModelError> {
     let jacobian = DMatrix::from_fn(5, 5, |i, j| lin.jacobian[(i, j)]);
     let removed: Vec<DVector<f64>> = removed
         .iter()
         .map(|d| DVector::from_column_slice(d.as_slice()))
         .collect();
-    let mut modes: Vec<Mode> = reduced_modes(&jacobian, &removed)
+    let mut modes: Vec<Mode> = reduced_modes(&jacobian, &removed)?
         .into_iter()
         .map(|(lambda, v)| {
             let vector = normalise(SVector::<Complex<f64>, 5>::from_column_slice(v.as_slice()));
@@ -108,7 +124,7 @@ pub fn spectrum(lin: &Linearization, removed: &[Reduced], shape: &Shape, floor: 
         })
         .collect();
     modes.sort_by(|x, y| by_real_part(&x.eigenvalue, &y.eigenvalue));
-    Spectrum { modes, floor }
+    Ok(Spectrum { modes, floor })
 }
 
 /// Decreasing real part, then decreasing imaginary part.
@@ -116,13 +132,22 @@ pub(super) fn by_real_part(x: &Complex<f64>, y: &Complex<f64>) -> std::cmp::Orde
     y.re.total_cmp(&x.re).then(y.im.total_cmp(&x.im))
 }
 
+/// An eigenvalue and its eigenvector, in a Jacobian's coordinates.
+pub(super) type ModeOf = (Complex<f64>, DVector<Complex<f64>>);
+
 /// The eigenvalues of the square `jacobian` with the zeros along `removed` (linearly
 /// independent directions, fewer than its size) taken out, each with its eigenvector
-/// lifted back to the full coordinates (see the module docs); unsorted, unscaled.
+/// lifted back to the full coordinates (see the module docs); unsorted, unscaled. An
+/// error ([`unresolved`]) if an entry of `jacobian` or `removed` is not finite, or the
+/// Schur or a singular value decomposition does not converge in [`MAX_ITERATIONS`].
 pub(super) fn reduced_modes(
     jacobian: &DMatrix<f64>,
     removed: &[DVector<f64>],
-) -> Vec<(Complex<f64>, DVector<Complex<f64>>)> {
+) -> Result<Vec<ModeOf>, ModelError> {
+    let finite = |m: &DMatrix<f64>| m.iter().all(|x| x.is_finite());
+    if !(finite(jacobian) && removed.iter().all(|d| d.iter().all(|x| x.is_finite()))) {
+        return Err(unresolved(jacobian, "an entry is not finite"));
+    }
     let n = jacobian.nrows();
     let k = removed.len();
     let rest = n - k;
@@ -133,12 +158,34 @@ pub(super) fn reduced_modes(
     let nil = complex(DMatrix::from_fn(k, k, |i, j| b[(i, j)]));
     let top = complex(DMatrix::from_fn(k, rest, |i, j| b[(i, k + j)]));
     let qc = complex(q);
-    block
+    let no_schur = || {
+        unresolved(
+            jacobian,
+            format!("its Schur decomposition did not converge in {MAX_ITERATIONS} iterations"),
+        )
+    };
+    let eigenvalues = block
         .clone()
-        .complex_eigenvalues()
+        .try_schur(f64::EPSILON, MAX_ITERATIONS)
+        .ok_or_else(no_schur)?
+        .complex_eigenvalues();
+    if !eigenvalues
+        .iter()
+        .all(|l| l.re.is_finite() && l.im.is_finite())
+    {
+        return Err(unresolved(jacobian, "an eigenvalue is not finite"));
+    }
+    eigenvalues
         .iter()
         .map(|&lambda| {
-            let u = null_vector(&block, lambda);
+            let u = null_vector(&block, lambda).ok_or_else(|| {
+                unresolved(
+                    jacobian,
+                    format!(
+                        "a singular value decomposition did not converge in {MAX_ITERATIONS} iterations"
+                    ),
+                )
+            })?;
             let shifted = DMatrix::<Complex<f64>>::identity(k, k) * lambda - &nil;
             let y = if lambda.norm() > 0.0 {
                 shifted
@@ -149,9 +196,27 @@ pub(super) fn reduced_modes(
                 DVector::zeros(k)
             };
             let lifted = DVector::from_fn(n, |i, _| if i < k { y[i] } else { u[i - k] });
-            (lambda, &qc * lifted)
+            Ok((lambda, &qc * lifted))
         })
         .collect()
+}
+
+/// Why a Jacobian has no spectrum: its largest entry and `why`, placed at `initial` (the
+/// motion the scenario's initial state defines).
+fn unresolved(jacobian: &DMatrix<f64>, why: impl std::fmt::Display) -> ModelError {
+    let largest = jacobian.iter().fold(0.0_f64, |m, x| {
+        if x.is_nan() || m.is_nan() {
+            f64::NAN
+        } else {
+            m.max(x.abs())
+        }
+    });
+    ModelError::derived(
+        "initial",
+        "largest entry of the Jacobian",
+        Value::Number(largest, "1/s"),
+        format!("the linearisation at this steady motion has no spectrum: {why}"),
+    )
 }
 
 /// An orthogonal n×n Q whose first k columns span `removed` (k vectors): the Householder
@@ -170,12 +235,14 @@ fn completion(n: usize, removed: &[DVector<f64>]) -> DMatrix<f64> {
     m.qr().q()
 }
 
-/// A unit u with (B − λ) u ≈ 0: the right singular vector of the smallest singular value.
-fn null_vector(block: &DMatrix<f64>, lambda: Complex<f64>) -> DVector<Complex<f64>> {
+/// A unit u with (B − λ) u ≈ 0: the right singular vector of the smallest singular value
+/// (`None` if the decomposition does not converge in [`MAX_ITERATIONS`]; `block` and `λ`
+/// finite).
+fn null_vector(block: &DMatrix<f64>, lambda: Complex<f64>) -> Option<DVector<Complex<f64>>> {
     let n = block.nrows();
     let m = block.map(|x| Complex::new(x, 0.0)) - DMatrix::identity(n, n) * lambda;
-    let svd = m.svd(false, true);
-    let v_t = svd.v_t.expect("requested");
+    let svd = m.try_svd_unordered(false, true, f64::EPSILON, MAX_ITERATIONS)?;
+    let v_t = svd.v_t?;
     let (k, _) = svd
         .singular_values
         .iter()
@@ -184,7 +251,7 @@ fn null_vector(block: &DMatrix<f64>, lambda: Complex<f64>) -> DVector<Complex<f6
             (0, f64::INFINITY),
             |acc, (i, &s)| if s < acc.1 { (i, s) } else { acc },
         );
-    v_t.row(k).transpose().map(|x| x.conj())
+    Some(v_t.row(k).transpose().map(|x| x.conj()))
 }
 
 /// Scales `v` so that its tilt part has unit norm (its ω part if it has no tilt) and its

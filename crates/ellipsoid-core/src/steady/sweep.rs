@@ -1,6 +1,12 @@
 //! A family against a parameter: the spectrum at each value of one scenario key, and the
 //! critical values where the stability changes, located by bisection (docs/physics.md,
 //! "Steady motions and their stability", "Families against a parameter").
+//!
+//! A value the scenario refuses (an unknown or non-numeric key, a value out of its range)
+//! refuses the sweep; a value the scenario takes but where the family has no steady motion
+//! is a row of its own, with the reason.
+
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use nalgebra::Complex;
 
@@ -115,14 +121,36 @@ pub fn analyse_at(base: &Scenario, (family, solve): (Family, Solve), key: &str, 
     })
 }
 
-/// `analyse` of the scene of `base` with `key` set to `value` (`key=value` applied after
-/// the scenario's own overrides).
-fn at<T>(base: &Scenario, key: &str, value: f64, analyse: &dyn Fn(&Scene) -> Row<T>) -> Row<T> {
+/// The scene of `base` with `key` set to `value` (`key=value` applied after the
+/// scenario's own overrides), or the scenario's refusal as an error naming `key`.
+fn scene_at(base: &Scenario, key: &str, value: f64) -> Result<Scene, ModelError> {
     let mut overrides = base.overrides.clone();
     overrides.push(format!("{key}={value:e}"));
-    let scenario = scenario::parse(&base.text, &base.source, &overrides)
-        .map_err(|e| ModelError::invalid(key, value, e.to_string()))?;
-    analyse(&scenario.scene)
+    scenario::parse(&base.text, &base.source, &overrides)
+        .map(|s| s.scene)
+        .map_err(|e| {
+            // Its rule alone when the error is the key's own, else the whole message.
+            let why = if e.key.as_deref() == Some(key) {
+                e.rule
+            } else {
+                e.to_string()
+            };
+            ModelError::invalid(
+                key,
+                value,
+                format!("the scenario refuses this value: {why}"),
+            )
+        })
+}
+
+/// `analyse` of the scene of `base` with `key` set to `value` ([`scene_at`]).
+fn at<T>(base: &Scenario, key: &str, value: f64, analyse: &dyn Fn(&Scene) -> Row<T>) -> Row<T> {
+    analyse(&scene_at(base, key, value)?)
+}
+
+/// Whether `cancel` is given and set.
+fn cancelled(cancel: Option<&AtomicBool>) -> bool {
+    cancel.is_some_and(|c| c.load(Ordering::Relaxed))
 }
 
 /// Sweeps `key` over `values` (finite, at most [`MAX_VALUES`]) and locates every change
@@ -133,30 +161,41 @@ pub fn sweep(
     key: &str,
     values: &[f64],
 ) -> Result<Sweep, ModelError> {
-    sweep_solving(base, family, Solve::Spin, key, values)
+    sweep_solving(base, family, Solve::Spin, key, values, None)
 }
 
-/// [`sweep`], a tilted family solving for the unknown `solve` names.
+/// [`sweep`], a tilted family solving for the unknown `solve` names, stopped when
+/// `cancel` is set (see [`sweep_with`]).
 pub fn sweep_solving(
     base: &Scenario,
     family: Family,
     solve: Solve,
     key: &str,
     values: &[f64],
+    cancel: Option<&AtomicBool>,
 ) -> Result<Sweep, ModelError> {
-    sweep_with(base, (family, solve), key, values, &|scene| {
-        analyse_solving(scene, family, solve)
-    })
+    sweep_with(
+        base,
+        (family, solve),
+        key,
+        values,
+        &|scene| analyse_solving(scene, family, solve),
+        cancel,
+    )
 }
 
 /// [`sweep_solving`] with any analysis of a scene (the viscous spins':
-/// [`super::viscous::sweep`]).
+/// [`super::viscous::sweep`]). Refused as a whole (an error naming `key`) if the scenario
+/// refuses one of the values. When `cancel` is set (read before each value and each
+/// bisection step) it stops with an error saying how many values were done: the caller
+/// that set it reports the interruption instead.
 pub fn sweep_with<T: Stability>(
     base: &Scenario,
     (family, solve): (Family, Solve),
     key: &str,
     values: &[f64],
     analyse: &dyn Fn(&Scene) -> Row<T>,
+    cancel: Option<&AtomicBool>,
 ) -> Result<Sweep<T>, ModelError> {
     if values.is_empty() || values.len() > MAX_VALUES {
         return Err(ModelError::invalid(
@@ -179,7 +218,20 @@ pub fn sweep_with<T: Stability>(
     if let Some(v) = values.iter().find(|v| !v.is_finite()) {
         return Err(ModelError::invalid(key, *v, "every value must be finite"));
     }
-    let rows: Vec<Row<T>> = values.iter().map(|&v| at(base, key, v, analyse)).collect();
+    let interrupted = |done: usize| {
+        ModelError::invalid(
+            key,
+            Value::Count(values.len() as u64, "values"),
+            format!("the sweep was interrupted after {done} of them"),
+        )
+    };
+    let mut rows: Vec<Row<T>> = Vec::with_capacity(values.len());
+    for (done, &v) in values.iter().enumerate() {
+        if cancelled(cancel) {
+            return Err(interrupted(done));
+        }
+        rows.push(analyse(&scene_at(base, key, v)?));
+    }
     let mut critical = Vec::new();
     for k in 1..values.len() {
         let (Ok(a), Ok(b)) = (&rows[k - 1], &rows[k]) else {
@@ -192,7 +244,11 @@ pub fn sweep_with<T: Stability>(
                 analyse,
                 (values[k - 1], a),
                 (values[k], b),
+                cancel,
             ));
+            if cancelled(cancel) {
+                return Err(interrupted(values.len()));
+            }
         }
     }
     critical.sort_by(|x, y| x.value.total_cmp(&y.value));
@@ -212,20 +268,22 @@ pub fn sweep_with<T: Stability>(
 /// Re λ grows like √|p − p_c|, so the predicate flips within ~1e-18 |λ|²/(dRe²/dp) of p_c
 /// and the bracket is the error; at a transversal crossing (Hopf, real) it flips where
 /// Re λ = 1e-9 max |λ|, a distance 1e-9 max |λ| / (dRe λ/dp) from p_c.
-/// A value in between without a steady motion ends the search at the bracket so far.
+/// A value in between without a steady motion, or `cancel` set, ends the search at the
+/// bracket so far.
 fn locate<T: Stability>(
     base: &Scenario,
     key: &str,
     analyse: &dyn Fn(&Scene) -> Row<T>,
     (p, a): (f64, &T),
     (q, b): (f64, &T),
+    cancel: Option<&AtomicBool>,
 ) -> Critical {
     let stable_above = b.stable();
     let (mut stable, mut unstable) = if stable_above { (q, p) } else { (p, q) };
     let mut at_unstable = if stable_above { a.clone() } else { b.clone() };
     while (stable - unstable).abs() > CRITICAL_TOLERANCE * stable.abs().max(unstable.abs()) {
         let mid = 0.5 * (stable + unstable);
-        if mid == stable || mid == unstable {
+        if mid == stable || mid == unstable || cancelled(cancel) {
             break;
         }
         let Ok(an) = at(base, key, mid, analyse) else {

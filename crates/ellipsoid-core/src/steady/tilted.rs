@@ -21,7 +21,9 @@
 
 use nalgebra::Vector3;
 
-use super::families::{Circles, Family, RESIDUAL_TOLERANCE, SteadyMotion};
+use super::families::{
+    Circles, Family, RESIDUAL_TOLERANCE, SteadyMotion, check_derived_rate, check_rate,
+};
 use super::reduce::{ReducedField, join};
 use crate::body::Body;
 use crate::error::{Brackets, Digits, ModelError, Value, number};
@@ -372,6 +374,16 @@ pub fn motion(
     n: f64,
 ) -> Result<SteadyMotion, ModelError> {
     let body = field.body();
+    if omega == 0.0 {
+        return Err(ModelError::invalid(
+            "initial.phi_dot",
+            omega,
+            format!(
+                "no {} motion without precession: at φ̇ = 0 the body spins about a fixed axis (or rolls straight on), not on a circle; the family's tangent along θ, −F_θ/F_n, is undefined there (F_n = φ̇ (C sin θ + κ m h u) = 0)",
+                family.name()
+            ),
+        ));
+    }
     let geo = meridian(body, theta, psi);
     let [_, f_theta, f_omega, f_n] = rel.evaluate(&geo, omega, n);
     let k = Vector3::z();
@@ -379,6 +391,7 @@ pub fn motion(
     let (st, ct) = theta.sin_cos();
     let psi_dot = n - omega * ct;
     let w0 = zeta * omega + k * psi_dot;
+    check_derived_rate(body, field.gravity(), "angular velocity |ω0|", w0.norm())?;
     let at = join(&zeta, &w0);
     // In the frame turning about k at ν = −ψ̇ the motion is an equilibrium.
     let nu = -psi_dot;
@@ -422,6 +435,17 @@ pub fn motion(
     let t_theta = (zeta * ct - k) / st;
     let n_theta = -f_theta / f_n;
     let n_omega = -f_omega / f_n;
+    if !(n_theta.is_finite() && n_omega.is_finite()) {
+        return Err(ModelError::invalid(
+            "initial.theta",
+            theta,
+            format!(
+                "the {} family is singular at this tilt: F_n = φ̇ (C sin θ + κ m h u) = {}, so the spin does not follow the tilt and the precession rate along the family",
+                family.name(),
+                number(f_n)
+            ),
+        ));
+    }
     let d_theta = join(&t_theta, &(t_theta * omega + k * (n_theta + omega * st)));
     let d_omega = join(&Vector3::zeros(), &(zeta + k * (n_omega - ct)));
     // G's velocity −ω × r (rolling) is constant in the turning frame: G circles at
@@ -476,6 +500,15 @@ pub fn from_angles(
     let body = field.body();
     let (theta, psi) = (angles.theta, angles.psi);
     let spin = angles.phi_dot * theta.cos() + angles.psi_dot;
+    // The given rates, before any is solved for.
+    if solve != Solve::PhiDot {
+        check_rate(body, field.gravity(), angles.phi_dot, |rule| {
+            ModelError::invalid("initial.phi_dot", angles.phi_dot, rule)
+        })?;
+    }
+    if solve != Solve::Spin {
+        check_derived_rate(body, field.gravity(), "spin n", spin)?;
+    }
     let (theta, omega, n) = match solve {
         Solve::Spin => {
             let n = solve_spin(&rel, &meridian(body, theta, psi), angles.phi_dot)?;

@@ -13,6 +13,8 @@
 //! in the 7 tangent coordinates [`COORDINATES`]. The spin's family direction (a change of
 //! n, δω = ζ0) is the one zero removed; the 6 eigenvalues left are the motion's.
 
+use std::sync::atomic::AtomicBool;
+
 use nalgebra::{Complex, DMatrix, DVector, SMatrix, SVector, Vector3};
 
 use super::families::{self, Family};
@@ -196,25 +198,39 @@ pub fn analyse(scene: &Scene, family: Family) -> Result<ViscousSpin, ModelError>
         .omega_body
         .unwrap_or_else(|| init.angles.omega_body())
         .dot(&zeta);
-    Ok(spin_at(&field, family, zeta, spin))
+    families::check_derived_rate(&field.system.body, field.system.gravity, "spin n", spin)?;
+    spin_at(&field, family, zeta, spin)
 }
 
 /// The upright or inverted spin of `base` (a scenario of the viscous model) along the
 /// values of one key, and the critical values where its stability changes
-/// ([`sweep::sweep_with`]).
+/// ([`sweep::sweep_with`], stopped when `cancel` is set).
 pub fn sweep(
     base: &Scenario,
     family: Family,
     key: &str,
     values: &[f64],
+    cancel: Option<&AtomicBool>,
 ) -> Result<Sweep<ViscousSpin>, ModelError> {
-    sweep::sweep_with(base, (family, Solve::Spin), key, values, &|scene| {
-        analyse(scene, family)
-    })
+    sweep::sweep_with(
+        base,
+        (family, Solve::Spin),
+        key,
+        values,
+        &|scene| analyse(scene, family),
+        cancel,
+    )
 }
 
-/// The steady spin at `spin` in the rest attitude `zeta` of `field` and its spectrum.
-pub fn spin_at(field: &ViscousField, family: Family, zeta: Vector3<f64>, spin: f64) -> ViscousSpin {
+/// The steady spin at `spin` in the rest attitude `zeta` of `field` and its spectrum, or
+/// why it has none (its Jacobian not finite, or not decomposed: see
+/// [`super::spectrum::reduced_modes`]).
+pub fn spin_at(
+    field: &ViscousField,
+    family: Family,
+    zeta: Vector3<f64>,
+    spin: f64,
+) -> Result<ViscousSpin, ModelError> {
     let body = &field.system.body;
     let axes = body.semi_axes();
     let tangent = tangent_basis(&zeta);
@@ -267,7 +283,7 @@ pub fn spin_at(field: &ViscousField, family: Family, zeta: Vector3<f64>, spin: f
     let family_direction =
         DVector::from_column_slice(&[0.0, 0.0, zeta.x, zeta.y, zeta.z, 0.0, 0.0]);
     let dynamic = DMatrix::from_fn(7, 7, |i, j| jacobian[(i, j)]);
-    let mut modes = reduced_modes(&dynamic, &[family_direction]);
+    let mut modes = reduced_modes(&dynamic, &[family_direction])?;
     modes.sort_by(|x, y| by_real_part(&x.0, &y.0));
     let (eigenvalues, vectors): (Vec<_>, Vec<_>) = modes
         .into_iter()
@@ -282,7 +298,7 @@ pub fn spin_at(field: &ViscousField, family: Family, zeta: Vector3<f64>, spin: f
         let y = reduce::full_state(&zeta, &(zeta * spin));
         field.system.evaluate(&y).response.normal
     };
-    ViscousSpin {
+    Ok(ViscousSpin {
         family,
         zeta,
         spin,
@@ -293,7 +309,7 @@ pub fn spin_at(field: &ViscousField, family: Family, zeta: Vector3<f64>, spin: f
         vectors,
         error,
         names,
-    }
+    })
 }
 
 /// What moves in the mode `v` (in [`COORDINATES`]) of the spin at `x0`, as under the other

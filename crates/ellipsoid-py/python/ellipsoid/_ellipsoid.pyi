@@ -91,7 +91,7 @@ class SimulationError(EllipsoidError, RuntimeError):
     From `precision`: the reference run did not finish cleanly; `trajectory` holds its
     summary (no samples)."""
 
-    status: Literal["painleve", "inconsistent_contact", "several_contacts", "solver_failure", "chattering", "non_finite", "cancelled"]
+    status: Literal["painleve", "inconsistent_contact", "several_contacts", "solver_failure", "chattering", "non_finite", "below_plane", "cancelled"]
     trajectory: Trajectory
 
 class OutputError(EllipsoidError, OSError):
@@ -245,7 +245,7 @@ class Trajectory:
     def summary(self) -> dict[str, Any]:
         """The command-line tool's summary dict (a fresh copy)."""
     @property
-    def status(self) -> Literal["completed", "observed", "lost_contact", "slip_stopped", "painleve", "inconsistent_contact", "several_contacts", "solver_failure", "chattering", "non_finite", "cancelled"]: ...
+    def status(self) -> Literal["completed", "observed", "lost_contact", "slip_stopped", "painleve", "inconsistent_contact", "several_contacts", "solver_failure", "chattering", "non_finite", "below_plane", "cancelled"]: ...
     @property
     def message(self) -> str: ...
     @property

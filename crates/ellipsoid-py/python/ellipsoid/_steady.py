@@ -192,7 +192,8 @@ def steady(
     scenario's φ̇ cos θ + ψ̇ (the root nearest ``initial.phi_dot``; Newton from
     ``initial.theta``). Without ``vary``, the one motion the scenario defines; ``vary``
     maps one scenario key to a 1-D array of values. Raises ScenarioError for a bad
-    scenario, family, unknown or key, or a value without a steady motion."""
+    scenario, family, unknown or key, or a value without a steady motion; Ctrl-C stops a
+    sweep before its next value and raises KeyboardInterrupt."""
     if vary is None:
         res = Steady(steady_raw(scenario, family, solve=solve))
         res._source = (scenario, solve)
