@@ -35,6 +35,10 @@ export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}"
 case "$CARGO_TARGET_DIR" in /*) ;; *) CARGO_TARGET_DIR="$PWD/$CARGO_TARGET_DIR" ;; esac
 mkdir -p "$out"
 rm -f "$out"/ellipsoid-*.whl "$out"/ellipsoid-*.tar.gz
+# HDF5's CMake build directory of an earlier wheel names that build's compiler: a zig cc
+# wrapper that runs maturin from the isolated build environment pip has since deleted
+# ("maturin: not found" at the second build in one checkout). Built afresh each time.
+rm -rf "$CARGO_TARGET_DIR"/x86_64-unknown-linux-gnu/release/build/hdf5-metno-src-*
 maturin sdist -m crates/ellipsoid-py/Cargo.toml -o "$out"
 MATURIN_PEP517_ARGS="--zig --compatibility manylinux_2_17" \
   "$venv/bin/python" -m pip wheel --disable-pip-version-check --no-cache-dir --no-deps -w "$out" "$out"/ellipsoid-*.tar.gz

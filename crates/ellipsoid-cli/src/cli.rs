@@ -19,7 +19,8 @@ pub enum Command {
     /// Exit status: 0 completed (or ended at a terminal observable); 2 bad input (nothing
     /// written); 3 stopped early (lost
     /// contact, Painlevé, pure sliding reaching zero slip, solver failure, chattering,
-    /// non-finite state), with the trajectory up to the stop written; 1 output error
+    /// non-finite state, a surface found below the plane), with the trajectory up to the
+    /// stop written; 1 output error
     /// (nothing new written).
     Run(RunArgs),
     /// Validate a scenario and print its derived quantities, without simulating.

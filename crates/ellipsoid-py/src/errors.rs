@@ -83,7 +83,7 @@ impl Class {
             Class::Simulation => {
                 "A run that stopped on an error: a Painlevé inconsistency, a solver failure, chattering at the \
                  friction-cone boundary, or a non-finite state.\n\n\
-                 Attributes: `status` (the summary's status name: painleve | inconsistent_contact | several_contacts | solver_failure | chattering | cancelled), \
+                 Attributes: `status` (the summary's status name: painleve | inconsistent_contact | several_contacts | solver_failure | chattering | below_plane | cancelled), \
                  `trajectory` (the Trajectory up to the stop, with its summary)."
             }
             Class::Output => {
