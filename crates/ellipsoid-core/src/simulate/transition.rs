@@ -11,10 +11,11 @@
 //! | flight | touchdown | rebound ≤ v_settle, N > 0 there | [`on_plane`] | back to gap = 0, plastic impact, z_G and v_Gz from the contact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
+//! | flight | touchdown | another surface touches at the same instant and approaches after the impact ([`coinciding`]) | by who stays after the impact at them all, as after a pressed surface's approach (below); no solution → stop `several_contacts` | back to gap = 0; impact at every such surface (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the new one's impact | as a touchdown | flight form, impact at the new surface |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0 once the grip is settled ([`settle_grip`]: Coulomb, a slip within the slip stop sticks; rolling model, both stick; otherwise both slipping above it); else the first consistent of the pressed one, the new one, none ([`active_set`]) | two contacts (or as the set) | plastic impact at the new surface; contact form; second constraint restored and sticking impulses, their energy change in W |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | [`on_plane`] for the pressed surface | impact at the new surface; contact form |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle) | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_contacts`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle), or a further surface touches at the same instant ([`coinciding`]), or the two rock (each one's rebound within its settling speed on the other) and their impact has a solution | by who stays: all → two (three) contacts, one → [`on_plane`] for it, none → flight | impact at both contacts (`impact::resolve_contacts`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
 //! | any contact | another surface's gap ↓ −δz | otherwise (no pair solution; no consistent set of the two) | stop `several_contacts` | |
 //! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
 //! | two or three contacts | a slip ↓ its stop ([`above_stop`]; a disc's: slip and spin) | sliding model, contact disc | stop `slip_stopped` | |
@@ -347,9 +348,17 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     let rocking = single.0.normal_velocity.1 <= onto_pressed(&single.1)
         && approach <= second_settling_speed(ctx, from, touching, pressed, &single.1);
     let coincide = coinciding(ctx, &strike, &[pressed], &single.1);
-    let outcome = if approach < -settle_k || !coincide.is_empty() {
+    // The impact at both (and at any surface touching with them) where `pressed`
+    // approaches, another surface touches at the same instant, or the two rock; a rocking
+    // pair whose impact has no solution (the rolling model's no-slip law pulling) is
+    // judged by `pressed`'s free settling speed alone, as any other.
+    let joins = approach < -settle_k || !coincide.is_empty();
+    let pair = (joins || rocking).then(|| {
         let settles = |s: Surface, y: &State| match s {
             s if s == touching => onto_pressed(y),
+            s if s == pressed && rocking => {
+                pressed_settles(y).max(second_settling_speed(ctx, from, touching, pressed, y))
+            }
             s if s == pressed => pressed_settles(y),
             s => free_settling_speed(ctx, s, y),
         };
@@ -357,7 +366,10 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
             .take(MOST_CONTACTS - 1)
             .collect();
         contacts_touchdown(ctx, &strike, &with, law, settles)
-    } else if approach > settle_k && !rocking {
+    });
+    let outcome = if let Some(pair) = pair.filter(|p| joins || p.is_some()) {
+        pair
+    } else if approach > settle_k {
         let flight_settles =
             |y: &State| on_surface(ctx, touching, || settling_speed(ctx, y, &strike.kin));
         let (hit, after, settles) = strike.settled(law, single, flight_settles);
@@ -1418,14 +1430,16 @@ pub(super) fn touch<E>(
 }
 
 /// The state on the flight's trajectory through (t, y) where the gap of `surface` is
-/// zero: touchdown
-/// is located at gap = −δz (`phase::flight`), and an impact taken there, with the
-/// penetration then removed, would add 2 a δz to v_n² at every bounce (a: the gap's
-/// free deceleration) — enough to stall a Zeno sequence above the settling speed
+/// zero: touchdown is located at gap = −δz (`phase::flight`), and an impact taken there,
+/// with the penetration then removed, would add 2 a δz to v_n² at every bounce (a: the
+/// gap's free deceleration) — enough to stall a Zeno sequence above the settling speed
 /// whenever a e²/(1 − e²) > g (docs/physics.md, "Settling"). Newton's iteration on s,
-/// gap(t + s) = 0 with d gap/dt = v_n, that surface's lowest point's normal velocity, each y(t + s)
-/// one RK4 step of the flight system from (t, y); |s| ≈ δz/|v_n|, a few ns, and never more
-/// than 4√(2δz/g), the time a fall from rest takes through a few δz: a grazing touchdown
+/// gap(t + s) = 0 with d gap/dt = v_n, that surface's lowest point's normal velocity,
+/// each y(t + s) one RK4 step of the flight system from (t, y); s is kept in
+/// [−4√(2δz/g), 0]: the touchdown is never moved past the located event (from a grazing
+/// one, v_n ≈ −1e-18 m/s, a Newton step from the lower bound went 0.07 s forward, over
+/// samples already due), and never back further than a fall from rest takes through a
+/// few δz, |s| ≈ δz/|v_n| being a few ns otherwise: a grazing touchdown
 /// (v_n → 0, as when a body rocks between two surfaces) would otherwise send one RK4 step
 /// seconds back along the flight. Without gravity the fall is at the gap's free
 /// deceleration |a| ([`settling_speed`]'s), and where that is zero too there is no going
@@ -1466,7 +1480,7 @@ fn back_to_contact<E: Effect + Copy + 'static>(
         if gap == 0.0 || !(v_n < 0.0) {
             break;
         }
-        s = (s - gap / v_n).max(-most);
+        s = (s - gap / v_n).clamp(-most, 0.0);
         ys = rk4_step(&fly, t, y, s, &mut k);
     }
     (t + s, ys)
