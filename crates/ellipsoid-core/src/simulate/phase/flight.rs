@@ -6,7 +6,7 @@
 //! gap min_k g_k: a surface's gap that dips through the plane and out within one flight
 //! step while another's crosses at the step's end leaves the minimum with one sign change
 //! at the ends and its dip, between the scan points, unseen (a body with three contact
-//! spheres passed one through the plane by 3e-5 m, docs/hard-cases.md row 31); each g_k
+//! spheres passed one through the plane by 3e-5 m, docs/hard-cases.md row 33); each g_k
 //! alone is smooth, and the driver's scan finds its dip.
 
 use crate::body::Surface;
