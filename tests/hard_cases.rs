@@ -805,6 +805,7 @@ fn hard_5_slow_rocking_matches_the_small_oscillation_period() {
         g: Box::new(|_t, y: &State| y[state::OMEGA]),
         direction: Direction::Either,
         action: Action::Continue,
+        curvature: None,
     }];
     let mut opts = Options::new(1e-10, 1e-12);
     opts.h0 = None;

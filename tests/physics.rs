@@ -89,6 +89,7 @@ fn val_nutation_period_matches_quadrature() {
         }),
         direction: Direction::Rising,
         action: Action::Continue,
+        curvature: None,
     }];
     let sol = integrate::integrate(
         Method::Dop853,

@@ -327,6 +327,7 @@ fn oscillator_events<'a>(direction: Direction, action: Action) -> Vec<Event<'a, 
         g: Box::new(|_, y: &Vector2<f64>| y[0]),
         direction,
         action,
+        curvature: None,
     }]
 }
 
@@ -476,6 +477,7 @@ fn val_event_dip_shorter_than_a_step_is_found() {
             g: Box::new(move |_, y: &Vector2<f64>| y[0] + depth),
             direction: Direction::Falling,
             action: Action::Continue,
+            curvature: None,
         }];
         let osc = HarmonicOscillator { omega: 2.0 };
         let sol = integrate(
@@ -508,6 +510,56 @@ fn val_event_dip_shorter_than_a_step_is_found() {
     }
 }
 
+/// A dip that leaves no trace at the step ends: g(t) = 1 − k exp(−(t − t_d)²/w²) with
+/// k = 1 + 1e-4, w = 0.01 s, below zero only for |t − t_d| < w √(ln k) ≈ 1e-4 s, while
+/// the oscillator's steps are ~0.1 s. At the step ends g is 1 to 1e-16 and flat, so the
+/// heuristic judge (no curvature given) sees no reason to scan and misses it; with the
+/// bound |g''| ≤ 2k/w² (`Event::curvature`) the step is scanned and the dip found
+/// (docs/integrators.md, "Dense output, samples and events"): one falling crossing at
+/// t_d − w √(ln k), to the root finder's tolerance.
+#[test]
+fn val_event_dip_without_trace_is_found_with_a_curvature_bound() {
+    let (k, w, t_d): (f64, f64, f64) = (1.0 + 1e-4, 0.01, 7.3);
+    let crossing = t_d - w * k.ln().sqrt();
+    for method in [Method::Dopri5, Method::Dop853] {
+        let found = |curvature: Option<f64>| {
+            let events = vec![Event {
+                g: Box::new(move |t, _: &Vector2<f64>| 1.0 - k * (-((t - t_d) / w).powi(2)).exp()),
+                direction: Direction::Falling,
+                action: Action::Continue,
+                curvature,
+            }];
+            let osc = HarmonicOscillator { omega: 2.0 };
+            let sol = integrate(
+                method,
+                &osc,
+                0.0,
+                Vector2::new(1.0, 0.0),
+                20.0,
+                &Options::new(1e-6, 1e-6),
+                &events,
+                &[],
+                &mut |_, _| ControlFlow::Continue(()),
+            )
+            .unwrap();
+            sol.events.iter().map(|e| e.t).collect::<Vec<f64>>()
+        };
+        assert!(
+            found(None).is_empty(),
+            "{}: the heuristic found the dip: the test proves nothing",
+            method.name()
+        );
+        let with_bound = found(Some(2.0 * k / (w * w)));
+        assert_eq!(with_bound.len(), 1, "{}: {with_bound:?}", method.name());
+        assert!(
+            (with_bound[0] - crossing).abs() < 1e-12,
+            "{}: {} vs {crossing}",
+            method.name(),
+            with_bound[0]
+        );
+    }
+}
+
 /// g = v = −2 sin 2t is exactly zero at t0 = 0 (as after a mode switch): not an event.
 /// The first event is the next zero, t = π/2.
 #[test]
@@ -517,6 +569,7 @@ fn val_event_zero_at_start_is_ignored() {
             g: Box::new(|_, y: &Vector2<f64>| y[1]),
             direction: Direction::Either,
             action: Action::Stop,
+            curvature: None,
         }];
         let (sol, _) = oscillator_run(method, &events, 10.0, &[]);
         assert_eq!(sol.stop, StopReason::Event { index: 0 });
@@ -542,11 +595,13 @@ fn val_events_in_one_step_are_ordered_and_terminal_cuts_the_step() {
                 g: Box::new(|_, y: &Vector2<f64>| y[0] - 0.4),
                 direction: Direction::Falling,
                 action: first_action,
+                curvature: None,
             },
             Event {
                 g: Box::new(|_, y: &Vector2<f64>| y[0] - 0.5),
                 direction: Direction::Falling,
                 action: second_action,
+                curvature: None,
             },
         ]
     };
@@ -682,6 +737,7 @@ fn inv_projection_applies_to_steps_samples_and_events() {
             g: Box::new(|_, y: &Vector2<f64>| y[1]),
             direction: Direction::Either,
             action: Action::Continue,
+            curvature: None,
         }];
         let samples: Vec<f64> = (1..50).map(|i| i as f64 * 0.37).collect();
         let mut worst: f64 = 0.0;
@@ -1139,11 +1195,13 @@ fn inv_no_allocation_per_step() {
                     g: Box::new(|_, y: &Vector2<f64>| y[0] - 2.0),
                     direction: Direction::Either,
                     action: Action::Continue,
+                    curvature: None,
                 },
                 Event {
                     g: Box::new(|_, y: &Vector2<f64>| y[1] - 3.0),
                     direction: Direction::Rising,
                     action: Action::Stop,
+                    curvature: None,
                 },
             ];
             let samples: Vec<f64> = (0..=(t_end as usize * 10))

@@ -168,6 +168,25 @@ pub fn height(body: &Body, surface: Surface, zeta: Vector3<f64>) -> f64 {
     s + zeta.dot(&body.com_offset())
 }
 
+/// A bound of |d²h/dt²| for surface `surface`'s height h(ζ) ([`height`]) while the body
+/// turns at |ω| ≤ `w` with |ω̇| ≤ `w_dot` \[m/s²\] (docs/physics.md, "Flight"). With ζ̇ = ζ × ω
+/// and ζ̈ = ζ̇ × ω + ζ × ω̇, |ζ̇| ≤ w and |ζ̈| ≤ w² + ẇ (|ζ| = 1):
+/// - a sphere, h = ρ − (c − g)·ζ: |ḧ| ≤ (w² + ẇ)|c − g|;
+/// - the ellipsoid, h = s(ζ) + g·ζ, ḧ = (∇s + g)·ζ̈ + ζ̇ᵀHζ̇ with |∇s| = |A²ζ|/s ≤ a_max
+///   and ‖H‖ ≤ a_max²/s ≤ a_max²/a_min: |ḧ| ≤ (w² + ẇ)(a_max + |g|) + w² a_max²/a_min.
+pub fn height_acceleration_bound(body: &Body, surface: Surface, w: f64, w_dot: f64) -> f64 {
+    let turn = w * w + w_dot;
+    let g = body.com_offset();
+    match surface {
+        Surface::Ellipsoid => {
+            let a = body.semi_axes();
+            let (a_min, a_max) = (a.min(), a.max());
+            turn * (a_max + g.norm()) + w * w * a_max * a_max / a_min
+        }
+        Surface::Sphere(k) => turn * (body.spheres()[k].center - g).norm(),
+    }
+}
+
 /// The support map of the ellipsoid with semi-axes `a` at `zeta` (any length): A², A²ζ
 /// and s = √(ζᵀA²ζ) \[m\], the height of the centre C0 above the ellipsoid's lowest point
 /// when ζ is world up in body axes (docs/physics.md, "Contact geometry").

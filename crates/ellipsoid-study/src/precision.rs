@@ -694,6 +694,7 @@ pub fn period_error(
         }),
         direction: Direction::Rising,
         action: Action::Continue,
+        curvature: None,
     }];
     let mut options = Options::new(scene.solver.rtol, scene.solver.atol);
     options.h0 = None;

@@ -9,7 +9,9 @@ use nalgebra::SVector;
 use super::controller::{PiController, Verdict};
 use super::dop853::Dop853;
 use super::dopri5::Dopri5;
-use super::events::{SCAN_POINTS, crossed, locate, lowest, may_cross_inside, time_tolerance};
+use super::events::{
+    SCAN_POINTS, chord_gap, crossed, locate, lowest, may_cross_inside, time_tolerance,
+};
 use super::options::validate_inputs;
 use super::rk4::Rk4;
 use super::stepper::{Stepper, Trial};
@@ -412,6 +414,7 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                     ev.direction,
                     [self.t_before, t, t_new],
                     [self.g_before[i], self.g_prev[i], g],
+                    ev.curvature,
                 )
             {
                 continue;
@@ -500,6 +503,9 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
     /// g crosses in the event's direction; otherwise, for a dip narrower than the scan
     /// spacing, the interval from the scan point before the lowest one to the minimum of
     /// σ g found around it (σ = sign g(t)), if that minimum is past zero; else `None`.
+    /// With a bound A of |g''| ([`Event::curvature`]) the dip is searched for in every
+    /// scan interval, in order, whose ends are within A Δ²/8 of zero (Δ its length),
+    /// before the first sign change: no crossing hides elsewhere.
     fn bracket(
         &self,
         i: usize,
@@ -533,6 +539,25 @@ impl<S: OdeSystem<N>, const N: usize> Run<'_, '_, S, N> {
                 (lowest_at, lowest_g) = (j, sigma * g);
             }
             (s0, g0) = (s, g);
+        }
+        if let Some(bound) = ev.curvature {
+            let dt = (t_new - t) / (SCAN_POINTS + 1) as f64;
+            for j in 0..=SCAN_POINTS {
+                let ((s0, g0), (s1, g1)) = (value(j), value(j + 1));
+                if first.is_some_and(|f| f.0 == s0) {
+                    break;
+                }
+                let near = sigma * g0 > 0.0
+                    && sigma * g1 > 0.0
+                    && (sigma * g0).min(sigma * g1) <= chord_gap(bound, dt);
+                if near {
+                    let (s_min, f_min) = lowest(|s| sigma * (ev.g)(s, &dense(s)), s0, s1);
+                    let g_min = sigma * f_min;
+                    if crossed(ev.direction, g0, g_min) {
+                        return Some((s0, g0, s_min, g_min));
+                    }
+                }
+            }
         }
         if at_ends && changes == 1 {
             return Some((t, self.g_prev[i], t_new, self.g_new[i]));

@@ -34,12 +34,15 @@ pub(crate) const SCAN_POINTS: usize = 8;
 /// inside the step: g is within one step's change of zero, or curving towards it by at
 /// least half the way. A g that changes monotonically between positive ends cannot hide
 /// a crossing, and far from zero (the usual case) the step costs nothing more; near zero
-/// the step is scanned at [`SCAN_POINTS`] points.
+/// the step is scanned at [`SCAN_POINTS`] points. With a bound A of |g''| (`curvature`,
+/// [`Event::curvature`](super::Event)) the answer is exact instead: yes when
+/// min(a, b) ≤ A h²/8 ([`chord_gap`]), h = t_new − t.
 #[inline]
 pub(crate) fn may_cross_inside(
     direction: Direction,
     [t_before, t, t_new]: [f64; 3],
     [g_before, g_prev, g_new]: [f64; 3],
+    curvature: Option<f64>,
 ) -> bool {
     let sigma = match direction {
         Direction::Falling if g_prev > 0.0 => 1.0,
@@ -51,6 +54,9 @@ pub(crate) fn may_cross_inside(
     let low = a.min(b);
     if low <= 0.0 {
         return true;
+    }
+    if let Some(bound) = curvature {
+        return low <= chord_gap(bound, t_new - t);
     }
     let mut dip = 0.0;
     if t_before < t {
@@ -68,6 +74,13 @@ pub(crate) fn may_cross_inside(
         }
     }
     low <= (b - a).abs() + 2.0 * dip
+}
+
+/// How far below the chord through its ends a function with |g''| ≤ `curvature` can fall
+/// on an interval of length `h`: A h²/8 (the error bound of linear interpolation).
+#[inline]
+pub(crate) fn chord_gap(curvature: f64, h: f64) -> f64 {
+    curvature * h * h / 8.0
 }
 
 /// Golden-section search (Kiefer 1953) for the minimum of f on [a, b], stopping as soon

@@ -87,4 +87,11 @@ pub struct Event<'a, const N: usize> {
     pub g: EventFn<'a, N>,
     pub direction: Direction,
     pub action: Action,
+    /// An upper bound A of |d²g/dt²| along the integration, where one is known. A step
+    /// (t, t_new] of length h whose ends are both farther than A h²/8 from zero cannot hide
+    /// a crossing (g stays within A h²/8 of the chord through its ends); any other is
+    /// scanned, and each scan interval closer to zero than its own bound searched for a
+    /// dip (`events::may_cross_inside`). Without a bound, a heuristic judges from the
+    /// last two steps, which misses a dip narrower than a long step.
+    pub curvature: Option<f64>,
 }

@@ -128,11 +128,14 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                             Slot::Phase(watch) => {
                                 current.on_event(self, watch, &mut t, &mut y, &mut events)
                             }
-                            // Located at the tolerance, to round-off.
-                            Slot::Guard => Next::Stop(
-                                self.deepest_status(mode, &current.kinematics(self, &y)),
-                                mode,
-                            ),
+                            Slot::Guard => {
+                                let kin = current.kinematics(self, &y);
+                                match self.below_plane(mode, &kin) {
+                                    Some(status) => Next::Stop(status, mode),
+                                    // Located at the tolerance to within round-off.
+                                    None => Next::Stop(self.deepest_status(mode, &kin), mode),
+                                }
+                            }
                         },
                     }
                 };
@@ -197,7 +200,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
     /// The surface not in contact in `mode` lowest under the plane at `kin`, with its gap
     /// g_k = z_G − h_k(ζ) \[m\] (`geometry::height`); `None` where every surface is in
     /// contact.
-    fn deepest(&self, mode: Mode, kin: &Kinematics) -> Option<(Surface, f64)> {
+    pub(super) fn deepest(&self, mode: Mode, kin: &Kinematics) -> Option<(Surface, f64)> {
         let body = &self.scene.body;
         (body.surfaces())
             .filter(|&s| !self.in_contact(mode, s))
@@ -206,11 +209,11 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
     }
 
     /// The guard of every run (docs/physics.md, "The hybrid machine"): a surface not in
-    /// contact whose gap is below −(the penetration tolerance, `Numerics::penetration`)
-    /// is a touchdown the machine did not locate, and the run stops `below_plane` there
-    /// instead of going on inside the plane. Checked where every phase starts, as an
-    /// event of every segment at every accepted step, and at every sample before it is
-    /// emitted.
+    /// contact whose gap is below −(the penetration tolerance,
+    /// `Numerics::penetration`) is a touchdown the machine did not locate, and the run
+    /// stops `below_plane` there instead of going on inside the plane. Checked where every
+    /// phase starts, as an event of every segment at every accepted step, and at every
+    /// sample before it is emitted.
     fn below_plane(&self, mode: Mode, kin: &Kinematics) -> Option<Status> {
         let (_, gap) = self.deepest(mode, kin)?;
         (gap < -self.numerics.penetration()).then(|| self.deepest_status(mode, kin))
@@ -277,7 +280,7 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
     };
     let phase_watches = P::watches(ctx);
     // The guard where a surface can be off the plane: every one in flight, the others
-    // than those touching with contact spheres.
+    // than the one touching with contact spheres.
     let guarded = P::MODE == Mode::Flight || !scene.body.spheres().is_empty();
     let watches: Vec<Slot> = (0..phase_watches.len())
         .map(Slot::Phase)
@@ -309,6 +312,7 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
             }),
             direction: o.direction,
             action,
+            curvature: None,
         }
     };
     let events: Vec<Event<'_, { state::DIM }>> = watches
@@ -342,6 +346,7 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
                     }),
                     direction: Direction::Falling,
                     action: Action::Stop,
+                    curvature: None,
                 }
             }
             Slot::Phase(i) => {
@@ -363,6 +368,7 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
                     }),
                     direction: Direction::Falling,
                     action: Action::Stop,
+                    curvature: P::curvature(ctx, w, &start),
                 }
             }
         })

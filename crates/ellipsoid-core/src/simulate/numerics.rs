@@ -104,6 +104,12 @@ pub(super) const SECOND_GAP_RISE: f64 = 16.0;
 /// deepest measured on the random scenes with contact spheres, −2e-17 m).
 const PENETRATION: f64 = 1e-9;
 
+/// Round-off of an event's time t, in units of ε |t|: four times the tolerance to which
+/// the integrator locates it (`integrate::events` `time_tolerance`, 4ε max(|t|, h)), and
+/// below which it takes no zero at the start of a segment (see
+/// [`Numerics::time_resolution`]).
+const TIME_ROUNDOFF: f64 = 16.0;
+
 /// Newton steps that take a touchdown back to gap = 0 (`transition::back_to_contact`);
 /// each is one RK4 step of the flight system, and the first already leaves a gap of
 /// O(a δz²/v_n²).
@@ -262,9 +268,22 @@ impl Numerics {
         GAP_ROUNDOFF * f64::EPSILON * (kin.z_g().abs() + self.size)
     }
 
+    /// The body's size L \[m\]: its extent from C0.
+    pub(super) fn size(&self) -> f64 {
+        self.size
+    }
+
     /// The penetration tolerance 1e-9 L \[m\] (see [`PENETRATION`]).
     pub(super) fn penetration(&self) -> f64 {
         PENETRATION * self.size
+    }
+
+    /// The time resolution of an event located at t, τ = 16 ε |t| \[s\]: two events closer
+    /// than it are one instant to the integrator (it takes no zero within round-off of a
+    /// segment's start), so a surface whose gap its approach closes within τ of another's
+    /// touchdown touches down with it (`transition::coinciding`).
+    pub(super) fn time_resolution(&self, t: f64) -> f64 {
+        TIME_ROUNDOFF * f64::EPSILON * t.abs()
     }
 
     /// The round-off of a material point's normal velocity v_Gz + e3·(R (ω × r)) \[m/s\]:

@@ -136,9 +136,8 @@ pub enum Status {
     NonFinite { column: &'static str, value: f64 },
     /// A surface not in contact was found below the plane, its gap `gap` < 0 \[m\] beyond
     /// the run's penetration tolerance (an error: a touchdown the machine did not locate;
-    /// docs/physics.md, "The hybrid machine"). The run stops at the first phase start,
-    /// accepted step or sample where it is seen, never reporting a body inside the plane
-    /// as a result.
+    /// docs/physics.md, "The hybrid machine"). The run stops at the first accepted step or
+    /// phase start where it is seen, never reporting a body inside the plane as a result.
     BelowPlane { surface: Surface, gap: f64 },
     /// The caller asked to stop.
     Cancelled,

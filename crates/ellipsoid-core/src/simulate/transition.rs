@@ -11,10 +11,11 @@
 //! | flight | touchdown | rebound ≤ v_settle, N > 0 there | [`on_plane`] | back to gap = 0, plastic impact, z_G and v_Gz from the contact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
+//! | flight | touchdown | another surface touches at the same instant and approaches after the impact ([`coinciding`]) | by who stays after the impact at them all, as after a pressed surface's approach (below); no solution → stop `several_contacts` | back to gap = 0; impact at every such surface (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the new one's impact | as a touchdown | flight form, impact at the new surface |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0 once the grip is settled ([`settle_grip`]: Coulomb, a slip within the slip stop sticks; rolling model, both stick; otherwise both slipping above it); else the first consistent of the pressed one, the new one, none ([`active_set`]) | two contacts (or as the set) | plastic impact at the new surface; contact form; second constraint restored and sticking impulses, their energy change in W |
 //! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | [`on_plane`] for the pressed surface | impact at the new surface; contact form |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle) | two contacts, [`on_plane`] for the one that stays, or flight | impact at both contacts (`impact::resolve_contacts`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle), or a further surface touches at the same instant ([`coinciding`]), or the two rock (each one's rebound within its settling speed on the other) and their impact has a solution | by who stays: all → two (three) contacts, one → [`on_plane`] for it, none → flight | impact at both contacts (`impact::resolve_contacts`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
 //! | any contact | another surface's gap ↓ −δz | otherwise (no pair solution; no consistent set of the two) | stop `several_contacts` | |
 //! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
 //! | two or three contacts | a slip ↓ its stop ([`above_stop`]; a disc's: slip and spin) | sliding model, contact disc | stop `slip_stopped` | |
@@ -300,28 +301,13 @@ fn phase_normal<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, mode: Mode, y:
     }
 }
 
-/// Touchdown, located at gap = −δz on the flight's dense output at (t, y): the impact
-/// is taken where the gap is zero ([`back_to_contact`], which moves `t` back), at the
-/// body's lowest point, on whichever surface it is; its loss booked in W; the body flies
-/// on, or, for a rebound below the settling speed ([`settling_speed`]), the impact is
-/// taken plastic and the state goes on the plane, the touching surface in contact.
-pub(super) fn touchdown<E: Effect + Copy + 'static>(
-    ctx: &Context<'_, E>,
-    t: &mut f64,
-    y: &mut State,
-    events: &mut Vec<EventRecord>,
-) -> Next {
-    let lowest = Kinematics::flying(&ctx.scene.body, y).contact.surface;
-    land(ctx, lowest, t, y, events)
-}
-
 /// Surface `touching` reached the plane (its gap located at −δz) at (t, y) while the body
 /// was in contact on another, `pressed`, in mode `from` (docs/physics.md, "Contact
 /// spheres"). The state is put in flight form and taken back to `touching`'s zero gap, and
 /// its impact is first taken alone, `pressed`'s impulse zero. With v_k⁺ the pressed
 /// surface's normal velocity after it and v_settle,k its settling speed:
 /// - v_k⁺ > v_settle,k: `pressed` separates, which solves the impact at two contacts; the
-///   run goes on as after a touchdown from flight ([`land`]'s rule);
+///   run goes on as after a touchdown from flight ([`touchdown`]'s rule);
 /// - |v_k⁺| ≤ v_settle,k: `pressed` stays; `touching` stays too where its rebound is within
 ///   its own settling speed on `pressed` ([`second_settling_speed`]), and the impact is
 ///   then taken plastic;
@@ -355,12 +341,34 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     };
     let onto_pressed = |y: &State| second_settling_speed(ctx, from, pressed, touching, y);
     let settle_k = pressed_settles(&single.1);
-    let outcome = if approach < -settle_k {
-        let settles = |i: usize, y: &State| match i {
-            0 => onto_pressed(y),
-            _ => pressed_settles(y),
+    // Where `touching` stays, `pressed`'s gap is a second surface's on it: a separation
+    // within its settling speed there rises less than the located gap resolves, and both
+    // stay. Judged by the free settling speed alone, the body rocked between the two at
+    // 1e-8 m/s without end (the tippe top on its stem at the accumulation of its bounces).
+    let rocking = single.0.normal_velocity.1 <= onto_pressed(&single.1)
+        && approach <= second_settling_speed(ctx, from, touching, pressed, &single.1);
+    let coincide = coinciding(ctx, &strike, &[pressed], &single.1);
+    // The impact at both (and at any surface touching with them) where `pressed`
+    // approaches, another surface touches at the same instant, or the two rock; a rocking
+    // pair whose impact has no solution (the rolling model's no-slip law pulling) is
+    // judged by `pressed`'s free settling speed alone, as any other.
+    let joins = approach < -settle_k || !coincide.is_empty();
+    let pair = (joins || rocking).then(|| {
+        let settles = |s: Surface, y: &State| match s {
+            s if s == touching => onto_pressed(y),
+            s if s == pressed && rocking => {
+                pressed_settles(y).max(second_settling_speed(ctx, from, touching, pressed, y))
+            }
+            s if s == pressed => pressed_settles(y),
+            s => free_settling_speed(ctx, s, y),
         };
-        contacts_touchdown(ctx, &strike, &[pressed], law, settles)
+        let with: Vec<Surface> = (std::iter::once(pressed).chain(coincide))
+            .take(MOST_CONTACTS - 1)
+            .collect();
+        contacts_touchdown(ctx, &strike, &with, law, settles)
+    });
+    let outcome = if let Some(pair) = pair.filter(|p| joins || p.is_some()) {
+        pair
     } else if approach > settle_k {
         let flight_settles =
             |y: &State| on_surface(ctx, touching, || settling_speed(ctx, y, &strike.kin));
@@ -412,44 +420,51 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
 /// The impact of `strike` at its surface j and at the surfaces `pressed` at once
 /// (`impact::resolve_contacts`, docs/physics.md "Impact at several contacts"), with the
 /// scene's restitution and friction law. A contact stays where its normal velocity after
-/// the impact is within its settling speed `settles(i, y)` (i = 0 the struck surface, then
-/// `pressed`'s). Where all stay and one of them rebounds, the impact is taken again with
-/// e = 0 (the plastic impact that ends a bounce sequence the phase could not resolve,
-/// section "Settling"). Returns who stays (the pressed surfaces first), the state after
-/// the impact (flight form, its loss in W) and an impact report per surface (the loss on
-/// the struck one's); `None` where the impact has no solution (the rolling model's no-slip
-/// law where sticking the struck contact would pull; an iteration that does not
-/// converge).
+/// the impact is within its settling speed `settles(surface, y)`. Where all stay and one
+/// of them rebounds, the impact is taken again with e = 0 (the plastic impact that ends a
+/// bounce sequence the phase could not resolve, section "Settling"). A further surface
+/// that touches the plane at the same instant and that the impact leaves approaching it
+/// ([`coinciding`]) joins the impact, which is taken again, up to [`MOST_CONTACTS`]
+/// surfaces. Returns who stays (the pressed surfaces first), the state after the impact
+/// (flight form, its loss in W) and an impact report per surface (the loss on the struck
+/// one's); `None` where the impact has no solution (the rolling model's no-slip law where
+/// sticking the struck contact would pull; an iteration that does not converge).
 fn contacts_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     strike: &Strike,
     pressed: &[Surface],
     law: Tangential,
-    settles: impl Fn(usize, &State) -> f64,
+    settles: impl Fn(Surface, &State) -> f64,
 ) -> Option<(Staying, State, Vec<ImpactReport>)> {
     let kin = &strike.kin;
-    let levers: Vec<Vector3<f64>> = (pressed.iter())
-        .map(|&s| kin.rot * Contact::of(&ctx.scene.body, s, kin.contact.zeta, kin.omega).r)
-        .collect();
-    let surfaces: Vec<Surface> = std::iter::once(strike.surface)
+    let mut surfaces: Vec<Surface> = std::iter::once(strike.surface)
         .chain(pressed.iter().copied())
         .collect();
-    let solve = |e: f64| {
+    let solve = |surfaces: &[Surface], e: f64| {
+        let levers: Vec<Vector3<f64>> = (surfaces[1..].iter())
+            .map(|&s| kin.rot * Contact::of(&ctx.scene.body, s, kin.contact.zeta, kin.omega).r)
+            .collect();
         let hit = impact::resolve_contacts(&strike.approach, &levers, law, e)?;
         let after = strike.after(hit.v_g, hit.omega, hit.energy_loss);
-        let stays: Vec<bool> = (0..surfaces.len())
-            .map(|i| hit.normal_velocity[i].1 <= settles(i, &after))
+        let stays: Vec<bool> = (surfaces.iter().enumerate())
+            .map(|(i, &s)| hit.normal_velocity[i].1 <= settles(s, &after))
             .collect();
         Some((hit, after, stays))
     };
-    let (mut hit, mut after, mut stays) = solve(ctx.scene.landing.restitution)?;
+    let (mut hit, mut after, mut stays) = loop {
+        let solved = solve(&surfaces, ctx.scene.landing.restitution)?;
+        match coinciding(ctx, strike, &surfaces[1..], &solved.1).first() {
+            Some(&more) if surfaces.len() < MOST_CONTACTS => surfaces.push(more),
+            _ => break solved,
+        }
+    };
     if hit.restitution > 0.0
         && stays.iter().all(|&s| s)
         && hit.normal_velocity[..surfaces.len()]
             .iter()
             .any(|v| v.1 > 0.0)
     {
-        (hit, after, stays) = solve(0.0)?;
+        (hit, after, stays) = solve(&surfaces, 0.0)?;
     }
     // The pressed surfaces first: the several-contact phase takes the first's geometry.
     let staying: Vec<Surface> = (1..surfaces.len())
@@ -502,11 +517,9 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
     to_flight(ctx, Mode::TwoContacts, y);
     let strike = Strike::new(ctx, surface, t, y);
     let law = tangential(ctx.scene.contact);
-    let settles = |i: usize, y: &State| match i {
-        0 => second_settling_speed(ctx, Mode::TwoContacts, pressed[0], surface, y),
-        _ => on_surface(ctx, pressed[i - 1], || {
-            settling_speed(ctx, y, &Kinematics::flying_at(body, pressed[i - 1], y))
-        }),
+    let settles = |s: Surface, y: &State| match s {
+        s if s == surface => second_settling_speed(ctx, Mode::TwoContacts, pressed[0], surface, y),
+        s => free_settling_speed(ctx, s, y),
     };
     let next = contacts_touchdown(ctx, &strike, &pressed, law, settles).map(
         |(staying, after, reports)| {
@@ -910,52 +923,109 @@ pub(super) fn leave<E: Effect + Copy + 'static>(
     }
 }
 
-/// The touchdown of `surface` from flight ([`touchdown`]): its impact, with the scene's
-/// restitution unless the rebound is within the settling speed after it (then plastic),
-/// and the outcome on the plane ([`settle`]).
-fn land<E: Effect + Copy + 'static>(
+/// Touchdown of `surface` from flight, located at its gap = −δz on the flight's dense
+/// output at (t, y): the impact is taken where the gap is zero ([`back_to_contact`], which
+/// moves `t` back), its loss booked in W, with the scene's restitution unless the rebound
+/// is within the settling speed after it (then plastic, the surface staying in contact);
+/// the outcome goes on the plane by [`settle`]. Other surfaces that touch the plane at the
+/// same instant ([`coinciding`]) and that the impact would leave approaching it take the
+/// impact with it, at once ([`contacts_touchdown`], docs/physics.md "Simultaneous
+/// touchdowns"): taken in turn, each impact drives the other surface into the plane
+/// within the time resolution of the located touchdown, where no event can be seen, and
+/// the body fell through the plane. An impact at them with no solution stops the run with
+/// `several_contacts` at the located state.
+pub(super) fn touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
     surface: Surface,
     t: &mut f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
+    let body = &ctx.scene.body;
+    let (t0, y0, was) = (*t, *y, ctx.surface.get());
     let strike = Strike::new(ctx, surface, t, y);
     touch(ctx, surface, *t, events);
     let law = tangential(ctx.scene.contact);
-    let hit = strike.impact(law, ctx.scene.landing.restitution);
-    // The settling speed after the impact: its rates decide what presses the body down.
-    let (hit, after, settles) =
-        strike.settled(law, hit, |y: &State| settling_speed(ctx, y, &strike.kin));
+    let single = strike.impact(law, ctx.scene.landing.restitution);
+    let coincide = coinciding(ctx, &strike, &[], &single.1);
+    let (staying, after, reports, speed) = if coincide.is_empty() {
+        // The settling speed after the impact: its rates decide what presses the body down.
+        let settles = |y: &State| free_settling_speed(ctx, surface, y);
+        let (hit, after, settles) = strike.settled(law, single, settles);
+        let staying = if settles {
+            Staying::One(surface)
+        } else {
+            Staying::Neither
+        };
+        let speed = -hit.normal_velocity.0;
+        (staying, after, vec![strike.report(&hit)], speed)
+    } else {
+        let settles = |s: Surface, y: &State| free_settling_speed(ctx, s, y);
+        let with = &coincide[..coincide.len().min(MOST_CONTACTS - 1)];
+        let Some(outcome) = contacts_touchdown(ctx, &strike, with, law, settles) else {
+            events.truncate(events.len() - usize::from(was != surface));
+            ctx.surface.set(was);
+            (*t, *y) = (t0, y0);
+            return Next::Stop(
+                Status::SeveralContacts {
+                    touching: surface,
+                    pressed: coincide[0],
+                    approach: normal_velocity(body, coincide[0], &single.1),
+                },
+                Mode::Flight,
+            );
+        };
+        let (staying, after, reports) = outcome;
+        let speed = -normal_velocity(body, surface, &strike.pre);
+        (staying, after, reports, speed)
+    };
     events.push(EventRecord {
-        kind: EventKind::Touchdown {
-            speed: -hit.normal_velocity.0,
-            surface,
-        },
+        kind: EventKind::Touchdown { speed, surface },
         t: *t,
     });
     *y = after;
-    let staying = if settles {
-        Staying::One(surface)
-    } else {
-        Staying::Neither
-    };
-    settle(
-        ctx,
-        Mode::Flight,
-        surface,
-        staying,
-        *t,
-        y,
-        &[strike.report(&hit)],
-        events,
-    )
+    settle(ctx, Mode::Flight, surface, staying, *t, y, &reports, events)
+}
+
+/// The surfaces other than `strike`'s and `joined` that touch the plane at the instant of
+/// its touchdown and approach it at `after` (a flight-form state at that instant) faster
+/// than their settling speed: at the located touchdown their gap g_k is within its
+/// round-off δz, or within what their approach v_k covers in the time resolution τ of
+/// the located event (`Numerics::time_resolution`),
+/// ```text
+///   g_k ≤ δz + τ max(0, −v_k),    v_k < −v_settle,k,
+/// ```
+/// where the integrator, which takes no zero within round-off of the start of a
+/// segment, would never see them touch down. Most approaching first.
+fn coinciding<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    strike: &Strike,
+    joined: &[Surface],
+    after: &State,
+) -> Vec<Surface> {
+    let body = &ctx.scene.body;
+    let tau = ctx.numerics.time_resolution(strike.t);
+    let mut near: Vec<(f64, Surface)> = body
+        .surfaces()
+        .filter(|s| *s != strike.surface && !joined.contains(s))
+        .filter_map(|s| {
+            let at = Kinematics::flying_at(body, s, &strike.pre);
+            let v = normal_velocity(body, s, after);
+            let settle = free_settling_speed(ctx, s, after);
+            let reach = ctx.numerics.gap_resolution(&at) + tau * (-v).max(0.0);
+            (at.gap <= reach && v < -settle).then_some((v, s))
+        })
+        .collect();
+    near.sort_by(|a, b| a.0.total_cmp(&b.0));
+    near.into_iter().map(|(_, s)| s).collect()
 }
 
 /// A surface at its touchdown: the flight-form state taken back to the surface's zero gap
 /// ([`back_to_contact`]) and the body there as the impact law sees it.
 struct Strike {
     surface: Surface,
+    /// The instant of the touchdown \[s\].
+    t: f64,
     /// The state at zero gap, before the impact (flight form).
     pre: State,
     kin: Kinematics,
@@ -984,6 +1054,7 @@ impl Strike {
         };
         Strike {
             surface,
+            t: *t,
             pre,
             kin,
             approach,
@@ -1359,14 +1430,16 @@ pub(super) fn touch<E>(
 }
 
 /// The state on the flight's trajectory through (t, y) where the gap of `surface` is
-/// zero: touchdown
-/// is located at gap = −δz (`phase::flight`), and an impact taken there, with the
-/// penetration then removed, would add 2 a δz to v_n² at every bounce (a: the gap's
-/// free deceleration) — enough to stall a Zeno sequence above the settling speed
+/// zero: touchdown is located at gap = −δz (`phase::flight`), and an impact taken there,
+/// with the penetration then removed, would add 2 a δz to v_n² at every bounce (a: the
+/// gap's free deceleration) — enough to stall a Zeno sequence above the settling speed
 /// whenever a e²/(1 − e²) > g (docs/physics.md, "Settling"). Newton's iteration on s,
-/// gap(t + s) = 0 with d gap/dt = v_n, that surface's lowest point's normal velocity, each y(t + s)
-/// one RK4 step of the flight system from (t, y); |s| ≈ δz/|v_n|, a few ns, and never more
-/// than 4√(2δz/g), the time a fall from rest takes through a few δz: a grazing touchdown
+/// gap(t + s) = 0 with d gap/dt = v_n, that surface's lowest point's normal velocity,
+/// each y(t + s) one RK4 step of the flight system from (t, y); s is kept in
+/// [−4√(2δz/g), 0]: the touchdown is never moved past the located event (from a grazing
+/// one, v_n ≈ −1e-18 m/s, a Newton step from the lower bound went 0.07 s forward, over
+/// samples already due), and never back further than a fall from rest takes through a
+/// few δz, |s| ≈ δz/|v_n| being a few ns otherwise: a grazing touchdown
 /// (v_n → 0, as when a body rocks between two surfaces) would otherwise send one RK4 step
 /// seconds back along the flight. Without gravity the fall is at the gap's free
 /// deceleration |a| ([`settling_speed`]'s), and where that is zero too there is no going
@@ -1407,7 +1480,7 @@ fn back_to_contact<E: Effect + Copy + 'static>(
         if gap == 0.0 || !(v_n < 0.0) {
             break;
         }
-        s = (s - gap / v_n).max(-most);
+        s = (s - gap / v_n).clamp(-most, 0.0);
         ys = rk4_step(&fly, t, y, s, &mut k);
     }
     (t + s, ys)
@@ -1421,6 +1494,18 @@ fn settling_speed<E: Effect + Copy + 'static>(
     kin: &Kinematics,
 ) -> f64 {
     ctx.numerics.settling_speed(free_deceleration(ctx, y), kin)
+}
+
+/// The settling speed of `surface` at the flight-form state `y` ([`settling_speed`] with
+/// `surface` as the one in contact).
+fn free_settling_speed<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    surface: Surface,
+    y: &State,
+) -> f64 {
+    on_surface(ctx, surface, || {
+        settling_speed(ctx, y, &Kinematics::flying_at(&ctx.scene.body, surface, y))
+    })
 }
 
 /// The deceleration of the gap of the surface in contact with no contact force at `y`,

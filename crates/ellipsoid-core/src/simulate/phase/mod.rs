@@ -107,6 +107,38 @@ fn closing<E>(ctx: &Context<'_, E>, ev: &Evaluation, surface: Surface) -> bool {
     v_n < -ctx.numerics.velocity_resolution(kin, lever.norm())
 }
 
+/// Multiple of the contact's angular acceleration at a segment's start taken as its bound
+/// along the segment ([`contact_gap_curvature`]).
+const CONTACT_TURN_MARGIN: f64 = 2.0;
+
+/// A bound of |g̈| for the gap g = h_c(ζ) − h_k(ζ) of surface `other` while the body
+/// touches the plane with c = `ev.kin.contact.surface` (docs/physics.md, "Flight"):
+/// |ḧ_c| + |ḧ_k| (`geometry::height_acceleration_bound`) for |ω| ≤ w with
+/// w² = 2(T + m g (z_G + L))/I_min, the energy at the segment's start above the lowest
+/// z_G = −L can reach (no contact law or effect adds energy), and |ω̇| ≤ I_max w²/I_min +
+/// [`CONTACT_TURN_MARGIN`] |ω̇| at the start: the contact's torque taken at twice its start
+/// value, an estimate the guard (`Context::below_plane`) backs.
+pub(super) fn contact_gap_curvature<E>(
+    ctx: &Context<'_, E>,
+    ev: &Evaluation,
+    other: Surface,
+) -> f64 {
+    let body = &ctx.scene.body;
+    let kin = &ev.kin;
+    let inertia = body.inertia();
+    let moments = inertia.symmetric_eigenvalues();
+    let (i_min, i_max) = (moments.min(), moments.max());
+    let m = body.mass();
+    let reach = ctx.numerics.size() + body.com_offset().norm();
+    let energy = 0.5 * m * kin.v_g.norm_squared()
+        + 0.5 * kin.omega.dot(&(inertia * kin.omega))
+        + m * ctx.scene.gravity * (kin.z_g() + reach);
+    let w = (2.0 * energy.max(0.0) / i_min).sqrt();
+    let w_dot = i_max * w * w / i_min + CONTACT_TURN_MARGIN * ev.response.omega_dot.norm();
+    geometry::height_acceleration_bound(body, kin.contact.surface, w, w_dot)
+        + geometry::height_acceleration_bound(body, other, w, w_dot)
+}
+
 /// An event function of a segment: one of its phase's watches (by its index in
 /// [`Phase::watches`]), an observable of the scene, or a section of the scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -150,6 +182,18 @@ pub(super) trait Phase {
     /// once (the integrator finds only the zeros it crosses after t0).
     fn gap_of<E>(_ctx: &Context<'_, E>, _watch: Self::Watch, _ev: &Evaluation) -> Option<Surface> {
         None
+    }
+    /// A bound of |d²/dt²| of `watch` over a segment that starts at the evaluation `ev`,
+    /// where the phase knows one (`integrate::Event::curvature`): its zeros are then found
+    /// however long the integrator's steps. A contact phase's gap of another surface k,
+    /// h_c(ζ) − h_k(ζ) (c the surface in contact): [`contact_gap_curvature`].
+    fn curvature<E: Effect>(
+        ctx: &Context<'_, E>,
+        watch: Self::Watch,
+        ev: &Evaluation,
+    ) -> Option<f64> {
+        let other = Self::gap_of(ctx, watch, ev)?;
+        Some(contact_gap_curvature(ctx, ev, other))
     }
     /// What the event of `watch` at (t, y) leads to (`transition`); may change `y` (the
     /// state map at the switch) and `t` (a touchdown taken back to gap = 0), and records

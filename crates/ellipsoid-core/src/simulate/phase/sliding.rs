@@ -274,6 +274,7 @@ fn stop_when_falling(g: EventFn<'_, { state::DIM }>) -> Event<'_, { state::DIM }
         g,
         direction: Direction::Falling,
         action: Action::Stop,
+        curvature: None,
     }
 }
 
