@@ -1,38 +1,39 @@
 //! The hybrid system's transitions, written once (docs/physics.md, "The hybrid
 //! machine"): from a phase, on an event, under a condition, to a phase, with the state
 //! map. The phases (`phase`) locate their events; everything that decides between phases
-//! is here.
+//! is here. The table is docs/physics.md's, row for row (each row's physics is there;
+//! `the_transition_table_here_is_the_one_in_docs_physics_md`, tests/transitions.rs):
 //!
 //! | from | event | condition | to | state map |
 //! |---|---|---|---|---|
-//! | start | on the plane | [`on_plane`] | its phase, or stop `slip_stopped` | s_ref ← ŝ; rolling: v_G ← −ω × r |
-//! | start | above the plane | | flight | z_G = h(ζ) + height |
-//! | flight | touchdown (gap ↓ −δz) | rebound > v_settle | flight | back to gap = 0, impact, loss in W |
-//! | flight | touchdown | rebound ≤ v_settle, N > 0 there | [`on_plane`] | back to gap = 0, plastic impact, z_G and v_Gz from the contact |
+//! | start | on the plane | the rule "on the plane" (`on_plane`) | its phase, or stop `slip_stopped` | s_ref ← ŝ; rolling: v_G ← −ω × r |
+//! | start | above the plane (`height` > 0) | | flight | z_G = h(ζ) + height |
+//! | flight | touchdown: gap ↓ −δz | rebound > v_settle | flight | back to gap = 0; impact; loss in W |
+//! | flight | touchdown | rebound ≤ v_settle, N > 0 on the plane | the rule "on the plane" | back to gap = 0; plastic impact; z_G, v_Gz from the contact, their kinetic energy in W |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
-//! | flight | touchdown | another surface touches at the same instant and approaches after the impact ([`coinciding`]) | by who stays after the impact at them all, as after a pressed surface's approach (below); no solution → stop `several_contacts` | back to gap = 0; impact at every such surface (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the new one's impact | as a touchdown | flight form, impact at the new surface |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0 once the grip is settled ([`settle_grip`]: Coulomb, a slip within the slip stop sticks; rolling model, both stick; otherwise both slipping above it); else the first consistent of the pressed one, the new one, none ([`active_set`]) | two contacts (or as the set) | plastic impact at the new surface; contact form; second constraint restored and sticking impulses, their energy change in W |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | [`on_plane`] for the pressed surface | impact at the new surface; contact form |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle), or a further surface touches at the same instant ([`coinciding`]), or the two rock (each one's rebound within its settling speed on the other) and their impact has a solution | by who stays: all → two (three) contacts, one → [`on_plane`] for it, none → flight | impact at both contacts (`impact::resolve_contacts`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
-//! | any contact | another surface's gap ↓ −δz | otherwise (no pair solution; no consistent set of the two) | stop `several_contacts` | |
-//! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
-//! | two or three contacts | a slip ↓ its stop ([`above_stop`]; a disc's: slip and spin) | sliding model, contact disc | stop `slip_stopped` | |
+//! | flight | touchdown | another surface touches at the same instant and approaches after the impact ("Simultaneous touchdowns", `coinciding`) | by who stays after the impact at them all, as in the row of a pressed surface that approaches; no solution → stop `several_contacts` | back to gap = 0; impact at every such surface ("Impact at several contacts", `impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an `impact` event per surface |
+//! | any contact | another surface's gap ↓ −δz (contact spheres) | the pressed surface separates after the new one's impact | as a touchdown of the new surface | flight form; impact at the new surface |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one ("Settling at a second surface"), both N > 0 once the grip is settled (`settle_grip`; Coulomb model: a slip within the slip stop sticks; rolling model: both stick; otherwise both slipping above it); else the first consistent of the pressed one, the new one, none ("Which contacts stay", `active_set`) | two contacts (or as the set) | plastic impact at the new surface; contact form; the second constraint restored and sticking impulses, their energy change in W |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | the rule "on the plane" for the pressed surface | impact at the new surface; contact form |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle), or a further surface touches at the same instant ("Simultaneous touchdowns", `coinciding`), or the two rock (each one's rebound within its settling speed on the other) and their impact has a solution | by who stays: all → two (three) contacts, one → the rule "on the plane" for it, none → flight | impact at both contacts ("Impact at several contacts", `impact::resolve_contacts`; the rolling model: its no-slip law), plastic where both stay and one rebounds; loss in W, an `impact` event per surface with its share |
+//! | any contact | another surface's gap ↓ −δz | otherwise (the pair impact has no solution; no consistent set of the two) | stop `several_contacts` | |
+//! | two contacts | N_1 or N_2 ↓ 0 | | the rule "on the plane" for the other surface, or lift-off | |
+//! | two or three contacts | a slip ↓ its stop (`above_stop`; with a contact disc: slip and spin together) | the sliding model, a contact disc | stop `slip_stopped`, as on one contact | a `slip_stop` event |
 //! | two or three contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
-//! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
-//! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
+//! | sliding | slip stop: v_C·s_ref ↓ 0 or \|v_C\| ↓ floor | confirmed | the rule "on the plane" (stuck) | sticking impulse (model 4) |
+//! | sliding | slip stop | not confirmed: a turn | sliding | s_ref ← ŝ |
 //! | sliding | Painlevé denominator ↓ 10⁻³ (N → ∞ beyond) | | stop `painleve` | |
-//! | rolling | cone left (μN − \|F_h\| ↓ 0) | | sliding | s_ref ← −F̂_h, seed slip |
+//! | rolling | cone left: μN − \|F_h\| ↓ 0 (Coulomb) | | sliding | s_ref ← −F̂_h, seed slip in W |
 //! | any contact | N ↓ 0 | `on_lift_off = "stop"` | stop `lost_contact` | |
-//! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact |
+//! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact: continuous |
 //! | any contact | N ↓ 0 | flight inconsistent | stop `inconsistent_contact` | |
-//! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|) (`SlidingPhase::on_failure`) | [`on_plane`] | sticking impulse, at the last accepted state |
-//! | two or three contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | Coulomb model, point contacts | the same contacts, that one sticking ([`grip`]; where it cannot stick alone, with those whose slip is within a release's seed) | sticking impulses, energy in W; every hold checked |
-//! | two or three contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | the same contacts, that one (the line's: both) sliding ([`release`]) | seed slip of twice the stop, its energy in W |
-//! | two contacts | a third surface's gap ↓ −δz | | by who stays after the impact at the three contacts, at rest together ([`rest_on`]), then the first consistent set of them ([`active_set`]): three → three contacts ([`onto_contacts`]), two → two contacts, one → [`on_plane`], none → flight; no solution, no consistent set → stop `several_contacts` | flight form, back to its zero gap; impact at the three contacts (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
-//! | three contacts | N_i ↓ 0 | | two contacts, the other two ([`go_on`]) | |
-//! | three contacts | a fourth surface's gap ↓ −δz | | stop `several_contacts` | |
+//! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|): a slip held at the cone's edge ("The slip stop, numerically"; `SlidingPhase::on_failure`) | the rule "on the plane" (stuck) | sticking impulse, at the last accepted state |
+//! | two or three contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | the Coulomb model, point contacts | the same contacts, that one sticking ("Several contacts": which contacts stick, `grip`; where it cannot stick alone, with those whose slip is within a release's seed) | sticking impulses, their energy in W; every hold checked; a `grip` event |
+//! | two or three contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | the same contacts, that one (for the line: both) sliding (`release`) | a seed of slip of twice the stop, its energy in W; a `grip` event |
+//! | two contacts | a third surface's gap ↓ −δz | | by who stays after the impact at the three contacts, at rest together (`rest_on`), then the first consistent set of them ("Which contacts stay", `active_set`): three → three contacts (`onto_contacts`), two → two contacts, one → the rule "on the plane" for it, none → flight; no solution, or no consistent set → stop `several_contacts` | flight form, back to its zero gap; impact at the three contacts ("Impact at several contacts", `impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an `impact` event per surface |
+//! | three contacts | N_i ↓ 0 | | two contacts, the other two (`go_on`) | |
+//! | three contacts | a fourth surface's gap ↓ −δz | | stop `several_contacts` (four contacts are not simulated) | |
 //!
 //! Flight is consistent where the gap's acceleration with no contact force is not into
 //! the plane ([`flight_is_consistent`]).
