@@ -50,7 +50,7 @@ use crate::kinematics::Kinematics;
 use crate::model::{Contacts, Hold, MOST_CONTACTS, Rolling, Sliding, System};
 use crate::state::{self, State};
 
-use super::context::Context;
+use super::context::{ContactSet, Context};
 use super::numerics::{
     BACK_STEPS, GAP_ACCEL_ROUNDOFF, PAINLEVE_COLLAPSE, RELEASE_SEED_STOPS, SECOND_GAP_RISE,
     SLIP_SEED,
@@ -327,7 +327,7 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let body = &ctx.scene.body;
-    let pressed = ctx.surface.get();
+    let pressed = ctx.surface();
     let (t0, y0, before) = (*t, *y, events.len());
     to_flight(ctx, from, y);
     let strike = Strike::new(ctx, touching, t, y);
@@ -403,7 +403,7 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     match next {
         Some(Next::Stop(Status::SeveralContacts { .. }, _)) | None => {
             events.truncate(before);
-            ctx.surface.set(pressed);
+            ctx.set_surface(pressed);
             (*t, *y) = (t0, y0);
             Next::Stop(
                 Status::SeveralContacts {
@@ -514,7 +514,7 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
     let body = &ctx.scene.body;
     let pressed = touching(ctx);
     let (t0, y0, before) = (*t, *y, events.len());
-    let (others, sticks) = (ctx.others.get(), ctx.sticks.get());
+    let saved = ctx.contacts.get();
     to_flight(ctx, Mode::TwoContacts, y);
     let strike = Strike::new(ctx, surface, t, y);
     let law = tangential(ctx.scene.contact);
@@ -547,10 +547,7 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
     match next {
         Some(Next::Stop(Status::SeveralContacts { .. }, _)) | None => {
             events.truncate(before);
-            ctx.surface.set(pressed[0]);
-            ctx.others.set(others);
-            ctx.count.set(2);
-            ctx.sticks.set(sticks);
+            ctx.contacts.set(saved);
             (*t, *y) = (t0, y0);
             Next::Stop(
                 Status::SeveralContacts {
@@ -611,9 +608,9 @@ fn gap_deceleration<E: Effect + Copy + 'static>(
 /// `f` evaluated with `surface` as the surface in contact (`Context::surface` restored
 /// after).
 fn on_surface<E, R>(ctx: &Context<'_, E>, surface: Surface, f: impl FnOnce() -> R) -> R {
-    let was = ctx.surface.replace(surface);
+    let was = ctx.set_surface(surface);
     let r = f();
-    ctx.surface.set(was);
+    ctx.set_surface(was);
     r
 }
 
@@ -626,7 +623,7 @@ fn normal_velocity(body: &Body, surface: Surface, y: &State) -> f64 {
 
 /// The several-contact system of the surfaces in contact (`Context::count` of them).
 fn contacts<E: Copy>(ctx: &Context<'_, E>) -> System<Contacts, E> {
-    match ctx.count.get() {
+    match ctx.count() {
         2 => ctx.system::<ContactsPhase<2>>(),
         _ => ctx.system::<ContactsPhase<3>>(),
     }
@@ -655,9 +652,9 @@ fn onto_contacts<E: Effect + Copy + 'static>(
     };
     settle_grip(ctx, sticks, &mut y);
     let r = contacts(ctx).evaluate(&y).response;
-    let pressed = (0..ctx.count.get()).all(|i| normal(&r, i) > 0.0);
+    let pressed = (0..ctx.count()).all(|i| normal(&r, i) > 0.0);
     (pressed && r.painleve > PAINLEVE_COLLAPSE)
-        .then_some((y, Placed::In(contacts_mode(ctx.count.get()))))
+        .then_some((y, Placed::In(contacts_mode(ctx.count()))))
 }
 
 /// The contact-form state `y` on the surfaces in contact with their constraints restored
@@ -666,7 +663,7 @@ fn onto_contacts<E: Effect + Copy + 'static>(
 /// resolution and the settling speed): the energy it takes is booked in W, as a
 /// persistent landing books its rebound's, so that E + W stays exact.
 fn restore_contacts<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut State) {
-    ctx.sticks.set([false; MOST_CONTACTS]);
+    ctx.set_sticks([false; MOST_CONTACTS]);
     let sys = contacts(ctx);
     let energy = |y: &State| {
         Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
@@ -681,7 +678,7 @@ fn restore_contacts<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut St
 fn stopped<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> [bool; MOST_CONTACTS] {
     let sys = contacts(ctx);
     let each = sys.contact.each(&sys.body, &sys.evaluate(y).kin);
-    std::array::from_fn(|i| i < ctx.count.get() && above_stop(ctx, &each[i]) <= 0.0)
+    std::array::from_fn(|i| i < ctx.count() && above_stop(ctx, &each[i]) <= 0.0)
 }
 
 /// The grip of the contacts at `y`, from `sticks` on: in the Coulomb model (point
@@ -697,14 +694,14 @@ fn settle_grip<E: Effect + Copy + 'static>(
     mut sticks: [bool; MOST_CONTACTS],
     y: &mut State,
 ) {
-    let count = ctx.count.get();
+    let count = ctx.count();
     // Sticking one contact changes the others' slips: they are checked again after.
     for _ in 0..count {
         if grips(ctx) {
             let stopped = stopped(ctx, y);
             sticks = std::array::from_fn(|i| sticks[i] || stopped[i]);
         }
-        ctx.sticks.set(sticks);
+        ctx.set_sticks(sticks);
         if sticks[..count].contains(&true) {
             let sys = contacts(ctx);
             sys.contact
@@ -753,7 +750,7 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
         }
     };
     let line = forces.line;
-    let mut sticks = ctx.sticks.get();
+    let mut sticks = ctx.sticks();
     let mut seed = [Vector2::zeros(); MOST_CONTACTS];
     match hold {
         Hold::Contact(i) => {
@@ -773,7 +770,7 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
         }
     }
     sys.contact.impel(&sys.body, y, seed);
-    ctx.sticks.set(sticks);
+    ctx.set_sticks(sticks);
 }
 
 /// The slip a contact with kinematics `kin` is released with on several contacts
@@ -798,19 +795,19 @@ pub(super) fn grip<E: Effect + Copy + 'static>(
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let before = ctx.sticks.get();
+    let before = ctx.sticks();
     let start = *y;
     let with_near = {
         let sys = contacts(ctx);
         let each = sys.contact.each(&sys.body, &sys.evaluate(y).kin);
         std::array::from_fn(|i| {
-            sticks[i] || (i < ctx.count.get() && each[i].slip.norm() <= seed_size(ctx, &each[i]))
+            sticks[i] || (i < ctx.count() && each[i].slip.norm() <= seed_size(ctx, &each[i]))
         })
     };
     settle_grip(ctx, sticks, y);
-    if ctx.sticks.get() == before && with_near != sticks {
+    if ctx.sticks() == before && with_near != sticks {
         *y = start;
-        ctx.sticks.set(before);
+        ctx.set_sticks(before);
         settle_grip(ctx, with_near, y);
     }
     record_grip(ctx, before, t, events);
@@ -827,9 +824,9 @@ pub(super) fn release<E: Effect + Copy + 'static>(
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let before = ctx.sticks.get();
+    let before = ctx.sticks();
     release_hold(ctx, hold, y);
-    settle_grip(ctx, ctx.sticks.get(), y);
+    settle_grip(ctx, ctx.sticks(), y);
     record_grip(ctx, before, t, events);
     go_on(ctx, t, y, events)
 }
@@ -842,7 +839,7 @@ fn record_grip<E>(
     events: &mut Vec<EventRecord>,
 ) {
     let surfaces = touching(ctx);
-    let now = ctx.sticks.get();
+    let now = ctx.sticks();
     for i in (0..surfaces.len()).filter(|&i| now[i] != before[i]) {
         events.push(EventRecord {
             kind: EventKind::Grip {
@@ -863,7 +860,7 @@ fn go_on<E: Effect + Copy + 'static>(
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let r = contacts(ctx).evaluate(y).response;
-    let count = ctx.count.get();
+    let count = ctx.count();
     let least = (0..count)
         .map(|i| (i, normal(&r, i)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
@@ -885,10 +882,10 @@ pub(super) fn leave<E: Effect + Copy + 'static>(
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let count = ctx.count.get();
+    let count = ctx.count();
     let from = contacts_mode(count);
     let mut surfaces = touching(ctx);
-    let mut sticks = ctx.sticks.get()[..count].to_vec();
+    let mut sticks = ctx.sticks()[..count].to_vec();
     surfaces.remove(i);
     sticks.remove(i);
     if i == 0 {
@@ -896,7 +893,7 @@ pub(super) fn leave<E: Effect + Copy + 'static>(
     }
     if count > 2 {
         set_contacts(ctx, &surfaces);
-        ctx.sticks.set(std::array::from_fn(|k| {
+        ctx.set_sticks(std::array::from_fn(|k| {
             sticks.get(k).copied().unwrap_or(false)
         }));
         switch(events, t, from, contacts_mode(count - 1));
@@ -943,7 +940,7 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let body = &ctx.scene.body;
-    let (t0, y0, was) = (*t, *y, ctx.surface.get());
+    let (t0, y0, was) = (*t, *y, ctx.surface());
     let strike = Strike::new(ctx, surface, t, y);
     touch(ctx, surface, *t, events);
     let law = tangential(ctx.scene.contact);
@@ -965,7 +962,7 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         let with = &coincide[..coincide.len().min(MOST_CONTACTS - 1)];
         let Some(outcome) = contacts_touchdown(ctx, &strike, with, law, settles) else {
             events.truncate(events.len() - usize::from(was != surface));
-            ctx.surface.set(was);
+            ctx.set_surface(was);
             (*t, *y) = (t0, y0);
             return Next::Stop(
                 Status::SeveralContacts {
@@ -1299,31 +1296,24 @@ fn rest_on<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, surfaces: &[Surface
     })
 }
 
-/// `f` evaluated with the surfaces in contact and their grip (`Context::surface`,
-/// `others`, `count`, `sticks`) restored after.
+/// `f` evaluated with the run's contact state (`Context::contacts`: the surfaces in
+/// contact and their grip) restored after.
 fn keeping<E, R>(ctx: &Context<'_, E>, f: impl FnOnce() -> R) -> R {
-    let saved = (
-        ctx.surface.get(),
-        ctx.others.get(),
-        ctx.count.get(),
-        ctx.sticks.get(),
-    );
+    let saved = ctx.contacts.get();
     let r = f();
-    ctx.surface.set(saved.0);
-    ctx.others.set(saved.1);
-    ctx.count.set(saved.2);
-    ctx.sticks.set(saved.3);
+    ctx.contacts.set(saved);
     r
 }
 
 /// Makes `surfaces` (the first the one whose geometry the several-contact phase takes)
 /// the surfaces in contact, without recording the change ([`touch`] records it).
 fn set_contacts<E>(ctx: &Context<'_, E>, surfaces: &[Surface]) {
-    ctx.surface.set(surfaces[0]);
-    ctx.others.set(std::array::from_fn(|k| {
-        surfaces.get(k + 1).copied().unwrap_or(surfaces[0])
-    }));
-    ctx.count.set(surfaces.len());
+    ctx.contacts.set(ContactSet {
+        surface: surfaces[0],
+        others: std::array::from_fn(|k| surfaces.get(k + 1).copied().unwrap_or(surfaces[0])),
+        count: surfaces.len(),
+        ..ctx.contacts.get()
+    });
 }
 
 /// The surfaces in contact after an impact that leaves `staying` (two or three, the
@@ -1384,7 +1374,7 @@ fn consistent<E: Effect + Copy + 'static>(
             .all(|&j| gap_deceleration(ctx, mode, j, on) <= gap_accel_roundoff(ctx, &kin, 0.0))
     };
     let contact_form = |surface: Surface| {
-        ctx.surface.set(surface);
+        ctx.set_surface(surface);
         let mut on = *y;
         clear_flight_slots(ctx, &mut on);
         on
@@ -1421,7 +1411,7 @@ pub(super) fn touch<E>(
     t: f64,
     events: &mut Vec<EventRecord>,
 ) {
-    let from = ctx.surface.replace(surface);
+    let from = ctx.set_surface(surface);
     if from != surface {
         events.push(EventRecord {
             kind: EventKind::ContactSurface { from, to: surface },
