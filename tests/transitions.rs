@@ -674,6 +674,34 @@ fn check_row(row: &Row) {
     }
 }
 
+/// The rows of a markdown table: the lines starting with `|` from the one starting with
+/// `header` on, in `text`, with `prefix` removed from each line first.
+fn table_rows(text: &str, prefix: &str, header: &str) -> Vec<String> {
+    (text.lines())
+        .filter_map(|l| l.strip_prefix(prefix))
+        .skip_while(|l| !l.starts_with(header))
+        .take_while(|l| l.starts_with('|'))
+        .map(str::to_owned)
+        .collect()
+}
+
+/// transition.rs's table and docs/physics.md's ("The hybrid machine") are one table: the
+/// same rows, word for word.
+#[test]
+fn the_transition_table_here_is_the_one_in_docs_physics_md() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let read = |p: &str| std::fs::read_to_string(root.join(p)).unwrap();
+    let module = table_rows(&read("src/simulate/transition.rs"), "//! ", "| from |");
+    let physics = read("../../docs/physics.md");
+    let section = &physics[physics.find("## The hybrid machine").unwrap()..];
+    let docs = table_rows(section, "", "| from |");
+    assert!(module.len() > 20, "{} rows in transition.rs", module.len());
+    for (k, (m, d)) in module.iter().zip(&docs).enumerate() {
+        assert_eq!(m, d, "row {k} (0: the header) differs");
+    }
+    assert_eq!(module.len(), docs.len(), "row counts differ");
+}
+
 /// Every row of transition.rs's table has a case here or an entry in [`ROWS_ELSEWHERE`].
 #[test]
 fn every_row_of_the_table_is_tested() {

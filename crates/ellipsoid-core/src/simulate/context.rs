@@ -25,23 +25,67 @@ pub(super) struct Context<'s, E> {
     pub(super) effects: E,
     /// Set by another thread to stop the run at its next step.
     pub(super) cancel: Option<Arc<AtomicBool>>,
+    /// The run's contact state: which surfaces touch the plane, which stick. Changed only
+    /// by the transitions.
+    pub(super) contacts: Cell<ContactSet>,
+}
+
+/// The run's contact state (docs/physics.md, "The hybrid machine"): the surfaces that
+/// touch the plane and which of them stick. One value, so that a trial evaluation saves
+/// and restores it whole (`transition::keeping`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct ContactSet {
     /// The body's surface in contact with the plane (the last one that touched it while
-    /// in flight): the contact phases' geometry is this surface's. Changed only by the
-    /// transitions (`transition::touch`).
-    pub(super) surface: Cell<Surface>,
+    /// in flight): the contact phases' geometry is this surface's.
+    pub(super) surface: Surface,
     /// The other surfaces in contact in the several-contact phases (`phase::contacts`),
     /// in order: the first `count − 1`.
-    pub(super) others: Cell<[Surface; MOST_CONTACTS - 1]>,
+    pub(super) others: [Surface; MOST_CONTACTS - 1],
     /// How many surfaces are in contact in the several-contact phases (2 or 3).
-    pub(super) count: Cell<usize>,
+    pub(super) count: usize,
     /// Which contacts stick in the several-contact phases (`surface`, then `others`).
-    pub(super) sticks: Cell<[bool; MOST_CONTACTS]>,
+    pub(super) sticks: [bool; MOST_CONTACTS],
 }
 
 impl<E> Context<'_, E> {
     /// The body, its geometry that of the surface in contact.
     pub(super) fn body(&self) -> Body {
-        self.scene.body.touching(self.surface.get())
+        self.scene.body.touching(self.surface())
+    }
+
+    /// The surface in contact ([`ContactSet::surface`]).
+    pub(super) fn surface(&self) -> Surface {
+        self.contacts.get().surface
+    }
+
+    /// The other surfaces in contact in the several-contact phases ([`ContactSet::others`]).
+    pub(super) fn others(&self) -> [Surface; MOST_CONTACTS - 1] {
+        self.contacts.get().others
+    }
+
+    /// How many surfaces are in contact in the several-contact phases.
+    pub(super) fn count(&self) -> usize {
+        self.contacts.get().count
+    }
+
+    /// Which contacts stick in the several-contact phases.
+    pub(super) fn sticks(&self) -> [bool; MOST_CONTACTS] {
+        self.contacts.get().sticks
+    }
+
+    /// Makes `surface` the one in contact; returns the one before.
+    pub(super) fn set_surface(&self, surface: Surface) -> Surface {
+        let mut c = self.contacts.get();
+        let was = std::mem::replace(&mut c.surface, surface);
+        self.contacts.set(c);
+        was
+    }
+
+    /// Sets which contacts stick.
+    pub(super) fn set_sticks(&self, sticks: [bool; MOST_CONTACTS]) {
+        let mut c = self.contacts.get();
+        c.sticks = sticks;
+        self.contacts.set(c);
     }
 }
 
@@ -52,10 +96,12 @@ impl<'s, E: Copy> Context<'s, E> {
             numerics: Numerics::new(scene),
             effects,
             cancel,
-            surface: Cell::new(Surface::Ellipsoid),
-            others: Cell::new([Surface::Ellipsoid; MOST_CONTACTS - 1]),
-            count: Cell::new(2),
-            sticks: Cell::new([false; MOST_CONTACTS]),
+            contacts: Cell::new(ContactSet {
+                surface: Surface::Ellipsoid,
+                others: [Surface::Ellipsoid; MOST_CONTACTS - 1],
+                count: 2,
+                sticks: [false; MOST_CONTACTS],
+            }),
         }
     }
 
@@ -88,16 +134,13 @@ impl<'s, E: Copy> Context<'s, E> {
         let others = ev.response.other_normals;
         let count = match mode {
             Mode::Flight => 0,
-            Mode::TwoContacts | Mode::ThreeContacts => self.count.get(),
+            Mode::TwoContacts | Mode::ThreeContacts => self.count(),
             _ => 1,
         };
         let touching = std::array::from_fn(|i| match i {
             _ if i >= count => None,
-            0 => Some((
-                self.surface.get(),
-                normal_force - others.iter().sum::<f64>(),
-            )),
-            _ => Some((self.others.get()[i - 1], others[i - 1])),
+            0 => Some((self.surface(), normal_force - others.iter().sum::<f64>())),
+            _ => Some((self.others()[i - 1], others[i - 1])),
         });
         let sample = Sample {
             t,

@@ -190,10 +190,9 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         match mode {
             Mode::Flight => false,
             Mode::TwoContacts | Mode::ThreeContacts => {
-                surface == self.surface.get()
-                    || self.others.get()[..self.count.get() - 1].contains(&surface)
+                surface == self.surface() || self.others()[..self.count() - 1].contains(&surface)
             }
-            _ => surface == self.surface.get(),
+            _ => surface == self.surface(),
         }
     }
 
@@ -221,7 +220,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
 
     /// [`Status::BelowPlane`] of the deepest surface not in contact at `kin`.
     fn deepest_status(&self, mode: Mode, kin: &Kinematics) -> Status {
-        let (surface, gap) = self.deepest(mode, kin).unwrap_or((self.surface.get(), 0.0));
+        let (surface, gap) = self.deepest(mode, kin).unwrap_or((self.surface(), 0.0));
         Status::BelowPlane { surface, gap }
     }
 

@@ -54,7 +54,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         };
         // The surface that touches (or is nearest to) the plane: the lowest.
         let lowest = Kinematics::flying(&scene.body, &y).contact;
-        self.surface.set(lowest.surface);
+        self.set_surface(lowest.surface);
         if flying {
             y[state::HEIGHT] = lowest.height + init.height;
             y[state::VEL_Z] = init.velocity_z.unwrap_or(0.0);

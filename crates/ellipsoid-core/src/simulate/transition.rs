@@ -1,38 +1,39 @@
 //! The hybrid system's transitions, written once (docs/physics.md, "The hybrid
 //! machine"): from a phase, on an event, under a condition, to a phase, with the state
 //! map. The phases (`phase`) locate their events; everything that decides between phases
-//! is here.
+//! is here. The table is docs/physics.md's, row for row (each row's physics is there;
+//! `the_transition_table_here_is_the_one_in_docs_physics_md`, tests/transitions.rs):
 //!
 //! | from | event | condition | to | state map |
 //! |---|---|---|---|---|
-//! | start | on the plane | [`on_plane`] | its phase, or stop `slip_stopped` | s_ref ← ŝ; rolling: v_G ← −ω × r |
-//! | start | above the plane | | flight | z_G = h(ζ) + height |
-//! | flight | touchdown (gap ↓ −δz) | rebound > v_settle | flight | back to gap = 0, impact, loss in W |
-//! | flight | touchdown | rebound ≤ v_settle, N > 0 there | [`on_plane`] | back to gap = 0, plastic impact, z_G and v_Gz from the contact |
+//! | start | on the plane | the rule "on the plane" (`on_plane`) | its phase, or stop `slip_stopped` | s_ref ← ŝ; rolling: v_G ← −ω × r |
+//! | start | above the plane (`height` > 0) | | flight | z_G = h(ζ) + height |
+//! | flight | touchdown: gap ↓ −δz | rebound > v_settle | flight | back to gap = 0; impact; loss in W |
+//! | flight | touchdown | rebound ≤ v_settle, N > 0 on the plane | the rule "on the plane" | back to gap = 0; plastic impact; z_G, v_Gz from the contact, their kinetic energy in W |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight consistent | flight | the plastic impact |
 //! | flight | touchdown | rebound ≤ v_settle, N ≤ 0, flight inconsistent | stop `inconsistent_contact` | |
-//! | flight | touchdown | another surface touches at the same instant and approaches after the impact ([`coinciding`]) | by who stays after the impact at them all, as after a pressed surface's approach (below); no solution → stop `several_contacts` | back to gap = 0; impact at every such surface (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface separates after the new one's impact | as a touchdown | flight form, impact at the new surface |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one, both N > 0 once the grip is settled ([`settle_grip`]: Coulomb, a slip within the slip stop sticks; rolling model, both stick; otherwise both slipping above it); else the first consistent of the pressed one, the new one, none ([`active_set`]) | two contacts (or as the set) | plastic impact at the new surface; contact form; second constraint restored and sticking impulses, their energy change in W |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | [`on_plane`] for the pressed surface | impact at the new surface; contact form |
-//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle), or a further surface touches at the same instant ([`coinciding`]), or the two rock (each one's rebound within its settling speed on the other) and their impact has a solution | by who stays: all → two (three) contacts, one → [`on_plane`] for it, none → flight | impact at both contacts (`impact::resolve_contacts`; rolling: its no-slip law), plastic where both stay and one rebounds; loss in W, an impact event per surface |
-//! | any contact | another surface's gap ↓ −δz | otherwise (no pair solution; no consistent set of the two) | stop `several_contacts` | |
-//! | two contacts | N_1 or N_2 ↓ 0 | | [`on_plane`] for the other, or lift-off | |
-//! | two or three contacts | a slip ↓ its stop ([`above_stop`]; a disc's: slip and spin) | sliding model, contact disc | stop `slip_stopped` | |
+//! | flight | touchdown | another surface touches at the same instant and approaches after the impact ("Simultaneous touchdowns", `coinciding`) | by who stays after the impact at them all, as in the row of a pressed surface that approaches; no solution → stop `several_contacts` | back to gap = 0; impact at every such surface ("Impact at several contacts", `impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an `impact` event per surface |
+//! | any contact | another surface's gap ↓ −δz (contact spheres) | the pressed surface separates after the new one's impact | as a touchdown of the new surface | flight form; impact at the new surface |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays (\|v_k⁺\| ≤ v_settle), the new one's rebound ≤ its settling speed on the pressed one ("Settling at a second surface"), both N > 0 once the grip is settled (`settle_grip`; Coulomb model: a slip within the slip stop sticks; rolling model: both stick; otherwise both slipping above it); else the first consistent of the pressed one, the new one, none ("Which contacts stay", `active_set`) | two contacts (or as the set) | plastic impact at the new surface; contact form; the second constraint restored and sticking impulses, their energy change in W |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface stays, the new one rebounds | the rule "on the plane" for the pressed surface | impact at the new surface; contact form |
+//! | any contact | another surface's gap ↓ −δz | the pressed surface approaches (v_k⁺ < −v_settle), or a further surface touches at the same instant ("Simultaneous touchdowns", `coinciding`), or the two rock (each one's rebound within its settling speed on the other) and their impact has a solution | by who stays: all → two (three) contacts, one → the rule "on the plane" for it, none → flight | impact at both contacts ("Impact at several contacts", `impact::resolve_contacts`; the rolling model: its no-slip law), plastic where both stay and one rebounds; loss in W, an `impact` event per surface with its share |
+//! | any contact | another surface's gap ↓ −δz | otherwise (the pair impact has no solution; no consistent set of the two) | stop `several_contacts` | |
+//! | two contacts | N_1 or N_2 ↓ 0 | | the rule "on the plane" for the other surface, or lift-off | |
+//! | two or three contacts | a slip ↓ its stop (`above_stop`; with a contact disc: slip and spin together) | the sliding model, a contact disc | stop `slip_stopped`, as on one contact | a `slip_stop` event |
 //! | two or three contacts | Painlevé denominator ↓ 10⁻³ | | stop `painleve` | |
-//! | sliding | slip stop (v_C·s_ref ↓ 0, or \|v_C\| ↓ floor), confirmed | | [`on_plane`] | sticking impulse |
-//! | sliding | slip stop, not confirmed (a turn) | | sliding | s_ref ← ŝ |
+//! | sliding | slip stop: v_C·s_ref ↓ 0 or \|v_C\| ↓ floor | confirmed | the rule "on the plane" (stuck) | sticking impulse (model 4) |
+//! | sliding | slip stop | not confirmed: a turn | sliding | s_ref ← ŝ |
 //! | sliding | Painlevé denominator ↓ 10⁻³ (N → ∞ beyond) | | stop `painleve` | |
-//! | rolling | cone left (μN − \|F_h\| ↓ 0) | | sliding | s_ref ← −F̂_h, seed slip |
+//! | rolling | cone left: μN − \|F_h\| ↓ 0 (Coulomb) | | sliding | s_ref ← −F̂_h, seed slip in W |
 //! | any contact | N ↓ 0 | `on_lift_off = "stop"` | stop `lost_contact` | |
-//! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact |
+//! | any contact | N ↓ 0 | flight consistent | flight | z_G, v_Gz (rolling: v_G) from the contact: continuous |
 //! | any contact | N ↓ 0 | flight inconsistent | stop `inconsistent_contact` | |
-//! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|) (`SlidingPhase::on_failure`) | [`on_plane`] | sticking impulse, at the last accepted state |
-//! | two or three contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | Coulomb model, point contacts | the same contacts, that one sticking ([`grip`]; where it cannot stick alone, with those whose slip is within a release's seed) | sticking impulses, energy in W; every hold checked |
-//! | two or three contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | the same contacts, that one (the line's: both) sliding ([`release`]) | seed slip of twice the stop, its energy in W |
-//! | two contacts | a third surface's gap ↓ −δz | | by who stays after the impact at the three contacts, at rest together ([`rest_on`]), then the first consistent set of them ([`active_set`]): three → three contacts ([`onto_contacts`]), two → two contacts, one → [`on_plane`], none → flight; no solution, no consistent set → stop `several_contacts` | flight form, back to its zero gap; impact at the three contacts (`impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an impact event per surface |
-//! | three contacts | N_i ↓ 0 | | two contacts, the other two ([`go_on`]) | |
-//! | three contacts | a fourth surface's gap ↓ −δz | | stop `several_contacts` | |
+//! | sliding | the integrator's pace check fails (`FastRate`) | point contact, fastest rate ≤ 30 μN/(m\|v_C\|): a slip held at the cone's edge ("The slip stop, numerically"; `SlidingPhase::on_failure`) | the rule "on the plane" (stuck) | sticking impulse, at the last accepted state |
+//! | two or three contacts | a slip ↓ the slip stop (`Numerics::two_contact_stop`) | the Coulomb model, point contacts | the same contacts, that one sticking ("Several contacts": which contacts stick, `grip`; where it cannot stick alone, with those whose slip is within a release's seed) | sticking impulses, their energy in W; every hold checked; a `grip` event |
+//! | two or three contacts | a hold's margin ↓ 0 (`model::Hold`; Coulomb) | | the same contacts, that one (for the line: both) sliding (`release`) | a seed of slip of twice the stop, its energy in W; a `grip` event |
+//! | two contacts | a third surface's gap ↓ −δz | | by who stays after the impact at the three contacts, at rest together (`rest_on`), then the first consistent set of them ("Which contacts stay", `active_set`): three → three contacts (`onto_contacts`), two → two contacts, one → the rule "on the plane" for it, none → flight; no solution, or no consistent set → stop `several_contacts` | flight form, back to its zero gap; impact at the three contacts ("Impact at several contacts", `impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an `impact` event per surface |
+//! | three contacts | N_i ↓ 0 | | two contacts, the other two (`go_on`) | |
+//! | three contacts | a fourth surface's gap ↓ −δz | | stop `several_contacts` (four contacts are not simulated) | |
 //!
 //! Flight is consistent where the gap's acceleration with no contact force is not into
 //! the plane ([`flight_is_consistent`]).
@@ -49,7 +50,7 @@ use crate::kinematics::Kinematics;
 use crate::model::{Contacts, Hold, MOST_CONTACTS, Rolling, Sliding, System};
 use crate::state::{self, State};
 
-use super::context::Context;
+use super::context::{ContactSet, Context};
 use super::numerics::{
     BACK_STEPS, GAP_ACCEL_ROUNDOFF, PAINLEVE_COLLAPSE, RELEASE_SEED_STOPS, SECOND_GAP_RISE,
     SLIP_SEED,
@@ -326,7 +327,7 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let body = &ctx.scene.body;
-    let pressed = ctx.surface.get();
+    let pressed = ctx.surface();
     let (t0, y0, before) = (*t, *y, events.len());
     to_flight(ctx, from, y);
     let strike = Strike::new(ctx, touching, t, y);
@@ -402,7 +403,7 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     match next {
         Some(Next::Stop(Status::SeveralContacts { .. }, _)) | None => {
             events.truncate(before);
-            ctx.surface.set(pressed);
+            ctx.set_surface(pressed);
             (*t, *y) = (t0, y0);
             Next::Stop(
                 Status::SeveralContacts {
@@ -513,7 +514,7 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
     let body = &ctx.scene.body;
     let pressed = touching(ctx);
     let (t0, y0, before) = (*t, *y, events.len());
-    let (others, sticks) = (ctx.others.get(), ctx.sticks.get());
+    let saved = ctx.contacts.get();
     to_flight(ctx, Mode::TwoContacts, y);
     let strike = Strike::new(ctx, surface, t, y);
     let law = tangential(ctx.scene.contact);
@@ -546,10 +547,7 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
     match next {
         Some(Next::Stop(Status::SeveralContacts { .. }, _)) | None => {
             events.truncate(before);
-            ctx.surface.set(pressed[0]);
-            ctx.others.set(others);
-            ctx.count.set(2);
-            ctx.sticks.set(sticks);
+            ctx.contacts.set(saved);
             (*t, *y) = (t0, y0);
             Next::Stop(
                 Status::SeveralContacts {
@@ -610,9 +608,9 @@ fn gap_deceleration<E: Effect + Copy + 'static>(
 /// `f` evaluated with `surface` as the surface in contact (`Context::surface` restored
 /// after).
 fn on_surface<E, R>(ctx: &Context<'_, E>, surface: Surface, f: impl FnOnce() -> R) -> R {
-    let was = ctx.surface.replace(surface);
+    let was = ctx.set_surface(surface);
     let r = f();
-    ctx.surface.set(was);
+    ctx.set_surface(was);
     r
 }
 
@@ -625,7 +623,7 @@ fn normal_velocity(body: &Body, surface: Surface, y: &State) -> f64 {
 
 /// The several-contact system of the surfaces in contact (`Context::count` of them).
 fn contacts<E: Copy>(ctx: &Context<'_, E>) -> System<Contacts, E> {
-    match ctx.count.get() {
+    match ctx.count() {
         2 => ctx.system::<ContactsPhase<2>>(),
         _ => ctx.system::<ContactsPhase<3>>(),
     }
@@ -654,9 +652,9 @@ fn onto_contacts<E: Effect + Copy + 'static>(
     };
     settle_grip(ctx, sticks, &mut y);
     let r = contacts(ctx).evaluate(&y).response;
-    let pressed = (0..ctx.count.get()).all(|i| normal(&r, i) > 0.0);
+    let pressed = (0..ctx.count()).all(|i| normal(&r, i) > 0.0);
     (pressed && r.painleve > PAINLEVE_COLLAPSE)
-        .then_some((y, Placed::In(contacts_mode(ctx.count.get()))))
+        .then_some((y, Placed::In(contacts_mode(ctx.count()))))
 }
 
 /// The contact-form state `y` on the surfaces in contact with their constraints restored
@@ -665,7 +663,7 @@ fn onto_contacts<E: Effect + Copy + 'static>(
 /// resolution and the settling speed): the energy it takes is booked in W, as a
 /// persistent landing books its rebound's, so that E + W stays exact.
 fn restore_contacts<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut State) {
-    ctx.sticks.set([false; MOST_CONTACTS]);
+    ctx.set_sticks([false; MOST_CONTACTS]);
     let sys = contacts(ctx);
     let energy = |y: &State| {
         Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
@@ -680,7 +678,7 @@ fn restore_contacts<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut St
 fn stopped<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> [bool; MOST_CONTACTS] {
     let sys = contacts(ctx);
     let each = sys.contact.each(&sys.body, &sys.evaluate(y).kin);
-    std::array::from_fn(|i| i < ctx.count.get() && above_stop(ctx, &each[i]) <= 0.0)
+    std::array::from_fn(|i| i < ctx.count() && above_stop(ctx, &each[i]) <= 0.0)
 }
 
 /// The grip of the contacts at `y`, from `sticks` on: in the Coulomb model (point
@@ -696,14 +694,14 @@ fn settle_grip<E: Effect + Copy + 'static>(
     mut sticks: [bool; MOST_CONTACTS],
     y: &mut State,
 ) {
-    let count = ctx.count.get();
+    let count = ctx.count();
     // Sticking one contact changes the others' slips: they are checked again after.
     for _ in 0..count {
         if grips(ctx) {
             let stopped = stopped(ctx, y);
             sticks = std::array::from_fn(|i| sticks[i] || stopped[i]);
         }
-        ctx.sticks.set(sticks);
+        ctx.set_sticks(sticks);
         if sticks[..count].contains(&true) {
             let sys = contacts(ctx);
             sys.contact
@@ -752,7 +750,7 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
         }
     };
     let line = forces.line;
-    let mut sticks = ctx.sticks.get();
+    let mut sticks = ctx.sticks();
     let mut seed = [Vector2::zeros(); MOST_CONTACTS];
     match hold {
         Hold::Contact(i) => {
@@ -772,7 +770,7 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
         }
     }
     sys.contact.impel(&sys.body, y, seed);
-    ctx.sticks.set(sticks);
+    ctx.set_sticks(sticks);
 }
 
 /// The slip a contact with kinematics `kin` is released with on several contacts
@@ -797,19 +795,19 @@ pub(super) fn grip<E: Effect + Copy + 'static>(
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let before = ctx.sticks.get();
+    let before = ctx.sticks();
     let start = *y;
     let with_near = {
         let sys = contacts(ctx);
         let each = sys.contact.each(&sys.body, &sys.evaluate(y).kin);
         std::array::from_fn(|i| {
-            sticks[i] || (i < ctx.count.get() && each[i].slip.norm() <= seed_size(ctx, &each[i]))
+            sticks[i] || (i < ctx.count() && each[i].slip.norm() <= seed_size(ctx, &each[i]))
         })
     };
     settle_grip(ctx, sticks, y);
-    if ctx.sticks.get() == before && with_near != sticks {
+    if ctx.sticks() == before && with_near != sticks {
         *y = start;
-        ctx.sticks.set(before);
+        ctx.set_sticks(before);
         settle_grip(ctx, with_near, y);
     }
     record_grip(ctx, before, t, events);
@@ -826,9 +824,9 @@ pub(super) fn release<E: Effect + Copy + 'static>(
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let before = ctx.sticks.get();
+    let before = ctx.sticks();
     release_hold(ctx, hold, y);
-    settle_grip(ctx, ctx.sticks.get(), y);
+    settle_grip(ctx, ctx.sticks(), y);
     record_grip(ctx, before, t, events);
     go_on(ctx, t, y, events)
 }
@@ -841,7 +839,7 @@ fn record_grip<E>(
     events: &mut Vec<EventRecord>,
 ) {
     let surfaces = touching(ctx);
-    let now = ctx.sticks.get();
+    let now = ctx.sticks();
     for i in (0..surfaces.len()).filter(|&i| now[i] != before[i]) {
         events.push(EventRecord {
             kind: EventKind::Grip {
@@ -862,7 +860,7 @@ fn go_on<E: Effect + Copy + 'static>(
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let r = contacts(ctx).evaluate(y).response;
-    let count = ctx.count.get();
+    let count = ctx.count();
     let least = (0..count)
         .map(|i| (i, normal(&r, i)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
@@ -884,10 +882,10 @@ pub(super) fn leave<E: Effect + Copy + 'static>(
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let count = ctx.count.get();
+    let count = ctx.count();
     let from = contacts_mode(count);
     let mut surfaces = touching(ctx);
-    let mut sticks = ctx.sticks.get()[..count].to_vec();
+    let mut sticks = ctx.sticks()[..count].to_vec();
     surfaces.remove(i);
     sticks.remove(i);
     if i == 0 {
@@ -895,7 +893,7 @@ pub(super) fn leave<E: Effect + Copy + 'static>(
     }
     if count > 2 {
         set_contacts(ctx, &surfaces);
-        ctx.sticks.set(std::array::from_fn(|k| {
+        ctx.set_sticks(std::array::from_fn(|k| {
             sticks.get(k).copied().unwrap_or(false)
         }));
         switch(events, t, from, contacts_mode(count - 1));
@@ -942,7 +940,7 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let body = &ctx.scene.body;
-    let (t0, y0, was) = (*t, *y, ctx.surface.get());
+    let (t0, y0, was) = (*t, *y, ctx.surface());
     let strike = Strike::new(ctx, surface, t, y);
     touch(ctx, surface, *t, events);
     let law = tangential(ctx.scene.contact);
@@ -964,7 +962,7 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         let with = &coincide[..coincide.len().min(MOST_CONTACTS - 1)];
         let Some(outcome) = contacts_touchdown(ctx, &strike, with, law, settles) else {
             events.truncate(events.len() - usize::from(was != surface));
-            ctx.surface.set(was);
+            ctx.set_surface(was);
             (*t, *y) = (t0, y0);
             return Next::Stop(
                 Status::SeveralContacts {
@@ -1298,31 +1296,24 @@ fn rest_on<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, surfaces: &[Surface
     })
 }
 
-/// `f` evaluated with the surfaces in contact and their grip (`Context::surface`,
-/// `others`, `count`, `sticks`) restored after.
+/// `f` evaluated with the run's contact state (`Context::contacts`: the surfaces in
+/// contact and their grip) restored after.
 fn keeping<E, R>(ctx: &Context<'_, E>, f: impl FnOnce() -> R) -> R {
-    let saved = (
-        ctx.surface.get(),
-        ctx.others.get(),
-        ctx.count.get(),
-        ctx.sticks.get(),
-    );
+    let saved = ctx.contacts.get();
     let r = f();
-    ctx.surface.set(saved.0);
-    ctx.others.set(saved.1);
-    ctx.count.set(saved.2);
-    ctx.sticks.set(saved.3);
+    ctx.contacts.set(saved);
     r
 }
 
 /// Makes `surfaces` (the first the one whose geometry the several-contact phase takes)
 /// the surfaces in contact, without recording the change ([`touch`] records it).
 fn set_contacts<E>(ctx: &Context<'_, E>, surfaces: &[Surface]) {
-    ctx.surface.set(surfaces[0]);
-    ctx.others.set(std::array::from_fn(|k| {
-        surfaces.get(k + 1).copied().unwrap_or(surfaces[0])
-    }));
-    ctx.count.set(surfaces.len());
+    ctx.contacts.set(ContactSet {
+        surface: surfaces[0],
+        others: std::array::from_fn(|k| surfaces.get(k + 1).copied().unwrap_or(surfaces[0])),
+        count: surfaces.len(),
+        ..ctx.contacts.get()
+    });
 }
 
 /// The surfaces in contact after an impact that leaves `staying` (two or three, the
@@ -1383,7 +1374,7 @@ fn consistent<E: Effect + Copy + 'static>(
             .all(|&j| gap_deceleration(ctx, mode, j, on) <= gap_accel_roundoff(ctx, &kin, 0.0))
     };
     let contact_form = |surface: Surface| {
-        ctx.surface.set(surface);
+        ctx.set_surface(surface);
         let mut on = *y;
         clear_flight_slots(ctx, &mut on);
         on
@@ -1420,7 +1411,7 @@ pub(super) fn touch<E>(
     t: f64,
     events: &mut Vec<EventRecord>,
 ) {
-    let from = ctx.surface.replace(surface);
+    let from = ctx.set_surface(surface);
     if from != surface {
         events.push(EventRecord {
             kind: EventKind::ContactSurface { from, to: surface },

@@ -58,8 +58,8 @@ pub(in crate::simulate) fn holds<E>(ctx: &Context<'_, E>) -> Vec<Hold> {
     if !matches!(ctx.scene.contact, ContactModel::Coulomb { .. }) {
         return Vec::new();
     }
-    let sticks = ctx.sticks.get();
-    let sticking: Vec<usize> = (0..ctx.count.get()).filter(|&i| sticks[i]).collect();
+    let sticks = ctx.sticks();
+    let sticking: Vec<usize> = (0..ctx.count()).filter(|&i| sticks[i]).collect();
     let line = (sticking.len() == 2).then_some(Hold::Line);
     sticking
         .into_iter()
@@ -81,9 +81,9 @@ impl<const N: usize> Phase for ContactsPhase<N> {
         Contacts {
             friction: ctx.scene.contact.friction().unwrap_or(0.0),
             disc: ctx.scene.disc,
-            others: ctx.others.get(),
+            others: ctx.others(),
             count: N,
-            sticks: ctx.sticks.get(),
+            sticks: ctx.sticks(),
         }
     }
 
@@ -93,7 +93,7 @@ impl<const N: usize> Phase for ContactsPhase<N> {
         let others = (ctx.scene.body.surfaces())
             .filter(|s| !touching.contains(s))
             .map(Touch);
-        let sticks = ctx.sticks.get();
+        let sticks = ctx.sticks();
         let friction = ctx.scene.contact.friction().is_some_and(|mu| mu > 0.0);
         let slips = (0..N).filter(move |&i| friction && !sticks[i]).map(Slip);
         let painleve = (!sticks[..N].iter().all(|&s| s)).then_some(Painleve);
@@ -151,7 +151,7 @@ impl<const N: usize> Phase for ContactsPhase<N> {
                 Next::Stop(Status::SlipStopped, Self::MODE)
             }
             ContactsWatch::Slip(i) => {
-                let mut sticks = ctx.sticks.get();
+                let mut sticks = ctx.sticks();
                 sticks[i] = true;
                 grip(ctx, sticks, *t, y, events)
             }
@@ -169,7 +169,7 @@ impl<const N: usize> Phase for ContactsPhase<N> {
             ContactsWatch::Touch(surface) => Next::Stop(
                 Status::SeveralContacts {
                     touching: surface,
-                    pressed: ctx.surface.get(),
+                    pressed: ctx.surface(),
                     approach: 0.0,
                 },
                 Self::MODE,
@@ -181,9 +181,9 @@ impl<const N: usize> Phase for ContactsPhase<N> {
 /// The surfaces in contact in the several-contact phase: `Context::surface`, then the
 /// others.
 pub(in crate::simulate) fn touching<E>(ctx: &Context<'_, E>) -> Vec<Surface> {
-    let others = ctx.others.get();
-    std::iter::once(ctx.surface.get())
-        .chain(others[..ctx.count.get() - 1].iter().copied())
+    let others = ctx.others();
+    std::iter::once(ctx.surface())
+        .chain(others[..ctx.count() - 1].iter().copied())
         .collect()
 }
 

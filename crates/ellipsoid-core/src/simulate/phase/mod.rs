@@ -80,7 +80,7 @@ pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyP
 /// The other surfaces a contact phase watches (bodies with contact spheres): every
 /// surface but the one in contact.
 pub(super) fn other_surfaces<'c, E>(ctx: &'c Context<'_, E>) -> impl Iterator<Item = Surface> + 'c {
-    let touching = ctx.surface.get();
+    let touching = ctx.surface();
     ctx.scene.body.surfaces().filter(move |&s| s != touching)
 }
 
