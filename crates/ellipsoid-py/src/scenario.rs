@@ -120,18 +120,45 @@ impl PyScenario {
             output.remove("dt");
             output.remove("times");
         }
-        let mut overrides: Vec<String> = self
+        let overrides: Vec<String> = self
             .inner
             .overrides
             .iter()
             .filter(|o| !(o.starts_with("output.dt=") || o.starts_with("output.times=")))
             .cloned()
             .collect();
-        let list = toml::Value::Array(times.iter().map(|&x| toml::Value::Float(x)).collect());
-        overrides.push(format!("output.times={list}"));
         let text = toml::to_string(&doc).map_err(|e| errors::internal_error(py, &e.to_string()))?;
-        Self::parse(py, &text, source, &overrides)
+        // The times are set on the parsed document as values, not as TOML text to parse
+        // again (which cost about as much as the run's own sampling); the change is
+        // recorded as `output.times=[...]`, as `ellipsoid run --set` would write it.
+        let mut label = String::with_capacity(16 + 24 * times.len());
+        label.push_str("output.times=[");
+        for (i, x) in times.iter().enumerate() {
+            if i > 0 {
+                label.push_str(", ");
+            }
+            write_float(&mut label, *x);
+        }
+        label.push(']');
+        let list = toml::Value::Array(times.iter().map(|&x| toml::Value::Float(x)).collect());
+        errors::guard(py, || {
+            let mut draft = scenario::Draft::parse(&text, source, &overrides)
+                .map_err(|e| errors::scenario_errors(py, &e))?;
+            draft
+                .change("output.times", &list, &label)
+                .map_err(|e| errors::scenario_errors(py, &e.into()))?;
+            draft
+                .build()
+                .map(|inner| PyScenario { inner })
+                .map_err(|e| errors::scenario_errors(py, &e))
+        })
     }
+}
+
+/// `x` in TOML: the shortest text that reads back as `x` (`0.001`, `10.0`, `1e-300`).
+fn write_float(out: &mut String, x: f64) {
+    use std::fmt::Write;
+    let _ = write!(out, "{x:?}");
 }
 
 #[pymethods]
