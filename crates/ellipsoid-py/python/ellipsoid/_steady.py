@@ -77,7 +77,7 @@ class Steady:
     def __len__(self) -> int:
         return len(self.values)
 
-    def scenario(self, mode: SupportsIndex | str, eps: float, index: SupportsIndex = 0) -> Scenario:
+    def scenario(self, mode: int | SupportsIndex | str, eps: float, index: int | SupportsIndex = 0) -> Scenario:
         """The scenario started on steady motion ``index`` (a row of ``eigenvalues``)
         displaced by ``eps`` along ``mode`` (its column in ``eigenvalues``, 0 = the least
         stable, or its name in ``modes``: the first of that name), as ``ellipsoid steady
