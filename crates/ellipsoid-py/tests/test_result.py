@@ -161,6 +161,11 @@ def test_t_eval_takes_any_array_of_times_as_output_dt_samples() -> None:
         if np.array_equal(traj.t, grid.t):
             np.testing.assert_array_equal(traj.theta, grid.theta)
         assert pickle.loads(pickle.dumps(traj.scenario)).sample_times.tolist() == traj.t.tolist()
+    # times k·dt from 0 to t_end are the scenario's own dt grid, recorded as such
+    arange = ellipsoid.simulate(path, t_eval=np.arange(0.0, 0.5 + 0.005, 0.01), output={"t_end": 0.5})
+    assert "output.dt=0.01" in arange.scenario.overrides
+    np.testing.assert_array_equal(arange.scenario.sample_times, grid.scenario.sample_times)
+    np.testing.assert_array_equal(arange.theta, grid.theta)
     ints = ellipsoid.simulate(path, t_eval=np.arange(0, 3), output={"t_end": 2.0})
     assert ints.t.tolist() == [0.0, 1.0, 2.0]
     tiny = ellipsoid.simulate(path, t_eval=[0.0, 1e-300, 0.1], output={"t_end": 0.1})
