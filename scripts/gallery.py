@@ -116,10 +116,13 @@ def thumbnail(traj: ellipsoid.Trajectory, path: Path) -> None:
     """θ, the normal force and slip speed, and for a body with contact spheres the normal
     force of each surface."""
     panels = ["theta", "forces"] + (["surfaces"] if "normal_force_ellipsoid" in traj.columns else [])
-    fig = traj.plot(panels)
+    import matplotlib.pyplot as plt
+
+    fig = traj.plot(panels)[0].figure
     fig.suptitle("")
     fig.set_size_inches(7, 2.5 * len(panels))
     fig.savefig(path, dpi=45)
+    plt.close(fig)
 
 
 def entries(write_images: bool, viewers: bool) -> tuple[str, set[str]]:

@@ -2,7 +2,7 @@
 
 use ellipsoid_core::scenario::Scenario;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyInt, PyList, PyString};
+use pyo3::types::{PyBool, PyDict, PyList, PyString};
 use rayon::prelude::*;
 
 use crate::convert;
@@ -22,7 +22,10 @@ use crate::trajectory::Trajectory;
 /// the scenario's name ("dop853", "dopri5", "rk4") or scipy's, case-insensitive:
 /// "RK45" is dopri5 (Dormand–Prince 5(4), as scipy's RK45), "DOP853" dop853, "RK4" the
 /// classical fixed-step RK4 (it needs `solver={"step": h}`); scipy's "RK23", "Radau",
-/// "BDF" and "LSODA" have no counterpart here.
+/// "BDF" and "LSODA" have no counterpart here. `rtol`, `atol`: the relative and absolute
+/// tolerances, as solve_ivp's, meaning `solver.rtol` and `solver.atol`; given, they
+/// override the scenario's own (the file's, and those set by `changes`, e.g.
+/// `solver={"rtol": ...}`), as any change does.
 ///
 /// The GIL is released while the run lasts; Ctrl-C (SIGINT) stops it at its next
 /// integration step and raises KeyboardInterrupt.
@@ -34,12 +37,14 @@ use crate::trajectory::Trajectory;
 /// Only bad input raises (ScenarioError, including a state the physics rejects at
 /// t = 0, e.g. N ≤ 0): there is no run to return.
 #[pyfunction]
-#[pyo3(signature = (scenario, /, *, t_eval = None, method = None, **changes))]
+#[pyo3(signature = (scenario, /, *, t_eval = None, method = None, rtol = None, atol = None, **changes))]
 pub fn simulate(
     py: Python<'_>,
     scenario: &Bound<'_, PyAny>,
     t_eval: Option<&Bound<'_, PyAny>>,
     method: Option<&Bound<'_, PyAny>>,
+    rtol: Option<&Bound<'_, PyAny>>,
+    atol: Option<&Bound<'_, PyAny>>,
     changes: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<Py<Trajectory>> {
     let source = scenario
@@ -53,14 +58,26 @@ pub fn simulate(
             method_name(py, &source, m)?
         ));
     }
+    // solve_ivp's tolerances: changes applied after the others, so they win.
+    for (name, value) in [("rtol", rtol), ("atol", atol)] {
+        if let Some(v) = value.filter(|v| !v.is_none()) {
+            let x = crate::args::number(py, &source, name, v)?;
+            overrides.push(format!("solver.{name}={}", toml::Value::Float(x)));
+        }
+    }
     let mut resolved = resolve(py, scenario, overrides)?;
     if let Some(t) = t_eval.filter(|t| !t.is_none()) {
+        // One contiguous float64 array, read as a slice (no Python float per time).
         let times: Vec<f64> = py
             .import("numpy")?
-            .getattr("asarray")?
+            .getattr("ascontiguousarray")?
             .call1((t, "float64"))
             .and_then(|a| a.call_method0("ravel"))
-            .and_then(|a| a.extract())
+            .and_then(|a| {
+                let a = a.cast_into::<numpy::PyArray1<f64>>()?;
+                let r = numpy::PyArrayMethods::readonly(&a);
+                Ok(r.as_slice()?.to_vec())
+            })
             .map_err(|_| {
                 errors::type_error(
                     py,
@@ -265,12 +282,8 @@ pub(crate) fn worker_count(
     let max = max_workers();
     let rule =
         format!("give 1 to {max} worker threads (4 per CPU, at least 8), or None for one per CPU");
-    if w.is_instance_of::<PyBool>() || !w.is_instance_of::<PyInt>() {
-        let ty = w
-            .get_type()
-            .name()
-            .map(|n| n.to_string())
-            .unwrap_or_default();
+    let Some(w) = crate::args::as_int(w) else {
+        let ty = crate::args::type_name(w);
         return Err(errors::type_error(
             py,
             source,
@@ -278,7 +291,7 @@ pub(crate) fn worker_count(
             None,
             format!("expected an integer, found {ty}; {rule}"),
         ));
-    }
+    };
     let digits = w
         .str()
         .map(|s| s.to_string_lossy().into_owned())

@@ -105,7 +105,31 @@ pub fn opt_names(
         .transpose()
 }
 
-/// Argument `key` of `source` as an integer from 0 to `max` (not a bool), None allowed.
+/// `v` as a Python int if `operator.index` takes it (an int, a numpy integer, anything
+/// with `__index__`), but not a bool (Python's or numpy's): None otherwise.
+pub fn as_int<'py>(v: &Bound<'py, PyAny>) -> Option<Bound<'py, PyInt>> {
+    if v.is_instance_of::<PyBool>() || type_name(v) == "bool" {
+        return None;
+    }
+    if let Ok(i) = v.cast::<PyInt>() {
+        return Some(i.clone());
+    }
+    if !v.hasattr("__index__").unwrap_or(false) {
+        return None;
+    }
+    let i = v
+        .py()
+        .import("operator")
+        .ok()?
+        .getattr("index")
+        .ok()?
+        .call1((v,))
+        .ok()?;
+    i.cast_into::<PyInt>().ok()
+}
+
+/// Argument `key` of `source` as an integer from 0 to `max` (anything `operator.index`
+/// takes, not a bool), None allowed.
 pub fn opt_count(
     py: Python<'_>,
     source: &str,
@@ -116,7 +140,7 @@ pub fn opt_count(
     let Some(v) = v.filter(|v| !v.is_none()) else {
         return Ok(None);
     };
-    if v.is_instance_of::<PyBool>() || !v.is_instance_of::<PyInt>() {
+    let Some(n) = as_int(v) else {
         return Err(errors::type_error(
             py,
             source,
@@ -124,8 +148,8 @@ pub fn opt_count(
             None,
             format!("expected an integer, found {}", type_name(v)),
         ));
-    }
-    match v.extract::<u64>() {
+    };
+    match n.extract::<u64>() {
         Ok(n) if n <= max as u64 => Ok(Some(n as usize)),
         _ => Err(errors::value_error(
             py,

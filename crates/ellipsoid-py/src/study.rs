@@ -110,12 +110,10 @@ enum Failure {
     Write(WriteError),
 }
 
-/// `repeats` as the study takes it: a Python int (bool refused); a negative or huge one
+/// `repeats` as the study takes it: an integer (anything `operator.index` takes, bool refused); a negative or huge one
 /// gets the study's own range error.
 fn repeats_value(py: Python<'_>, scenario: &Scenario, r: &Bound<'_, PyAny>) -> PyResult<u64> {
-    let is_int =
-        r.is_instance_of::<pyo3::types::PyInt>() && !r.is_instance_of::<pyo3::types::PyBool>();
-    if !is_int {
+    let Some(r) = crate::args::as_int(r) else {
         return Err(option_error(
             py,
             scenario,
@@ -124,7 +122,7 @@ fn repeats_value(py: Python<'_>, scenario: &Scenario, r: &Bound<'_, PyAny>) -> P
             "expected an int, the fewest timed runs per setting (1 to 1000)",
             None,
         ));
-    }
+    };
     match r.extract::<u64>() {
         Ok(n) => Ok(n),
         Err(_) => Err(study_error(

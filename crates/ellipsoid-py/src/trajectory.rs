@@ -693,8 +693,9 @@ impl Trajectory {
     }
 
     /// Plots section `name`'s points (`sections[name]`): column `y` against column `x`,
-    /// one marker per crossing, the axes labelled with the columns' units. With `ax` (a
-    /// matplotlib Axes) it draws there. Returns the Figure (needs matplotlib).
+    /// one marker per crossing, the axes labelled with the columns' units, on a new
+    /// pyplot figure or, with `ax` (a matplotlib Axes), there. Returns the Axes, as pandas'
+    /// `DataFrame.plot` does (needs matplotlib).
     #[pyo3(signature = (name, x, y, ax=None))]
     fn plot_section<'py>(
         slf: &Bound<'py, Self>,
@@ -1020,8 +1021,10 @@ impl Trajectory {
     /// — each surface's normal force — only for a body with contact spheres); or `columns`,
     /// any numeric output columns (a list or a comma-separated string), one panel each. With
     /// `ax` (a matplotlib Axes) it draws there instead: the columns, or one of the panels
-    /// theta, rates, path. Returns the Figure (in Jupyter it displays itself; in a script
-    /// it is pyplot's, for `plt.show()`; `fig.savefig("x.pdf")` for PDF).
+    /// theta, rates, path. As pandas' `DataFrame.plot`: the figure is made by pyplot, so
+    /// Jupyter shows it once (with or without a trailing `;`), `plt.show()` shows it and
+    /// `plt.savefig("x.pdf")` writes it; returns the Axes (`ax` when given), or for
+    /// several a numpy array of them, top to bottom (`axes[0].figure` is the Figure).
     #[pyo3(signature = (panels=None, *, columns=None, ax=None))]
     fn plot<'py>(
         slf: &Bound<'py, Self>,

@@ -42,7 +42,11 @@ def local():
     return ellipsoid.study(base(), AXES, OUTCOMES)
 
 
-def test_the_table_has_the_files_columns_units_and_nullable_dtypes(local) -> None:
+def test_the_table_has_the_files_columns_units_and_plain_float_dtypes(local) -> None:
+    """The default table holds float64 with NaN where a run has no value, so matplotlib
+    and numpy take its columns (and `pivot(...).values`) as they are."""
+    import numpy as np
+
     df = local
     assert len(df) == 160
     assert list(df.columns[:3]) == ["point", "initial.psi_dot [rad/s]", "initial.theta_deg [deg]"]
@@ -51,16 +55,32 @@ def test_the_table_has_the_files_columns_units_and_nullable_dtypes(local) -> Non
     assert list(df["initial.theta_deg [deg]"][:3]) == [5.0, 10.0, 15.0]
     assert (df["initial.psi_dot [rad/s]"][:10] == 20.0).all()
     assert (df["status"] == "completed").all()
-    assert str(df["t_final [s]"].dtype) == "Float64" and str(df["rhs_evals"].dtype) == "Int64"
-    # A tilt of 5° never reaches 0.3 rad: no value (pd.NA, not NaN); a larger one does.
-    assert df["t_tilt [s]"].isna()[0] and not df["t_tilt [s]"].isna().all()
-    for col in df.columns:  # no NaN anywhere: missing values are pd.NA
-        if str(df[col].dtype) in ("Float64", "float64"):
-            assert not (df[col].dropna().astype(float) != df[col].dropna().astype(float)).any(), col
+    assert str(df["t_final [s]"].dtype) == "float64" and str(df["rhs_evals"].dtype) == "float64"
+    assert not any(str(t) in ("Float64", "Int64") for t in df.dtypes)
+    # A tilt of 5° never reaches 0.3 rad: NaN; a larger one does.
+    assert np.isnan(df["t_tilt [s]"][0]) and not df["t_tilt [s]"].isna().all()
+    grid = df.pivot(index="initial.psi_dot [rad/s]", columns="initial.theta_deg [deg]", values="t_tilt [s]").values
+    assert grid.dtype == np.float64 and grid.shape == (16, 10)
     # Frictionless: energy conserved; Jellett's quantity is not (not a sphere): no value.
     assert (df["drift.energy [1]"] < 1e-8).all() and df["drift.jellett [1]"].isna().all()
     assert df.attrs["units"]["t_tilt [s]"] == "s"
     assert df["key"].nunique() == 160
+
+
+def test_nullable_true_gives_pandas_nullable_dtypes(local) -> None:
+    """`nullable=True`: `Float64` and `Int64`, `pd.NA` where there is no value (never
+    NaN), the same values as the default table."""
+    df = ellipsoid.study(base(), AXES, OUTCOMES, nullable=True)
+    assert str(df["t_final [s]"].dtype) == "Float64" and str(df["rhs_evals"].dtype) == "Int64"
+    assert df["t_tilt [s]"][0] is pd.NA and not df["t_tilt [s]"].isna().all()
+    for col in df.columns:  # no NaN anywhere: missing values are pd.NA
+        if str(df[col].dtype) in ("Float64", "float64"):
+            assert not (df[col].dropna().astype(float) != df[col].dropna().astype(float)).any(), col
+    for col in df.columns:
+        if col != "wall_time [s]":
+            a = df[col].astype(object).where(df[col].notna(), None).tolist()
+            b = local[col].astype(object).where(local[col].notna(), None).tolist()
+            assert a == b, col
 
 
 def test_a_failed_point_is_a_row_with_its_status_and_message() -> None:

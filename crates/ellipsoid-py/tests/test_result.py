@@ -124,6 +124,56 @@ def test_t_eval_and_scipy_method_names() -> None:
         ellipsoid.simulate(SCENARIOS / "nutation.toml", method="rk4")
 
 
+def test_solve_ivp_tolerances_rtol_and_atol() -> None:
+    """`rtol=`, `atol=` as solve_ivp's: they are solver.rtol and solver.atol, and they
+    override the scenario's own (the file's 1e-11 and 1e-13, and a `solver` change)."""
+    path = SCENARIOS / "nutation.toml"
+    short = {"output": {"t_end": 0.5}}
+    traj = ellipsoid.simulate(path, rtol=1e-8, atol=1e-10, **short)
+    ref = ellipsoid.simulate(path, solver={"rtol": 1e-8, "atol": 1e-10}, **short)
+    np.testing.assert_array_equal(traj.theta, ref.theta)
+    assert traj.nfev == ref.nfev < ellipsoid.simulate(path, **short).nfev
+    changed = dict(o.split("=", 1) for o in traj.scenario.overrides)
+    assert float(changed["solver.rtol"]) == 1e-8 and float(changed["solver.atol"]) == 1e-10
+    clash = ellipsoid.simulate(path, solver={"rtol": 1e-6, "atol": 1e-6}, rtol=1e-8, atol=np.float64(1e-10), **short)
+    np.testing.assert_array_equal(clash.theta, ref.theta)
+    only = ellipsoid.simulate(path, rtol=1e-8, **short)
+    assert only.nfev == ellipsoid.simulate(path, solver={"rtol": 1e-8}, **short).nfev
+    with pytest.raises(ellipsoid.ScenarioTypeError, match="rtol: expected a number, found str"):
+        ellipsoid.simulate(path, rtol="tight")
+    with pytest.raises(ellipsoid.ScenarioTypeError, match="atol: expected a number, found bool"):
+        ellipsoid.simulate(path, atol=True)
+    with pytest.raises(ellipsoid.ScenarioError, match="solver.rtol = -1"):
+        ellipsoid.simulate(path, rtol=-1.0)
+    with pytest.raises(ellipsoid.ScenarioError, match="solver.atol = NaN: the absolute tolerance must be positive and finite"):
+        ellipsoid.simulate(path, atol=float("nan"))
+
+
+def test_t_eval_takes_any_array_of_times_as_output_dt_samples() -> None:
+    """`t_eval` of the times `output.dt` gives: the same samples; an array of another
+    dtype, a strided view or a list is taken too; the scenario pickles."""
+    path = SCENARIOS / "nutation.toml"
+    grid = ellipsoid.simulate(path, output={"t_end": 0.5, "dt": 0.01})
+    for ts in (np.linspace(0.0, 0.5, 51), np.linspace(0.0, 0.5, 101)[::2], np.linspace(0.0, 0.5, 51).tolist(),
+               np.linspace(0.0, 0.5, 51).astype(np.float32).astype(np.float64)):
+        traj = ellipsoid.simulate(path, t_eval=ts, output={"t_end": 0.5})
+        np.testing.assert_array_equal(traj.t, np.asarray(ts, dtype=float))
+        if np.array_equal(traj.t, grid.t):
+            np.testing.assert_array_equal(traj.theta, grid.theta)
+        assert pickle.loads(pickle.dumps(traj.scenario)).sample_times.tolist() == traj.t.tolist()
+    # times k·dt from 0 to t_end are the scenario's own dt grid, recorded as such
+    arange = ellipsoid.simulate(path, t_eval=np.arange(0.0, 0.5 + 0.005, 0.01), output={"t_end": 0.5})
+    assert "output.dt=0.01" in arange.scenario.overrides
+    np.testing.assert_array_equal(arange.scenario.sample_times, grid.scenario.sample_times)
+    np.testing.assert_array_equal(arange.theta, grid.theta)
+    ints = ellipsoid.simulate(path, t_eval=np.arange(0, 3), output={"t_end": 2.0})
+    assert ints.t.tolist() == [0.0, 1.0, 2.0]
+    tiny = ellipsoid.simulate(path, t_eval=[0.0, 1e-300, 0.1], output={"t_end": 0.1})
+    assert tiny.t.tolist() == [0.0, 1e-300, 0.1]
+    with pytest.raises(ellipsoid.ScenarioTypeError, match="t_eval: expected a sequence of output times"):
+        ellipsoid.simulate(path, t_eval=["a", "b"])
+
+
 def _run(path: str) -> ellipsoid.Trajectory:
     return ellipsoid.simulate(path, output={"t_end": 0.3})
 
@@ -176,19 +226,57 @@ def test_study_table_as_plain_floats_and_as_an_n_d_dataset() -> None:
     pytest.importorskip("xarray")
     base = oblate(output=dict(t_end=0.05, dt=1e-2))
     axes = {"initial.psi_dot": [40.0, 60.0], "initial.theta": [0.1, 0.2, 0.3]}
-    df = ellipsoid.study(base, axes, outcomes={"final": ["theta"]}, nullable=False)
+    df = ellipsoid.study(base, axes, outcomes={"final": ["theta"]})
     assert str(df["final.theta [rad]"].dtype) == "float64" and str(df["drift.jellett [1]"].dtype) == "float64"
     assert df["drift.jellett [1]"].isna().all()  # not conserved here: NaN, not pd.NA
     assert df.attrs["axes"] == ["initial.psi_dot [rad/s]", "initial.theta [rad]"] and df.attrs["combine"] == "grid"
     ds = ellipsoid.to_xarray(df)
-    assert dict(ds.sizes) == {"initial.psi_dot [rad/s]": 2, "initial.theta [rad]": 3}
-    final = ds["final.theta [rad]"]
-    assert final.attrs["units"] == "rad" and final.shape == (2, 3)
+    assert dict(ds.sizes) == {"initial.psi_dot": 2, "initial.theta": 3}
+    assert ds["initial.psi_dot"].attrs["units"] == "rad/s" and ds["initial.theta"].attrs["units"] == "rad"
+    final = ds["final.theta"]
+    assert final.attrs["units"] == "rad" and final.shape == (2, 3) and final.dtype == np.float64
     # each cell is its own run: θ(0.05 s) of the run at that (ψ̇, θ0)
     run = ellipsoid.simulate(base.replace(initial={"psi_dot": 60.0, "theta": 0.3}))
-    assert float(final.sel({"initial.psi_dot [rad/s]": 60.0, "initial.theta [rad]": 0.3})) == run.theta[-1]
+    assert float(final.sel({"initial.psi_dot": 60.0, "initial.theta": 0.3})) == run.theta[-1]
     zipped = ellipsoid.study(base, axes | {"initial.theta": [0.1, 0.2]}, combine="zip")
     assert list(ellipsoid.to_xarray(zipped).sizes) == ["point"]
+    # the nullable opt-in gives the same Dataset
+    nullable = ellipsoid.study(base, axes, outcomes={"final": ["theta"]}, nullable=True)
+    assert str(nullable["final.theta [rad]"].dtype) == "Float64"
+    np.testing.assert_array_equal(ellipsoid.to_xarray(nullable)["final.theta"].values, final.values)
+
+
+def test_to_xarray_names_have_no_unit_and_select_by_key() -> None:
+    """A study's Dataset is named by the scenario keys and outcomes without `[unit]`
+    (dims "contact.friction", variables "t_flip", "max.theta"), each unit in its
+    `attrs["units"]`, so `ds.sel({"contact.friction": 0.05})` works and xarray's plots
+    label an axis `max.theta [rad]` once."""
+    pytest.importorskip("pandas")
+    pytest.importorskip("xarray")
+    base = ellipsoid.load(SCENARIOS / "tippe-top.toml", output={"t_end": 0.2},
+                          observe=[{"name": "flip", "column": "theta", "crosses": 1.0, "direction": "up"}])
+    df = ellipsoid.study(base, {"contact.friction": [0.05, 0.3], "initial.phi_dot": [100.0, 180.0]},
+                         outcomes={"max": ["theta"]})
+    ds = ellipsoid.to_xarray(df)
+    assert set(ds.dims) == {"contact.friction", "initial.phi_dot"}
+    assert {"t_flip", "max.theta", "t_final", "drift.energy", "wall_time", "rhs_evals", "status"} <= set(ds.data_vars)
+    assert not any("[" in str(n) for n in ds.variables)
+    assert ds["t_flip"].attrs["units"] == "s" and ds["max.theta"].attrs["units"] == "rad"
+    assert ds["contact.friction"].attrs["units"] == "1" and "units" not in ds["rhs_evals"].attrs
+    assert np.isnan(ds["t_flip"].values).all() and ds["t_flip"].dtype == np.float64  # no flip in 0.2 s
+    low = ds.sel({"contact.friction": 0.05})
+    assert dict(low.sizes) == {"initial.phi_dot": 2}
+    row = df[(df["contact.friction [1]"] == 0.05) & (df["initial.phi_dot [rad/s]"] == 180.0)]
+    assert float(low["max.theta"].sel({"initial.phi_dot": 180.0})) == float(row["max.theta [rad]"].iloc[0])
+    # a table read back from CSV (no attrs): the units come from the names
+    import io
+
+    buf = io.StringIO()
+    df.to_csv(buf, index=False)
+    import pandas as pd
+
+    back = ellipsoid.to_xarray(pd.read_csv(io.StringIO(buf.getvalue())))
+    assert list(back.sizes) == ["point"] and back["max.theta"].attrs["units"] == "rad"
 
 
 def test_check_reports_the_velocity_of_g_and_the_slip_the_run_starts_with() -> None:

@@ -272,3 +272,42 @@ def test_hypothesis_argument_errors_are_ellipsoid_errors(argument_calls: dict[st
         raise AssertionError(f"{call}({value!r}) raised {type(e).__name__}: {e}") from e
     finally:
         plt.close("all")
+
+
+def test_numpy_integers_are_taken_wherever_an_integer_is(tmp_path: Any) -> None:
+    """Every integer argument (an index, a count, a size) takes what `operator.index`
+    takes — numpy's integers among them — as the same int would be; a bool (Python's or
+    numpy's) and a float are still refused, naming the argument."""
+    import numpy as np
+
+    nutation = ellipsoid.load(REPO / "scenarios" / "nutation.toml", output={"t_end": 0.05, "dt": 0.01})
+    egg = ellipsoid.Scenario(body={"a": 0.02, "c": 0.03, "mass": 0.06, "inertia": "uniform"},
+                             initial={"theta": 0.0, "psi_dot": 100.0}, contact={"model": "frictionless"},
+                             output={"t_end": 0.05, "dt": 0.01})
+    res = ellipsoid.steady(egg, vary={"initial.psi_dot": np.linspace(40.0, 160.0, 5)})
+    assert res.scenario(np.int32(0), 0.01, index=np.int64(3)) == res.scenario(0, 0.01, index=3)
+    assert res.scenario("tilt", 0.01, index=np.uint8(4)) == res.scenario("tilt", 0.01, index=4)
+    for bad in (True, np.bool_(True), 1.0, np.float64(1.0)):
+        with pytest.raises(ellipsoid.ScenarioError, match="index = "):
+            res.scenario(0, 0.01, index=bad)
+    with pytest.raises(ellipsoid.ScenarioError, match=r"index = np.int64\(5\): must be a row number from 0 to 4"):
+        res.scenario(0, 0.01, index=np.int64(5))
+    assert len(ellipsoid.sweep([nutation, nutation], workers=np.int64(2))) == 2
+    df = ellipsoid.study(nutation, {"initial.psi_dot": [40.0, 60.0, 80.0]}, workers=np.int64(2))
+    assert len(df) == 3
+    from ellipsoid._ellipsoid import make_study
+
+    made = make_study(nutation, {"initial.psi_dot": [40.0, 60.0, 80.0]}, None, None)
+    rows = made.run(np.int64(1), np.int32(3), np.int64(1))
+    assert [r[0] for r in rows] == [1, 2]
+    assert made.point(np.int64(2)) == made.point(2)
+    traj = ellipsoid.simulate(nutation)
+    frames = traj.animate(tmp_path / "a.gif", width=np.int64(64), height=np.int16(48), fps=np.int64(10))
+    assert frames == traj.animate(tmp_path / "b.gif", width=64, height=48, fps=10)
+    table = ellipsoid.precision(REPO / "scenarios" / "paper-sliding.toml", quick=True, t_end=0.05, repeats=np.int64(1))
+    assert np.all(table.repeats >= 1)
+    for call in (lambda v: ellipsoid.sweep([nutation], workers=v), lambda v: made.point(v),
+                 lambda v: traj.animate(tmp_path / "c.gif", width=v)):
+        for bad in (np.bool_(True), np.float64(2.0)):
+            with pytest.raises(ellipsoid.ScenarioTypeError, match="expected an integer"):
+                call(bad)

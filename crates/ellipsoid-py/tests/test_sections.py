@@ -73,8 +73,13 @@ def test_sections_survive_pickling() -> None:
 def test_plot_section_draws_the_points_and_refuses_bad_arguments() -> None:
     pytest.importorskip("matplotlib")
     traj = run()
-    fig = traj.plot_section("bottom", "phi", "theta")
-    ax = fig.axes[0]
+    ax = traj.plot_section("bottom", "phi", "theta")
+    import matplotlib.pyplot as plt
+
+    assert ax.figure is plt.gcf() and ax.figure.axes == [ax]
+    fig, given = plt.subplots()
+    assert traj.plot_section("bottom", "phi", "theta", ax=given) is given
+    plt.close("all")
     x, y = ax.lines[0].get_data()
     np.testing.assert_array_equal(x, traj.sections["bottom"]["phi"])
     np.testing.assert_array_equal(y, traj.sections["bottom"]["theta"])

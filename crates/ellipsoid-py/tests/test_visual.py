@@ -84,7 +84,7 @@ def test_repr_html_is_the_viewer_in_an_iframe() -> None:
 
 def test_plot_draws_every_panel_with_units() -> None:
     pytest.importorskip("matplotlib")
-    fig = tippe_top().plot()
+    fig = tippe_top().plot()[0].figure
     labels = {ax.get_ylabel() for ax in fig.axes} | {ax.get_xlabel() for ax in fig.axes}
     for want in ["θ (rad)", "rate (rad/s)", "energy (J)", "|relative drift| (1, log)", "normal force N (N)", "slip speed |v_C| (m/s)", "x (m)", "y (m)", "time t (s)"]:
         assert want in labels, want
@@ -96,7 +96,7 @@ def test_plot_draws_every_panel_with_units() -> None:
     drift = [ax for ax in fig.axes if ax.get_yscale() == "log"][0]
     assert "E + W" in drift.get_title()
     one = tippe_top().plot("theta, path")
-    assert len(one.axes) == 2
+    assert len(one) == 2 and len(one[0].figure.axes) == 2
     with pytest.raises(ValueError, match="unknown panel 'wobble'"):
         tippe_top().plot(["theta", "wobble"])
 
@@ -120,7 +120,7 @@ def test_both_renderers_draw_the_declared_panels_alike(cli: Path, tmp_path: Path
     subprocess.run([str(cli), "plot", str(tmp_path / "run.csv"), "--summary", str(tmp_path / "run.json"),
                     "-o", str(tmp_path / "fig.svg"), "-q"], check=True)
     texts = svg_texts(tmp_path / "fig.svg")
-    fig = tippe_top().plot()
+    fig = tippe_top().plot()[0].figure
     from ellipsoid._plot import DECLARATION
 
     # (the surfaces panel only for a body with contact spheres: see below)
@@ -145,10 +145,48 @@ def test_both_renderers_draw_the_declared_panels_alike(cli: Path, tmp_path: Path
 
 def test_plot_writes_pdf(tmp_path: Path) -> None:
     pytest.importorskip("matplotlib")
-    fig = tippe_top().plot("theta,forces")
-    fig.savefig(tmp_path / "fig.pdf")
+    import matplotlib.pyplot as plt
+
+    tippe_top().plot("theta,forces")
+    plt.savefig(tmp_path / "fig.pdf")
+    plt.close()
     data = (tmp_path / "fig.pdf").read_bytes()
     assert data.startswith(b"%PDF-") and data.rstrip().endswith(b"%%EOF") and len(data) > 10_000
+
+
+def test_plot_returns_axes_of_a_pyplot_figure_as_pandas_does(tmp_path: Path) -> None:
+    """As `DataFrame.plot`: the figure is pyplot's (so `plt.savefig` writes it, not a blank
+    page), one Axes is returned as it is, several as a numpy array, top to bottom; into a
+    given Axes the plot draws there and returns it (the figure is not made again)."""
+    pytest.importorskip("matplotlib")
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.axes
+    import matplotlib.image
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    plt.close("all")
+    traj = tippe_top()
+    one = traj.plot("theta")
+    assert isinstance(one, matplotlib.axes.Axes) and one.figure is plt.gcf()
+    plt.savefig(tmp_path / "f.png")
+    pixels = matplotlib.image.imread(tmp_path / "f.png")
+    assert float(pixels[..., :3].var()) > 0, "a blank PNG"
+    several = traj.plot("theta,energy,path")
+    assert isinstance(several, np.ndarray) and len(several) == 4
+    assert [a.get_ylabel() for a in several][:1] == ["θ (rad)"] and several[0].figure is plt.gcf()
+    assert list(several[0].figure.axes) == list(several)
+    columns = traj.plot(columns=["theta", "energy"])
+    assert isinstance(columns, np.ndarray) and [a.get_ylabel() for a in columns] == ["theta (rad)", "energy (J)"]
+    figures = len(plt.get_fignums())
+    fig, ax = plt.subplots()
+    assert traj.plot("theta", ax=ax) is ax
+    assert traj.plot(columns="energy", ax=ax) is ax
+    assert traj.plot(columns=["theta", "energy"], ax=ax) is ax
+    assert len(plt.get_fignums()) == figures + 1 and len(fig.axes) == 1
+    plt.close("all")
 
 
 def test_plot_without_matplotlib_says_how_to_get_it() -> None:
@@ -210,7 +248,7 @@ def test_plot_draws_each_surface_s_normal_force() -> None:
     from ellipsoid._plot import DECLARATION
 
     traj = stem_top()
-    fig = traj.plot()
+    fig = traj.plot()[0].figure
     assert len(fig.axes) == sum(len(p["axes"]) for p in DECLARATION["panels"])
     surfaces = [ax for ax in fig.axes if ax.get_ylabel() == "normal force N_S (N)"]
     assert len(surfaces) == 1
@@ -228,9 +266,9 @@ def test_plot_draws_each_surface_s_normal_force() -> None:
     forces = [a for a in fig.axes if a.get_ylabel() == "normal force N (N)"][0]
     assert "@" not in forces.get_title() and "sliding orange" in forces.get_title()
     one = traj.plot(columns=["normal_force_stem"])
-    assert one.axes[0].get_ylabel() == "normal_force_stem (N)"
+    assert one.get_ylabel() == "normal_force_stem (N)"
     top = tippe_top()
-    assert not any(a.get_ylabel() == "normal force N_S (N)" for a in top.plot().axes)
+    assert not any(a.get_ylabel() == "normal force N_S (N)" for a in top.plot())
     with pytest.raises(ValueError, match="the surfaces panel needs the per-surface columns `normal_force_S`"):
         top.plot("surfaces")
 
@@ -245,7 +283,7 @@ def test_both_renderers_draw_the_surfaces_panel_alike(cli: Path, tmp_path: Path)
     subprocess.run([str(cli), "plot", str(tmp_path / "run.csv"), "--summary", str(tmp_path / "run.json"),
                     "-o", str(tmp_path / "fig.svg"), "--panels", "forces,surfaces", "-q"], check=True)
     texts = svg_texts(tmp_path / "fig.svg")
-    fig = stem_top().plot("forces,surfaces")
+    fig = stem_top().plot("forces,surfaces")[0].figure
     for ax in fig.axes:
         for text in [ax.get_title(), ax.get_ylabel()] + [t.get_text() for t in ax.get_legend().get_texts()]:
             assert text in texts, f"matplotlib draws {text!r}, ellipsoid plot does not"

@@ -26,7 +26,8 @@ reads a study file.
 Results follow solve_ivp's conventions where they can: `traj.success`, `traj.nfev`,
 `traj.message`, `traj.status_code`, `traj.states` (the state matrix; `traj.y` is G's y),
 `traj.t_events` / `traj.y_events` by name, `traj.sol(ts)` the dense interpolant, and
-`simulate(scenario, t_eval=ts, method="RK45")`. Trajectories and scenarios pickle;
+`simulate(scenario, t_eval=ts, method="RK45", rtol=1e-8, atol=1e-10)`. Plots behave as
+pandas' (`traj.plot()`: a pyplot figure, its Axes returned). Trajectories and scenarios pickle;
 `traj.to_pandas()` is indexed by t, `traj.to_xarray()` and `to_xarray(study_table)` give
 xarray Datasets with units as attributes.
 

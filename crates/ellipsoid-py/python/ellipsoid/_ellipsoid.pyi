@@ -6,7 +6,7 @@ SI units and radians throughout; the unit of every column and argument is in its
 import os
 import pathlib
 from collections.abc import Iterable, Mapping, Sequence
-from typing import Any, ClassVar, Final, Literal, final, overload
+from typing import Any, ClassVar, Final, Literal, SupportsIndex, final, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -297,15 +297,15 @@ class Trajectory:
     def view(self, path: _Path, *, title: str | None = None, columns: str | Sequence[str] | None = None) -> os.PathLike[str]:
         """Writes the 3-D viewer page to `path`; Jupyter displays the file."""
     def _repr_html_(self) -> str: ...
-    def animate(self, path: _Path, *, width: int = 480, height: int = 360, fps: float = 25.0, speed: float = 1.0) -> int:
+    def animate(self, path: _Path, *, width: SupportsIndex = 480, height: SupportsIndex = 360, fps: float = 25.0, speed: float = 1.0) -> int:
         """Writes the run as an animated GIF (no browser needed), or MP4 for a `.mp4` path (needs ffmpeg); returns the frame count."""
     def plot(self, panels: str | Sequence[str] | None = None, *, columns: str | Sequence[str] | None = None, ax: Any = None) -> Any:
-        """The panels of `ellipsoid plot`, or any columns, as a matplotlib Figure (needs matplotlib)."""
+        """The panels of `ellipsoid plot`, or any columns, on a pyplot figure (or into `ax`); the Axes, or a numpy array of Axes for several (needs matplotlib)."""
     @property
     def sections(self) -> dict[str, dict[str, _FloatArray | npt.NDArray[np.str_]]]:
         """The points of each Poincaré section (`[[section]]`): name → a dict of read-only numpy arrays named like the columns (`mode` a str array), one element per crossing, in time order."""
     def plot_section(self, name: str, x: str, y: str, ax: Any = None) -> Any:
-        """Section `name`'s column `y` against column `x`, one marker per crossing, as a matplotlib Figure (needs matplotlib)."""
+        """Section `name`'s column `y` against column `x`, one marker per crossing, on a pyplot figure (or into `ax`); the Axes (needs matplotlib)."""
 
 @final
 class Study:
@@ -340,10 +340,10 @@ class Study:
     @property
     def units(self) -> dict[str, str | None]:
         """Header -> SI unit (None for names and counts)."""
-    def point(self, index: int) -> tuple[list[str], str]:
+    def point(self, index: SupportsIndex) -> tuple[list[str], str]:
         """The `key=value` overrides and the key (hash of the resolved scenario) of point `index`."""
     def run(
-        self, start: int = 0, stop: int | None = None, threads: int | None = None, journal: _Path | None = None
+        self, start: SupportsIndex = 0, stop: SupportsIndex | None = None, threads: SupportsIndex | None = None, journal: _Path | None = None
     ) -> list[tuple[Any, ...]]:
         """Runs points `start` to `stop` (exclusive) without the GIL; their rows in point order."""
     def write(self, path: _Path, rows: list[tuple[Any, ...]]) -> None:
@@ -448,9 +448,11 @@ def simulate(
     *,
     t_eval: npt.ArrayLike | None = None,
     method: Literal["RK45", "DOP853", "RK4", "dopri5", "dop853", "rk4"] | str | None = None,
+    rtol: float | None = None,
+    atol: float | None = None,
     **changes: _Value,
 ) -> Trajectory:
-    """Runs a scenario; `t_eval` output times [s], `method` scipy's or the scenario's name."""
+    """Runs a scenario; `t_eval` output times [s], `method` scipy's or the scenario's name, `rtol`/`atol` solver.rtol/solver.atol (overriding the scenario's)."""
 def check(scenario: Scenario | _Path, /, **changes: _Value) -> dict[str, Any]:
     """What `ellipsoid check` prints, as a dict (SI units, radians)."""
 def precision(
@@ -459,7 +461,7 @@ def precision(
     *,
     t_end: float | None = None,
     quick: bool = False,
-    repeats: int | None = None,
+    repeats: SupportsIndex | None = None,
     out: _Path | None = None,
     **changes: _Value,
 ) -> PrecisionTable:
@@ -467,7 +469,7 @@ def precision(
 @overload
 def sweep(
     scenarios: Iterable[Scenario | _Path],
-    workers: int | None = None,
+    workers: SupportsIndex | None = None,
     *,
     summaries_only: Literal[False] = False,
     errors: Literal["raise"] = "raise",
@@ -475,7 +477,7 @@ def sweep(
 @overload
 def sweep(
     scenarios: Iterable[Scenario | _Path],
-    workers: int | None = None,
+    workers: SupportsIndex | None = None,
     *,
     summaries_only: Literal[True],
     errors: Literal["raise"] = "raise",
@@ -483,7 +485,7 @@ def sweep(
 @overload
 def sweep(
     scenarios: Iterable[Scenario | _Path],
-    workers: int | None = None,
+    workers: SupportsIndex | None = None,
     *,
     summaries_only: bool = False,
     errors: Literal["raise", "return"] = "raise",

@@ -14,9 +14,10 @@ contact point and the geometric centre C0). Events are dashed vertical lines, la
 panel. SI units on every axis. Or any output columns, one panel each (`columns=`), or
 drawn into an existing matplotlib Axes (`ax=`), so figures compose.
 
-In a Jupyter notebook the Figure displays itself (PNG, no `%matplotlib inline` needed);
-in a script it is a pyplot figure, so `plt.show()` shows it and `fig.savefig("x.pdf")`
-writes PDF, SVG or PNG.
+As pandas' `DataFrame.plot`: every figure is made by pyplot, so in Jupyter it is shown
+once (with or without a trailing `;`), `plt.show()` shows it and `plt.savefig("x.pdf")`
+writes it (PDF, SVG or PNG); what is returned is the Axes (the one given as `ax=`), or a
+numpy array of Axes for a figure of several.
 """
 
 from __future__ import annotations
@@ -24,11 +25,9 @@ from __future__ import annotations
 from collections.abc import Sequence
 from typing import Any
 
-import io
 import json
 import os
 import re
-import sys
 
 import numpy as np
 
@@ -44,36 +43,23 @@ _FLOOR = 1e-17
 _EVENT_LABELS = 12
 
 
-def _in_kernel() -> bool:
-    """Whether this runs in a Jupyter kernel, which displays what a cell returns."""
-    ipython = sys.modules.get("IPython")
-    shell = ipython.get_ipython() if ipython is not None else None  # type: ignore[attr-defined]
-    return shell is not None and hasattr(shell, "kernel")
-
-
-def _png(fig: Any) -> bytes:
-    """A figure as PNG (Jupyter's `_repr_png_`)."""
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=80)
-    return buf.getvalue()
-
-
 def _figure(**kw: Any) -> Any:
-    """A matplotlib Figure that Jupyter displays as PNG without `%matplotlib inline`
-    (`_repr_png_`); outside a Jupyter kernel it is pyplot's (so `plt.show()` shows it)."""
+    """A new pyplot figure (pyplot knows it, as it knows pandas' figures: Jupyter's inline
+    backend shows it once at the end of the cell, `plt.show()` and `plt.savefig` find it)."""
     try:
-        from matplotlib.figure import Figure
+        import matplotlib.pyplot as plt
     except ImportError as e:  # pragma: no cover - exercised with matplotlib hidden
         raise ImportError(f"Trajectory.plot needs matplotlib (`pip install matplotlib`): {e}") from e
-    cls = type("TrajectoryFigure", (Figure,), {"_repr_png_": _png})
-    if not _in_kernel():
-        try:
-            import matplotlib.pyplot as plt
+    return plt.figure(**kw)
 
-            return plt.figure(FigureClass=cls, **kw)
-        except ImportError:  # pragma: no cover - pyplot without a usable backend
-            pass
-    return cls(**kw)
+
+def _axes(axes: Sequence[Any]) -> Any:
+    """What a plot returns, as pandas does: one Axes, or a numpy array of several."""
+    if len(axes) == 1:
+        return axes[0]
+    out = np.empty(len(axes), dtype=object)
+    out[:] = list(axes)
+    return out
 
 
 def _bad(key: str, value: Any, rule: str, wrong_type: bool = False) -> Exception:
@@ -322,31 +308,33 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None, columns: str | Se
             if len(names) > 1:
                 ax.set_ylabel(", ".join(f"{c} ({traj.units[c]})" for c in names))
             _legend(ax)
-            return ax.figure
+            return ax
         fig = _figure(figsize=(11, 2.6 * len(names)), layout="constrained")
         fig.suptitle(_suptitle(traj))
         axes = fig.subplots(len(names), 1, sharex=True, squeeze=False)[:, 0]
         for i, (a, c) in enumerate(zip(axes, names)):
             _draw_column(a, traj, c, labels=i == 0)
-        return fig
+        return _axes(list(axes))
     names = _panels(traj, panels)
     if ax is not None:
         if len(names) != 1 or len(_BY_NAME[names[0]]["axes"]) != 1:
             single = ", ".join(n for n in PANELS if len(_BY_NAME[n]["axes"]) == 1)
             raise _bad("panels", panels, f"ax= takes one panel of {single} (or columns=); the others draw two axes")
         _draw_panel([ax], traj, names[0], labels=True)
-        return ax.figure
+        return ax
     fig = _figure(figsize=(11, 3.0 * len(names)), layout="constrained")
     grid = fig.add_gridspec(len(names), 2)
     fig.suptitle(_suptitle(traj))
     first_time = next((n for n in names if n != "path"), None)
+    drawn: list[Any] = []
     for row, name in enumerate(names):
         if len(_BY_NAME[name]["axes"]) == 1:
             axes = [fig.add_subplot(grid[row, :])]
         else:
             axes = [fig.add_subplot(grid[row, 0]), fig.add_subplot(grid[row, 1])]
         _draw_panel(axes, traj, name, labels=name == first_time)
-    return fig
+        drawn += axes
+    return _axes(drawn)
 
 
 def plot_section(traj: Any, name: Any, x: Any, y: Any, ax: Any = None) -> Any:
@@ -374,4 +362,4 @@ def plot_section(traj: Any, name: Any, x: Any, y: Any, ax: Any = None) -> Any:
     ax.set_xlabel(f"{x} ({traj.units[x]})")
     ax.set_ylabel(f"{y} ({traj.units[y]})")
     ax.grid(alpha=0.3)
-    return ax.figure
+    return ax

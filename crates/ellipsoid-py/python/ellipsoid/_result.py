@@ -4,6 +4,7 @@ Dataset views, and pickling. SI units throughout (`Trajectory.units`)."""
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 import numpy as np
@@ -99,16 +100,29 @@ def to_xarray(traj: Trajectory) -> Any:
     return ds
 
 
+#: A study column's name and its unit: `t_final [s]` → (`t_final`, `s`).
+_UNIT = re.compile(r"(.+) \[([^\[\]]*)\]")
+
+
+def _bare(name: str) -> tuple[str, str | None]:
+    """A study column's name without its `[unit]`, and the unit (None without one)."""
+    m = _UNIT.fullmatch(name)
+    return (m.group(1), m.group(2)) if m else (name, None)
+
+
 def study_to_xarray(table: Any) -> Any:
     """`ellipsoid.to_xarray(table)`: a study's DataFrame as an xarray Dataset. A grid
     study (its axes in `table.attrs["axes"]`, every combination present once) becomes an
-    n-D Dataset over its axes; any other table a Dataset over `point`. Units from
-    `table.attrs["units"]` become each variable's `units` attribute."""
+    n-D Dataset over its axes; any other table a Dataset over `point`. Names lose their
+    `[unit]` (the dimension `"contact.friction"`, the variable `"t_final"`: so
+    `ds.sel({"contact.friction": 0.05})` works) and the unit becomes each variable's
+    `attrs["units"]` (from `table.attrs["units"]`, else from the name), as in
+    `Trajectory.to_xarray`. Missing values are NaN (float64)."""
     try:
         import xarray as xr  # type: ignore[import-untyped,unused-ignore]
     except ImportError as e:
         raise ImportError(f"ellipsoid.to_xarray needs xarray (`pip install xarray`): {e}") from e
-    units: dict[str, str] = dict(table.attrs.get("units", {}))
+    known: dict[str, str | None] = dict(table.attrs.get("units", {}))
     axes = list(table.attrs.get("axes", []))
     df = table.copy()
     # pandas' nullable dtypes (NA) as plain floats (NaN), which xarray holds.
@@ -119,10 +133,20 @@ def study_to_xarray(table: Any) -> Any:
     if grid:
         size = int(np.prod([df[a].nunique() for a in axes]))
         grid = size == len(df)
-    ds = xr.Dataset.from_dataframe(df.set_index(axes if grid else ["point"]))
+    # names without their unit (unless two columns would then share a name)
+    bare = {str(c): _bare(str(c)) for c in df.columns}
+    if len({b for b, _ in bare.values()}) == len(bare):
+        rename = {c: b for c, (b, _) in bare.items()}
+    else:
+        rename = {c: c for c in bare}
+    units = {rename[c]: known.get(c, u) for c, (_, u) in bare.items()}
+    df = df.rename(columns=rename)
+    index = [rename[str(a)] for a in axes] if grid else ["point"]
+    ds = xr.Dataset.from_dataframe(df.set_index(index))
     for name in ds.variables:
-        if str(name) in units:
-            ds[name].attrs["units"] = units[str(name)]
+        unit = units.get(str(name))
+        if unit:
+            ds[name].attrs["units"] = unit
     ds.attrs.update({k: v for k, v in table.attrs.items() if k in ("study", "combine")})
     return ds
 

@@ -4,13 +4,25 @@ this wraps its arrays in a result object."""
 
 from __future__ import annotations
 
+import operator
 import os
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import Any, SupportsIndex
 
 import numpy as np
 
 from ellipsoid._ellipsoid import Scenario, ScenarioError, steady_raw, steady_start
+
+
+def _index(value: Any) -> int | None:
+    """`value` as an int if `operator.index` takes it (an int, a numpy integer), not a
+    bool; else None."""
+    if isinstance(value, (bool, np.bool_)):
+        return None
+    try:
+        return operator.index(value)
+    except TypeError:
+        return None
 
 
 class Steady:
@@ -65,25 +77,29 @@ class Steady:
     def __len__(self) -> int:
         return len(self.values)
 
-    def scenario(self, mode: int | str, eps: float, index: int = 0) -> Scenario:
+    def scenario(self, mode: int | SupportsIndex | str, eps: float, index: int | SupportsIndex = 0) -> Scenario:
         """The scenario started on steady motion ``index`` (a row of ``eigenvalues``)
         displaced by ``eps`` along ``mode`` (its column in ``eigenvalues``, 0 = the least
         stable, or its name in ``modes``: the first of that name), as ``ellipsoid steady
         --perturb`` writes it: its ``[initial]`` table the displaced state, every other
         table the scenario's. ``simulate`` of it shows the mode grow (Re λ > 0) or
-        oscillate. |eps| at most 0.1 (rad of tilt)."""
-        if not isinstance(index, int) or not 0 <= index < len(self):
+        oscillate. |eps| at most 0.1 (rad of tilt). ``index`` and a column ``mode`` are
+        anything ``operator.index`` takes (an int, a numpy integer)."""
+        row = _index(index)
+        if row is None or not 0 <= row < len(self):
             raise ScenarioError(f"index = {index!r}: must be a row number from 0 to {len(self) - 1}")
-        names = self.modes[index]
+        names = self.modes[row]
         if isinstance(mode, str):
             if mode not in names:
                 raise ScenarioError(f"mode = {mode!r}: not a mode of this motion (its modes: {', '.join(names)})")
-            mode = names.index(mode)
-        if not isinstance(mode, int) or not 0 <= mode < len(names):
+            column: int | None = names.index(mode)
+        else:
+            column = _index(mode)
+        if column is None or not 0 <= column < len(names):
             raise ScenarioError(f"mode = {mode!r}: must be a column from 0 to {len(names) - 1} or a mode's name")
         scenario, solve = self._source
-        value = None if self.key is None else float(self.values[index])
-        return steady_start(scenario, self.family, mode, float(eps), self.key, value, solve)
+        value = None if self.key is None else float(self.values[row])
+        return steady_start(scenario, self.family, column, float(eps), self.key, value, solve)
 
     def __repr__(self) -> str:
         crit = ", ".join(f"{c['value']:.10g} ({c['kind']})" for c in self.critical) or "none"
@@ -93,8 +109,8 @@ class Steady:
         )
 
     def plot(self, ax: Any = None, frequencies: bool = True) -> Any:
-        """The stability diagram into the matplotlib Axes ``ax`` (a new figure's if None),
-        which it returns: the growth rates Re λ against ``values`` (the largest bold, the
+        """The stability diagram into the matplotlib Axes ``ax`` (else a new pyplot
+        figure's, shown once in Jupyter as pandas' plots are), which it returns: the growth rates Re λ against ``values`` (the largest bold, the
         others thin), the values' stable and unstable ranges shaded green and red (each
         range ending at a located critical value, else midway between two values), each
         critical value a dashed line labelled with its value and kind, and with

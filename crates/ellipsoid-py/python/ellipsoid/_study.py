@@ -16,7 +16,7 @@ import json
 import math
 import os
 import time
-from typing import Any, Literal
+from typing import Any, Literal, SupportsIndex
 
 from ellipsoid._ellipsoid import Study, _argument_error, _study_workers, make_study
 
@@ -59,7 +59,7 @@ def _slots(executor: Any) -> int:
     return int(n) if n else (os.cpu_count() or 1)
 
 
-def _frame(st: Study, rows: list, nullable_dtypes: bool = True):
+def _frame(st: Study, rows: list, nullable_dtypes: bool = False):
     import pandas as pd  # type: ignore[import-untyped,unused-ignore]  # optional: pandas-stubs may be absent
 
     cols = st.columns
@@ -93,11 +93,11 @@ def study(
     executor: Any = None,
     *,
     combine: "Literal['grid', 'zip'] | None" = None,
-    workers: "int | None" = None,
+    workers: "SupportsIndex | None" = None,
     journal: "str | os.PathLike[str] | None" = None,
     chunk_seconds: float = 2.0,
     out: "str | os.PathLike[str] | None" = None,
-    nullable: bool = True,
+    nullable: bool = False,
 ):
     """Runs a parameter study and returns its table as a ``pandas.DataFrame``.
 
@@ -122,13 +122,14 @@ def study(
     The columns are the file's (``ellipsoid study``): ``point``, the axis values, then
     ``status``, ``message``, ``t_final [s]``, ``t_NAME [s]`` per observable, the chosen
     ``final.``/``min.``/``max.`` columns, ``drift.NAME [1]``, ``wall_time [s]``,
-    ``rhs_evals``, ``key``; floats and counts that may have no value use pandas' nullable
-    dtypes (``Float64``, ``Int64``: ``pd.NA``, never NaN). A run that fails is a row with
-    its status and message. ``nullable=False``: plain ``float64`` with NaN instead
-    (counts that may be missing become floats too), for matplotlib and numpy.
+    ``rhs_evals``, ``key``; floats are plain ``float64``, NaN where a run has no value
+    (counts that may be missing become floats too), as matplotlib and numpy take them. A
+    run that fails is a row with its status and message. ``nullable=True``: pandas'
+    nullable dtypes instead (``Float64``, ``Int64``: ``pd.NA`` where there is no value).
     ``df.attrs["units"]`` maps each column to its SI unit, ``df.attrs["axes"]`` names the
     axes' columns and ``df.attrs["combine"]`` says "grid" or "zip"
-    (``ellipsoid.to_xarray(df)`` makes a grid an n-D Dataset).
+    (``ellipsoid.to_xarray(df)`` makes a grid an n-D Dataset, its names without the
+    ``[unit]``, each unit in its variable's ``attrs["units"]``).
     """
     threads = _study_workers(workers)
     _check_seconds(chunk_seconds)
@@ -156,8 +157,9 @@ def study(
         if ext in ("parquet", "pq"):
             # Made in memory, then written like every other table: atomically, never
             # through a symbolic link.
+            # Parquet keeps a missing value as null, whatever `nullable` says.
             buf = io.BytesIO()
-            df.to_parquet(buf, index=False)
+            (df if nullable else _frame(st, rows, True)).to_parquet(buf, index=False)
             st.write_bytes(out, buf.getvalue())
         else:
             st.write(out, rows)
