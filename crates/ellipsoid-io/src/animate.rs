@@ -63,13 +63,13 @@ impl Options {
         if !(self.fps > 0.0 && self.fps <= 100.0) {
             return Err(format!(
                 "fps = {}: give a frame rate in (0, 100] (a GIF counts in 1/100 s)",
-                self.fps
+                ellipsoid_core::error::number(self.fps)
             ));
         }
         if !(self.speed > 0.0 && self.speed.is_finite()) {
             return Err(format!(
                 "speed = {}: give a positive number of simulated seconds per second",
-                self.speed
+                ellipsoid_core::error::number(self.speed)
             ));
         }
         Ok(())
@@ -432,7 +432,37 @@ pub fn check(table: &Table, opt: &Options) -> Result<Shape, String> {
     if cols[0].is_empty() {
         return Err("the trajectory has no rows".into());
     }
+    frame_count(cols[0], opt)?;
     Ok(shape)
+}
+
+/// The number of frames of a run whose times are `t` (non-decreasing, at least one):
+/// one at each t = t0 + k·speed/fps up to the last row (docs/scenarios.md, "ellipsoid
+/// animate"). A run that needs more than [`MAX_FRAMES`] is refused, naming the speed at
+/// which the whole run fits: an animation never stops short of the run's end.
+pub fn frame_count(t: &[f64], opt: &Options) -> Result<usize, String> {
+    use ellipsoid_core::error::number;
+    let span = t[t.len() - 1] - t[0];
+    let needed = if span > 0.0 {
+        (span / (opt.speed / opt.fps)).floor() + 1.0
+    } else {
+        1.0
+    };
+    if needed <= MAX_FRAMES as f64 {
+        return Ok(needed as usize);
+    }
+    // The smallest speed of three significant digits at which the run fits.
+    let exact = span * opt.fps / (MAX_FRAMES - 1) as f64;
+    let unit = 10f64.powf(exact.log10().floor() - 2.0);
+    let fits = (exact / unit).ceil() * unit;
+    Err(format!(
+        "speed = {}: the run's {} s at {} fps and {} simulated seconds per second need {needed:.4e} frames, more than the {MAX_FRAMES} an animation may have; give a speed of at least {} (the whole run in at most {MAX_FRAMES} frames)",
+        number(opt.speed),
+        number(span),
+        number(opt.fps),
+        number(opt.speed),
+        number(fits),
+    ))
 }
 
 /// Renders the frames of the run (see [`gif`]), each handed to `frame` as one palette
@@ -449,9 +479,10 @@ fn render(
     let (t, x, y, z, theta, phi, psi) = (
         cols[0], cols[1], cols[2], cols[3], cols[4], cols[5], cols[6],
     );
-    let (t0, t1) = (t[0], t[t.len() - 1]);
+    let t0 = t[0];
     let step = opt.speed / opt.fps;
-    let frames = (((t1 - t0) / step).floor() as usize + 1).min(MAX_FRAMES);
+    let frames = frame_count(t, opt)?;
+    debug_assert!(frames <= MAX_FRAMES);
     let rmax = shape.semi_axes.iter().copied().fold(0.0, f64::max);
     // how far the body reaches from C0: its ellipsoid, or a contact sphere beyond it
     let reach0 = shape.spheres.iter().fold(rmax, |m, s| {
