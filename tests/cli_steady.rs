@@ -826,12 +826,22 @@ fn steady_refuses_an_output_it_does_not_write_or_the_plot_s_path() {
     let png_dot = format!("{}/./same.png", png.parent().unwrap().display());
     let cases: Vec<(Vec<String>, &str, Vec<PathBuf>)> = vec![
         (
-            vec!["--plot".into(), png.display().to_string(), "-o".into(), png.display().to_string()],
+            vec![
+                "--plot".into(),
+                png.display().to_string(),
+                "-o".into(),
+                png.display().to_string(),
+            ],
             "give them different paths",
             vec![png.clone()],
         ),
         (
-            vec!["--plot".into(), png.display().to_string(), "-o".into(), png_dot],
+            vec![
+                "--plot".into(),
+                png.display().to_string(),
+                "-o".into(),
+                png_dot,
+            ],
             "give them different paths",
             vec![png.clone()],
         ),
@@ -877,7 +887,10 @@ fn steady_refuses_an_output_it_does_not_write_or_the_plot_s_path() {
         .unwrap();
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.contains("with --perturb, -o writes the started scenario as .toml"), "{err}");
+    assert!(
+        err.contains("with --perturb, -o writes the started scenario as .toml"),
+        "{err}"
+    );
     assert!(!csv.exists());
     let toml = scratch("start.toml");
     stdout_of(
@@ -887,7 +900,11 @@ fn steady_refuses_an_output_it_does_not_write_or_the_plot_s_path() {
             .args(["--perturb", "1=1e-6", "-o"])
             .arg(&toml),
     );
-    assert!(std::fs::read_to_string(&toml).unwrap().contains("[initial]"));
+    assert!(
+        std::fs::read_to_string(&toml)
+            .unwrap()
+            .contains("[initial]")
+    );
 }
 
 /// Issue 48: `plot --section` of a table of 10⁶ points wrote a 92 MB SVG, and the PNG
@@ -903,7 +920,10 @@ fn plot_section_of_a_million_points_stays_small() {
         w.write_all(b"section,t,psi,omega_z\n").unwrap();
         for k in 0..1_000_000u64 {
             // Two sections filling a square densely (a chaotic section looks so).
-            let (x, y) = ((k * 7919 % 1_000_003) as f64, (k * 104_729 % 999_983) as f64);
+            let (x, y) = (
+                (k * 7919 % 1_000_003) as f64,
+                (k * 104_729 % 999_983) as f64,
+            );
             let name = if k % 2 == 0 { "a" } else { "b" };
             writeln!(w, "{name},{k},{x},{y}").unwrap();
         }
@@ -920,7 +940,10 @@ fn plot_section_of_a_million_points_stays_small() {
             .unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(out.status.success(), "{ext}: {err}");
-        assert!(err.contains("1000000 points of 2 sections") && err.contains("markers"), "{err}");
+        assert!(
+            err.contains("1000000 points of 2 sections") && err.contains("markers"),
+            "{err}"
+        );
         let size = std::fs::metadata(&fig).unwrap().len();
         assert!(size < 4_000_000, "{ext}: {size} bytes");
         if ext == "svg" {

@@ -842,5 +842,9 @@ fn animate_refuses_more_frames_than_it_draws_and_names_the_speed_that_fits() {
     // The run is 1.5 s: at 0.0188 s per s and 25 fps, 1995 frames.
     let out = animate("0.0188");
     assert!(out.status.success(), "{}", stderr(&out));
-    assert!(stderr(&out).contains("wrote a.gif (1995 frames"), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("wrote a.gif (1995 frames"),
+        "{}",
+        stderr(&out)
+    );
 }

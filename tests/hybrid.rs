@@ -263,7 +263,11 @@ fn a_sticking_landing_where_the_plane_would_pull_lifts_off_instead_of_stopping()
         .find(|e| matches!(e.kind, EventKind::Touchdown { .. }))
         .expect("a touchdown")
         .t;
-    assert!(out.final_sample.t > touchdown + 0.05, "{}", out.final_sample.t);
+    assert!(
+        out.final_sample.t > touchdown + 0.05,
+        "{}",
+        out.final_sample.t
+    );
     for s in &samples {
         assert!(
             s.mode == Mode::Flight || s.normal_force >= 0.0,

@@ -337,7 +337,9 @@ fn the_sections_together_keep_at_most_a_million_points() {
     let entry = |k: usize, max: &str| {
         format!("[[section]]\nname = \"s{k}\"\ncolumn = \"theta\"\ncrosses = 0.1\n{max}\n")
     };
-    let parse = |entries: &str| scenario::parse(&format!("{NUTATION}\n{entries}"), "x.toml", &[] as &[&str]);
+    let parse = |entries: &str| {
+        scenario::parse(&format!("{NUTATION}\n{entries}"), "x.toml", &[] as &[&str])
+    };
     // Sixteen sections of 10⁶ points: refused at the second's max_points.
     let sixteen: String = (0..16).map(|k| entry(k, "max_points = 1000000")).collect();
     let e = parse(&sixteen).expect_err("16 × 10⁶ points").to_string();
@@ -349,7 +351,10 @@ fn the_sections_together_keep_at_most_a_million_points() {
         "{e} (expected line {second})"
     );
     assert!(e.contains("section[1].max_points = 1000000"), "{e}");
-    assert!(e.contains("together keep at most 1000000 points") && e.contains("sum to 2000000"), "{e}");
+    assert!(
+        e.contains("together keep at most 1000000 points") && e.contains("sum to 2000000"),
+        "{e}"
+    );
     // Without max_points, each of n sections keeps 10⁶ / n.
     let defaults: String = (0..3).map(|k| entry(k, "")).collect();
     let s = parse(&defaults).unwrap_or_else(|e| panic!("{e}"));
@@ -358,11 +363,18 @@ fn the_sections_together_keep_at_most_a_million_points() {
     assert_eq!(one.scene.sections[0].max_points, 1_000_000);
     // Explicit values summing to 10⁶ are allowed; a default share that passes it is
     // refused at its entry, naming the default.
-    let exact = format!("{}{}", entry(0, "max_points = 400000"), entry(1, "max_points = 600000"));
+    let exact = format!(
+        "{}{}",
+        entry(0, "max_points = 400000"),
+        entry(1, "max_points = 600000")
+    );
     assert!(parse(&exact).is_ok());
     let over = format!("{}{}", entry(0, "max_points = 900000"), entry(1, ""));
     let e = parse(&over).expect_err("900000 + 500000").to_string();
-    assert!(e.contains("section[1].max_points = 500000 (the default)"), "{e}");
+    assert!(
+        e.contains("section[1].max_points = 500000 (the default)"),
+        "{e}"
+    );
     assert!(e.contains("sum to 1400000"), "{e}");
     // The scene's own validation holds the bound too (a scene built in code).
     let mut scene = one.scene.clone();
@@ -372,5 +384,8 @@ fn the_sections_together_keep_at_most_a_million_points() {
     });
     scene.sections[1].crossing.name = "other".into();
     let e = scene.validate().expect_err("1000001 points").to_string();
-    assert!(e.contains("section.max_points") && e.contains("together"), "{e}");
+    assert!(
+        e.contains("section.max_points") && e.contains("together"),
+        "{e}"
+    );
 }

@@ -1109,8 +1109,14 @@ fn linearize_refuses_states_beyond_what_doubles_resolve() {
         ([0.0, 0.0, 1e300, 0.0, 0.0, 0.0], "squared length"),
         ([1e300, 1e300, 1e300, 0.0, 0.0, 1.0], "squared length"),
         ([0.0, 0.0, 1e-160, 0.0, 0.0, 1.0], "squared length"),
-        ([0.0, 0.0, 1.0, 1e140, 0.0, 0.0], "analysed up to 100000 √(g/c_max)"),
-        ([0.0, 0.0, 1.0, 0.0, 0.0, 1.01 * bound], "analysed up to 100000 √(g/c_max)"),
+        (
+            [0.0, 0.0, 1.0, 1e140, 0.0, 0.0],
+            "analysed up to 100000 √(g/c_max)",
+        ),
+        (
+            [0.0, 0.0, 1.0, 0.0, 0.0, 1.01 * bound],
+            "analysed up to 100000 √(g/c_max)",
+        ),
         ([0.0, 0.0, 1.0, 0.0, 0.0, f64::NAN], "must be finite"),
     ] {
         let e = steady::linearize_scene(&scene, Some(steady::Phase::from_row_slice(&state)))

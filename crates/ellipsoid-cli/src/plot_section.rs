@@ -341,11 +341,7 @@ pub fn svg(points: &Points, title: &str) -> Result<(String, usize), String> {
             let color = PALETTE[k % PALETTE.len()];
             let count = points.section.iter().filter(|&&s| s == k).count();
             chart
-                .draw_series(
-                    drawn[k]
-                        .iter()
-                        .map(|p| Circle::new(*p, 2, color.filled())),
-                )
+                .draw_series(drawn[k].iter().map(|p| Circle::new(*p, 2, color.filled())))
                 .map_err(err)?
                 .label(format!("{name} ({count} points)"))
                 // A square, so that the figure's circles are its points.

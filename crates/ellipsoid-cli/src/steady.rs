@@ -151,7 +151,10 @@ fn check_table_output(path: &std::path::Path, perturb: bool) -> Result<(), CliEr
         .map(|e| e.to_string_lossy().to_lowercase())
         .unwrap_or_default();
     let (allowed, rule): (&[&str], &str) = if perturb {
-        (&["toml"], "with --perturb, -o writes the started scenario as .toml")
+        (
+            &["toml"],
+            "with --perturb, -o writes the started scenario as .toml",
+        )
     } else {
         (
             &["csv", "parquet", "pq"],

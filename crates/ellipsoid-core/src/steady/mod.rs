@@ -99,7 +99,11 @@ pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization
         ));
     }
     families::check_rate(field.body(), field.gravity(), omega.norm(), |rule| {
-        ModelError::invalid("state", state(), format!("|ω| = {:e} rad/s: {rule}", omega.norm()))
+        ModelError::invalid(
+            "state",
+            state(),
+            format!("|ω| = {:e} rad/s: {rule}", omega.norm()),
+        )
     })?;
     let lin = linearize(&field, &at, None);
     if !lin.jacobian.iter().all(|x| x.is_finite()) {

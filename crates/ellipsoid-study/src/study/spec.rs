@@ -835,7 +835,12 @@ fn read_outcomes(doc: &Doc<'_>, t: &DeTable<'_>) -> Res<Outcomes> {
                     }
                     all
                 } else {
-                    doc.strings(v, &key, MAX_KEYS, "an outcome list names at most {max} columns")?
+                    doc.strings(
+                        v,
+                        &key,
+                        MAX_KEYS,
+                        "an outcome list names at most {max} columns",
+                    )?
                 };
                 match name {
                     "final" => o.final_columns = list,

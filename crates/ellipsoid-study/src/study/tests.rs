@@ -692,5 +692,8 @@ fn an_also_list_too_long_names_the_rule_of_keys() {
         "[[axis]]\nkey = \"contact.friction\"\nvalues = [0.3]\n[outcomes]\nfinal = [{columns}]\n"
     ))
     .unwrap_err();
-    assert!(e.contains("an outcome list names at most 64 columns"), "{e}");
+    assert!(
+        e.contains("an outcome list names at most 64 columns"),
+        "{e}"
+    );
 }
