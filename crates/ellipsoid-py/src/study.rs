@@ -43,7 +43,9 @@ use crate::trajectory::Trajectory;
 /// OutputError when `out` cannot be written.
 #[pyfunction]
 #[pyo3(signature = (scenario, /, *, t_end = None, quick = None, repeats = None, out = None, **changes))]
-#[pyo3(text_signature = "(scenario, /, *, t_end=None, quick=False, repeats=None, out=None, **changes)")]
+#[pyo3(
+    text_signature = "(scenario, /, *, t_end=None, quick=False, repeats=None, out=None, **changes)"
+)]
 pub fn precision(
     py: Python<'_>,
     scenario: &Bound<'_, PyAny>,
