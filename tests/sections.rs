@@ -339,6 +339,7 @@ fn the_sections_together_keep_at_most_a_million_points() {
     };
     let parse = |entries: &str| {
         scenario::parse(&format!("{NUTATION}\n{entries}"), "x.toml", &[] as &[&str])
+            .map_err(|e| e.to_string())
     };
     // Sixteen sections of 10⁶ points: refused at the second's max_points.
     let sixteen: String = (0..16).map(|k| entry(k, "max_points = 1000000")).collect();
