@@ -454,7 +454,9 @@ pub fn frame_count(t: &[f64], opt: &Options) -> Result<usize, String> {
     // The smallest speed of three significant digits at which the run fits.
     let exact = span * opt.fps / (MAX_FRAMES - 1) as f64;
     let unit = 10f64.powf(exact.log10().floor() - 2.0);
-    let fits = (exact / unit).ceil() * unit;
+    let up = (exact / unit).ceil() * unit;
+    // Printed with its three digits (the product may carry round-off: 0.018799999999999997).
+    let fits: f64 = format!("{up:.2e}").parse().unwrap_or(up);
     Err(format!(
         "speed = {}: the run's {} s at {} fps and {} simulated seconds per second need {needed:.4e} frames, more than the {MAX_FRAMES} an animation may have; give a speed of at least {} (the whole run in at most {MAX_FRAMES} frames)",
         number(opt.speed),
@@ -674,6 +676,48 @@ mod tests {
         assert_eq!(colour(Vector3::new(0.0, 0.0, 0.15)), Some(SPHERE_COLOUR));
         assert!(colour(Vector3::new(0.0, 0.0, 2.5)).is_some_and(|c| c < SPHERE_COLOUR));
         assert_eq!(colour(Vector3::new(3.0, 3.0, 0.0)), None);
+    }
+
+    /// A run needing more than MAX_FRAMES frames is refused, naming the smallest speed of
+    /// three digits that fits (printed as such, without round-off digits) and the speed
+    /// given in a short form; at that speed the whole run fits.
+    #[test]
+    fn frames_beyond_the_cap_are_refused_naming_the_speed_that_fits() {
+        let opt = |speed| Options {
+            speed,
+            ..Options::default()
+        };
+        let t = [0.0, 0.75, 1.5];
+        for speed in [0.01, 1e-300] {
+            let e = frame_count(&t, &opt(speed)).unwrap_err();
+            assert!(e.contains("give a speed of at least 0.0188 ("), "{e}");
+            assert!(
+                e.starts_with(&format!(
+                    "speed = {}:",
+                    ellipsoid_core::error::number(speed)
+                )),
+                "{e}"
+            );
+            assert!(e.len() < 300, "{e}");
+        }
+        assert_eq!(frame_count(&t, &opt(0.0188)), Ok(1995));
+        assert_eq!(frame_count(&[2.0], &opt(1e-300)), Ok(1));
+        for span in [1.0, 3.7, 123.456, 1e6, 1e-3] {
+            let e = frame_count(&[0.0, span], &opt(1e-9)).unwrap_err();
+            let fits: f64 = e
+                .split("at least ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!(
+                frame_count(&[0.0, span], &opt(fits)).unwrap() <= MAX_FRAMES,
+                "{span}: {e}"
+            );
+        }
     }
 
     #[test]
