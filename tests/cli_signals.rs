@@ -440,7 +440,8 @@ fn sigint_stops_steady_vary_and_animate_with_130_and_the_old_output_kept() {
             "-o",
             "table.csv",
         ],
-        // 2000 frames of 2000 × 2000 px: minutes.
+        // 1981 frames of 2000 × 2000 px (the whole 20 s at 100 fps and 1.01 simulated
+        // seconds per second; an animation has at most 2000): minutes.
         &[
             "animate",
             "traj.csv",
@@ -455,7 +456,7 @@ fn sigint_stops_steady_vary_and_animate_with_130_and_the_old_output_kept() {
             "--fps",
             "100",
             "--speed",
-            "0.01",
+            "1.01",
         ],
     ];
     for args in long {

@@ -812,3 +812,144 @@ fn vary_over_a_key_the_scenario_refuses_exits_2_and_writes_nothing() {
         assert!(!table.exists(), "{vary}");
     }
 }
+
+/// Issue 48: `steady --plot X -o X` left the table's CSV text in the figure while saying
+/// "wrote X", and `-o x.h5` or `-o x.toml` got CSV. `-o` takes .csv or .parquet (with
+/// --perturb, .toml), and never the path of --plot: anything else is refused before the
+/// analysis (exit 2, the message naming the option and the rule, nothing written).
+#[test]
+fn steady_refuses_an_output_it_does_not_write_or_the_plot_s_path() {
+    let scene = scratch("egg-outputs.toml");
+    std::fs::write(&scene, EGG).unwrap();
+    let vary = ["--vary", "initial.psi_dot=10:200:5"];
+    let png = scratch("same.png");
+    let png_dot = format!("{}/./same.png", png.parent().unwrap().display());
+    let cases: Vec<(Vec<String>, &str, Vec<PathBuf>)> = vec![
+        (
+            vec![
+                "--plot".into(),
+                png.display().to_string(),
+                "-o".into(),
+                png.display().to_string(),
+            ],
+            "give them different paths",
+            vec![png.clone()],
+        ),
+        (
+            vec![
+                "--plot".into(),
+                png.display().to_string(),
+                "-o".into(),
+                png_dot,
+            ],
+            "give them different paths",
+            vec![png.clone()],
+        ),
+        (
+            vec!["-o".into(), scratch("t.h5").display().to_string()],
+            "-o writes the table as .csv or .parquet",
+            vec![scratch("t.h5")],
+        ),
+        (
+            vec!["-o".into(), scratch("t.toml").display().to_string()],
+            "-o writes the table as .csv or .parquet",
+            vec![scratch("t.toml")],
+        ),
+        (
+            vec!["-o".into(), scratch("t").display().to_string()],
+            "-o writes the table as .csv or .parquet",
+            vec![scratch("t")],
+        ),
+    ];
+    for (args, says, never) in cases {
+        let out = Command::new(BIN)
+            .arg("steady")
+            .arg(&scene)
+            .args(vary)
+            .args(&args)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {err}");
+        assert!(err.contains(says) && err.contains("-o "), "{args:?}: {err}");
+        for p in never {
+            assert!(!p.exists(), "{args:?} wrote {}", p.display());
+        }
+    }
+    // --perturb writes TOML, and only TOML.
+    let csv = scratch("start.csv");
+    let out = Command::new(BIN)
+        .arg("steady")
+        .arg(&scene)
+        .args(["--perturb", "1=1e-6", "-o"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains("with --perturb, -o writes the started scenario as .toml"),
+        "{err}"
+    );
+    assert!(!csv.exists());
+    let toml = scratch("start.toml");
+    stdout_of(
+        Command::new(BIN)
+            .arg("steady")
+            .arg(&scene)
+            .args(["--perturb", "1=1e-6", "-o"])
+            .arg(&toml),
+    );
+    assert!(
+        std::fs::read_to_string(&toml)
+            .unwrap()
+            .contains("[initial]")
+    );
+}
+
+/// Issue 48: `plot --section` of a table of 10⁶ points wrote a 92 MB SVG, and the PNG
+/// failed ("nodes limit reached"). Beyond 20 000 points the figure is drawn on a grid of
+/// marker-sized cells: 10⁶ points of two sections give an SVG under 4 MB and a PNG, the
+/// legend counting every point, and stderr saying how many markers were drawn.
+#[test]
+fn plot_section_of_a_million_points_stays_small() {
+    use std::io::Write;
+    let table = scratch("million-sections.csv");
+    {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(&table).unwrap());
+        w.write_all(b"section,t,psi,omega_z\n").unwrap();
+        for k in 0..1_000_000u64 {
+            // Two sections filling a square densely (a chaotic section looks so).
+            let (x, y) = (
+                (k * 7919 % 1_000_003) as f64,
+                (k * 104_729 % 999_983) as f64,
+            );
+            let name = if k % 2 == 0 { "a" } else { "b" };
+            writeln!(w, "{name},{k},{x},{y}").unwrap();
+        }
+        w.flush().unwrap();
+    }
+    for ext in ["svg", "png"] {
+        let fig = scratch(&format!("million.{ext}"));
+        let out = Command::new(BIN)
+            .arg("plot")
+            .arg(&table)
+            .args(["--section", "--x", "psi", "--y", "omega_z", "-o"])
+            .arg(&fig)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{ext}: {err}");
+        assert!(
+            err.contains("1000000 points of 2 sections") && err.contains("markers"),
+            "{err}"
+        );
+        let size = std::fs::metadata(&fig).unwrap().len();
+        assert!(size < 4_000_000, "{ext}: {size} bytes");
+        if ext == "svg" {
+            let text = std::fs::read_to_string(&fig).unwrap();
+            assert!(text.matches("<circle").count() <= 225 * 175);
+            assert!(text.contains("a (500000 points)") && text.contains("b (500000 points)"));
+        }
+    }
+}

@@ -762,3 +762,89 @@ fn spheres_travel_with_csv_and_hdf5_and_draw_alike() {
         assert!(page == read("s.h5.html"), "CSV and HDF5 make the same page");
     }
 }
+
+/// Issue 48: `view` of a CSV of more than 10⁷ rows parsed every row (19 s for a wide
+/// file) before refusing it. The rows are now counted by a scan of the bytes before any
+/// is parsed: a file of 10⁷ + 1 rows of seven columns (280 MB; about 8 s to parse here)
+/// is refused within 2 s, at the first row past the limit, nothing written.
+#[test]
+fn view_refuses_a_file_of_too_many_rows_before_parsing_it() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let rows = ellipsoid_io::table::MAX_ROWS + 1;
+    {
+        let mut w = std::io::BufWriter::new(std::fs::File::create(d.join("wide.csv")).unwrap());
+        w.write_all(b"t,x,y,z,theta,phi,psi\n").unwrap();
+        let block = "0.5,0.5,0.5,0.5,0.5,0.5,0.5\n".repeat(1000);
+        for _ in 0..rows / 1000 {
+            w.write_all(block.as_bytes()).unwrap();
+        }
+        for _ in 0..rows % 1000 {
+            w.write_all(b"0.5,0.5,0.5,0.5,0.5,0.5,0.5\n").unwrap();
+        }
+        w.flush().unwrap();
+    }
+    let start = std::time::Instant::now();
+    let out = ellipsoid(d, &["view", "wide.csv", "-o", "p.html", "-q"]);
+    let took = start.elapsed();
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(
+        err.contains(&format!("wide.csv:{}:", rows + 1)) && err.contains("more than 10000000 rows"),
+        "{err}"
+    );
+    assert!(!d.join("p.html").exists());
+    assert!(took < std::time::Duration::from_secs(2), "took {took:?}");
+}
+
+/// Issue 48: `animate --speed 1e-300` wrote a GIF of no frame with exit 0, and the cap of
+/// 2000 frames cut a long run short without a word. An animation shows the whole run or
+/// nothing: a speed at which the run needs more than 2000 frames is refused (exit 2,
+/// nothing written), the message naming the cap, the frames needed and the smallest speed
+/// that fits; at that speed the whole run is drawn in at most 2000 frames.
+#[test]
+fn animate_refuses_more_frames_than_it_draws_and_names_the_speed_that_fits() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let (csv, json) = tippe_top(d);
+    let animate = |speed: &str| {
+        ellipsoid(
+            d,
+            &[
+                "animate",
+                csv.to_str().unwrap(),
+                "--summary",
+                json.to_str().unwrap(),
+                "--width",
+                "16",
+                "--height",
+                "16",
+                "--speed",
+                speed,
+                "-o",
+                "a.gif",
+            ],
+        )
+    };
+    for speed in ["1e-300", "0.01"] {
+        let out = animate(speed);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{speed}: {err}");
+        assert!(
+            err.contains(&format!("speed = {speed}"))
+                && err.contains("more than the 2000 an animation may have")
+                && err.contains("give a speed of at least 0.0188"),
+            "{speed}: {err}"
+        );
+        assert!(!d.join("a.gif").exists(), "{speed}");
+    }
+    // The run is 1.5 s: at 0.0188 s per s and 25 fps, 1995 frames.
+    let out = animate("0.0188");
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("wrote a.gif (1995 frames"),
+        "{}",
+        stderr(&out)
+    );
+}

@@ -246,3 +246,40 @@ fn dopri5_finds_the_disc_stop_that_dop853_finds() {
         assert!((s.position - reference.position).norm() < 1e-6);
     }
 }
+
+/// Issue 48: a sliding landing that sticks where the plane would have to pull (no
+/// gravity, a tilted spinning top: sliding N = −0.037 N after the plastic impact) ended
+/// the run `slip_stopped` with N < 0 in its last row. Both at once, leaving the plane
+/// wins (docs/physics.md, "The hybrid machine"; docs/scenarios.md, the status table): a
+/// stop needs the plane to push. The run goes on in flight past the touchdown, and no row
+/// on the plane has N < 0.
+#[test]
+fn a_sticking_landing_where_the_plane_would_pull_lifts_off_instead_of_stopping() {
+    let (out, samples) = run_file("sliding-landing-lifts.toml", &[]);
+    assert_ne!(out.status, Status::SlipStopped, "{:?}", out.events);
+    let touchdown = out
+        .events
+        .iter()
+        .find(|e| matches!(e.kind, EventKind::Touchdown { .. }))
+        .expect("a touchdown")
+        .t;
+    assert!(
+        out.final_sample.t > touchdown + 0.05,
+        "{}",
+        out.final_sample.t
+    );
+    for s in &samples {
+        assert!(
+            s.mode == Mode::Flight || s.normal_force >= 0.0,
+            "N = {} at t = {} in {:?}",
+            s.normal_force,
+            s.t,
+            s.mode
+        );
+    }
+    assert!(
+        out.drift.get(Invariant::EnergyPlusWork).unwrap().abs() < 1e-9,
+        "{:?}",
+        out.drift
+    );
+}

@@ -326,3 +326,67 @@ fn observed_angles_are_unwrapped_against_the_row_before_the_event() {
         }
     }
 }
+
+/// The sections of a scene keep at most 10⁶ points together (issue 48: sixteen sections of
+/// 10⁶ points each were accepted, some 13 GB of memory from a 1 kB file): the sum of their
+/// `max_points` is bounded, a section without `max_points` keeps an equal share, and a
+/// scenario asking for more is refused at the entry that passes the bound, with its file,
+/// line and column, the key, the value and the rule naming the sum.
+#[test]
+fn the_sections_together_keep_at_most_a_million_points() {
+    let entry = |k: usize, max: &str| {
+        format!("[[section]]\nname = \"s{k}\"\ncolumn = \"theta\"\ncrosses = 0.1\n{max}\n")
+    };
+    let parse = |entries: &str| {
+        scenario::parse(&format!("{NUTATION}\n{entries}"), "x.toml", &[] as &[&str])
+            .map_err(|e| e.to_string())
+    };
+    // Sixteen sections of 10⁶ points: refused at the second's max_points.
+    let sixteen: String = (0..16).map(|k| entry(k, "max_points = 1000000")).collect();
+    let e = parse(&sixteen).expect_err("16 × 10⁶ points").to_string();
+    let text = format!("{NUTATION}\n{sixteen}");
+    let at = text.match_indices("max_points").nth(1).unwrap().0;
+    let second = text[..at].matches('\n').count() + 1; // the second entry's max_points line
+    assert!(
+        e.starts_with(&format!("x.toml:{second}:")),
+        "{e} (expected line {second})"
+    );
+    assert!(e.contains("section[1].max_points = 1000000"), "{e}");
+    assert!(
+        e.contains("together keep at most 1000000 points") && e.contains("sum to 2000000"),
+        "{e}"
+    );
+    // Without max_points, each of n sections keeps 10⁶ / n.
+    let defaults: String = (0..3).map(|k| entry(k, "")).collect();
+    let s = parse(&defaults).unwrap_or_else(|e| panic!("{e}"));
+    assert!(s.scene.sections.iter().all(|s| s.max_points == 333_333));
+    let one = parse(&entry(0, "")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(one.scene.sections[0].max_points, 1_000_000);
+    // Explicit values summing to 10⁶ are allowed; a default share that passes it is
+    // refused at its entry, naming the default.
+    let exact = format!(
+        "{}{}",
+        entry(0, "max_points = 400000"),
+        entry(1, "max_points = 600000")
+    );
+    assert!(parse(&exact).is_ok());
+    let over = format!("{}{}", entry(0, "max_points = 900000"), entry(1, ""));
+    let e = parse(&over).expect_err("900000 + 500000").to_string();
+    assert!(
+        e.contains("section[1].max_points = 500000 (the default)"),
+        "{e}"
+    );
+    assert!(e.contains("sum to 1400000"), "{e}");
+    // The scene's own validation holds the bound too (a scene built in code).
+    let mut scene = one.scene.clone();
+    scene.sections.push(Section {
+        max_points: 1,
+        ..scene.sections[0].clone()
+    });
+    scene.sections[1].crossing.name = "other".into();
+    let e = scene.validate().expect_err("1000001 points").to_string();
+    assert!(
+        e.contains("section.max_points") && e.contains("together"),
+        "{e}"
+    );
+}

@@ -800,3 +800,59 @@ fn val_a_dumbbell_resting_on_three_contacts_in_a_line_stays_at_rest() {
         }
     }
 }
+
+/// The sizes of a body's surfaces span at most what a run resolves (issue 48: a contact
+/// sphere of radius 10⁶ m under a 15 mm top was accepted and ground 19 s to a solver
+/// failure): with L the largest semi-axis, a radius from 10⁻⁶ L to 10³ L and a centre at
+/// most 10³ L from C0. Each refusal names the key, its value, the rule and the place in
+/// the file (file:line:col), at once; the bounds themselves are accepted.
+#[test]
+fn sphere_sizes_are_bounded_by_the_body_and_refused_at_their_line() {
+    let file = "scenarios/tippe-top-stem.toml";
+    let text = std::fs::read_to_string(root().join(file)).unwrap();
+    let with = |center: &str, radius: &str| {
+        text.replace("center = [0.0, 0.0, 0.013]", &format!("center = {center}"))
+            .replace("radius = 0.005", &format!("radius = {radius}"))
+    };
+    let line_of = |t: &str, key: &str| t[..t.find(key).unwrap()].matches('\n').count() + 1;
+    let start = std::time::Instant::now();
+    for (center, radius, key, says) in [
+        (
+            "[0.0, 0.0, 0.013]",
+            "1e6",
+            "radius",
+            "times the body's largest semi-axis",
+        ),
+        ("[0.0, 0.0, 0.013]", "15.01", "radius", "1.500e1 m"),
+        ("[0.0, 0.0, 0.013]", "1e-8", "radius", "1.500e-8"),
+        ("[0.0, 0.0, 16.0]", "0.005", "center", "at most 1e3 times"),
+        (
+            "[1e6, 0.0, 0.0]",
+            "0.005",
+            "center",
+            "from the ellipsoid's centre",
+        ),
+    ] {
+        let t = with(center, radius);
+        let e = ellipsoid_core::scenario::parse(&t, "top.toml", &[] as &[&str])
+            .expect_err(radius)
+            .to_string();
+        let line = line_of(&t, &format!("{key} = "));
+        assert!(
+            e.starts_with(&format!("top.toml:{line}:")),
+            "{e} (line {line})"
+        );
+        assert!(e.contains(&format!("body.sphere[0].{key} = ")), "{e}");
+        assert!(e.contains(says), "{e} does not say {says:?}");
+    }
+    assert!(start.elapsed() < std::time::Duration::from_secs(1));
+    // The bounds are allowed: L = 0.015 m.
+    for (center, radius) in [
+        ("[0.0, 0.0, 14.9]", "14.9"),
+        ("[0.0, 0.0, 0.013]", "1.6e-8"),
+    ] {
+        let t = with(center, radius);
+        ellipsoid_core::scenario::parse(&t, "top.toml", &[] as &[&str])
+            .unwrap_or_else(|e| panic!("{center} {radius}: {e}"));
+    }
+}

@@ -1096,3 +1096,41 @@ fn hostile_inputs_never_panic_hang_or_give_a_verdict_its_eigenvalues_contradict(
     eprintln!("{analysed} analyses, {refused} inputs without one");
     assert!(analysed >= 300 && refused >= 300, "{analysed}, {refused}");
 }
+
+/// `linearize` refuses a state beyond what doubles analyse, as the steady families do
+/// (issue 48: a state of 1e300 gave NaNs without an error): a ζ whose squared length
+/// overflows or underflows (it cannot be normalised) and an |ω| above 10⁵ √(g/c_max) are
+/// refused with the key `state` and the rule; every accepted state's Jacobian is finite.
+#[test]
+fn linearize_refuses_states_beyond_what_doubles_resolve() {
+    let scene = parsed(EGG, &[]).scene;
+    let bound = steady::MAX_RATE_RATIO * (G / 0.03_f64).sqrt();
+    for (state, says) in [
+        ([0.0, 0.0, 1e300, 0.0, 0.0, 0.0], "squared length"),
+        ([1e300, 1e300, 1e300, 0.0, 0.0, 1.0], "squared length"),
+        ([0.0, 0.0, 1e-160, 0.0, 0.0, 1.0], "squared length"),
+        (
+            [0.0, 0.0, 1.0, 1e140, 0.0, 0.0],
+            "analysed up to 100000 √(g/c_max)",
+        ),
+        (
+            [0.0, 0.0, 1.0, 0.0, 0.0, 1.01 * bound],
+            "analysed up to 100000 √(g/c_max)",
+        ),
+        ([0.0, 0.0, 1.0, 0.0, 0.0, f64::NAN], "must be finite"),
+    ] {
+        let e = steady::linearize_scene(&scene, Some(steady::Phase::from_row_slice(&state)))
+            .expect_err(&format!("{state:?}"));
+        assert_eq!(e.key(), "state", "{e}");
+        assert!(e.to_string().contains(says), "{state:?}: {e}");
+    }
+    for state in [
+        [0.0, 0.0, 1.0, 0.0, 0.0, 0.99 * bound],
+        [0.0, 0.0, 1e150, 0.0, 0.0, 10.0],
+        [0.0, 1e-150, 0.0, 1.0, 2.0, 3.0],
+    ] {
+        let lin = steady::linearize_scene(&scene, Some(steady::Phase::from_row_slice(&state)))
+            .unwrap_or_else(|e| panic!("{state:?}: {e}"));
+        assert!(lin.jacobian.iter().all(|x| x.is_finite()), "{state:?}");
+    }
+}

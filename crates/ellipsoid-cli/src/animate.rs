@@ -35,6 +35,8 @@ pub struct AnimateArgs {
     #[arg(long, default_value_t = 25.0)]
     pub fps: f64,
     /// Simulated seconds per second of animation (0.1 = ten times slower than real time).
+    /// An animation has at most 2000 frames and shows the whole run: a speed at which the
+    /// run needs more frames is refused (exit 2), the message naming the speed that fits.
     #[arg(long, default_value_t = 1.0)]
     pub speed: f64,
     /// Print nothing but errors.

@@ -87,8 +87,10 @@ pub struct SteadyArgs {
     pub vary: Option<String>,
     /// Write the table (CSV: the key, spin, theta, normal_force, for the tilted families
     /// phi_dot, radius_g, radius_contact, then stable, max_real, lambdaK_re, lambdaK_im,
-    /// modeK for K = 1..4 (tilted: 1..2), error).
-    #[arg(short, long, value_name = "OUT.csv")]
+    /// modeK for K = 1..4 (tilted: 1..2), error), as .csv or .parquet by extension; with
+    /// --perturb, the started scenario as .toml. Any other extension, or the path of
+    /// --plot, is refused (exit 2, nothing written).
+    #[arg(short, long, value_name = "OUT.csv|OUT.parquet")]
     pub output: Option<PathBuf>,
     /// Instead of the analysis, the scenario started on the steady motion displaced by
     /// EPS along mode MODE (its number K in the table, 1 = the least stable, or its name:

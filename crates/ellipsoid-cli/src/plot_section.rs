@@ -16,8 +16,17 @@ use crate::error::CliError;
 use crate::figure::{self, bounds, err, tick};
 use crate::visual::{check_output, put};
 
-/// Most points a section figure draws (its SVG grows by about 80 bytes per point).
+/// Most points a section figure reads.
 pub const MAX_POINTS: usize = 1_000_000;
+/// Most points drawn one marker each (an SVG of about 1.6 MB, a marker being about 80
+/// bytes).
+pub const MAX_MARKERS: usize = 20_000;
+/// More points than [`MAX_MARKERS`] are drawn from a grid of GRID.0 × GRID.1 cells over
+/// the points' range (about the markers' 4 px diameter each): a cell draws one marker, of
+/// the last section drawn there (the one on top), so the figure has at most
+/// GRID.0 · GRID.1 markers (an SVG of at most about 3 MB) whatever the number of points,
+/// and looks as the figure of every point would: markers closer than their size overlap.
+pub const GRID: (usize, usize) = (225, 175);
 /// Largest section table read (a million rows of every column is about 600 MB).
 const MAX_BYTES: u64 = 1 << 30;
 const WIDTH: u32 = 900;
@@ -61,7 +70,7 @@ pub fn plot_section(args: &PlotArgs) -> Result<ExitCode, CliError> {
         });
         format!("Poincaré section of {source}: {y} against {x}")
     });
-    let svg = svg(&points, &title).map_err(CliError::Plot)?;
+    let (svg, markers) = svg(&points, &title).map_err(CliError::Plot)?;
     let bytes = match ext.as_str() {
         "png" => figure::png(&svg).map_err(CliError::Plot)?,
         "pdf" => figure::pdf(&svg).map_err(CliError::Plot)?,
@@ -69,8 +78,13 @@ pub fn plot_section(args: &PlotArgs) -> Result<ExitCode, CliError> {
     };
     put(&args.output, &bytes)?;
     if !args.quiet {
+        let drawn = if markers < points.xy.len() {
+            format!("; drawn as {markers} markers, points closer than a marker sharing one")
+        } else {
+            String::new()
+        };
         eprintln!(
-            "wrote {} ({} points of {} section{}: {})",
+            "wrote {} ({} points of {} section{}: {}{drawn})",
             args.output.display(),
             points.xy.len(),
             points.names.len(),
@@ -262,14 +276,48 @@ impl Iterator for Records<'_> {
     }
 }
 
-/// The points as SVG text: one marker (a circle) per point, coloured by section.
-pub fn svg(points: &Points, title: &str) -> Result<String, String> {
+/// The points to draw, by section: all of them up to [`MAX_MARKERS`]; beyond, on the
+/// [`GRID`] over the points' range `x` × `y`, one point per cell, the first of the
+/// highest section there (drawn last, so on top).
+fn thin(points: &Points, x: (f64, f64), y: (f64, f64)) -> Vec<Vec<(f64, f64)>> {
+    let mut by_section = vec![Vec::new(); points.names.len()];
+    if points.xy.len() <= MAX_MARKERS {
+        for (p, &k) in points.xy.iter().zip(&points.section) {
+            by_section[k].push(*p);
+        }
+        return by_section;
+    }
+    let cell = |v: f64, (lo, hi): (f64, f64), n: usize| {
+        let f = if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
+        ((f * n as f64) as usize).min(n - 1)
+    };
+    let mut grid: Vec<Option<(usize, (f64, f64))>> = vec![None; GRID.0 * GRID.1];
+    for (p, &k) in points.xy.iter().zip(&points.section) {
+        let slot = &mut grid[cell(p.1, y, GRID.1) * GRID.0 + cell(p.0, x, GRID.0)];
+        match slot {
+            Some((s, _)) if *s >= k => {}
+            _ => *slot = Some((k, *p)),
+        }
+    }
+    for (k, p) in grid.into_iter().flatten() {
+        by_section[k].push(p);
+    }
+    by_section
+}
+
+/// The points as SVG text, coloured by section, one marker (a circle) per point, or per
+/// cell of the [`GRID`] that holds points beyond [`MAX_MARKERS`] points; and the number
+/// of markers drawn.
+pub fn svg(points: &Points, title: &str) -> Result<(String, usize), String> {
     let mut out = String::new();
+    let markers;
     {
         let root = SVGBackend::with_string(&mut out, (WIDTH, HEIGHT)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let (x0, x1) = bounds(points.xy.iter().map(|p| &p.0));
         let (y0, y1) = bounds(points.xy.iter().map(|p| &p.1));
+        let drawn = thin(points, (x0, x1), (y0, y1));
+        markers = drawn.iter().map(Vec::len).sum();
         let mut chart = ChartBuilder::on(&root)
             .caption(title, ("sans-serif", 18))
             .margin(14)
@@ -293,14 +341,7 @@ pub fn svg(points: &Points, title: &str) -> Result<String, String> {
             let color = PALETTE[k % PALETTE.len()];
             let count = points.section.iter().filter(|&&s| s == k).count();
             chart
-                .draw_series(
-                    points
-                        .xy
-                        .iter()
-                        .zip(&points.section)
-                        .filter(|(_, s)| **s == k)
-                        .map(|(p, _)| Circle::new(*p, 2, color.filled())),
-                )
+                .draw_series(drawn[k].iter().map(|p| Circle::new(*p, 2, color.filled())))
                 .map_err(err)?
                 .label(format!("{name} ({count} points)"))
                 // A square, so that the figure's circles are its points.
@@ -316,7 +357,7 @@ pub fn svg(points: &Points, title: &str) -> Result<String, String> {
             .map_err(err)?;
         root.present().map_err(err)?;
     }
-    Ok(out)
+    Ok((out, markers))
 }
 
 #[cfg(test)]

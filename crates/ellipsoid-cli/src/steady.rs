@@ -32,7 +32,16 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     let solve = Solve::parse(&args.solve).map_err(|e| CliError::Usage(format!("--{e}")))?;
     let scenario = scenario::load_all(&args.scenario, &args.set)?;
     if let Some(path) = &args.output {
-        atomic::check_target(path)?;
+        if let Some(plot) = &args.plot
+            && same_file(path, plot)
+        {
+            return Err(CliError::Usage(format!(
+                "-o {} and --plot {}: the table and the diagram are two files; give them different paths",
+                path.display(),
+                plot.display()
+            )));
+        }
+        check_table_output(path, args.perturb.is_some())?;
     }
     let vary = args
         .vary
@@ -131,6 +140,56 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The extensions `-o` takes: the table as CSV or Parquet, or with `--perturb` the
+/// scenario as TOML (docs/steady.md). Any other is refused before anything runs, as is a
+/// target that is not a regular file.
+fn check_table_output(path: &std::path::Path, perturb: bool) -> Result<(), CliError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_lowercase())
+        .unwrap_or_default();
+    let (allowed, rule): (&[&str], &str) = if perturb {
+        (
+            &["toml"],
+            "with --perturb, -o writes the started scenario as .toml",
+        )
+    } else {
+        (
+            &["csv", "parquet", "pq"],
+            "-o writes the table as .csv or .parquet (by extension)",
+        )
+    };
+    if !allowed.contains(&ext.as_str()) {
+        return Err(CliError::Usage(format!(
+            "-o {}: extension {ext:?}: {rule}",
+            path.display()
+        )));
+    }
+    if ext != "csv" && ext != "toml" {
+        TableFormat::from_path(path)
+            .map_err(|e| CliError::Usage(format!("-o {}: {e}", path.display())))?;
+    }
+    atomic::check_target(path)?;
+    Ok(())
+}
+
+/// Whether `a` and `b` name the same file: the same path once made absolute and
+/// normalised, or the same existing file (a link, `./x` and `x`).
+fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
+    let clean = |p: &std::path::Path| {
+        std::path::absolute(p).map(|p| p.components().collect::<std::path::PathBuf>())
+    };
+    if let (Ok(x), Ok(y)) = (clean(a), clean(b))
+        && x == y
+    {
+        return true;
+    }
+    matches!(
+        (std::fs::canonicalize(a), std::fs::canonicalize(b)),
+        (Ok(x), Ok(y)) if x == y
+    )
 }
 
 /// Writes the stability diagram of `sw` to `plot` (its path and format), if asked.

@@ -18,6 +18,18 @@ pub const MAX_SPHERES: usize = 8;
 /// (`normal_force_stem`) and, with another, a mode (`two_contacts@ellipsoid+stem`).
 pub const MAX_NAME: usize = 24;
 
+/// Largest contact sphere, and farthest sphere centre from the ellipsoid's centre C0, in
+/// units of the body's largest semi-axis L (docs/scenarios.md, "Contact spheres"): a
+/// stem or peg is a fraction of L to a few L long; beyond 10³ L the scales of the motion
+/// (step sizes, the gap's tolerance of 10⁻⁹ of the body's extent) are those of the
+/// sphere, not of the body, and the run grinds.
+pub const MAX_SPHERE_SPAN: f64 = 1e3;
+
+/// Smallest contact sphere radius, in units of L: the gap is resolved to 10⁻⁹ of the
+/// body's extent (the guard of docs/physics.md, "The hybrid machine"), so a radius of
+/// 10⁻⁶ L is a thousand times the smallest gap the run tells apart.
+pub const MIN_SPHERE_RADIUS: f64 = 1e-6;
+
 /// A contact sphere fixed in the body.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Sphere {
@@ -169,7 +181,9 @@ impl Body {
 
     /// The body with contact spheres `spheres` (at most [`MAX_SPHERES`], names unique
     /// words of at most [`MAX_NAME`] bytes, centres finite, radii positive lengths whose squares are normal floats,
-    /// as the semi-axes are).
+    /// as the semi-axes are). With L the largest semi-axis, each radius is from
+    /// [`MIN_SPHERE_RADIUS`] L to [`MAX_SPHERE_SPAN`] L and each centre at most
+    /// [`MAX_SPHERE_SPAN`] L from C0 (docs/scenarios.md, "Contact spheres").
     pub fn with_spheres(mut self, spheres: Vec<Sphere>) -> Result<Self, ModelError> {
         if spheres.len() > MAX_SPHERES {
             return Err(ModelError::invalid(
@@ -212,6 +226,29 @@ impl Body {
                     Value::vector(&sp.center),
                     format!(
                         "a sphere's centre must be finite, each coordinate at most {max:.1e} m"
+                    ),
+                ));
+            }
+            let size = self.semi_axes.max();
+            let (small, large) = (MIN_SPHERE_RADIUS * size, MAX_SPHERE_SPAN * size);
+            if !(small..=large).contains(&sp.radius) {
+                return Err(ModelError::invalid(
+                    field("radius"),
+                    sp.radius,
+                    format!(
+                        "a sphere's radius must be from {MIN_SPHERE_RADIUS:.0e} to {MAX_SPHERE_SPAN:.0e} times the body's largest semi-axis ({} m): {small:.3e} to {large:.3e} m",
+                        crate::error::number(size)
+                    ),
+                ));
+            }
+            if !(sp.center.norm() <= large) {
+                return Err(ModelError::invalid(
+                    field("center"),
+                    Value::vector(&sp.center),
+                    format!(
+                        "a sphere's centre must be at most {MAX_SPHERE_SPAN:.0e} times the body's largest semi-axis ({} m) from the ellipsoid's centre: {large:.3e} m; it is {:.3e} m",
+                        crate::error::number(size),
+                        sp.center.norm()
                     ),
                 ));
             }

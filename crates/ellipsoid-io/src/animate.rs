@@ -63,13 +63,13 @@ impl Options {
         if !(self.fps > 0.0 && self.fps <= 100.0) {
             return Err(format!(
                 "fps = {}: give a frame rate in (0, 100] (a GIF counts in 1/100 s)",
-                self.fps
+                ellipsoid_core::error::number(self.fps)
             ));
         }
         if !(self.speed > 0.0 && self.speed.is_finite()) {
             return Err(format!(
                 "speed = {}: give a positive number of simulated seconds per second",
-                self.speed
+                ellipsoid_core::error::number(self.speed)
             ));
         }
         Ok(())
@@ -432,7 +432,39 @@ pub fn check(table: &Table, opt: &Options) -> Result<Shape, String> {
     if cols[0].is_empty() {
         return Err("the trajectory has no rows".into());
     }
+    frame_count(cols[0], opt)?;
     Ok(shape)
+}
+
+/// The number of frames of a run whose times are `t` (non-decreasing, at least one):
+/// one at each t = t0 + k·speed/fps up to the last row (docs/scenarios.md, "ellipsoid
+/// animate"). A run that needs more than [`MAX_FRAMES`] is refused, naming the speed at
+/// which the whole run fits: an animation never stops short of the run's end.
+pub fn frame_count(t: &[f64], opt: &Options) -> Result<usize, String> {
+    use ellipsoid_core::error::number;
+    let span = t[t.len() - 1] - t[0];
+    let needed = if span > 0.0 {
+        (span / (opt.speed / opt.fps)).floor() + 1.0
+    } else {
+        1.0
+    };
+    if needed <= MAX_FRAMES as f64 {
+        return Ok(needed as usize);
+    }
+    // The smallest speed of three significant digits at which the run fits.
+    let exact = span * opt.fps / (MAX_FRAMES - 1) as f64;
+    let unit = 10f64.powf(exact.log10().floor() - 2.0);
+    let up = (exact / unit).ceil() * unit;
+    // Printed with its three digits (the product may carry round-off: 0.018799999999999997).
+    let fits: f64 = format!("{up:.2e}").parse().unwrap_or(up);
+    Err(format!(
+        "speed = {}: the run's {} s at {} fps and {} simulated seconds per second need {needed:.4e} frames, more than the {MAX_FRAMES} an animation may have; give a speed of at least {} (the whole run in at most {MAX_FRAMES} frames)",
+        number(opt.speed),
+        number(span),
+        number(opt.fps),
+        number(opt.speed),
+        number(fits),
+    ))
 }
 
 /// Renders the frames of the run (see [`gif`]), each handed to `frame` as one palette
@@ -449,9 +481,10 @@ fn render(
     let (t, x, y, z, theta, phi, psi) = (
         cols[0], cols[1], cols[2], cols[3], cols[4], cols[5], cols[6],
     );
-    let (t0, t1) = (t[0], t[t.len() - 1]);
+    let t0 = t[0];
     let step = opt.speed / opt.fps;
-    let frames = (((t1 - t0) / step).floor() as usize + 1).min(MAX_FRAMES);
+    let frames = frame_count(t, opt)?;
+    debug_assert!(frames <= MAX_FRAMES);
     let rmax = shape.semi_axes.iter().copied().fold(0.0, f64::max);
     // how far the body reaches from C0: its ellipsoid, or a contact sphere beyond it
     let reach0 = shape.spheres.iter().fold(rmax, |m, s| {
@@ -643,6 +676,48 @@ mod tests {
         assert_eq!(colour(Vector3::new(0.0, 0.0, 0.15)), Some(SPHERE_COLOUR));
         assert!(colour(Vector3::new(0.0, 0.0, 2.5)).is_some_and(|c| c < SPHERE_COLOUR));
         assert_eq!(colour(Vector3::new(3.0, 3.0, 0.0)), None);
+    }
+
+    /// A run needing more than MAX_FRAMES frames is refused, naming the smallest speed of
+    /// three digits that fits (printed as such, without round-off digits) and the speed
+    /// given in a short form; at that speed the whole run fits.
+    #[test]
+    fn frames_beyond_the_cap_are_refused_naming_the_speed_that_fits() {
+        let opt = |speed| Options {
+            speed,
+            ..Options::default()
+        };
+        let t = [0.0, 0.75, 1.5];
+        for speed in [0.01, 1e-300] {
+            let e = frame_count(&t, &opt(speed)).unwrap_err();
+            assert!(e.contains("give a speed of at least 0.0188 ("), "{e}");
+            assert!(
+                e.starts_with(&format!(
+                    "speed = {}:",
+                    ellipsoid_core::error::number(speed)
+                )),
+                "{e}"
+            );
+            assert!(e.len() < 300, "{e}");
+        }
+        assert_eq!(frame_count(&t, &opt(0.0188)), Ok(1995));
+        assert_eq!(frame_count(&[2.0], &opt(1e-300)), Ok(1));
+        for span in [1.0, 3.7, 123.456, 1e6, 1e-3] {
+            let e = frame_count(&[0.0, span], &opt(1e-9)).unwrap_err();
+            let fits: f64 = e
+                .split("at least ")
+                .nth(1)
+                .unwrap()
+                .split(' ')
+                .next()
+                .unwrap()
+                .parse()
+                .unwrap();
+            assert!(
+                frame_count(&[0.0, span], &opt(fits)).unwrap() <= MAX_FRAMES,
+                "{span}: {e}"
+            );
+        }
     }
 
     #[test]

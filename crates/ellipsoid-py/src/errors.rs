@@ -5,8 +5,10 @@
 //! └── EllipsoidError                       every error this package raises
 //!     ├── ScenarioError(…, ValueError)     bad input: file, TOML, key, value, physical rule,
 //!     │   │                                and bad arguments (workers, errors=, …)
-//!     │   └── ScenarioTypeError(…, TypeError)  a Python value of a type a scenario
-//!     │                                    cannot hold, or an argument of the wrong type
+//!     │   ├── ScenarioTypeError(…, TypeError)  a Python value of a type a scenario
+//!     │   │                                cannot hold, or an argument of the wrong type
+//!     │   └── ScenarioKeyError(…, KeyError)    a name that is not there (a Trajectory
+//!     │                                    column: `traj["nope"]`)
 //!     ├── SimulationError(…, RuntimeError) Painlevé, solver failure, chattering, non-finite
 //!     │                                    state; `.trajectory` holds the run up to the stop
 //!     ├── OutputError(…, OSError)          a trajectory file could not be written
@@ -18,7 +20,9 @@
 
 use ellipsoid_core::scenario::{ErrorKind, ScenarioError, ScenarioErrors};
 use ellipsoid_io::OutputError;
-use pyo3::exceptions::{PyException, PyOSError, PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::exceptions::{
+    PyException, PyKeyError, PyOSError, PyRuntimeError, PyTypeError, PyValueError,
+};
 use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::{PyDict, PyTuple, PyType};
@@ -34,18 +38,20 @@ pub enum Class {
     Ellipsoid,
     Scenario,
     ScenarioType,
+    ScenarioKey,
     Simulation,
     Output,
     Internal,
 }
 
-static CLASSES: [PyOnceLock<Py<PyType>>; 6] = [const { PyOnceLock::new() }; 6];
+static CLASSES: [PyOnceLock<Py<PyType>>; 7] = [const { PyOnceLock::new() }; 7];
 
 impl Class {
-    pub const ALL: [Class; 6] = [
+    pub const ALL: [Class; 7] = [
         Class::Ellipsoid,
         Class::Scenario,
         Class::ScenarioType,
+        Class::ScenarioKey,
         Class::Simulation,
         Class::Output,
         Class::Internal,
@@ -56,6 +62,7 @@ impl Class {
             Class::Ellipsoid => "EllipsoidError",
             Class::Scenario => "ScenarioError",
             Class::ScenarioType => "ScenarioTypeError",
+            Class::ScenarioKey => "ScenarioKeyError",
             Class::Simulation => "SimulationError",
             Class::Output => "OutputError",
             Class::Internal => "InternalError",
@@ -79,6 +86,11 @@ impl Class {
                 "A ScenarioError (and a TypeError) for a Python value of a type a scenario cannot hold (None, an \
                  object without a number or list form, a non-string key), or an argument of the wrong type. Same \
                  attributes as ScenarioError."
+            }
+            Class::ScenarioKey => {
+                "A ScenarioError (and a KeyError) for a name that is not there: a column of a Trajectory \
+                 (`traj[\"nope\"]`), so that `except KeyError` catches it as a mapping's would. Same attributes \
+                 as ScenarioError."
             }
             Class::Simulation => {
                 "A run that stopped on an error: a Painlevé inconsistency, a solver failure, chattering at the \
@@ -112,6 +124,13 @@ impl Class {
                 [
                     base(Class::Scenario)?,
                     py.get_type::<PyTypeError>().into_any(),
+                ],
+            ),
+            Class::ScenarioKey => PyTuple::new(
+                py,
+                [
+                    base(Class::Scenario)?,
+                    py.get_type::<PyKeyError>().into_any(),
                 ],
             ),
             Class::Simulation | Class::Internal => PyTuple::new(

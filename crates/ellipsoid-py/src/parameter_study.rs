@@ -274,9 +274,9 @@ impl PyStudy {
     }
 
     /// The study as JSON (what pickling sends to workers).
-    fn to_json(&self) -> PyResult<String> {
+    fn to_json(&self, py: Python<'_>) -> PyResult<String> {
         serde_json::to_string(&self.inner.plan)
-            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))
+            .map_err(|e| errors::internal_error(py, &e.to_string()))
     }
 
     /// A study from `to_json()`'s text.
@@ -297,7 +297,7 @@ impl PyStudy {
 
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, (String,))> {
         let from_json = slf.get_type().getattr("from_json")?;
-        Ok((from_json, (slf.get().to_json()?,)))
+        Ok((from_json, (slf.get().to_json(slf.py())?,)))
     }
 
     /// This study with another base scenario and/or outcomes (None keeps them).

@@ -260,9 +260,25 @@ pub fn steady_start(
 pub fn linearize<'py>(
     py: Python<'py>,
     scenario: &Bound<'py, PyAny>,
-    state: Option<Vec<f64>>,
+    state: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<(Bound<'py, PyArray2<f64>>, Vec<&'static str>)> {
     let scenario = resolve(py, scenario, Vec::new())?.inner;
+    // Read by hand: pyo3's extraction would raise a plain TypeError.
+    let state = match state.filter(|s| !s.is_none()) {
+        None => None,
+        Some(s) => Some(s.extract::<Vec<f64>>().map_err(|_| {
+            errors::type_error(
+                py,
+                &scenario.source,
+                Some("state"),
+                None,
+                format!(
+                    "expected a sequence of 6 numbers (ζ1, ζ2, ζ3, ω1, ω2, ω3), found {}",
+                    crate::args::type_name(s)
+                ),
+            )
+        })?),
+    };
     let at = match state {
         None => None,
         Some(s) if s.len() == 6 => Some(Phase::from_column_slice(&s)),

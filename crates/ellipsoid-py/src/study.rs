@@ -42,17 +42,39 @@ use crate::trajectory::Trajectory;
 /// reference run does not finish cleanly (`.trajectory` holds its summary, no samples),
 /// OutputError when `out` cannot be written.
 #[pyfunction]
-#[pyo3(signature = (scenario, /, *, t_end = None, quick = false, repeats = None, out = None, **changes))]
+#[pyo3(signature = (scenario, /, *, t_end = None, quick = None, repeats = None, out = None, **changes))]
+#[pyo3(
+    text_signature = "(scenario, /, *, t_end=None, quick=False, repeats=None, out=None, **changes)"
+)]
 pub fn precision(
     py: Python<'_>,
     scenario: &Bound<'_, PyAny>,
     t_end: Option<&Bound<'_, PyAny>>,
-    quick: bool,
+    quick: Option<&Bound<'_, PyAny>>,
     repeats: Option<&Bound<'_, PyAny>>,
-    out: Option<PathBuf>,
+    out: Option<&Bound<'_, PyAny>>,
     changes: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PrecisionTable> {
     let scenario = resolve(py, scenario, convert::changes_for(scenario, changes)?)?.inner;
+    // Read by hand: pyo3's extraction would raise a plain TypeError.
+    let quick = match quick.map(|q| q.cast::<pyo3::types::PyBool>()) {
+        None => false,
+        Some(Ok(b)) => b.is_true(),
+        Some(Err(_)) => {
+            let quick = quick.expect("given");
+            return Err(crate::errors::type_error(
+                py,
+                &scenario.source,
+                Some("quick"),
+                None,
+                format!(
+                    "expected True or False, found {}",
+                    crate::args::type_name(quick)
+                ),
+            ));
+        }
+    };
+    let out = crate::args::opt_path(py, &scenario.source, "out", out)?;
     let not_bool = |v: &Bound<'_, PyAny>| !v.is_instance_of::<pyo3::types::PyBool>();
     let t_end = match t_end {
         None => None,

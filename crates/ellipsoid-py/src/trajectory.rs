@@ -522,14 +522,23 @@ impl Trajectory {
     /// events, so `sol(ts)` is identical to `simulate(scenario, t_eval=sorted(ts))` and
     /// costs one run.
     fn sol(&self, py: Python<'_>, t: &Bound<'_, PyAny>) -> PyResult<Trajectory> {
+        let source = &self.scenario.inner.source;
+        // numpy's conversion error (a ValueError or TypeError) named as the argument's.
         let times: Vec<f64> = py
             .import("numpy")?
             .getattr("asarray")?
-            .call1((t, "float64"))?
-            .call_method0("ravel")?
-            .extract()?;
+            .call1((t, "float64"))
+            .and_then(|a| a.call_method0("ravel")?.extract())
+            .map_err(|e| {
+                errors::type_error(
+                    py,
+                    source,
+                    Some("t"),
+                    None,
+                    format!("expected times (a number or an array of numbers): {e}"),
+                )
+            })?;
         let end = self.t_final();
-        let source = &self.scenario.inner.source;
         if times.len() > ellipsoid_core::scenario::MAX_SAMPLES {
             return Err(errors::value_error(
                 py,
@@ -804,17 +813,43 @@ impl Trajectory {
     }
 
     /// The column called `name` (any of `columns`: the per-surface ones of a body with
-    /// contact spheres too, and `mode`), as its attribute gives it; KeyError otherwise.
-    fn __getitem__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+    /// contact spheres too, and `mode`), as its attribute gives it; ScenarioKeyError (a
+    /// KeyError) for another name, ScenarioTypeError for a name that is not a str.
+    fn __getitem__<'py>(
+        &self,
+        py: Python<'py>,
+        name: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let source = &self.scenario.inner.source;
+        let Ok(name) = name.extract::<String>() else {
+            return Err(errors::type_error(
+                py,
+                source,
+                Some("name"),
+                None,
+                format!(
+                    "a column is named by a str, found {}",
+                    crate::args::type_name(name)
+                ),
+            ));
+        };
         if name == columns::MODE {
             return self.modes(py);
         }
-        match self.layout.index(name) {
+        match self.layout.index(&name) {
             Some(i) => Ok(self.column(py, i)?.into_any()),
-            None => Err(pyo3::exceptions::PyKeyError::new_err(format!(
-                "{name:?} is not a column of this trajectory; the columns are {}",
-                self.layout.names().join(", ")
-            ))),
+            None => Err(errors::input_error(
+                py,
+                errors::Class::ScenarioKey,
+                ellipsoid_core::scenario::ErrorKind::UnknownKey,
+                source,
+                Some(&name),
+                None,
+                format!(
+                    "not a column of this trajectory; the columns are {}",
+                    self.layout.names().join(", ")
+                ),
+            )),
         }
     }
 
@@ -849,7 +884,8 @@ impl Trajectory {
     /// (`# ellipsoid {...}`; read it back with `pandas.read_csv(path, comment="#")`), the
     /// header, the rows. The file appears only when complete; its directory must exist.
     /// Raises OutputError.
-    fn to_csv(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    fn to_csv(&self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let path = args::path(py, &self.scenario.inner.source, "path", path)?;
         let comment = ellipsoid_io::csv::comment(&self.scenario.inner);
         self.write(py, &path, |p| {
             Ok(TrajectoryWriter::Csv(CsvFile::create(
@@ -864,7 +900,8 @@ impl Trajectory {
     /// attribute, `mode` as ASCII strings, the scenario and the summary JSON as root
     /// attributes), as `ellipsoid run -o PATH.h5` does. Needs a build with the `hdf5`
     /// feature (see `ellipsoid.HDF5`); otherwise raises OutputError saying how to get one.
-    fn to_hdf5(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    fn to_hdf5(&self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let path = args::path(py, &self.scenario.inner.source, "path", path)?;
         #[cfg(feature = "hdf5")]
         {
             self.write(py, &path, |p| {
@@ -915,8 +952,10 @@ impl Trajectory {
     /// most 100), `speed` simulated seconds per second (0.25: four times slower). A `path`
     /// ending in `.mp4` writes the same frames as H.264 MP4, encoded by the system's ffmpeg
     /// (on the PATH, or named by $ELLIPSOID_FFMPEG). Returns the number of frames (at most
-    /// 2000). Raises OutputError if the file cannot be written (or, for MP4, ffmpeg is
-    /// missing or fails: the message says what to install), ScenarioError for a bad option;
+    /// 2000: the animation always shows the whole run, and a `speed` at which the run needs
+    /// more frames raises ScenarioError naming the speed that fits). Raises OutputError if
+    /// the file cannot be written (or, for MP4, ffmpeg is missing or fails: the message
+    /// says what to install), ScenarioError for a bad option;
     /// Ctrl-C stops it before the next frame and raises KeyboardInterrupt, nothing written.
     #[pyo3(signature = (path, *, width=None, height=None, fps=None, speed=None))]
     #[pyo3(text_signature = "(self, /, path, *, width=480, height=360, fps=25.0, speed=1.0)")]
@@ -961,6 +1000,8 @@ impl Trajectory {
             ));
         }
         let table = self.table();
+        ellipsoid_io::animate::check(&table, &opt)
+            .map_err(|rule| errors::value_error(py, source, Some("animate"), None, rule))?;
         // Ctrl-C stops the frames (read before each) and raises KeyboardInterrupt,
         // nothing written.
         let (rendered, interrupt) = run::detached(py, |cancel| {
@@ -1040,8 +1081,9 @@ impl Trajectory {
 
     /// Writes the trajectory in the format its extension names (`.csv`, `.h5`, `.hdf5`),
     /// as `ellipsoid run -o PATH` does.
-    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        let format = Format::from_path(&path).map_err(|e| errors::output_error(py, &e))?;
+    fn save(&self, py: Python<'_>, path: &Bound<'_, PyAny>) -> PyResult<()> {
+        let given = args::path(py, &self.scenario.inner.source, "path", path)?;
+        let format = Format::from_path(&given).map_err(|e| errors::output_error(py, &e))?;
         match format {
             Format::Csv => self.to_csv(py, path),
             Format::Hdf5 => self.to_hdf5(py, path),

@@ -311,3 +311,77 @@ def test_numpy_integers_are_taken_wherever_an_integer_is(tmp_path: Any) -> None:
         for bad in (np.bool_(True), np.float64(2.0)):
             with pytest.raises(ellipsoid.ScenarioTypeError, match="expected an integer"):
                 call(bad)
+
+
+# ---------------------------------------------------------- issue 48, items 6 and 7
+
+
+@pytest.mark.parametrize(
+    ("call", "cls", "match"),
+    [
+        (lambda: ellipsoid.steady(oblate(), family=3), ellipsoid.ScenarioTypeError, r"family: expected a str, found int"),
+        (lambda: ellipsoid.steady(oblate(), solve=None), ellipsoid.ScenarioTypeError, r"solve: expected a str, found NoneType"),
+        (lambda: ellipsoid.steady(oblate(), vary={3: [1.0]}), ellipsoid.ScenarioTypeError, r"a key of vary is a dotted scenario key"),
+        (lambda: ellipsoid.steady(oblate(), vary={"initial.psi_dot": ["fast"]}), ellipsoid.ScenarioTypeError, r"vary\['initial.psi_dot'\]: expected a 1-D array of numbers"),
+        (lambda: ellipsoid.steady(oblate(), vary={"initial.psi_dot": [float("nan")]}), ellipsoid.ScenarioError, r"initial.psi_dot"),
+        (lambda: ellipsoid.steady(oblate(), vary={"initial.bogus": [1.0]}), ellipsoid.ScenarioError, r"initial.bogus"),
+        (lambda: ellipsoid.steady(oblate()).scenario(0, "small"), ellipsoid.ScenarioTypeError, r"eps: expected a number, found str"),
+        (lambda: ellipsoid.steady(oblate()).scenario(-1, 1e-3), ellipsoid.ScenarioError, r"mode = -1"),
+        (lambda: ellipsoid.linearize(oblate(), state="up"), ellipsoid.ScenarioTypeError, r"state: expected a sequence of 6 numbers"),
+        (lambda: ellipsoid.linearize(oblate(), state=[0, 0, 1, 0, 0, "x"]), ellipsoid.ScenarioTypeError, r"state: expected a sequence of 6 numbers"),
+        (lambda: ellipsoid.linearize(oblate(), state=[0.0, 0.0, 1e300, 0.0, 0.0, 0.0]), ellipsoid.ScenarioError, r"squared length"),
+        (lambda: ellipsoid.linearize(oblate(), state=[0.0, 0.0, 1.0, 1e300, 0.0, 0.0]), ellipsoid.ScenarioError, r"analysed up to"),
+        (lambda: ellipsoid.linearize(oblate(), state=[0.0, 0.0, 1.0, math.nan, 0.0, 0.0]), ellipsoid.ScenarioError, r"must be finite"),
+        (lambda: ellipsoid.precision(oblate(), quick="yes"), ellipsoid.ScenarioTypeError, r"quick: expected True or False, found str"),
+        (lambda: ellipsoid.precision(oblate(), quick=True, out=5), ellipsoid.ScenarioTypeError, r"out: expected a path"),
+        (lambda: ellipsoid.simulate(oblate(output={"t_end": 0.01, "dt": 0.01}))[3], ellipsoid.ScenarioTypeError, r"a column is named by a str, found int"),
+        (lambda: ellipsoid.simulate(oblate(output={"t_end": 0.01, "dt": 0.01}))["nope"], ellipsoid.ScenarioKeyError, r"nope.*not a column of this trajectory"),
+        (lambda: ellipsoid.simulate(oblate(output={"t_end": 0.01, "dt": 0.01})).sol("soon"), ellipsoid.ScenarioTypeError, r"t: expected times"),
+        (lambda: ellipsoid.simulate(oblate(output={"t_end": 0.01, "dt": 0.01})).to_csv(None), ellipsoid.ScenarioTypeError, r"path: expected a path"),
+        (lambda: ellipsoid.simulate(oblate(output={"t_end": 0.01, "dt": 0.01})).to_hdf5(3.5), ellipsoid.ScenarioTypeError, r"path: expected a path"),
+    ],
+)
+def test_argument_errors_are_in_the_tree(call: Any, cls: type, match: str) -> None:
+    """Issue 48: some argument errors were pyo3's or numpy's plain TypeError, ValueError or
+    KeyError. Each is now an EllipsoidError subclass that is also the built-in class it
+    was (ScenarioError a ValueError, ScenarioTypeError a TypeError, ScenarioKeyError a
+    KeyError), so `except ValueError` (TypeError, KeyError) goes on working."""
+    with pytest.raises(cls, match=match) as info:
+        call()
+    assert isinstance(info.value, ellipsoid.EllipsoidError)
+    builtin = {ellipsoid.ScenarioTypeError: TypeError, ellipsoid.ScenarioKeyError: KeyError}.get(cls, ValueError)
+    assert isinstance(info.value, builtin)
+
+
+def test_scenario_key_error_is_a_scenario_error_and_a_key_error() -> None:
+    assert issubclass(ellipsoid.ScenarioKeyError, ellipsoid.ScenarioError)
+    assert issubclass(ellipsoid.ScenarioKeyError, KeyError)
+    traj = ellipsoid.simulate(oblate(output={"t_end": 0.01, "dt": 0.01}))
+    with pytest.raises(KeyError):
+        traj["normal_force_peg"]
+    assert traj["theta"] is not None
+
+
+def test_sections_and_spheres_are_bounded_at_validation() -> None:
+    """Issue 48, items 6a and 7b, from Python: the sections keep at most 10⁶ points
+    together; a contact sphere's radius and centre are bounded by the body's size."""
+    section = lambda k: {"name": f"s{k}", "column": "theta", "crosses": 0.1, "max_points": 1_000_000}  # noqa: E731
+    with pytest.raises(ellipsoid.ScenarioError, match=r"section\[1\]\.max_points = 1000000: the sections together keep at most 1000000 points") as info:
+        oblate(section=[section(k) for k in range(16)])
+    assert info.value.key == "section[1].max_points"
+    sphere = {"name": "peg", "center": [0.0, 0.0, 0.02], "radius": 1e6}
+    with pytest.raises(ellipsoid.ScenarioError, match=r"body\.sphere\[0\]\.radius = \S+: a sphere's radius must be from 1e-6 to 1e3 times") as info:
+        oblate().replace(**{"body.sphere": [sphere]})
+    assert info.value.key == "body.sphere[0].radius"
+
+
+def test_animate_refuses_more_frames_than_it_draws(tmp_path: Any) -> None:
+    """Issue 48, item 6c: a speed at which the run needs more than 2000 frames is a
+    ScenarioError naming the speed that fits, nothing written (1e-300 wrote a GIF of no
+    frame)."""
+    traj = ellipsoid.simulate(oblate(output={"t_end": 0.5, "dt": 0.01}))
+    for speed in (1e-300, 0.001):
+        path = tmp_path / "a.gif"
+        with pytest.raises(ellipsoid.ScenarioError, match=r"more than the 2000 an animation may have; give a speed of at least 0.00626"):
+            traj.animate(path, width=16, height=16, speed=speed)
+        assert not path.exists()

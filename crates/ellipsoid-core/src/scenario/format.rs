@@ -958,12 +958,23 @@ pub(super) fn read_observe(ctx: &Ctx<'_>, root: &Sec<'_>, layout: &Layout) -> Re
 }
 
 /// The `[[section]]` array of tables: Poincaré sections (docs/scenarios.md, "Poincaré
-/// sections"), each a crossing as an observable's and the most points it keeps.
+/// sections"), each a crossing as an observable's and the most points it keeps. The
+/// sections together keep at most [`MAX_SECTION_POINTS`] points (the sum of their
+/// `max_points`; a section without `max_points` keeps an equal share,
+/// [`MAX_SECTION_POINTS`] / the number of sections): memory and the sections table grow
+/// with the points, so the bound holds them to what one section may keep.
 pub(super) fn read_sections(
     ctx: &Ctx<'_>,
     root: &Sec<'_>,
     layout: &Layout,
 ) -> Result<Vec<Section>> {
+    let count = match root.get("section").map(|g| &g.node().value) {
+        Some(Value::Array(items)) => items.len().max(1),
+        _ => 1,
+    };
+    let share = MAX_SECTION_POINTS / count as u64;
+    let mut total: u64 = 0;
+    let mut index = 0;
     let list = read_crossings(
         ctx,
         root,
@@ -971,15 +982,34 @@ pub(super) fn read_sections(
         ("section", "section", MAX_SECTIONS),
         "a Poincaré section: name, column, crosses, direction, max_points",
         |sec| {
-            Ok(ctx
-                .checked(
-                    sec,
-                    "max_points",
-                    "the most points the section keeps",
-                    |v| v >= 1.0 && v.fract() == 0.0 && v <= MAX_SECTION_POINTS as f64,
-                    &format!("must be a whole number from 1 to {MAX_SECTION_POINTS}"),
-                )?
-                .map_or(MAX_SECTION_POINTS, |v| v as u64))
+            let given = ctx.checked(
+                sec,
+                "max_points",
+                "the most points the section keeps",
+                |v| v >= 1.0 && v.fract() == 0.0 && v <= MAX_SECTION_POINTS as f64,
+                &format!("must be a whole number from 1 to {MAX_SECTION_POINTS}"),
+            )?;
+            let points = given.map_or(share, |v| v as u64);
+            total += points;
+            index += 1;
+            if total > MAX_SECTION_POINTS {
+                let rule = format!(
+                    "the sections together keep at most {MAX_SECTION_POINTS} points (the sum of their \
+                     max_points; a section without max_points keeps {MAX_SECTION_POINTS} / {count} = {share}): \
+                     the first {index} sum to {total}; lower max_points"
+                );
+                return Err(match sec.get("max_points") {
+                    Some(g) => ctx.bad(ErrorKind::Invalid, sec, g, rule),
+                    None => ctx.error(
+                        ErrorKind::Invalid,
+                        &sec.node.origin,
+                        Some(sec.full("max_points")),
+                        Some(format!("{points} (the default)")),
+                        rule,
+                    ),
+                });
+            }
+            Ok(points)
         },
     )?;
     Ok(list

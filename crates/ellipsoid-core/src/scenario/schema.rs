@@ -130,8 +130,8 @@ pub const SCHEMA: &[Key] = &[
     key("body", "inertia", Some("kg m^2"), Inertia, Required, "about G in body axes: [I1, I2, I3], a symmetric 3×3 array, or \"uniform\""),
     key("body", "sphere", None, Tables, Unset, "contact spheres fixed in the body, at most 8"),
     key("body.sphere", "name", None, Text, Required, "1 to 24 ASCII letters, digits or _ (it names output columns); unique, not \"ellipsoid\""),
-    key("body.sphere", "center", M, Numbers(3), Required, "the sphere's centre in body axes, from the ellipsoid's centre C0"),
-    key("body.sphere", "radius", M, Number, Required, "the sphere's radius"),
+    key("body.sphere", "center", M, Numbers(3), Required, "the sphere's centre in body axes, from the ellipsoid's centre C0; at most 1e3 L from it (L the largest semi-axis)"),
+    key("body.sphere", "radius", M, Number, Required, "the sphere's radius, 1e-6 L to 1e3 L (L the largest semi-axis)"),
     key("initial", "theta", RAD, Number, Value(0.0), "θ, the tilt of the symmetry axis from the vertical"),
     key("initial", "theta_deg", DEG, Number, Unset, "θ in degrees (exclusive with theta)"),
     key("initial", "phi", RAD, Number, Value(0.0), "φ, the precession angle"),
@@ -194,7 +194,7 @@ pub const SCHEMA: &[Key] = &[
     key("section", "column", None, Column, Required, "the numeric output column whose crossing defines the section"),
     key("section", "crosses", None, Number, Required, "the value crossed, in the column's unit"),
     key("section", "direction", None, Choice(&DIRECTIONS), Means("either"), "up (increasing through the value), down or either"),
-    key("section", "max_points", None, Count, Means("1000000"), "the most points kept: the run ends at the last one (status section_full); 1 to 1000000"),
+    key("section", "max_points", None, Count, Means("1000000 / the number of sections"), "the most points kept: the run ends at the last one (status section_full); 1 to 1000000, all sections together at most 1000000"),
 ];
 
 /// The keys the table at `table` (a dotted path without indexes) accepts, in order.

@@ -119,14 +119,29 @@ impl Node {
         }
     }
 
-    /// The origin of the key at `path` (dotted segments), if present.
+    /// The origin of the key at `path` (dotted segments, each a key optionally followed by
+    /// indices into arrays, `sphere[0]`), if present.
     pub(super) fn find(&self, path: &[String]) -> Option<Origin> {
         let (first, rest) = path.split_first()?;
-        let entry = self.entries().iter().find(|e| &e.key == first)?;
-        if rest.is_empty() {
-            Some(entry.key_origin.clone())
-        } else {
-            entry.node.find(rest)
+        let (key, indices) = match first.split_once('[') {
+            Some((key, tail)) => (key, Some(tail)),
+            None => (first.as_str(), None),
+        };
+        let entry = self.entries().iter().find(|e| e.key == key)?;
+        let mut node = &entry.node;
+        if let Some(tail) = indices {
+            for index in tail.split('[') {
+                let k: usize = index.strip_suffix(']')?.parse().ok()?;
+                match &node.value {
+                    Value::Array(items) => node = items.get(k)?,
+                    _ => return None,
+                }
+            }
+        }
+        match (rest.is_empty(), indices) {
+            (true, None) => Some(entry.key_origin.clone()),
+            (true, Some(_)) => Some(node.origin.clone()),
+            (false, _) => node.find(rest),
         }
     }
 

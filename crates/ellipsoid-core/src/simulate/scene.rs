@@ -165,15 +165,17 @@ pub struct Section {
     /// The column, value and direction crossed, and the section's name (unique among the
     /// scene's sections).
     pub crossing: Observe,
-    /// Most points kept, 1 to [`MAX_SECTION_POINTS`].
+    /// Most points kept, 1 to [`MAX_SECTION_POINTS`]; the scene's sections together keep
+    /// at most [`MAX_SECTION_POINTS`] (docs/scenarios.md, "Poincaré sections").
     pub max_points: u64,
 }
 
 /// Most sections a scene may name.
 pub const MAX_SECTIONS: usize = 16;
 
-/// Most points a section keeps (the default of `section.max_points`): 10⁶ rows of a few
-/// dozen columns, some 200 MB in memory.
+/// Most points a section keeps, and most the sections of a scene keep together (the sum
+/// of their `section.max_points`; docs/scenarios.md, "Poincaré sections"): 10⁶ rows of
+/// every column, some 200–800 MB in memory and a sections table of up to about 500 MB.
 pub const MAX_SECTION_POINTS: u64 = 1_000_000;
 
 /// Highest start above the plane, in body sizes (largest semi-axis): a fall from
@@ -593,6 +595,16 @@ impl Scene {
                     "a section's crossings never end the run (max_points bounds it)",
                 ));
             }
+        }
+        let total = (self.sections.iter()).fold(0u64, |n, s| n.saturating_add(s.max_points));
+        if total > MAX_SECTION_POINTS {
+            return Err(ModelError::invalid(
+                "section.max_points",
+                Value::Count(total, "points in all"),
+                format!(
+                    "the sections together keep at most {MAX_SECTION_POINTS} points (the sum of their max_points)"
+                ),
+            ));
         }
         Ok(())
     }

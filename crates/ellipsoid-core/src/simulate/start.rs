@@ -97,7 +97,9 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                 ),
             ));
         }
-        if let Some(status) = stopped {
+        // A slip stop needs the plane to push (N > 0); else the body leaves the plane as
+        // below (docs/physics.md, "The hybrid machine").
+        if let Some(status) = stopped.filter(|_| pushes(self, mode, &y)) {
             return Ok(Start {
                 mode,
                 y,

@@ -901,6 +901,12 @@ pub(super) fn leave<E: Effect + Copy + 'static>(
     }
     let mut placed = *y;
     match on_plane(ctx, Arrival::Landing { stuck: sticks[0] }, &mut placed) {
+        // Leaving the plane wins over a slip stop where the plane does not push (N ≤ 0),
+        // as at a landing.
+        Placed::SlipStopped if !pushes(ctx, Mode::Sliding, &placed) => {
+            *y = placed;
+            lift_off(ctx, Mode::Sliding, t, y, events)
+        }
         Placed::SlipStopped => {
             *y = placed;
             events.push(EventRecord {
@@ -1219,6 +1225,13 @@ fn settle<E: Effect + Copy + 'static>(
                 &mut landed,
             );
             *y = landed;
+            // A stop needs the body on the plane: where the plane does not push (N ≤ 0),
+            // leaving it wins over the slip stop (docs/physics.md, "The hybrid
+            // machine"; docs/scenarios.md, the status table).
+            let placed = match placed {
+                Placed::SlipStopped if !pushes(ctx, Mode::Sliding, y) => Placed::In(Mode::Sliding),
+                placed => placed,
+            };
             match placed {
                 Placed::SlipStopped => {
                     record(events, &[surface]);

@@ -61,7 +61,11 @@ pub fn analyse_solving(
 
 /// The linearisation of `scene`'s reduced dynamics at `at` = (ζ, ω) (ζ normalised), or
 /// at the scene's initial state (ζ = Rᵀe3 of the initial attitude, ω the initial body
-/// angular velocity): the Jacobian in [`COORDINATES`], steady or not.
+/// angular velocity): the Jacobian in [`COORDINATES`], steady or not. Refused, as the
+/// steady families' rates are (docs/physics.md, "Steady motions and their stability"):
+/// a state that is not finite, a ζ whose squared length is not a normal float (it cannot
+/// be normalised), |ω| above [`MAX_RATE_RATIO`] √(g/c_max), and a Jacobian that is not
+/// finite.
 pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization, ModelError> {
     let field = ReducedField::from_scene(scene)?;
     let at = at.unwrap_or_else(|| {
@@ -74,13 +78,33 @@ pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization
         )
     });
     let (zeta, omega) = reduce::split(&at);
+    let state = || Value::State(Box::new([zeta, omega]));
     if !(at.iter().all(|x| x.is_finite()) && zeta.norm() > 0.0) {
         return Err(ModelError::invalid(
             "state",
-            Value::State(Box::new([zeta, omega])),
+            state(),
             "the state (ζ1, ζ2, ζ3, ω1, ω2, ω3) must be finite with ζ ≠ 0",
         ));
     }
+    let length = zeta.norm_squared();
+    if !(length.is_finite() && length >= f64::MIN_POSITIVE) {
+        return Err(ModelError::invalid(
+            "state",
+            state(),
+            format!(
+                "ζ is the direction of the vertical in body axes: its squared length |ζ|² = {length:e} must be a normal float ({:e} to {:e}) to be normalised",
+                f64::MIN_POSITIVE,
+                f64::MAX
+            ),
+        ));
+    }
+    families::check_rate(field.body(), field.gravity(), omega.norm(), |rule| {
+        ModelError::invalid(
+            "state",
+            state(),
+            format!("|ω| = {:e} rad/s: {rule}", omega.norm()),
+        )
+    })?;
     let lin = linearize(&field, &at, None);
     if !lin.jacobian.iter().all(|x| x.is_finite()) {
         return Err(ModelError::invalid(

@@ -40,7 +40,8 @@ returns the Jacobian of the reduced dynamics and its coordinates' names
 (docs/physics.md, "Steady motions and their stability").
 
 Errors: every exception derives from `EllipsoidError`: `ScenarioError` (a ValueError) for
-bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Python type),
+bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Python type;
+`ScenarioKeyError`, also a KeyError, for a column a Trajectory does not have),
 `SimulationError` (a RuntimeError) when `precision`'s reference run fails (a simulation
 that stops on an error returns its trajectory with `success` False), `OutputError` (an OSError) for files that cannot be written,
 `InternalError` for bugs.
@@ -56,6 +57,7 @@ from ellipsoid._ellipsoid import (
     PrecisionTable,
     Scenario,
     ScenarioError,
+    ScenarioKeyError,
     ScenarioTypeError,
     SimulationError,
     Trajectory,
@@ -83,6 +85,7 @@ __all__ = [
     "Steady",
     "Study",
     "ScenarioError",
+    "ScenarioKeyError",
     "ScenarioTypeError",
     "SimulationError",
     "Trajectory",

@@ -22,6 +22,7 @@ __all__ = [
     "Scenario",
     "ScenarioError",
     "Study",
+    "ScenarioKeyError",
     "ScenarioTypeError",
     "SimulationError",
     "Trajectory",
@@ -84,6 +85,9 @@ class ScenarioError(EllipsoidError, ValueError):
 
 class ScenarioTypeError(ScenarioError, TypeError):
     """A ScenarioError for a Python value of a type a scenario cannot hold, or an argument of the wrong type."""
+
+class ScenarioKeyError(ScenarioError, KeyError):
+    """A ScenarioError (and a KeyError) for a name that is not there: a column of a Trajectory (`traj["nope"]`)."""
 
 class SimulationError(EllipsoidError, RuntimeError):
     """A run that stopped on an error; `trajectory` holds it up to the stop.

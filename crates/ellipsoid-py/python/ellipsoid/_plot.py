@@ -240,7 +240,10 @@ def _draw_axis(ax: Any, traj: Any, axis: dict[str, Any], labels: bool = False) -
         if found is None:
             if series.get("optional"):
                 continue
-            raise ValueError(f"the {series['data']} series has no data")
+            from ellipsoid._ellipsoid import InternalError
+
+            # The panels' declaration names a series every trajectory has: a bug if not.
+            raise InternalError(f"the {series['data']} series has no data")
         values, some_out = found
         left_out |= some_out
         if np.all(np.isnan(values)):

@@ -11,7 +11,15 @@ from typing import Any, SupportsIndex
 
 import numpy as np
 
-from ellipsoid._ellipsoid import Scenario, ScenarioError, steady_raw, steady_start
+from ellipsoid._ellipsoid import Scenario, ScenarioError, _argument_error, steady_raw, steady_start
+
+
+def _number(key: str, value: Any, source: str) -> float:
+    """``value`` as a float (an int or a float, not a bool), else the ScenarioTypeError
+    naming ``key``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise _argument_error(key, None, f"expected a number, found {type(value).__name__}", True, source)
+    return float(value)
 
 
 def _index(value: Any) -> int | None:
@@ -99,7 +107,7 @@ class Steady:
             raise ScenarioError(f"mode = {mode!r}: must be a column from 0 to {len(names) - 1} or a mode's name")
         scenario, solve = self._source
         value = None if self.key is None else float(self.values[row])
-        return steady_start(scenario, self.family, column, float(eps), self.key, value, solve)
+        return steady_start(scenario, self.family, column, _number("eps", eps, "Steady.scenario"), self.key, value, solve)
 
     def __repr__(self) -> str:
         crit = ", ".join(f"{c['value']:.10g} ({c['kind']})" for c in self.critical) or "none"
@@ -210,6 +218,9 @@ def steady(
     maps one scenario key to a 1-D array of values. Raises ScenarioError for a bad
     scenario, family, unknown or key, or a value without a steady motion; Ctrl-C stops a
     sweep before its next value and raises KeyboardInterrupt."""
+    for name, given in (("family", family), ("solve", solve)):
+        if not isinstance(given, str):
+            raise _argument_error(name, None, f"expected a str, found {type(given).__name__}", True, "steady")
     if vary is None:
         res = Steady(steady_raw(scenario, family, solve=solve))
         res._source = (scenario, solve)
@@ -219,7 +230,12 @@ def steady(
             f"vary = {vary!r}: must map exactly one scenario key to a 1-D array of values"
         )
     ((key, values),) = vary.items()
-    array = np.asarray(values, dtype=float)
+    if not isinstance(key, str):
+        raise _argument_error("vary", None, f"a key of vary is a dotted scenario key (str), found {type(key).__name__}", True, "steady")
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as e:
+        raise _argument_error(f"vary[{key!r}]", None, f"expected a 1-D array of numbers: {e}", True, "steady") from None
     if array.ndim != 1:
         raise ScenarioError(f"vary[{key!r}]: must be a 1-D array of values (got shape {array.shape})")
     res = Steady(steady_raw(scenario, family, str(key), [float(v) for v in array], solve))

@@ -269,6 +269,18 @@ impl Doc<'_> {
         key: &str,
         max: usize,
     ) -> Res<&'v [Spanned<DeValue<'i>>]> {
+        self.array_of(v, key, max, "at most {max} values")
+    }
+
+    /// An array of at most `max` entries; `rule` (with `{max}` in it) says what bounds
+    /// them.
+    fn array_of<'v, 'i>(
+        &self,
+        v: &'v Spanned<DeValue<'i>>,
+        key: &str,
+        max: usize,
+        rule: &str,
+    ) -> Res<&'v [Spanned<DeValue<'i>>]> {
         match v.get_ref() {
             DeValue::Array(a) if a.len() <= max => Ok(&a[..]),
             DeValue::Array(a) => Err(self.err(
@@ -276,14 +288,21 @@ impl Doc<'_> {
                 &v.span(),
                 key,
                 Some(format!("an array of {} values", a.len())),
-                format!("at most {max} values"),
+                rule.replace("{max}", &max.to_string()),
             )),
             _ => Err(self.type_err(v, key, "expected an array")),
         }
     }
 
-    fn strings(&self, v: &Spanned<DeValue<'_>>, key: &str, max: usize) -> Res<Vec<String>> {
-        self.array(v, key, max)?
+    /// An array of at most `max` strings; `rule` as for [`Doc::array_of`].
+    fn strings(
+        &self,
+        v: &Spanned<DeValue<'_>>,
+        key: &str,
+        max: usize,
+        rule: &str,
+    ) -> Res<Vec<String>> {
+        self.array_of(v, key, max, rule)?
             .iter()
             .map(|s| self.string(s, key).map(str::to_owned))
             .collect()
@@ -614,7 +633,12 @@ fn read_axis(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, i: usize) -> Res<Axis> {
             if generator == "latin_hypercube" {
                 return Err(doc.err(ErrorKind::Conflict, &a.span(), &format!("{label}.also"), None, "a Latin hypercube sets each of its keys to its own value; `also` belongs to single-key axes"));
             }
-            let list = doc.strings(a, &format!("{label}.also"), MAX_KEYS)?;
+            let list = doc.strings(
+                a,
+                &format!("{label}.also"),
+                MAX_KEYS,
+                "an axis sets at most {max} more keys to its value (also)",
+            )?;
             for k in &list {
                 path_check(a, k, "also")?;
             }
@@ -642,7 +666,12 @@ fn read_axis(doc: &Doc<'_>, v: &Spanned<DeValue<'_>>, i: usize) -> Res<Axis> {
                     "a Latin hypercube needs keys = [\"a.b\", \"c.d\", ...] (one per dimension)",
                 )),
             };
-        let names = doc.strings(keys_v, &format!("{label}.keys"), MAX_AXES)?;
+        let names = doc.strings(
+            keys_v,
+            &format!("{label}.keys"),
+            MAX_AXES,
+            "a Latin hypercube spans at most {max} keys",
+        )?;
         if names.is_empty() {
             return Err(doc.invalid(keys_v, &format!("{label}.keys"), "at least one key"));
         }
@@ -806,7 +835,12 @@ fn read_outcomes(doc: &Doc<'_>, t: &DeTable<'_>) -> Res<Outcomes> {
                     }
                     all
                 } else {
-                    doc.strings(v, &key, MAX_KEYS)?
+                    doc.strings(
+                        v,
+                        &key,
+                        MAX_KEYS,
+                        "an outcome list names at most {max} columns",
+                    )?
                 };
                 match name {
                     "final" => o.final_columns = list,

@@ -658,3 +658,42 @@ fn an_unknown_status_in_a_journal_row_is_an_error_naming_the_journal_line_and_va
     assert!(e.contains(", invalid, internal_error; "), "{e}");
     assert_eq!(std::fs::read_to_string(&j).unwrap(), edited);
 }
+
+/// Issue 48: an `also` list of more than 64 keys was refused with "at most 64 values",
+/// the rule of an axis's values, while the bound is on the keys one axis sets (64, as
+/// for `[set]` and the outcome lists: docs/studies.md, "Limits"). The message now names
+/// that rule, as do those of an outcome list (columns) and a Latin hypercube's keys; 64
+/// keys are allowed.
+#[test]
+fn an_also_list_too_long_names_the_rule_of_keys() {
+    let keys = |n: usize| {
+        (0..n)
+            .map(|_| "\"initial.theta\"")
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let e = study(&format!(
+        "[[axis]]\nkey = \"contact.friction\"\nalso = [{}]\nvalues = [0.3]\n",
+        keys(65)
+    ))
+    .unwrap_err();
+    assert!(
+        e.contains("axis[0].also = an array of 65 values: an axis sets at most 64 more keys to its value (also)"),
+        "{e}"
+    );
+    assert!(!e.contains("at most 64 values"), "{e}");
+    study(&format!(
+        "[[axis]]\nkey = \"contact.friction\"\nalso = [{}]\nvalues = [0.3]\n",
+        keys(64)
+    ))
+    .unwrap();
+    let columns = (0..65).map(|_| "\"theta\"").collect::<Vec<_>>().join(", ");
+    let e = study(&format!(
+        "[[axis]]\nkey = \"contact.friction\"\nvalues = [0.3]\n[outcomes]\nfinal = [{columns}]\n"
+    ))
+    .unwrap_err();
+    assert!(
+        e.contains("an outcome list names at most 64 columns"),
+        "{e}"
+    );
+}
