@@ -315,7 +315,12 @@ fn phase_normal<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, mode: Mode, y:
 /// - v_k⁺ < −v_settle,k: the impulse at `touching` alone would drive `pressed` into the
 ///   plane, and the impact is taken at both contacts at once ([`contacts_touchdown`]).
 ///
-/// The outcome goes on the plane by [`settle`]. A pair impact that has no solution, or two
+/// The impact is also taken at both, and at any further surface that touches at the same
+/// instant ([`coinciding`], docs/physics.md "Simultaneous touchdowns"), where such a
+/// surface exists, or where the two rock: `touching`'s rebound within its settling speed
+/// on `pressed` and `pressed`'s separation within its own on `touching`; a rocking pair
+/// whose impact has no solution is judged by the three cases above. The outcome goes on
+/// the plane by [`settle`]. A pair impact that has no solution, or two
 /// contacts the two-contact phase cannot take, stop the run with `several_contacts` at the
 /// located state.
 pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
