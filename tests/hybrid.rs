@@ -247,6 +247,51 @@ fn dopri5_finds_the_disc_stop_that_dop853_finds() {
     }
 }
 
+/// The start's side of the same rule (docs/physics.md, "The hybrid machine"): without
+/// gravity, the top of sliding-landing-lifts.toml started upright on the plane, spinning
+/// about its vertical axis with G at rest, has no slip and a plane that does not push
+/// (N = 0: nothing presses the body down). The run is not stopped `slip_stopped` at
+/// t = 0 as a resting body would be; the body goes on untouched: upright, its spin and
+/// G's position kept to round-off, no contact force in any row.
+#[test]
+fn a_weightless_body_started_without_slip_is_not_stopped_at_the_start() {
+    let (out, samples) = run_file(
+        "sliding-landing-lifts.toml",
+        &[
+            "initial.height=0",
+            "initial.theta=0",
+            "initial.velocity=[0.0, 0.0]",
+        ],
+    );
+    assert_eq!(out.status, Status::Completed, "{:?}", out.events);
+    assert!(samples.len() > 100);
+    let first = samples[0];
+    for s in &samples {
+        assert!(
+            s.angles.theta.abs() < 1e-12,
+            "θ = {} at t = {}",
+            s.angles.theta,
+            s.t
+        );
+        assert!(
+            (s.angles.psi_dot - 50.0).abs() < 1e-9,
+            "ψ̇ = {}",
+            s.angles.psi_dot
+        );
+        assert!(
+            (s.position - first.position).norm() < 1e-12,
+            "G moved at t = {}",
+            s.t
+        );
+        assert!(
+            s.normal_force.abs() < 1e-12,
+            "N = {} at t = {}",
+            s.normal_force,
+            s.t
+        );
+    }
+}
+
 /// Issue 48: a sliding landing that sticks where the plane would have to pull (no
 /// gravity, a tilted spinning top: sliding N = −0.037 N after the plastic impact) ended
 /// the run `slip_stopped` with N < 0 in its last row. Both at once, leaving the plane
