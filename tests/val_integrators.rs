@@ -12,8 +12,8 @@ use ellipsoid_core::integrate::problems::{
     Arenstorf, Decay, ExpSinSquared, HarmonicOscillator, VanDerPol,
 };
 use ellipsoid_core::integrate::{
-    Action, Direction, Event, IntegrateError, Method, OdeSystem, Options, Solution, StopReason,
-    Warning, integrate,
+    Action, Direction, Event, EventFn, IntegrateError, Method, OdeSystem, Options, Solution,
+    StopReason, Warning, integrate,
 };
 use nalgebra::{SVector, Vector2, Vector4};
 
@@ -460,6 +460,29 @@ fn val_terminal_event_stops_at_the_crossing() {
     }
 }
 
+/// The oscillator x = cos 2t over [0, 20] s at rtol = atol = 1e-6 under `method`, with
+/// one event: `g` falling through zero, continuing, with the bound `curvature` of |g''|.
+fn falling_crossings(method: Method, g: EventFn<'_, 2>, curvature: Option<f64>) -> Solution<2> {
+    let events = vec![Event {
+        g,
+        direction: Direction::Falling,
+        action: Action::Continue,
+        curvature,
+    }];
+    integrate(
+        method,
+        &HarmonicOscillator { omega: 2.0 },
+        0.0,
+        Vector2::new(1.0, 0.0),
+        20.0,
+        &Options::new(1e-6, 1e-6),
+        &events,
+        &[],
+        &mut |_, _| ControlFlow::Continue(()),
+    )
+    .unwrap()
+}
+
 /// A dip shorter than one step: x = cos 2t passes below −0.999 for acos(0.999) ≈ 0.045 s
 /// around each trough, while DOP853 and DOPRI5 at rtol 1e-6 take steps of more than
 /// twice that, so g = x + 0.999 is positive at both ends of the step that contains the
@@ -473,25 +496,11 @@ fn val_event_dip_shorter_than_a_step_is_found() {
     let first = (PI - depth.acos()) / 2.0;
     let width = depth.acos();
     for method in [Method::Dopri5, Method::Dop853] {
-        let events = vec![Event {
-            g: Box::new(move |_, y: &Vector2<f64>| y[0] + depth),
-            direction: Direction::Falling,
-            action: Action::Continue,
-            curvature: None,
-        }];
-        let osc = HarmonicOscillator { omega: 2.0 };
-        let sol = integrate(
+        let sol = falling_crossings(
             method,
-            &osc,
-            0.0,
-            Vector2::new(1.0, 0.0),
-            20.0,
-            &Options::new(1e-6, 1e-6),
-            &events,
-            &[],
-            &mut |_, _| ControlFlow::Continue(()),
-        )
-        .unwrap();
+            Box::new(move |_, y: &Vector2<f64>| y[0] + depth),
+            None,
+        );
         let mean_step = 20.0 / sol.stats.accepted as f64;
         assert!(
             mean_step > 2.0 * width,
@@ -523,25 +532,8 @@ fn val_event_dip_without_trace_is_found_with_a_curvature_bound() {
     let crossing = t_d - w * k.ln().sqrt();
     for method in [Method::Dopri5, Method::Dop853] {
         let found = |curvature: Option<f64>| {
-            let events = vec![Event {
-                g: Box::new(move |t, _: &Vector2<f64>| 1.0 - k * (-((t - t_d) / w).powi(2)).exp()),
-                direction: Direction::Falling,
-                action: Action::Continue,
-                curvature,
-            }];
-            let osc = HarmonicOscillator { omega: 2.0 };
-            let sol = integrate(
-                method,
-                &osc,
-                0.0,
-                Vector2::new(1.0, 0.0),
-                20.0,
-                &Options::new(1e-6, 1e-6),
-                &events,
-                &[],
-                &mut |_, _| ControlFlow::Continue(()),
-            )
-            .unwrap();
+            let g = move |t: f64, _: &Vector2<f64>| 1.0 - k * (-((t - t_d) / w).powi(2)).exp();
+            let sol = falling_crossings(method, Box::new(g), curvature);
             sol.events.iter().map(|e| e.t).collect::<Vec<f64>>()
         };
         assert!(
