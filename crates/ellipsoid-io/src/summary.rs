@@ -223,7 +223,7 @@ pub fn state_map(layout: &columns::Layout, s: &Sample) -> Map<String, Value> {
 /// Adds the `surface` an event happened at, by name, for a body with contact spheres (a
 /// one-surface body's events have none).
 fn surface_name(body: &Body, m: &mut Map<String, Value>, surface: Surface) {
-    if !body.spheres().is_empty() {
+    if !body.plain() {
         m.insert("surface".into(), Value::from(body.surface_name(surface)));
     }
 }

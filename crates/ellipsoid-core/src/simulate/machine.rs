@@ -237,6 +237,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             && on_axis(g)
             && axisymmetric_inertia
             && body.spheres().iter().all(|s| on_axis(s.center));
+        // Rims lie on the axis (`Body::with_rims`).
         Conservation {
             conservative,
             frictionless: conservative && scene.contact == ContactModel::Frictionless,
@@ -248,7 +249,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             revolution,
             // The drilling torque of a contact disc changes Jellett's J = L_G·(G − C), and
             // so does a change of the contacting surface (contact spheres).
-            sphere: revolution && a.x == a.z && scene.disc.is_none() && body.spheres().is_empty(),
+            sphere: revolution && a.x == a.z && scene.disc.is_none() && body.plain(),
             elastic_impacts: scene.landing.lift_off == LiftOff::Stop
                 || (scene.contact == ContactModel::Frictionless
                     && scene.landing.restitution == 1.0),
@@ -280,7 +281,7 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
     let phase_watches = P::watches(ctx);
     // The guard where a surface can be off the plane: every one in flight, the others
     // than the one touching with contact spheres.
-    let guarded = P::MODE == Mode::Flight || !scene.body.spheres().is_empty();
+    let guarded = P::MODE == Mode::Flight || !scene.body.plain();
     let watches: Vec<Slot> = (0..phase_watches.len())
         .map(Slot::Phase)
         .chain((0..scene.observe.len()).map(Slot::Observe))

@@ -135,8 +135,9 @@ pub(super) fn contact_gap_curvature<E>(
         + m * ctx.scene.gravity * (kin.z_g() + reach);
     let w = (2.0 * energy.max(0.0) / i_min).sqrt();
     let w_dot = i_max * w * w / i_min + CONTACT_TURN_MARGIN * ev.response.omega_dot.norm();
-    geometry::height_acceleration_bound(body, kin.contact.surface, w, w_dot)
-        + geometry::height_acceleration_bound(body, other, w, w_dot)
+    let tilt = geometry::ring_direction(kin.contact.zeta).1;
+    geometry::height_acceleration_bound(body, kin.contact.surface, w, w_dot, tilt)
+        + geometry::height_acceleration_bound(body, other, w, w_dot, tilt)
 }
 
 /// An event function of a segment: one of its phase's watches (by its index in
