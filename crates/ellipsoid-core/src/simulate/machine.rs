@@ -23,6 +23,7 @@ use crate::model::{ContactLaw, Evaluation, System};
 use crate::state::{self, EulerAngles, State};
 
 use super::context::Context;
+use super::flat;
 use super::numerics::MAX_SWITCHES;
 use super::outcome::{Chatter, EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
 use super::phase::{Next, Phase, Slot, phase};
@@ -76,7 +77,11 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                 // A surface already below the plane where the phase starts touched it
                 // before: its event at once (the integrator finds only zeros crossed).
                 let mut before = events.len();
-                let next = if let Some(watch) = current.overdue(self, &y) {
+                let flat = self.flat_watched(mode)
+                    && flat::tilt(&current.kinematics(self, &y)) <= 0.0;
+                let next = if flat {
+                    flat::land_flat(self, mode, self.surface(), t, &mut y, &mut events)
+                } else if let Some(watch) = current.overdue(self, &y) {
                     current.on_event(self, watch, &mut t, &mut y, &mut events)
                 } else {
                     let start_angles = rec.angles;
@@ -127,6 +132,9 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                             Slot::Section(index) => Next::Stop(Status::SectionFull { index }, mode),
                             Slot::Phase(watch) => {
                                 current.on_event(self, watch, &mut t, &mut y, &mut events)
+                            }
+                            Slot::Flat => {
+                                flat::land_flat(self, mode, self.surface(), t, &mut y, &mut events)
                             }
                             Slot::Guard => {
                                 let kin = current.kinematics(self, &y);
@@ -183,6 +191,16 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             final_invariants,
             sections: std::mem::take(&mut rec.sections),
         })
+    }
+
+    /// Whether `mode` watches its surface in contact going flat (`flat::tilt`): a rim in
+    /// contact alone.
+    pub(super) fn flat_watched(&self, mode: Mode) -> bool {
+        matches!(self.surface(), Surface::Rim(_))
+            && matches!(
+                mode,
+                Mode::Frictionless | Mode::Sliding | Mode::Rolling | Mode::Viscous
+            )
     }
 
     /// Whether `surface` is in contact with the plane in `mode`.
@@ -287,6 +305,7 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
         .chain((0..scene.observe.len()).map(Slot::Observe))
         .chain((0..scene.sections.len()).map(Slot::Section))
         .chain(guarded.then_some(Slot::Guard))
+        .chain(ctx.flat_watched(P::MODE).then_some(Slot::Flat))
         .collect();
     // Observables unwrap φ and ψ against the last emitted row; they share one output
     // row per state.
@@ -349,6 +368,12 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
                     curvature: None,
                 }
             }
+            Slot::Flat => Event {
+                g: Box::new(move |t, y: &State| sys.with(t, y, |ev| flat::tilt(&ev.kin))),
+                direction: Direction::Falling,
+                action: Action::Stop,
+                curvature: None,
+            },
             Slot::Phase(i) => {
                 let w = phase_watches[i];
                 // A gap that starts at or below zero (by round-off, opening: see the

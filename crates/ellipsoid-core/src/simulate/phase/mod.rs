@@ -21,6 +21,7 @@
 //! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left, lift-off |
 //! | flight | F = 0 | gap z_G − h(ζ) + δz of the lowest surface | touchdown |
 //! | viscous | F = N(e3 − μ_v v_C) | N, Painlevé denominator | lift-off, Painlevé |
+//! | face | `model::Face`: Coulomb–Contensou over the face's disc | N, √(\|v_f\|² + (R Ω)²) − floor (with friction) | lift-off, rest on the face |
 //! | two contacts, three contacts | each contact sliding or sticking (`model::Contacts`) | each N_i, each sliding slip − floor, each sticking hold, Painlevé denominator, another surface's gap | a surface leaves, a contact grips or slides, a third touches down; stop `slip_stopped`, `painleve`, or a fourth surface `several_contacts` |
 //!
 //! With contact spheres every contact phase also watches each other surface's gap
@@ -31,6 +32,7 @@
 //! slip and spin stopping together ends the run (see `sliding`).
 
 mod contacts;
+mod face;
 mod flight;
 mod frictionless;
 mod rolling;
@@ -58,6 +60,7 @@ use crate::columns::{Mode, Sample};
 pub(super) use contacts::{
     ContactsPhase, above_stop, contacts_mode, grips, holds, normal, touching,
 };
+pub(super) use face::FacePhase;
 pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
@@ -74,6 +77,7 @@ pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyP
         Mode::TwoContacts => &Registered::<ContactsPhase<2>>(PhantomData),
         Mode::ThreeContacts => &Registered::<ContactsPhase<3>>(PhantomData),
         Mode::Viscous => &Registered::<ViscousPhase>(PhantomData),
+        Mode::Face => &Registered::<FacePhase>(PhantomData),
     }
 }
 
@@ -150,6 +154,8 @@ pub(super) enum Slot {
     /// The guard: the deepest surface not in contact falling through the penetration
     /// tolerance (`Context::below_plane`).
     Guard,
+    /// A rim in contact going flat (`flat::tilt`).
+    Flat,
 }
 
 /// What a phase's event leads to.
