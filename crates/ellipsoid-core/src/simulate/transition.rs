@@ -58,7 +58,7 @@ use super::numerics::{
 use super::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
 use super::phase::{
     ContactsPhase, FlightPhase, FrictionlessPhase, Next, RollingPhase, above_stop, contacts_mode,
-    grips, holds, normal, phase, set_reference, slip_has_stopped, slip_is_zero, touching,
+    grips, holds, normal, phase, set_reference, slip_has_stopped, slip_is_zero,
 };
 use super::scene::{ContactModel, LiftOff};
 
@@ -99,6 +99,7 @@ pub(super) enum Placed {
 /// Sliding starts with s_ref along the slip.
 pub(super) fn on_plane<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     arrival: Arrival,
     y: &mut State,
 ) -> Placed {
@@ -112,30 +113,32 @@ pub(super) fn on_plane<E: Effect + Copy + 'static>(
         ContactModel::Viscous { .. } => Placed::In(Mode::Viscous),
         ContactModel::Rolling => {
             if arrival != Arrival::Start {
-                Rolling::stick(&ctx.body(), y);
+                Rolling::stick(&ctx.body(contacts), y);
             }
-            ctx.system::<RollingPhase>().project(y);
+            ctx.system::<RollingPhase>(contacts).project(y);
             Placed::In(Mode::Rolling)
         }
         ContactModel::Sliding { .. } | ContactModel::Coulomb { .. } if ctx.scene.disc.is_some() => {
-            if arrival == Arrival::SlipStop || slip_has_stopped(ctx, y) {
+            if arrival == Arrival::SlipStop || slip_has_stopped(ctx, contacts, y) {
                 Placed::SlipStopped
             } else {
-                renew_reference(ctx, y);
+                renew_reference(ctx, contacts, y);
                 Placed::In(Mode::Sliding)
             }
         }
-        ContactModel::Sliding { .. } if stuck || slip_is_zero(ctx, y) => Placed::SlipStopped,
-        ContactModel::Coulomb { .. } if stuck || slip_is_zero(ctx, y) => {
-            if rolls_once_stuck(ctx, y) {
+        ContactModel::Sliding { .. } if stuck || slip_is_zero(ctx, contacts, y) => {
+            Placed::SlipStopped
+        }
+        ContactModel::Coulomb { .. } if stuck || slip_is_zero(ctx, contacts, y) => {
+            if rolls_once_stuck(ctx, contacts, y) {
                 Placed::In(Mode::Rolling)
             } else {
-                start_sliding_from_rest(ctx, y);
+                start_sliding_from_rest(ctx, contacts, y);
                 Placed::In(Mode::Sliding)
             }
         }
         ContactModel::Sliding { .. } | ContactModel::Coulomb { .. } => {
-            renew_reference(ctx, y);
+            renew_reference(ctx, contacts, y);
             Placed::In(Mode::Sliding)
         }
     }
@@ -144,10 +147,11 @@ pub(super) fn on_plane<E: Effect + Copy + 'static>(
 /// Whether the plane pushes on the body in `mode` at `y` (N > 0).
 pub(super) fn pushes<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     mode: Mode,
     y: &State,
 ) -> bool {
-    phase::<E>(mode).response(ctx, y).normal > 0.0
+    phase::<E>(mode).response(ctx, contacts, y).normal > 0.0
 }
 
 /// The slip stop located by the sliding phase at (t, y): a confirmed stop goes on the
@@ -155,20 +159,21 @@ pub(super) fn pushes<E: Effect + Copy + 'static>(
 /// a step, and sliding goes on with s_ref renewed.
 pub(super) fn slip_stop<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     confirmed: bool,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
     if !confirmed {
-        renew_reference(ctx, y);
+        renew_reference(ctx, contacts, y);
         return Next::Go(Mode::Sliding);
     }
     events.push(EventRecord {
         kind: EventKind::SlipStop,
         t,
     });
-    match on_plane(ctx, Arrival::SlipStop, y) {
+    match on_plane(ctx, contacts, Arrival::SlipStop, y) {
         Placed::SlipStopped => Next::Stop(Status::SlipStopped, Mode::Sliding),
         Placed::In(mode) => {
             if mode != Mode::Sliding {
@@ -201,11 +206,12 @@ pub(super) fn painleve(
 /// ([`start_sliding_from_rest`]).
 pub(super) fn cone_left<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    start_sliding_from_rest(ctx, y);
+    start_sliding_from_rest(ctx, contacts, y);
     switch(events, t, Mode::Rolling, Mode::Sliding);
     Next::Go(Mode::Sliding)
 }
@@ -216,6 +222,7 @@ pub(super) fn cone_left<E: Effect + Copy + 'static>(
 /// position are continuous; else the run stops with `inconsistent_contact`.
 pub(super) fn lift_off<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     from: Mode,
     t: f64,
     y: &mut State,
@@ -228,10 +235,10 @@ pub(super) fn lift_off<E: Effect + Copy + 'static>(
         });
         return Next::Stop(Status::LostContact, from);
     }
-    if let Err(status) = flight_is_consistent(ctx, from, y) {
+    if let Err(status) = flight_is_consistent(ctx, contacts, from, y) {
         return Next::Stop(status, from);
     }
-    to_flight(ctx, from, y);
+    to_flight(ctx, contacts, from, y);
     events.push(EventRecord {
         kind: EventKind::LiftOff,
         t,
@@ -242,8 +249,8 @@ pub(super) fn lift_off<E: Effect + Copy + 'static>(
 
 /// The state map of leaving the plane from contact mode `from`: z_G and v_Gz (and,
 /// rolling, v_G) become flight states with the values the contact gave them.
-pub(super) fn to_flight<E>(ctx: &Context<'_, E>, from: Mode, y: &mut State) {
-    let kin = Kinematics::new(&ctx.body(), y, from == Mode::Rolling);
+pub(super) fn to_flight<E>(ctx: &Context<'_, E>, contacts: &ContactSet, from: Mode, y: &mut State) {
+    let kin = Kinematics::new(&ctx.body(contacts), y, from == Mode::Rolling);
     y[state::VEL] = kin.v_g.x;
     y[state::VEL + 1] = kin.v_g.y;
     y[state::HEIGHT] = kin.contact.height;
@@ -264,17 +271,18 @@ pub(super) fn to_flight<E>(ctx: &Context<'_, E>, from: Mode, y: &mut State) {
 /// "The hybrid machine"), reported as `Err` with the numbers.
 pub(super) fn flight_is_consistent<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     from: Mode,
     y: &State,
 ) -> Result<(), Status> {
-    let free = ctx.system::<FrictionlessPhase>().evaluate(y);
+    let free = ctx.system::<FrictionlessPhase>(contacts).evaluate(y);
     let accel = -free.response.normal * free.response.painleve / ctx.scene.body.mass();
     if accel >= -gap_accel_roundoff(ctx, &free.kin, free.load.force.norm()) {
         return Ok(());
     }
     Err(Status::InconsistentContact {
         mode: from,
-        normal: phase_normal(ctx, from, y),
+        normal: phase_normal(ctx, contacts, from, y),
         gap_acceleration: accel,
     })
 }
@@ -290,15 +298,20 @@ fn gap_accel_roundoff<E>(ctx: &Context<'_, E>, kin: &Kinematics, force: f64) -> 
 }
 
 /// N of contact mode `mode` at `y` \[N\].
-fn phase_normal<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, mode: Mode, y: &State) -> f64 {
+fn phase_normal<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    contacts: &ContactSet,
+    mode: Mode,
+    y: &State,
+) -> f64 {
     match mode {
         Mode::Flight => {
-            ctx.system::<FrictionlessPhase>()
+            ctx.system::<FrictionlessPhase>(contacts)
                 .evaluate(y)
                 .response
                 .normal
         }
-        mode => phase::<E>(mode).response(ctx, y).normal,
+        mode => phase::<E>(mode).response(ctx, contacts, y).normal,
     }
 }
 
@@ -325,6 +338,7 @@ fn phase_normal<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, mode: Mode, y:
 /// located state.
 pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     from: Mode,
     touching: Surface,
     t: &mut f64,
@@ -332,28 +346,27 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let body = &ctx.scene.body;
-    let pressed = ctx.surface();
+    // The trials read the contact state as it was; the outcome's goes into `contacts`
+    // where the run goes on.
+    let was = &*contacts;
+    let pressed = was.surface;
     let (t0, y0, before) = (*t, *y, events.len());
-    to_flight(ctx, from, y);
-    let strike = Strike::new(ctx, touching, t, y);
+    to_flight(ctx, was, from, y);
+    let strike = Strike::new(ctx, was, touching, t, y);
     let law = tangential(ctx.scene.contact);
     let single = strike.impact(law, ctx.scene.landing.restitution);
     let approach = normal_velocity(body, pressed, &single.1);
     // The pressed surface's settling speed: its own contact's deceleration.
-    let pressed_settles = |y: &State| {
-        on_surface(ctx, pressed, || {
-            settling_speed(ctx, y, &Kinematics::flying_at(body, pressed, y))
-        })
-    };
-    let onto_pressed = |y: &State| second_settling_speed(ctx, from, pressed, touching, y);
+    let pressed_settles = |y: &State| free_settling_speed(ctx, was, pressed, y);
+    let onto_pressed = |y: &State| second_settling_speed(ctx, was, from, pressed, touching, y);
     let settle_k = pressed_settles(&single.1);
     // Where `touching` stays, `pressed`'s gap is a second surface's on it: a separation
     // within its settling speed there rises less than the located gap resolves, and both
     // stay. Judged by the free settling speed alone, the body rocked between the two at
     // 1e-8 m/s without end (the tippe top on its stem at the accumulation of its bounces).
     let rocking = single.0.normal_velocity.1 <= onto_pressed(&single.1)
-        && approach <= second_settling_speed(ctx, from, touching, pressed, &single.1);
-    let coincide = coinciding(ctx, &strike, &[pressed], &single.1);
+        && approach <= second_settling_speed(ctx, was, from, touching, pressed, &single.1);
+    let coincide = coinciding(ctx, was, &strike, &[pressed], &single.1);
     // The impact at both (and at any surface touching with them) where `pressed`
     // approaches, another surface touches at the same instant, or the two rock; a rocking
     // pair whose impact has no solution (the rolling model's no-slip law pulling) is
@@ -363,21 +376,20 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
         let settles = |s: Surface, y: &State| match s {
             s if s == touching => onto_pressed(y),
             s if s == pressed && rocking => {
-                pressed_settles(y).max(second_settling_speed(ctx, from, touching, pressed, y))
+                pressed_settles(y).max(second_settling_speed(ctx, was, from, touching, pressed, y))
             }
             s if s == pressed => pressed_settles(y),
-            s => free_settling_speed(ctx, s, y),
+            s => free_settling_speed(ctx, was, s, y),
         };
         let with: Vec<Surface> = (std::iter::once(pressed).chain(coincide))
             .take(MOST_CONTACTS - 1)
             .collect();
-        contacts_touchdown(ctx, &strike, &with, law, settles)
+        contacts_touchdown(ctx, was, &strike, &with, law, settles)
     });
     let outcome = if let Some(pair) = pair.filter(|p| joins || p.is_some()) {
         pair
     } else if approach > settle_k {
-        let flight_settles =
-            |y: &State| on_surface(ctx, touching, || settling_speed(ctx, y, &strike.kin));
+        let flight_settles = |y: &State| settling_speed(ctx, &was.on(touching), y, &strike.kin);
         let (hit, after, settles) = strike.settled(law, single, flight_settles);
         let staying = if settles {
             Staying::One(touching)
@@ -394,6 +406,7 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
         };
         Some((staying, after, vec![strike.report(&hit)]))
     };
+    let mut placed = *was;
     let next = outcome.map(|(staying, after, reports)| {
         events.push(EventRecord {
             kind: EventKind::Touchdown {
@@ -403,12 +416,21 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
             t: *t,
         });
         *y = after;
-        settle(ctx, from, touching, staying, *t, y, &reports, events)
+        settle(
+            ctx,
+            &mut placed,
+            from,
+            touching,
+            staying,
+            *t,
+            y,
+            &reports,
+            events,
+        )
     });
     match next {
         Some(Next::Stop(Status::SeveralContacts { .. }, _)) | None => {
             events.truncate(before);
-            ctx.set_surface(pressed);
             (*t, *y) = (t0, y0);
             Next::Stop(
                 Status::SeveralContacts {
@@ -419,7 +441,10 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
                 from,
             )
         }
-        Some(next) => next,
+        Some(next) => {
+            *contacts = placed;
+            next
+        }
     }
 }
 
@@ -437,6 +462,7 @@ pub(super) fn second_touchdown<E: Effect + Copy + 'static>(
 /// sticking the struck contact would pull; an iteration that does not converge).
 fn contacts_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     strike: &Strike,
     pressed: &[Surface],
     law: Tangential,
@@ -459,7 +485,7 @@ fn contacts_touchdown<E: Effect + Copy + 'static>(
     };
     let (mut hit, mut after, mut stays) = loop {
         let solved = solve(&surfaces, ctx.scene.landing.restitution)?;
-        match coinciding(ctx, strike, &surfaces[1..], &solved.1).first() {
+        match coinciding(ctx, contacts, strike, &surfaces[1..], &solved.1).first() {
             Some(&more) if surfaces.len() < MOST_CONTACTS => surfaces.push(more),
             _ => break solved,
         }
@@ -511,23 +537,28 @@ fn contacts_touchdown<E: Effect + Copy + 'static>(
 /// `several_contacts` at the located state.
 pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     surface: Surface,
     t: &mut f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let body = &ctx.scene.body;
-    let pressed = touching(ctx);
+    // As in `second_touchdown`: the trials read `was`, the outcome goes into `contacts`.
+    let was = &*contacts;
+    let pressed = was.touching();
     let (t0, y0, before) = (*t, *y, events.len());
-    let saved = ctx.contacts.get();
-    to_flight(ctx, Mode::TwoContacts, y);
-    let strike = Strike::new(ctx, surface, t, y);
+    to_flight(ctx, was, Mode::TwoContacts, y);
+    let strike = Strike::new(ctx, was, surface, t, y);
     let law = tangential(ctx.scene.contact);
     let settles = |s: Surface, y: &State| match s {
-        s if s == surface => second_settling_speed(ctx, Mode::TwoContacts, pressed[0], surface, y),
-        s => free_settling_speed(ctx, s, y),
+        s if s == surface => {
+            second_settling_speed(ctx, was, Mode::TwoContacts, pressed[0], surface, y)
+        }
+        s => free_settling_speed(ctx, was, s, y),
     };
-    let next = contacts_touchdown(ctx, &strike, &pressed, law, settles).map(
+    let mut placed = *was;
+    let next = contacts_touchdown(ctx, was, &strike, &pressed, law, settles).map(
         |(staying, after, reports)| {
             events.push(EventRecord {
                 kind: EventKind::Touchdown {
@@ -539,6 +570,7 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
             *y = after;
             settle(
                 ctx,
+                &mut placed,
                 Mode::TwoContacts,
                 surface,
                 staying,
@@ -552,7 +584,6 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
     match next {
         Some(Next::Stop(Status::SeveralContacts { .. }, _)) | None => {
             events.truncate(before);
-            ctx.contacts.set(saved);
             (*t, *y) = (t0, y0);
             Next::Stop(
                 Status::SeveralContacts {
@@ -563,7 +594,10 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
                 Mode::TwoContacts,
             )
         }
-        Some(next) => next,
+        Some(next) => {
+            *contacts = placed;
+            next
+        }
     }
 }
 
@@ -575,23 +609,23 @@ pub(super) fn third_touchdown<E: Effect + Copy + 'static>(
 /// gap does not resolve.
 fn second_settling_speed<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     mode: Mode,
     pressed: Surface,
     surface: Surface,
     y: &State,
 ) -> f64 {
-    on_surface(ctx, pressed, || {
-        let mut on = *y;
-        clear_flight_slots(ctx, &mut on);
-        renew_reference(ctx, &mut on);
-        let decel = gap_deceleration(ctx, mode, surface, &on);
-        let kin = Kinematics::new(&ctx.body(), &on, false);
-        ctx.numerics.settling_speed(SECOND_GAP_RISE * decel, &kin)
-    })
+    let contacts = &contacts.on(pressed);
+    let mut on = *y;
+    clear_flight_slots(ctx, contacts, &mut on);
+    renew_reference(ctx, contacts, &mut on);
+    let decel = gap_deceleration(ctx, contacts, mode, surface, &on);
+    let kin = Kinematics::new(&ctx.body(contacts), &on, false);
+    ctx.numerics.settling_speed(SECOND_GAP_RISE * decel, &kin)
 }
 
 /// The deceleration of surface `surface`'s gap g = h_1 − h_2 (z_G = h_1 on
-/// `Context::surface`, the pressed one) under the dynamics of mode `mode` at the
+/// `ContactSet::surface`, the pressed one) under the dynamics of mode `mode` at the
 /// contact-form state `on` \[m/s²\],
 /// ```text
 ///   a = −g̈ = (u_1 − u_2)·ω̇ + κ_1 − κ_2,
@@ -600,23 +634,15 @@ fn second_settling_speed<E: Effect + Copy + 'static>(
 /// into the plane.
 fn gap_deceleration<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     mode: Mode,
     surface: Surface,
     on: &State,
 ) -> f64 {
-    let kin = Kinematics::new(&ctx.body(), on, false);
-    let omega_dot = phase::<E>(mode).response(ctx, on).omega_dot;
+    let kin = Kinematics::new(&ctx.body(contacts), on, false);
+    let omega_dot = phase::<E>(mode).response(ctx, contacts, on).omega_dot;
     let other = Contact::of(&ctx.scene.body, surface, kin.contact.zeta, kin.omega);
     (kin.contact.u - other.u).dot(&omega_dot) + kin.contact.kappa - other.kappa
-}
-
-/// `f` evaluated with `surface` as the surface in contact (`Context::surface` restored
-/// after).
-fn on_surface<E, R>(ctx: &Context<'_, E>, surface: Surface, f: impl FnOnce() -> R) -> R {
-    let was = ctx.set_surface(surface);
-    let r = f();
-    ctx.set_surface(was);
-    r
 }
 
 /// The normal velocity of `surface`'s lowest point at the flight-form state `y`,
@@ -626,50 +652,55 @@ fn normal_velocity(body: &Body, surface: Surface, y: &State) -> f64 {
     kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z
 }
 
-/// The several-contact system of the surfaces in contact (`Context::count` of them).
-fn contacts<E: Copy>(ctx: &Context<'_, E>) -> System<Contacts, E> {
-    match ctx.count() {
-        2 => ctx.system::<ContactsPhase<2>>(),
-        _ => ctx.system::<ContactsPhase<3>>(),
+/// The several-contact system of the surfaces in contact (`ContactSet::count` of them).
+fn contacts_system<E: Copy>(ctx: &Context<'_, E>, contacts: &ContactSet) -> System<Contacts, E> {
+    match contacts.count {
+        2 => ctx.system::<ContactsPhase<2>>(contacts),
+        _ => ctx.system::<ContactsPhase<3>>(contacts),
     }
 }
 
-/// The contact-form state `y` (on `Context::surface`) on the surfaces in contact
-/// (`Context::surface`, `Context::others`, `Context::count`): the other contacts'
+/// The contact-form state `y` (on `ContactSet::surface`) on the surfaces in contact
+/// (`ContactSet::surface`, `ContactSet::others`, `ContactSet::count`): the other contacts'
 /// constraints restored ([`restore_contacts`], the energy it changes booked in W) and the
 /// contacts' grip settled ([`settle_grip`]: in the Coulomb model a contact whose slip is
 /// within its stop on several contacts (`phase::above_stop`) sticks; in the rolling model
 /// all do). It goes into the several-contact phase where then every normal force is
 /// positive and the law consistent; it is `Placed::SlipStopped` where, in the sliding
 /// model or with a contact disc, a contact's slip is within its stop (the run ends there,
-/// as it does on one contact); else `None`.
+/// as it does on one contact); else `None`. Sets `contacts`' grip.
 fn onto_contacts<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     mut y: State,
 ) -> Option<(State, Placed)> {
-    restore_contacts(ctx, &mut y);
+    restore_contacts(ctx, contacts, &mut y);
     let sticks = match ctx.scene.contact {
         ContactModel::Rolling => [true; MOST_CONTACTS],
         ContactModel::Frictionless | ContactModel::Viscous { .. } => [false; MOST_CONTACTS],
         _ if grips(ctx) => [false; MOST_CONTACTS],
-        _ if stopped(ctx, &y).contains(&true) => return Some((y, Placed::SlipStopped)),
+        _ if stopped(ctx, contacts, &y).contains(&true) => return Some((y, Placed::SlipStopped)),
         _ => [false; MOST_CONTACTS],
     };
-    settle_grip(ctx, sticks, &mut y);
-    let r = contacts(ctx).evaluate(&y).response;
-    let pressed = (0..ctx.count()).all(|i| normal(&r, i) > 0.0);
+    settle_grip(ctx, contacts, sticks, &mut y);
+    let r = contacts_system(ctx, contacts).evaluate(&y).response;
+    let pressed = (0..contacts.count).all(|i| normal(&r, i) > 0.0);
     (pressed && r.painleve > PAINLEVE_COLLAPSE)
-        .then_some((y, Placed::In(contacts_mode(ctx.count()))))
+        .then_some((y, Placed::In(contacts_mode(contacts.count))))
 }
 
 /// The contact-form state `y` on the surfaces in contact with their constraints restored
-/// (`Contacts::project`, no contact sticking: `Context::sticks` cleared). The projection
+/// (`Contacts::project`, no contact sticking: `ContactSet::sticks` cleared). The projection
 /// removes the other contacts' residual gaps and normal velocities (within the gap's
 /// resolution and the settling speed): the energy it takes is booked in W, as a
 /// persistent landing books its rebound's, so that E + W stays exact.
-fn restore_contacts<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut State) {
-    ctx.set_sticks([false; MOST_CONTACTS]);
-    let sys = contacts(ctx);
+fn restore_contacts<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
+    y: &mut State,
+) {
+    contacts.sticks = [false; MOST_CONTACTS];
+    let sys = contacts_system(ctx, contacts);
     let energy = |y: &State| {
         Invariants::from_kinematics(&sys.body, sys.gravity, &sys.evaluate(y).kin, 0.0).energy
     };
@@ -678,12 +709,16 @@ fn restore_contacts<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut St
     y[state::WORK] += before - energy(y);
 }
 
-/// Whether each contact's slip at the contact-form state `y` (`Context::sticks` as the
+/// Whether each contact's slip at the contact-form state `y` (`ContactSet::sticks` as the
 /// law's) is within its stop on several contacts (`phase::above_stop`).
-fn stopped<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> [bool; MOST_CONTACTS] {
-    let sys = contacts(ctx);
+fn stopped<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    contacts: &ContactSet,
+    y: &State,
+) -> [bool; MOST_CONTACTS] {
+    let sys = contacts_system(ctx, contacts);
     let each = sys.contact.each(&sys.body, &sys.evaluate(y).kin);
-    std::array::from_fn(|i| i < ctx.count() && above_stop(ctx, &each[i]) <= 0.0)
+    std::array::from_fn(|i| i < contacts.count && above_stop(ctx, &each[i]) <= 0.0)
 }
 
 /// The grip of the contacts at `y`, from `sticks` on: in the Coulomb model (point
@@ -693,22 +728,23 @@ fn stopped<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> [bool
 /// contacts (`Contacts::impel`, the energy in W); then, in the Coulomb model, while a
 /// hold of a sticking contact fails (`model::Hold`, its margin < 0), the one that fails
 /// most is released ([`release_hold`]) and the rest checked again. Sets
-/// `Context::sticks`.
+/// `ContactSet::sticks`.
 fn settle_grip<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     mut sticks: [bool; MOST_CONTACTS],
     y: &mut State,
 ) {
-    let count = ctx.count();
+    let count = contacts.count;
     // Sticking one contact changes the others' slips: they are checked again after.
     for _ in 0..count {
         if grips(ctx) {
-            let stopped = stopped(ctx, y);
+            let stopped = stopped(ctx, contacts, y);
             sticks = std::array::from_fn(|i| sticks[i] || stopped[i]);
         }
-        ctx.set_sticks(sticks);
+        contacts.sticks = sticks;
         if sticks[..count].contains(&true) {
-            let sys = contacts(ctx);
+            let sys = contacts_system(ctx, contacts);
             sys.contact
                 .impel(&sys.body, y, [Vector2::zeros(); MOST_CONTACTS]);
         }
@@ -717,17 +753,17 @@ fn settle_grip<E: Effect + Copy + 'static>(
         return;
     };
     for _ in 0..=count {
-        let sys = contacts(ctx);
+        let sys = contacts_system(ctx, contacts);
         let ev = sys.evaluate(y);
         let forces = sys
             .contact
             .forces(&sys.body, sys.gravity, &ev.kin, &ev.load);
-        let worst = holds(ctx)
+        let worst = holds(ctx, contacts)
             .into_iter()
             .map(|h| (h, forces.margin(h, friction)))
             .min_by(|a, b| a.1.total_cmp(&b.1));
         match worst {
-            Some((hold, margin)) if margin < 0.0 => release_hold(ctx, hold, y),
+            Some((hold, margin)) if margin < 0.0 => release_hold(ctx, contacts, hold, y),
             _ => return,
         }
     }
@@ -740,8 +776,13 @@ fn settle_grip<E: Effect + Copy + 'static>(
 /// watch starts above its zero (as the one-contact sliding phase seeds its onset,
 /// docs/physics.md "Friction along the slip, and the onset's seed"); the seed's kinetic
 /// energy is booked in W (`Contacts::impel`).
-fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y: &mut State) {
-    let sys = contacts(ctx);
+fn release_hold<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
+    hold: Hold,
+    y: &mut State,
+) {
+    let sys = contacts_system(ctx, contacts);
     let ev = sys.evaluate(y);
     let forces = sys
         .contact
@@ -755,7 +796,7 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
         }
     };
     let line = forces.line;
-    let mut sticks = ctx.sticks();
+    let mut sticks = contacts.sticks;
     let mut seed = [Vector2::zeros(); MOST_CONTACTS];
     match hold {
         Hold::Contact(i) => {
@@ -775,7 +816,7 @@ fn release_hold<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, hold: Hold, y:
         }
     }
     sys.contact.impel(&sys.body, y, seed);
-    ctx.set_sticks(sticks);
+    contacts.sticks = sticks;
 }
 
 /// The slip a contact with kinematics `kin` is released with on several contacts
@@ -795,28 +836,29 @@ fn seed_size<E>(ctx: &Context<'_, E>, kin: &Kinematics) -> f64 {
 /// "Several contacts").
 pub(super) fn grip<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     sticks: [bool; MOST_CONTACTS],
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let before = ctx.sticks();
-    let start = *y;
+    let before = contacts.sticks;
     let with_near = {
-        let sys = contacts(ctx);
+        let sys = contacts_system(ctx, contacts);
         let each = sys.contact.each(&sys.body, &sys.evaluate(y).kin);
         std::array::from_fn(|i| {
-            sticks[i] || (i < ctx.count() && each[i].slip.norm() <= seed_size(ctx, &each[i]))
+            sticks[i] || (i < contacts.count && each[i].slip.norm() <= seed_size(ctx, &each[i]))
         })
     };
-    settle_grip(ctx, sticks, y);
-    if ctx.sticks() == before && with_near != sticks {
-        *y = start;
-        ctx.set_sticks(before);
-        settle_grip(ctx, with_near, y);
+    let (mut gripped, mut settled) = (*contacts, *y);
+    settle_grip(ctx, &mut gripped, sticks, &mut settled);
+    if gripped.sticks == before && with_near != sticks {
+        settle_grip(ctx, contacts, with_near, y);
+    } else {
+        (*contacts, *y) = (gripped, settled);
     }
-    record_grip(ctx, before, t, events);
-    go_on(ctx, t, y, events)
+    record_grip(contacts, before, t, events);
+    go_on(ctx, contacts, t, y, events)
 }
 
 /// A hold of the several-contact phase failed at (t, y) (its margin reached zero): that
@@ -824,27 +866,29 @@ pub(super) fn grip<E: Effect + Copy + 'static>(
 /// [`settle_grip`]).
 pub(super) fn release<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     hold: Hold,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let before = ctx.sticks();
-    release_hold(ctx, hold, y);
-    settle_grip(ctx, ctx.sticks(), y);
-    record_grip(ctx, before, t, events);
-    go_on(ctx, t, y, events)
+    let before = contacts.sticks;
+    release_hold(ctx, contacts, hold, y);
+    let sticks = contacts.sticks;
+    settle_grip(ctx, contacts, sticks, y);
+    record_grip(contacts, before, t, events);
+    go_on(ctx, contacts, t, y, events)
 }
 
 /// Records a `grip` event for each contact whose sticking changed from `before`.
-fn record_grip<E>(
-    ctx: &Context<'_, E>,
+fn record_grip(
+    contacts: &ContactSet,
     before: [bool; MOST_CONTACTS],
     t: f64,
     events: &mut Vec<EventRecord>,
 ) {
-    let surfaces = touching(ctx);
-    let now = ctx.sticks();
+    let surfaces = contacts.touching();
+    let now = contacts.sticks;
     for i in (0..surfaces.len()).filter(|&i| now[i] != before[i]) {
         events.push(EventRecord {
             kind: EventKind::Grip {
@@ -860,17 +904,18 @@ fn record_grip<E>(
 /// the surface whose is least leaves ([`leave`]).
 fn go_on<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let r = contacts(ctx).evaluate(y).response;
-    let count = ctx.count();
+    let r = contacts_system(ctx, contacts).evaluate(y).response;
+    let count = contacts.count;
     let least = (0..count)
         .map(|i| (i, normal(&r, i)))
         .min_by(|a, b| a.1.total_cmp(&b.1));
     match least {
-        Some((i, n)) if !(n > 0.0) => leave(ctx, i, t, y, events),
+        Some((i, n)) if !(n > 0.0) => leave(ctx, contacts, i, t, y, events),
         _ => Next::Go(contacts_mode(count)),
     }
 }
@@ -882,35 +927,41 @@ fn go_on<E: Effect + Copy + 'static>(
 /// ([`lift_off`]).
 pub(super) fn leave<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     i: usize,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
-    let count = ctx.count();
+    let count = contacts.count;
     let from = contacts_mode(count);
-    let mut surfaces = touching(ctx);
-    let mut sticks = ctx.sticks()[..count].to_vec();
+    let mut surfaces = contacts.touching();
+    let mut sticks = contacts.sticks[..count].to_vec();
     surfaces.remove(i);
     sticks.remove(i);
     if i == 0 {
-        touch(ctx, surfaces[0], t, events);
+        touch(contacts, surfaces[0], t, events);
     }
     if count > 2 {
-        set_contacts(ctx, &surfaces);
-        ctx.set_sticks(std::array::from_fn(|k| {
-            sticks.get(k).copied().unwrap_or(false)
-        }));
+        *contacts = ContactSet {
+            sticks: std::array::from_fn(|k| sticks.get(k).copied().unwrap_or(false)),
+            ..contacts.with_surfaces(&surfaces)
+        };
         switch(events, t, from, contacts_mode(count - 1));
-        return go_on(ctx, t, y, events);
+        return go_on(ctx, contacts, t, y, events);
     }
     let mut placed = *y;
-    match on_plane(ctx, Arrival::Landing { stuck: sticks[0] }, &mut placed) {
+    match on_plane(
+        ctx,
+        contacts,
+        Arrival::Landing { stuck: sticks[0] },
+        &mut placed,
+    ) {
         // Leaving the plane wins over a slip stop where the plane does not push (N ≤ 0),
         // as at a landing.
-        Placed::SlipStopped if !pushes(ctx, Mode::Sliding, &placed) => {
+        Placed::SlipStopped if !pushes(ctx, contacts, Mode::Sliding, &placed) => {
             *y = placed;
-            lift_off(ctx, Mode::Sliding, t, y, events)
+            lift_off(ctx, contacts, Mode::Sliding, t, y, events)
         }
         Placed::SlipStopped => {
             *y = placed;
@@ -922,11 +973,11 @@ pub(super) fn leave<E: Effect + Copy + 'static>(
         }
         Placed::In(mode) => {
             *y = placed;
-            if pushes(ctx, mode, y) {
+            if pushes(ctx, contacts, mode, y) {
                 switch(events, t, from, mode);
                 Next::Go(mode)
             } else {
-                lift_off(ctx, mode, t, y, events)
+                lift_off(ctx, contacts, mode, t, y, events)
             }
         }
     }
@@ -945,21 +996,21 @@ pub(super) fn leave<E: Effect + Copy + 'static>(
 /// `several_contacts` at the located state.
 pub(super) fn touchdown<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     surface: Surface,
     t: &mut f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
     let body = &ctx.scene.body;
-    let (t0, y0, was) = (*t, *y, ctx.surface());
-    let strike = Strike::new(ctx, surface, t, y);
-    touch(ctx, surface, *t, events);
+    let (t0, y0) = (*t, *y);
+    let strike = Strike::new(ctx, contacts, surface, t, y);
     let law = tangential(ctx.scene.contact);
     let single = strike.impact(law, ctx.scene.landing.restitution);
-    let coincide = coinciding(ctx, &strike, &[], &single.1);
+    let coincide = coinciding(ctx, contacts, &strike, &[], &single.1);
     let (staying, after, reports, speed) = if coincide.is_empty() {
         // The settling speed after the impact: its rates decide what presses the body down.
-        let settles = |y: &State| free_settling_speed(ctx, surface, y);
+        let settles = |y: &State| free_settling_speed(ctx, contacts, surface, y);
         let (hit, after, settles) = strike.settled(law, single, settles);
         let staying = if settles {
             Staying::One(surface)
@@ -969,11 +1020,9 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         let speed = -hit.normal_velocity.0;
         (staying, after, vec![strike.report(&hit)], speed)
     } else {
-        let settles = |s: Surface, y: &State| free_settling_speed(ctx, s, y);
+        let settles = |s: Surface, y: &State| free_settling_speed(ctx, contacts, s, y);
         let with = &coincide[..coincide.len().min(MOST_CONTACTS - 1)];
-        let Some(outcome) = contacts_touchdown(ctx, &strike, with, law, settles) else {
-            events.truncate(events.len() - usize::from(was != surface));
-            ctx.set_surface(was);
+        let Some(outcome) = contacts_touchdown(ctx, contacts, &strike, with, law, settles) else {
             (*t, *y) = (t0, y0);
             return Next::Stop(
                 Status::SeveralContacts {
@@ -988,12 +1037,23 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
         let speed = -normal_velocity(body, surface, &strike.pre);
         (staying, after, reports, speed)
     };
+    touch(contacts, surface, *t, events);
     events.push(EventRecord {
         kind: EventKind::Touchdown { speed, surface },
         t: *t,
     });
     *y = after;
-    settle(ctx, Mode::Flight, surface, staying, *t, y, &reports, events)
+    settle(
+        ctx,
+        contacts,
+        Mode::Flight,
+        surface,
+        staying,
+        *t,
+        y,
+        &reports,
+        events,
+    )
 }
 
 /// The surfaces other than `strike`'s and `joined` that touch the plane at the instant of
@@ -1008,6 +1068,7 @@ pub(super) fn touchdown<E: Effect + Copy + 'static>(
 /// segment, would never see them touch down. Most approaching first.
 fn coinciding<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     strike: &Strike,
     joined: &[Surface],
     after: &State,
@@ -1020,7 +1081,7 @@ fn coinciding<E: Effect + Copy + 'static>(
         .filter_map(|s| {
             let at = Kinematics::flying_at(body, s, &strike.pre);
             let v = normal_velocity(body, s, after);
-            let settle = free_settling_speed(ctx, s, after);
+            let settle = free_settling_speed(ctx, contacts, s, after);
             let reach = ctx.numerics.gap_resolution(&at) + tau * (-v).max(0.0);
             (at.gap <= reach && v < -settle).then_some((v, s))
         })
@@ -1045,13 +1106,14 @@ impl Strike {
     /// `surface` touching down at (t, y), `t` moved back to its zero gap.
     fn new<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &ContactSet,
         surface: Surface,
         t: &mut f64,
         y: &State,
     ) -> Self {
         let body = &ctx.scene.body;
         let pre;
-        (*t, pre) = back_to_contact(ctx, surface, *t, y);
+        (*t, pre) = back_to_contact(ctx, contacts, surface, *t, y);
         let kin = Kinematics::flying_at(body, surface, &pre);
         let rot = kin.rot;
         let approach = Approach {
@@ -1166,6 +1228,7 @@ impl Staying {
 #[allow(clippy::too_many_arguments)]
 fn settle<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     from: Mode,
     struck: Surface,
     staying: Staying,
@@ -1204,8 +1267,8 @@ fn settle<E: Effect + Copy + 'static>(
     };
     let staying = match staying {
         Staying::Several { surfaces, count } => {
-            rest_on(ctx, &surfaces[..count], y);
-            match active_set(ctx, &surfaces[..count], stuck, y) {
+            rest_on(ctx, contacts, &surfaces[..count], y);
+            match active_set(ctx, contacts, &surfaces[..count], stuck, y) {
                 Some(set) => set,
                 None => return several_contacts(&surfaces[..count], y),
             }
@@ -1214,16 +1277,17 @@ fn settle<E: Effect + Copy + 'static>(
     };
     match staying {
         Staying::Neither => {
-            touch(ctx, struck, t, events);
+            touch(contacts, struck, t, events);
             record(events, &[]);
             go(events, Mode::Flight)
         }
         Staying::One(surface) => {
-            touch(ctx, surface, t, events);
+            touch(contacts, surface, t, events);
             let mut landed = *y;
-            clear_flight_slots(ctx, &mut landed);
+            clear_flight_slots(ctx, contacts, &mut landed);
             let placed = on_plane(
                 ctx,
+                contacts,
                 Arrival::Landing {
                     stuck: stuck(surface),
                 },
@@ -1234,7 +1298,9 @@ fn settle<E: Effect + Copy + 'static>(
             // leaving it wins over the slip stop (docs/physics.md, "The hybrid
             // machine"; docs/scenarios.md, the status table).
             let placed = match placed {
-                Placed::SlipStopped if !pushes(ctx, Mode::Sliding, y) => Placed::In(Mode::Sliding),
+                Placed::SlipStopped if !pushes(ctx, contacts, Mode::Sliding, y) => {
+                    Placed::In(Mode::Sliding)
+                }
                 placed => placed,
             };
             match placed {
@@ -1246,7 +1312,7 @@ fn settle<E: Effect + Copy + 'static>(
                     });
                     Next::Stop(Status::SlipStopped, Mode::Sliding)
                 }
-                Placed::In(mode) if pushes(ctx, mode, y) => {
+                Placed::In(mode) if pushes(ctx, contacts, mode, y) => {
                     record(events, &[surface]);
                     go(events, mode)
                 }
@@ -1254,10 +1320,10 @@ fn settle<E: Effect + Copy + 'static>(
                 // plane, unless flight is inconsistent there too. The state it flies from
                 // is the one on the plane (for rolling, stuck): the consistency of flight
                 // was decided there.
-                Placed::In(mode) => match flight_is_consistent(ctx, mode, y) {
+                Placed::In(mode) => match flight_is_consistent(ctx, contacts, mode, y) {
                     Ok(()) => {
                         record(events, &[]);
-                        to_flight(ctx, mode, y);
+                        to_flight(ctx, contacts, mode, y);
                         go(events, Mode::Flight)
                     }
                     Err(status) => {
@@ -1268,18 +1334,18 @@ fn settle<E: Effect + Copy + 'static>(
             }
         }
         Staying::Several { surfaces, count } => {
-            touch(ctx, surfaces[0], t, events);
-            set_contacts(ctx, &surfaces[..count]);
+            touch(contacts, surfaces[0], t, events);
+            *contacts = contacts.with_surfaces(&surfaces[..count]);
             let mut on = *y;
-            clear_flight_slots(ctx, &mut on);
-            match onto_contacts(ctx, on) {
+            clear_flight_slots(ctx, contacts, &mut on);
+            match onto_contacts(ctx, contacts, on) {
                 Some((on, placed)) => {
                     record(events, &surfaces[..count]);
                     *y = on;
                     match placed {
                         Placed::In(mode) => {
                             let next = go(events, mode);
-                            record_grip(ctx, [false; MOST_CONTACTS], t, events);
+                            record_grip(contacts, [false; MOST_CONTACTS], t, events);
                             next
                         }
                         Placed::SlipStopped => {
@@ -1303,35 +1369,17 @@ fn settle<E: Effect + Copy + 'static>(
 /// settled by the placement after).
 /// Each then starts at zero gap and zero normal velocity, whichever go on in contact
 /// ([`active_set`]): one left out is not driven into the plane by the removal of the
-/// others' residual velocities, and its gap's acceleration alone decides. `Context` is
-/// as it was on return.
-fn rest_on<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, surfaces: &[Surface], y: &mut State) {
-    keeping(ctx, || {
-        set_contacts(ctx, surfaces);
-        clear_flight_slots(ctx, y);
-        restore_contacts(ctx, y);
-        to_flight(ctx, contacts_mode(surfaces.len()), y);
-    })
-}
-
-/// `f` evaluated with the run's contact state (`Context::contacts`: the surfaces in
-/// contact and their grip) restored after.
-fn keeping<E, R>(ctx: &Context<'_, E>, f: impl FnOnce() -> R) -> R {
-    let saved = ctx.contacts.get();
-    let r = f();
-    ctx.contacts.set(saved);
-    r
-}
-
-/// Makes `surfaces` (the first the one whose geometry the several-contact phase takes)
-/// the surfaces in contact, without recording the change ([`touch`] records it).
-fn set_contacts<E>(ctx: &Context<'_, E>, surfaces: &[Surface]) {
-    ctx.contacts.set(ContactSet {
-        surface: surfaces[0],
-        others: std::array::from_fn(|k| surfaces.get(k + 1).copied().unwrap_or(surfaces[0])),
-        count: surfaces.len(),
-        ..ctx.contacts.get()
-    });
+/// others' residual velocities, and its gap's acceleration alone decides.
+fn rest_on<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    contacts: &ContactSet,
+    surfaces: &[Surface],
+    y: &mut State,
+) {
+    let contacts = &mut contacts.with_surfaces(surfaces);
+    clear_flight_slots(ctx, contacts, y);
+    restore_contacts(ctx, contacts, y);
+    to_flight(ctx, contacts, contacts_mode(surfaces.len()), y);
 }
 
 /// The surfaces in contact after an impact that leaves `staying` (two or three, the
@@ -1342,9 +1390,10 @@ fn set_contacts<E>(ctx: &Context<'_, E>, surfaces: &[Surface]) {
 /// normal forces, which exists and is unique (its matrix, the Delassus matrix
 /// W^T M⁻¹ W, is positive definite); with friction there may be none — the rolling
 /// model's analogue of Painlevé's paradox — and the answer is `None`. `stuck(s)`: the
-/// impact left no slip at surface s. `Context` is as it was on return.
+/// impact left no slip at surface s.
 fn active_set<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     staying: &[Surface],
     stuck: impl Fn(Surface) -> bool,
     y: &State,
@@ -1361,7 +1410,7 @@ fn active_set<E: Effect + Copy + 'static>(
                 .collect()
         };
         let (set, out) = (pick(true), pick(false));
-        if keeping(ctx, || consistent(ctx, &set, &out, &stuck, y)) {
+        if consistent(ctx, contacts, &set, &out, &stuck, y) {
             return Some(match set.as_slice() {
                 [] => Staying::Neither,
                 [one] => Staying::One(*one),
@@ -1378,42 +1427,51 @@ fn active_set<E: Effect + Copy + 'static>(
 /// and no surface of `out` is driven into the plane (its [`gap_deceleration`] within
 /// round-off of zero or below); with none in contact, flight is consistent at each
 /// ([`flight_is_consistent`]). A placement that stops the run at the slip stop counts as
-/// consistent: the model ends there. Leaves `Context` changed.
+/// consistent: the model ends there. `contacts`: the contact state the trial places
+/// `set` from.
 fn consistent<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     set: &[Surface],
     out: &[Surface],
     stuck: &impl Fn(Surface) -> bool,
     y: &State,
 ) -> bool {
-    let opens = |mode: Mode, on: &State| {
-        let kin = Kinematics::new(&ctx.body(), on, false);
+    let opens = |contacts: &ContactSet, mode: Mode, on: &State| {
+        let kin = Kinematics::new(&ctx.body(contacts), on, false);
+        let roundoff = gap_accel_roundoff(ctx, &kin, 0.0);
         out.iter()
-            .all(|&j| gap_deceleration(ctx, mode, j, on) <= gap_accel_roundoff(ctx, &kin, 0.0))
+            .all(|&j| gap_deceleration(ctx, contacts, mode, j, on) <= roundoff)
     };
-    let contact_form = |surface: Surface| {
-        ctx.set_surface(surface);
+    let contact_form = |contacts: &ContactSet| {
         let mut on = *y;
-        clear_flight_slots(ctx, &mut on);
+        clear_flight_slots(ctx, contacts, &mut on);
         on
     };
     match set {
         [] => out.iter().all(|&j| {
-            let on = contact_form(j);
-            flight_is_consistent(ctx, Mode::Frictionless, &on).is_ok()
+            let contacts = &contacts.on(j);
+            let on = contact_form(contacts);
+            flight_is_consistent(ctx, contacts, Mode::Frictionless, &on).is_ok()
         }),
         [one] => {
-            let mut on = contact_form(*one);
-            match on_plane(ctx, Arrival::Landing { stuck: stuck(*one) }, &mut on) {
+            let contacts = &contacts.on(*one);
+            let mut on = contact_form(contacts);
+            match on_plane(
+                ctx,
+                contacts,
+                Arrival::Landing { stuck: stuck(*one) },
+                &mut on,
+            ) {
                 Placed::SlipStopped => true,
-                Placed::In(mode) => pushes(ctx, mode, &on) && opens(mode, &on),
+                Placed::In(mode) => pushes(ctx, contacts, mode, &on) && opens(contacts, mode, &on),
             }
         }
         several => {
-            let on = contact_form(several[0]);
-            set_contacts(ctx, several);
-            match onto_contacts(ctx, on) {
-                Some((on, Placed::In(mode))) => opens(mode, &on),
+            let contacts = &mut contacts.with_surfaces(several);
+            let on = contact_form(contacts);
+            match onto_contacts(ctx, contacts, on) {
+                Some((on, Placed::In(mode))) => opens(contacts, mode, &on),
                 Some((_, Placed::SlipStopped)) => true,
                 None => false,
             }
@@ -1423,13 +1481,13 @@ fn consistent<E: Effect + Copy + 'static>(
 
 /// Makes `surface` the one in contact from t on, recording the change of surface (bodies
 /// with contact spheres only).
-pub(super) fn touch<E>(
-    ctx: &Context<'_, E>,
+pub(super) fn touch(
+    contacts: &mut ContactSet,
     surface: Surface,
     t: f64,
     events: &mut Vec<EventRecord>,
 ) {
-    let from = ctx.set_surface(surface);
+    let from = std::mem::replace(&mut contacts.surface, surface);
     if from != surface {
         events.push(EventRecord {
             kind: EventKind::ContactSurface { from, to: surface },
@@ -1458,6 +1516,7 @@ pub(super) fn touch<E>(
 /// had been touching with both.
 fn back_to_contact<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     surface: Surface,
     t: f64,
     y: &State,
@@ -1469,7 +1528,7 @@ fn back_to_contact<E: Effect + Copy + 'static>(
     let fall = if ctx.scene.gravity > 0.0 {
         ctx.scene.gravity
     } else {
-        on_surface(ctx, surface, || free_deceleration(ctx, y)).abs()
+        free_deceleration(ctx, &contacts.on(surface), y).abs()
     };
     let most = if fall > 0.0 {
         4.0 * (2.0 * dz / fall).sqrt()
@@ -1481,7 +1540,7 @@ fn back_to_contact<E: Effect + Copy + 'static>(
         let v_n = kin.v_g.z + (kin.rot * kin.omega.cross(&kin.contact.r)).z;
         (kin.gap, v_n)
     };
-    let fly = ctx.system::<FlightPhase>();
+    let fly = ctx.system::<FlightPhase>(contacts);
     let mut k = [State::zeros(); 4];
     let (mut s, mut ys) = (0.0, *y);
     for _ in 0..BACK_STEPS {
@@ -1499,28 +1558,34 @@ fn back_to_contact<E: Effect + Copy + 'static>(
 /// gap's deceleration with no contact force ([`free_deceleration`]).
 fn settling_speed<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     y: &State,
     kin: &Kinematics,
 ) -> f64 {
-    ctx.numerics.settling_speed(free_deceleration(ctx, y), kin)
+    ctx.numerics
+        .settling_speed(free_deceleration(ctx, contacts, y), kin)
 }
 
 /// The settling speed of `surface` at the flight-form state `y` ([`settling_speed`] with
 /// `surface` as the one in contact).
 fn free_settling_speed<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     surface: Surface,
     y: &State,
 ) -> f64 {
-    on_surface(ctx, surface, || {
-        settling_speed(ctx, y, &Kinematics::flying_at(&ctx.scene.body, surface, y))
-    })
+    let kin = Kinematics::flying_at(&ctx.scene.body, surface, y);
+    settling_speed(ctx, &contacts.on(surface), y, &kin)
 }
 
 /// The deceleration of the gap of the surface in contact with no contact force at `y`,
 /// a = (m g − f_z − m u·I⁻¹T − m κ)/m \[m/s²\] (see [`flight_is_consistent`]).
-fn free_deceleration<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &State) -> f64 {
-    let free = ctx.system::<FrictionlessPhase>().evaluate(y);
+fn free_deceleration<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    contacts: &ContactSet,
+    y: &State,
+) -> f64 {
+    let free = ctx.system::<FrictionlessPhase>(contacts).evaluate(y);
     free.response.normal * free.response.painleve / ctx.scene.body.mass()
 }
 
@@ -1549,9 +1614,13 @@ fn switch(events: &mut Vec<EventRecord>, t: f64, from: Mode, to: Mode) {
 /// Removes the slip of `y` (`Rolling::stick`, onto the rolling constraint) and tells
 /// whether rolling holds there: the friction it needs within the scene's cone,
 /// μN − |F_h| ≥ 0.
-pub(super) fn rolls_once_stuck<E: Effect + Copy>(ctx: &Context<'_, E>, y: &mut State) -> bool {
-    let roll = ctx.system::<RollingPhase>();
-    Rolling::stick(&ctx.body(), y);
+pub(super) fn rolls_once_stuck<E: Effect + Copy>(
+    ctx: &Context<'_, E>,
+    contacts: &ContactSet,
+    y: &mut State,
+) -> bool {
+    let roll = ctx.system::<RollingPhase>(contacts);
+    Rolling::stick(&ctx.body(contacts), y);
     roll.project(y);
     let mu = ctx.scene.contact.friction().unwrap_or(0.0);
     Rolling::cone_margin(&roll.evaluate(y).response, mu) >= 0.0
@@ -1563,15 +1632,25 @@ pub(super) fn rolls_once_stuck<E: Effect + Copy>(ctx: &Context<'_, E>, y: &mut S
 /// watch g = v_C·s_ref then starts positive, so a slip that round-off turns against s_ref
 /// is a located crossing (a stop), never a run on with friction along the slip
 /// (docs/physics.md, "Friction along the slip, and the onset's seed").
-fn start_sliding_from_rest<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut State) {
-    let f_h = ctx.system::<RollingPhase>().evaluate(y).response.force.xy();
+fn start_sliding_from_rest<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    contacts: &ContactSet,
+    y: &mut State,
+) {
+    let f_h = ctx
+        .system::<RollingPhase>(contacts)
+        .evaluate(y)
+        .response
+        .force
+        .xy();
     let s = if f_h.norm() > 0.0 {
         -f_h.normalize()
     } else {
         Vector2::x()
     };
     set_reference(y, s);
-    let seed = s * (SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&ctx.body(), y, false)));
+    let seed =
+        s * (SLIP_SEED * Sliding::speed_scale(&Kinematics::new(&ctx.body(contacts), y, false)));
     // E + W stays exact: the seed's kinetic energy m (v_G·δv + |δv|²/2) is booked in W.
     let v = state::velocity(y);
     y[state::WORK] -= ctx.scene.body.mass() * (v.dot(&seed) + 0.5 * seed.norm_squared());
@@ -1581,8 +1660,12 @@ fn start_sliding_from_rest<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: 
 
 /// Sets s_ref to the slip's direction (kept where the slip is zero): the sliding law's
 /// friction opposes the slip from the segment's start, where v_C·s_ref > 0.
-pub(super) fn renew_reference<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, y: &mut State) {
-    let slip = Kinematics::new(&ctx.body(), y, false).slip;
+pub(super) fn renew_reference<E: Effect + Copy + 'static>(
+    ctx: &Context<'_, E>,
+    contacts: &ContactSet,
+    y: &mut State,
+) {
+    let slip = Kinematics::new(&ctx.body(contacts), y, false).slip;
     if slip != Vector2::zeros() {
         set_reference(y, slip.normalize());
     }
@@ -1596,8 +1679,8 @@ pub(super) fn renew_reference<E: Effect + Copy + 'static>(ctx: &Context<'_, E>, 
 /// (unless v_Gz has v_n's sign and at least half its size), v_n is removed instead by a normal
 /// impulse P at the contact, P = −v_n/(1/m + u·I⁻¹u), ω += I⁻¹u P (body axes), which
 /// takes ½ v_n²/(1/m + u·I⁻¹u) ≥ 0 out (docs/physics.md, "Settling").
-fn clear_flight_slots<E>(ctx: &Context<'_, E>, y: &mut State) {
-    let body = &ctx.body();
+fn clear_flight_slots<E>(ctx: &Context<'_, E>, contacts: &ContactSet, y: &mut State) {
+    let body = &ctx.body(contacts);
     let energy =
         |kin: &Kinematics| Invariants::from_kinematics(body, ctx.scene.gravity, kin, 0.0).energy;
     let flying = energy(&Kinematics::flying(body, y));
