@@ -1,5 +1,5 @@
 //! The hybrid machine's decision table (docs/physics.md, "The hybrid machine";
-//! crates/ellipsoid-core/src/simulate/transition.rs), tested as a table: one scene per
+//! crates/ellipsoid-core/src/simulate/transition/mod.rs), tested as a table: one scene per
 //! row that reaches it, the transition the row names asserted from the run's events and
 //! status, and on every row the physics every state map must keep — E + W continuous
 //! (impacts and stops book their losses in W), no non-finite value, and a reported normal
@@ -52,7 +52,7 @@ struct Scene {
 /// A case of one row of the table: (from, event, condition, to), the scene and what it
 /// must show.
 struct Row {
-    /// The row of the table in transition.rs's module docs (1 = the first below its
+    /// The row of the table in transition/mod.rs's module docs (1 = the first below its
     /// header).
     table: usize,
     row: [&'static str; 4],
@@ -62,7 +62,7 @@ struct Row {
 
 const BALL: &str = "tests/data/hybrid/ball-e075-settles.toml";
 
-/// The rows, in the order of the table in transition.rs.
+/// The rows, in the order of the table in transition/mod.rs.
 const ROWS: &[Row] = &[
     Row {
         table: 1,
@@ -685,28 +685,28 @@ fn table_rows(text: &str, prefix: &str, header: &str) -> Vec<String> {
         .collect()
 }
 
-/// transition.rs's table and docs/physics.md's ("The hybrid machine") are one table: the
+/// transition/mod.rs's table and docs/physics.md's ("The hybrid machine") are one table: the
 /// same rows, word for word.
 #[test]
 fn the_transition_table_here_is_the_one_in_docs_physics_md() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let read = |p: &str| std::fs::read_to_string(root.join(p)).unwrap();
-    let module = table_rows(&read("src/simulate/transition.rs"), "//! ", "| from |");
+    let module = table_rows(&read("src/simulate/transition/mod.rs"), "//! ", "| from |");
     let physics = read("../../docs/physics.md");
     let section = &physics[physics.find("## The hybrid machine").unwrap()..];
     let docs = table_rows(section, "", "| from |");
-    assert!(module.len() > 20, "{} rows in transition.rs", module.len());
+    assert!(module.len() > 20, "{} rows in the module", module.len());
     for (k, (m, d)) in module.iter().zip(&docs).enumerate() {
         assert_eq!(m, d, "row {k} (0: the header) differs");
     }
     assert_eq!(module.len(), docs.len(), "row counts differ");
 }
 
-/// Every row of transition.rs's table has a case here or an entry in [`ROWS_ELSEWHERE`].
+/// Every row of transition/mod.rs's table has a case here or an entry in [`ROWS_ELSEWHERE`].
 #[test]
 fn every_row_of_the_table_is_tested() {
     let source = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("src/simulate/transition.rs"),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("src/simulate/transition/mod.rs"),
     )
     .unwrap();
     let documented = source
@@ -719,7 +719,7 @@ fn every_row_of_the_table_is_tested() {
                 || ROWS_ELSEWHERE
                     .iter()
                     .any(|(rows, ..)| rows.contains(&table)),
-            "row {table} of the table in transition.rs has no case"
+            "row {table} of the table in transition/mod.rs has no case"
         );
     }
     assert!(ROWS.iter().all(|r| (1..=documented).contains(&r.table)));

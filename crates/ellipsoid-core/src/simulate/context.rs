@@ -1,7 +1,7 @@
 //! What every phase and transition reads: the scene, its numerics, its effects — and the
-//! two things made from them, a phase's ODE system and an output row.
+//! two things made from them with the run's contact state ([`ContactSet`], which the
+//! machine owns and hands beside the state), a phase's ODE system and an output row.
 
-use std::cell::Cell;
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 
@@ -17,7 +17,8 @@ use super::outcome::{Mode, Sample};
 use super::phase::Phase;
 use super::scene::Scene;
 
-/// A run's inputs, shared by its phases (`phase`) and transitions (`transition`).
+/// A run's inputs, shared by its phases (`phase`) and transitions (`transition`); read
+/// only.
 pub(super) struct Context<'s, E> {
     pub(super) scene: &'s Scene,
     pub(super) numerics: Numerics,
@@ -25,14 +26,13 @@ pub(super) struct Context<'s, E> {
     pub(super) effects: E,
     /// Set by another thread to stop the run at its next step.
     pub(super) cancel: Option<Arc<AtomicBool>>,
-    /// The run's contact state: which surfaces touch the plane, which stick. Changed only
-    /// by the transitions.
-    pub(super) contacts: Cell<ContactSet>,
 }
 
 /// The run's contact state (docs/physics.md, "The hybrid machine"): the surfaces that
-/// touch the plane and which of them stick. One value, so that a trial evaluation saves
-/// and restores it whole (`transition::keeping`).
+/// touch the plane and which of them stick. Owned by the machine (`Context::run`) beside
+/// the state and its mode, read by the phases and changed only by the transitions; a
+/// trial evaluation builds a value of its own ([`ContactSet::on`],
+/// [`ContactSet::with_surfaces`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct ContactSet {
     /// The body's surface in contact with the plane (the last one that touched it while
@@ -47,45 +47,46 @@ pub(super) struct ContactSet {
     pub(super) sticks: [bool; MOST_CONTACTS],
 }
 
+impl ContactSet {
+    /// The contact state of a run that starts on (or nearest to) `surface`: the
+    /// several-contact fields are set where the body enters a several-contact phase.
+    pub(super) fn new(surface: Surface) -> Self {
+        ContactSet {
+            surface,
+            others: [Surface::Ellipsoid; MOST_CONTACTS - 1],
+            count: 2,
+            sticks: [false; MOST_CONTACTS],
+        }
+    }
+
+    /// This contact state with `surface` as the one in contact.
+    pub(super) fn on(&self, surface: Surface) -> Self {
+        ContactSet { surface, ..*self }
+    }
+
+    /// This contact state with `surfaces` (two or three, the first the one whose geometry
+    /// the several-contact phase takes) in contact, their grip kept.
+    pub(super) fn with_surfaces(&self, surfaces: &[Surface]) -> Self {
+        ContactSet {
+            surface: surfaces[0],
+            others: std::array::from_fn(|k| surfaces.get(k + 1).copied().unwrap_or(surfaces[0])),
+            count: surfaces.len(),
+            ..*self
+        }
+    }
+
+    /// The surfaces in contact in the several-contact phases: `surface`, then the others.
+    pub(super) fn touching(&self) -> Vec<Surface> {
+        std::iter::once(self.surface)
+            .chain(self.others[..self.count - 1].iter().copied())
+            .collect()
+    }
+}
+
 impl<E> Context<'_, E> {
-    /// The body, its geometry that of the surface in contact.
-    pub(super) fn body(&self) -> Body {
-        self.scene.body.touching(self.surface())
-    }
-
-    /// The surface in contact ([`ContactSet::surface`]).
-    pub(super) fn surface(&self) -> Surface {
-        self.contacts.get().surface
-    }
-
-    /// The other surfaces in contact in the several-contact phases ([`ContactSet::others`]).
-    pub(super) fn others(&self) -> [Surface; MOST_CONTACTS - 1] {
-        self.contacts.get().others
-    }
-
-    /// How many surfaces are in contact in the several-contact phases.
-    pub(super) fn count(&self) -> usize {
-        self.contacts.get().count
-    }
-
-    /// Which contacts stick in the several-contact phases.
-    pub(super) fn sticks(&self) -> [bool; MOST_CONTACTS] {
-        self.contacts.get().sticks
-    }
-
-    /// Makes `surface` the one in contact; returns the one before.
-    pub(super) fn set_surface(&self, surface: Surface) -> Surface {
-        let mut c = self.contacts.get();
-        let was = std::mem::replace(&mut c.surface, surface);
-        self.contacts.set(c);
-        was
-    }
-
-    /// Sets which contacts stick.
-    pub(super) fn set_sticks(&self, sticks: [bool; MOST_CONTACTS]) {
-        let mut c = self.contacts.get();
-        c.sticks = sticks;
-        self.contacts.set(c);
+    /// The body, its geometry that of the surface in contact in `contacts`.
+    pub(super) fn body(&self, contacts: &ContactSet) -> Body {
+        self.scene.body.touching(contacts.surface)
     }
 }
 
@@ -96,31 +97,27 @@ impl<'s, E: Copy> Context<'s, E> {
             numerics: Numerics::new(scene),
             effects,
             cancel,
-            contacts: Cell::new(ContactSet {
-                surface: Surface::Ellipsoid,
-                others: [Surface::Ellipsoid; MOST_CONTACTS - 1],
-                count: 2,
-                sticks: [false; MOST_CONTACTS],
-            }),
         }
     }
 
-    /// The ODE system of phase `P`: the body under gravity and the effects, with the
-    /// phase's contact law.
-    pub(super) fn system<P: Phase>(&self) -> System<P::Law, E> {
+    /// The ODE system of phase `P` on `contacts`: the body under gravity and the
+    /// effects, with the phase's contact law.
+    pub(super) fn system<P: Phase>(&self, contacts: &ContactSet) -> System<P::Law, E> {
         System {
-            body: self.body(),
+            body: self.body(contacts),
             gravity: self.scene.gravity,
-            contact: P::law(self),
+            contact: P::law(self, contacts),
             effects: self.effects,
         }
     }
 
-    /// The output row and invariants of state `y` in `mode`, `ev` its evaluation under
-    /// `sys` (the `drift` column is filled in by the recorder).
+    /// The output row and invariants of state `y` in `mode` on `contacts`, `ev` its
+    /// evaluation under `sys` (the `drift` column is filled in by the recorder).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn sample<C: ContactLaw>(
         &self,
         sys: &System<C, E>,
+        contacts: &ContactSet,
         mode: Mode,
         t: f64,
         y: &State,
@@ -134,13 +131,13 @@ impl<'s, E: Copy> Context<'s, E> {
         let others = ev.response.other_normals;
         let count = match mode {
             Mode::Flight => 0,
-            Mode::TwoContacts | Mode::ThreeContacts => self.count(),
+            Mode::TwoContacts | Mode::ThreeContacts => contacts.count,
             _ => 1,
         };
         let touching = std::array::from_fn(|i| match i {
             _ if i >= count => None,
-            0 => Some((self.surface(), normal_force - others.iter().sum::<f64>())),
-            _ => Some((self.others()[i - 1], others[i - 1])),
+            0 => Some((contacts.surface, normal_force - others.iter().sum::<f64>())),
+            _ => Some((contacts.others[i - 1], others[i - 1])),
         });
         let sample = Sample {
             t,

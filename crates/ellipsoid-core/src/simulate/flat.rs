@@ -20,7 +20,7 @@ use crate::invariants::Invariants;
 use crate::kinematics::Kinematics;
 use crate::state::{self, State};
 
-use super::context::Context;
+use super::context::{ContactSet, Context};
 use super::outcome::{EventKind, EventRecord, Mode, Status};
 use super::phase::{Next, phase};
 use super::scene::ContactModel;
@@ -31,16 +31,17 @@ pub(super) fn tilt(kin: &Kinematics) -> f64 {
     geometry::ring_direction(kin.contact.zeta).1 - geometry::FLAT_TILT
 }
 
-/// Rim `surface` (the surface in contact, or touching down from flight) is flat at
-/// (t, y) in mode `from`: the body lands on its face (see the module docs).
+/// The rim in contact on `contacts` (touching down from flight: the rim touching) is flat
+/// at (t, y) in mode `from`: the body lands on its face (see the module docs).
 pub(super) fn land_flat<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &mut ContactSet,
     from: Mode,
-    surface: Surface,
     t: f64,
     y: &mut State,
     events: &mut Vec<EventRecord>,
 ) -> Next {
+    let surface = contacts.surface;
     let Surface::Rim(k) = surface else {
         unreachable!("only a rim lands flat")
     };
@@ -50,7 +51,7 @@ pub(super) fn land_flat<E: Effect + Copy + 'static>(
     let kin = if from == Mode::Flight {
         Kinematics::flying_at(body, surface, y)
     } else {
-        phase::<E>(from).kinematics(ctx, y)
+        phase::<E>(from).kinematics(ctx, contacts, y)
     };
     let energy = |kin: &Kinematics| Invariants::from_kinematics(body, gravity, kin, 0.0).energy;
     let before = energy(&kin);

@@ -22,7 +22,7 @@ use crate::kinematics::Kinematics;
 use crate::model::{ContactLaw, Evaluation, System};
 use crate::state::{self, EulerAngles, State};
 
-use super::context::Context;
+use super::context::{ContactSet, Context};
 use super::flat;
 use super::numerics::MAX_SWITCHES;
 use super::outcome::{Chatter, EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
@@ -51,15 +51,17 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             mut y,
             mut events,
             stopped,
+            mut contacts,
         } = self.start()?;
         let mut t = 0.0;
-        let (initial_sample, initial_invariants) = phase::<E>(mode).sample(self, t, &y, None);
+        let (initial_sample, initial_invariants) =
+            phase::<E>(mode).sample(self, &contacts, t, &y, None);
         let conservation = self.conservation();
         let mut rec = Recorder::new(
             observer,
             conservation,
             &initial_invariants,
-            self.scales(&y, &initial_invariants),
+            self.scales(&contacts, &y, &initial_invariants),
             initial_sample.angles,
         );
         let mut stats = Stats::default();
@@ -71,21 +73,20 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             Some(status) => status,
             None => loop {
                 let current = phase::<E>(mode);
-                if let Some(status) = self.below_plane(mode, &current.kinematics(self, &y)) {
+                let kin = current.kinematics(self, &contacts, &y);
+                if let Some(status) = self.below_plane(mode, &contacts, &kin) {
                     break status;
                 }
                 // A surface already below the plane where the phase starts touched it
                 // before: its event at once (the integrator finds only zeros crossed).
                 let mut before = events.len();
-                let flat = self.flat_watched(mode)
-                    && flat::tilt(&current.kinematics(self, &y)) <= 0.0;
-                let next = if flat {
-                    flat::land_flat(self, mode, self.surface(), t, &mut y, &mut events)
-                } else if let Some(watch) = current.overdue(self, &y) {
-                    current.on_event(self, watch, &mut t, &mut y, &mut events)
+                let next = if flat_watched(mode, &contacts) && flat::tilt(&kin) <= 0.0 {
+                    flat::land_flat(self, &mut contacts, mode, t, &mut y, &mut events)
+                } else if let Some(watch) = current.overdue(self, &contacts, &y) {
+                    current.on_event(self, &mut contacts, watch, &mut t, &mut y, &mut events)
                 } else {
                     let start_angles = rec.angles;
-                    let seg = current.segment(self, t, y, &mut rec)?;
+                    let seg = current.segment(self, &contacts, t, y, &mut rec)?;
                     let sol = seg.solution;
                     add_stats(&mut stats, &sol.stats);
                     warnings.extend(sol.warnings.iter().map(|w| match *w {
@@ -104,7 +105,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                             .checked_sub(1)
                             .map_or(start_angles, |i| seg.rows[i].1);
                         let (mut sample, inv) =
-                            current.sample(self, record.t, &record.y, Some(&prev));
+                            current.sample(self, &contacts, record.t, &record.y, Some(&prev));
                         sample.drift = rec.relative_drift(&inv);
                         if let Slot::Section(_) = slot {
                             rec.sections[index].push(sample);
@@ -125,23 +126,30 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                             Next::Stop(rec.stopped.take().unwrap_or(Status::Cancelled), mode)
                         }
                         StopReason::Failed(e) => {
-                            current.on_failure(self, &mut t, &mut y, e, &mut events)
+                            current.on_failure(self, &mut contacts, &mut t, &mut y, e, &mut events)
                         }
                         StopReason::Event { index } => match seg.watches[index] {
                             Slot::Observe(index) => Next::Stop(Status::Observed { index }, mode),
                             Slot::Section(index) => Next::Stop(Status::SectionFull { index }, mode),
-                            Slot::Phase(watch) => {
-                                current.on_event(self, watch, &mut t, &mut y, &mut events)
-                            }
+                            Slot::Phase(watch) => current.on_event(
+                                self,
+                                &mut contacts,
+                                watch,
+                                &mut t,
+                                &mut y,
+                                &mut events,
+                            ),
                             Slot::Flat => {
-                                flat::land_flat(self, mode, self.surface(), t, &mut y, &mut events)
+                                flat::land_flat(self, &mut contacts, mode, t, &mut y, &mut events)
                             }
                             Slot::Guard => {
-                                let kin = current.kinematics(self, &y);
-                                match self.below_plane(mode, &kin) {
+                                let kin = current.kinematics(self, &contacts, &y);
+                                match self.below_plane(mode, &contacts, &kin) {
                                     Some(status) => Next::Stop(status, mode),
                                     // Located at the tolerance to within round-off.
-                                    None => Next::Stop(self.deepest_status(mode, &kin), mode),
+                                    None => {
+                                        Next::Stop(self.deepest_status(mode, &contacts, &kin), mode)
+                                    }
                                 }
                             }
                         },
@@ -168,7 +176,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         };
 
         let (mut final_sample, final_invariants) =
-            phase::<E>(mode).sample(self, t, &y, Some(&rec.angles));
+            phase::<E>(mode).sample(self, &contacts, t, &y, Some(&rec.angles));
         if !status.completed() && rec.last_t < t && !matches!(status, Status::NonFinite { .. }) {
             // The trajectory ends where the run stopped (the run is over, so a request
             // to cancel from this last row changes nothing).
@@ -193,34 +201,18 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         })
     }
 
-    /// Whether `mode` watches its surface in contact going flat (`flat::tilt`): a rim in
-    /// contact alone.
-    pub(super) fn flat_watched(&self, mode: Mode) -> bool {
-        matches!(self.surface(), Surface::Rim(_))
-            && matches!(
-                mode,
-                Mode::Frictionless | Mode::Sliding | Mode::Rolling | Mode::Viscous
-            )
-    }
-
-    /// Whether `surface` is in contact with the plane in `mode`.
-    fn in_contact(&self, mode: Mode, surface: Surface) -> bool {
-        match mode {
-            Mode::Flight => false,
-            Mode::TwoContacts | Mode::ThreeContacts => {
-                surface == self.surface() || self.others()[..self.count() - 1].contains(&surface)
-            }
-            _ => surface == self.surface(),
-        }
-    }
-
-    /// The surface not in contact in `mode` lowest under the plane at `kin`, with its gap
-    /// g_k = z_G − h_k(ζ) \[m\] (`geometry::height`); `None` where every surface is in
-    /// contact.
-    pub(super) fn deepest(&self, mode: Mode, kin: &Kinematics) -> Option<(Surface, f64)> {
+    /// The surface not in contact in `mode` on `contacts` lowest under the plane at `kin`,
+    /// with its gap g_k = z_G − h_k(ζ) \[m\] (`geometry::height`); `None` where every
+    /// surface is in contact.
+    pub(super) fn deepest(
+        &self,
+        mode: Mode,
+        contacts: &ContactSet,
+        kin: &Kinematics,
+    ) -> Option<(Surface, f64)> {
         let body = &self.scene.body;
         (body.surfaces())
-            .filter(|&s| !self.in_contact(mode, s))
+            .filter(|&s| !in_contact(mode, contacts, s))
             .map(|s| (s, kin.z_g() - geometry::height(body, s, kin.contact.zeta)))
             .min_by(|a, b| a.1.total_cmp(&b.1))
     }
@@ -231,14 +223,14 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
     /// stops `below_plane` there instead of going on inside the plane. Checked where every
     /// phase starts, as an event of every segment at every accepted step, and at every
     /// sample before it is emitted.
-    fn below_plane(&self, mode: Mode, kin: &Kinematics) -> Option<Status> {
-        let (_, gap) = self.deepest(mode, kin)?;
-        (gap < -self.numerics.penetration()).then(|| self.deepest_status(mode, kin))
+    fn below_plane(&self, mode: Mode, contacts: &ContactSet, kin: &Kinematics) -> Option<Status> {
+        let (_, gap) = self.deepest(mode, contacts, kin)?;
+        (gap < -self.numerics.penetration()).then(|| self.deepest_status(mode, contacts, kin))
     }
 
     /// [`Status::BelowPlane`] of the deepest surface not in contact at `kin`.
-    fn deepest_status(&self, mode: Mode, kin: &Kinematics) -> Status {
-        let (surface, gap) = self.deepest(mode, kin).unwrap_or((self.surface(), 0.0));
+    fn deepest_status(&self, mode: Mode, contacts: &ContactSet, kin: &Kinematics) -> Status {
+        let (surface, gap) = (self.deepest(mode, contacts, kin)).unwrap_or((contacts.surface, 0.0));
         Status::BelowPlane { surface, gap }
     }
 
@@ -274,29 +266,52 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         }
     }
 
-    /// Each invariant's drift scale at the initial state `y` (see [`Invariant::scale`]).
-    fn scales(&self, y: &State, inv: &Invariants) -> [f64; 6] {
-        let kin = Kinematics::new(&self.body(), y, false);
+    /// Each invariant's drift scale at the initial state `y` on `contacts` (see
+    /// [`Invariant::scale`]).
+    fn scales(&self, contacts: &ContactSet, y: &State, inv: &Invariants) -> [f64; 6] {
+        let kin = Kinematics::new(&self.body(contacts), y, false);
         Invariant::ALL.map(|which| which.scale(&self.scene.body, &kin, inv))
     }
 }
 
-/// Integrates phase `P` from (t0, y0) until t_end or a terminal event.
+/// Whether `surface` is in contact with the plane in `mode` on `contacts`.
+fn in_contact(mode: Mode, contacts: &ContactSet, surface: Surface) -> bool {
+    match mode {
+        Mode::Flight => false,
+        Mode::TwoContacts | Mode::ThreeContacts => {
+            surface == contacts.surface || contacts.others[..contacts.count - 1].contains(&surface)
+        }
+        _ => surface == contacts.surface,
+    }
+}
+
+/// Whether `mode` on `contacts` watches its surface in contact going flat (`flat::tilt`):
+/// a rim in contact alone.
+pub(super) fn flat_watched(mode: Mode, contacts: &ContactSet) -> bool {
+    matches!(contacts.surface, Surface::Rim(_))
+        && matches!(
+            mode,
+            Mode::Frictionless | Mode::Sliding | Mode::Rolling | Mode::Viscous
+        )
+}
+
+/// Integrates phase `P` on `contacts` from (t0, y0) until t_end or a terminal event.
 pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     t0: f64,
     y0: State,
     rec: &mut Recorder<'_>,
 ) -> Result<Segment, ModelError> {
     let scene = ctx.scene;
-    let law = &ctx.system::<P>();
+    let law = &ctx.system::<P>(contacts);
     // The driver evaluates every event function at the same (t, y) in turn, at t0 and
     // at each step end right after DOP853's f there: evaluate the model once per state.
     let sys = &Watched {
         sys: law,
         last: Memo::default(),
     };
-    let phase_watches = P::watches(ctx);
+    let phase_watches = P::watches(ctx, contacts);
     // The guard where a surface can be off the plane: every one in flight, the others
     // than the one touching with contact spheres.
     let guarded = P::MODE == Mode::Flight || !scene.body.plain();
@@ -305,7 +320,7 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
         .chain((0..scene.observe.len()).map(Slot::Observe))
         .chain((0..scene.sections.len()).map(Slot::Section))
         .chain(guarded.then_some(Slot::Guard))
-        .chain(ctx.flat_watched(P::MODE).then_some(Slot::Flat))
+        .chain(flat_watched(P::MODE, contacts).then_some(Slot::Flat))
         .collect();
     // Observables unwrap φ and ψ against the last emitted row; they share one output
     // row per state.
@@ -322,7 +337,8 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
                 let prev = angles_ref.get();
                 let row = || {
                     sys.with(t, y, |ev| {
-                        let (mut sample, inv) = ctx.sample(law, P::MODE, t, y, ev, Some(&prev));
+                        let (mut sample, inv) =
+                            ctx.sample(law, contacts, P::MODE, t, y, ev, Some(&prev));
                         sample.drift = gauge.of(&inv);
                         sample
                     })
@@ -360,7 +376,8 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
                 Event {
                     g: Box::new(move |t, y: &State| {
                         sys.with(t, y, |ev| {
-                            ctx.deepest(P::MODE, &ev.kin).map_or(f64::INFINITY, |d| d.1)
+                            ctx.deepest(P::MODE, contacts, &ev.kin)
+                                .map_or(f64::INFINITY, |d| d.1)
                         }) + tolerance
                     }),
                     direction: Direction::Falling,
@@ -417,11 +434,15 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
         samples,
         &mut |t, y| {
             let ev = law.evaluate(y);
-            if let Some(status) = guarded.then(|| ctx.below_plane(P::MODE, &ev.kin)).flatten() {
+            if let Some(status) = guarded
+                .then(|| ctx.below_plane(P::MODE, contacts, &ev.kin))
+                .flatten()
+            {
                 rec.stopped = Some(status);
                 return ControlFlow::Break(());
             }
-            let (mut sample, inv) = ctx.sample(law, P::MODE, t, y, &ev, Some(&rec.angles));
+            let (mut sample, inv) =
+                ctx.sample(law, contacts, P::MODE, t, y, &ev, Some(&rec.angles));
             rec.next_sample += 1;
             let flow = rec.emit(&mut sample, &inv);
             angles.set(rec.angles);

@@ -3,9 +3,10 @@
 //! invariant bookkeeping.
 //!
 //! Layout, one job each: [`scene`] (what to simulate, validated), `start` (the initial
-//! state and its checks), `context` (what phases and transitions read), `phase` (the contact phases: law, watches),
-//! `transition` (every switch between phases), `machine` (runs the phases), `recorder` (samples and drift), [`outcome`] (what a run
-//! reports, as data).
+//! state and its checks), `context` (what phases and transitions read, and the run's
+//! contact state, which the machine hands them beside the state), `phase` (the contact
+//! phases: law, watches), `transition` (every switch between phases), `machine` (runs the
+//! phases), `recorder` (samples and drift), [`outcome`] (what a run reports, as data).
 //!
 //! Each phase's system is monomorphised over exactly the scene's effects: an absent
 //! effect is the empty tuple and compiles to nothing.

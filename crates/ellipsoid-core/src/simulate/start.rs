@@ -8,7 +8,7 @@ use crate::error::{Brackets, Digits, ModelError, Value, number};
 use crate::kinematics::Kinematics;
 use crate::state::{self, State};
 
-use super::context::Context;
+use super::context::{ContactSet, Context};
 use super::outcome::{EventKind, EventRecord, Mode, Status};
 use super::phase::phase;
 use super::scene::{ContactModel, LiftOff, Scene};
@@ -24,6 +24,8 @@ pub(super) struct Start {
     pub(super) events: Vec<EventRecord>,
     /// Why the run ends at once, if it does (slip and spin already stopped).
     pub(super) stopped: Option<Status>,
+    /// The initial contact state: the lowest surface in contact.
+    pub(super) contacts: ContactSet,
 }
 
 impl<E: Effect + Copy + 'static> Context<'_, E> {
@@ -46,19 +48,20 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             y[state::VEL] = v.x;
             y[state::VEL + 1] = v.y;
         }
+        // The surface that touches (or is nearest to) the plane: the lowest.
+        let lowest = Kinematics::flying(&scene.body, &y).contact;
+        let contacts = &ContactSet::new(lowest.surface);
         let go = |mode, y| Start {
             mode,
             y,
             events: Vec::new(),
             stopped: None,
+            contacts: *contacts,
         };
-        // The surface that touches (or is nearest to) the plane: the lowest.
-        let lowest = Kinematics::flying(&scene.body, &y).contact;
-        self.set_surface(lowest.surface);
         if flying {
             y[state::HEIGHT] = lowest.height + init.height;
             y[state::VEL_Z] = init.velocity_z.unwrap_or(0.0);
-            self.check_finite(Mode::Flight, &y)?;
+            self.check_finite(contacts, Mode::Flight, &y)?;
             return Ok(go(Mode::Flight, y));
         }
         if let (ContactModel::Rolling, Some(v)) = (scene.contact, init.velocity) {
@@ -72,12 +75,12 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                 "not allowed for the rolling model, where the velocity of G is implied by ω (v_G = −ω × r)",
             ));
         }
-        let (mode, stopped) = match on_plane(self, Arrival::Start, &mut y) {
+        let (mode, stopped) = match on_plane(self, contacts, Arrival::Start, &mut y) {
             Placed::In(mode) => (mode, None),
             Placed::SlipStopped => (Mode::Sliding, Some(Status::SlipStopped)),
         };
-        let response = phase::<E>(mode).response(self, &y);
-        self.check_finite(mode, &y)?;
+        let response = phase::<E>(mode).response(self, contacts, &y);
+        self.check_finite(contacts, mode, &y)?;
         let coefficient = match scene.contact {
             ContactModel::Viscous { viscous_friction } => {
                 Some(("contact.viscous_friction", viscous_friction))
@@ -99,7 +102,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         }
         // A slip stop needs the plane to push (N > 0); else the body leaves the plane as
         // below (docs/physics.md, "The hybrid machine").
-        if let Some(status) = stopped.filter(|_| pushes(self, mode, &y)) {
+        if let Some(status) = stopped.filter(|_| pushes(self, contacts, mode, &y)) {
             return Ok(Start {
                 mode,
                 y,
@@ -108,9 +111,10 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                     t: 0.0,
                 }],
                 stopped: Some(status),
+                contacts: *contacts,
             });
         }
-        if pushes(self, mode, &y) {
+        if pushes(self, contacts, mode, &y) {
             return Ok(go(mode, y));
         }
         if scene.landing.lift_off == LiftOff::Stop {
@@ -123,7 +127,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
         }
         if let Err(Status::InconsistentContact {
             gap_acceleration, ..
-        }) = flight_is_consistent(self, mode, &y)
+        }) = flight_is_consistent(self, contacts, mode, &y)
         {
             return Err(ModelError::derived(
                 "initial",
@@ -138,14 +142,14 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             ));
         }
         // The plane cannot hold the body (N ≤ 0: e.g. no gravity): it flies at once.
-        to_flight(self, mode, &mut y);
+        to_flight(self, contacts, mode, &mut y);
         Ok(go(Mode::Flight, y))
     }
 
     /// Rejects an initial state whose derived quantities overflow, then one whose spin
     /// double precision cannot integrate (`Scene::validate_spin`).
-    fn check_finite(&self, mode: Mode, y: &State) -> Result<(), ModelError> {
-        let (sample, inv) = phase::<E>(mode).sample(self, 0.0, y, None);
+    fn check_finite(&self, contacts: &ContactSet, mode: Mode, y: &State) -> Result<(), ModelError> {
+        let (sample, inv) = phase::<E>(mode).sample(self, contacts, 0.0, y, None);
         let derived = [
             ("the normal force N", sample.normal_force, "N"),
             ("the energy E", inv.energy, "J"),

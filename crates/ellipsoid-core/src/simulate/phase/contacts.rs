@@ -1,8 +1,8 @@
 //! Several surfaces in contact at once, two (mode `two_contacts`) or three
 //! (`three_contacts`), each sliding or sticking (docs/physics.md, "Contact spheres",
 //! "Several contacts"; the law `model::Contacts`): the surface in contact
-//! (`Context::surface`) and the others (`Context::others`, `Context::count` in all), which
-//! stick where `Context::sticks` says. Watches: each normal force (g = N_i: that surface
+//! (`ContactSet::surface`) and the others (`ContactSet::others`, `ContactSet::count` in
+//! all), which stick where `ContactSet::sticks` says. Watches: each normal force (g = N_i: that surface
 //! leaves, and the body goes on touching with the others), each sliding contact's slip
 //! falling to its stop ([`above_stop`]: in the Coulomb model it sticks there,
 //! `transition::grip`; the sliding model and a contact disc end there, as on one contact),
@@ -18,7 +18,7 @@ use crate::model::{Contacts, Evaluation, Hold, MOST_CONTACTS, Response, System};
 use crate::state::State;
 
 use super::{Next, Phase, SlidingPhase, touch_gap};
-use crate::simulate::context::Context;
+use crate::simulate::context::{ContactSet, Context};
 use crate::simulate::numerics::PAINLEVE_COLLAPSE;
 use crate::simulate::outcome::{EventKind, EventRecord, Mode, Status};
 use crate::simulate::scene::ContactModel;
@@ -54,12 +54,12 @@ pub(in crate::simulate) fn contacts_mode(count: usize) -> Mode {
 /// The holds the law's sticking contacts watch: each one's cone, and with exactly two
 /// sticking the line between them (`model::Hold`). Only in the Coulomb model (the rolling
 /// model's friction is unbounded).
-pub(in crate::simulate) fn holds<E>(ctx: &Context<'_, E>) -> Vec<Hold> {
+pub(in crate::simulate) fn holds<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Vec<Hold> {
     if !matches!(ctx.scene.contact, ContactModel::Coulomb { .. }) {
         return Vec::new();
     }
-    let sticks = ctx.sticks();
-    let sticking: Vec<usize> = (0..ctx.count()).filter(|&i| sticks[i]).collect();
+    let sticks = contacts.sticks;
+    let sticking: Vec<usize> = (0..contacts.count).filter(|&i| sticks[i]).collect();
     let line = (sticking.len() == 2).then_some(Hold::Line);
     sticking
         .into_iter()
@@ -77,23 +77,23 @@ impl<const N: usize> Phase for ContactsPhase<N> {
     type Law = Contacts;
     type Watch = ContactsWatch;
 
-    fn law<E>(ctx: &Context<'_, E>) -> Contacts {
+    fn law<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Contacts {
         Contacts {
             friction: ctx.scene.contact.friction().unwrap_or(0.0),
             disc: ctx.scene.disc,
-            others: ctx.others(),
+            others: contacts.others,
             count: N,
-            sticks: ctx.sticks(),
+            sticks: contacts.sticks,
         }
     }
 
-    fn watches<E>(ctx: &Context<'_, E>) -> Vec<ContactsWatch> {
+    fn watches<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Vec<ContactsWatch> {
         use ContactsWatch::*;
-        let touching = touching(ctx);
+        let touching = contacts.touching();
         let others = (ctx.scene.body.surfaces())
             .filter(|s| !touching.contains(s))
             .map(Touch);
-        let sticks = ctx.sticks();
+        let sticks = contacts.sticks;
         let friction = ctx.scene.contact.friction().is_some_and(|mu| mu > 0.0);
         let slips = (0..N).filter(move |&i| friction && !sticks[i]).map(Slip);
         let painleve = (!sticks[..N].iter().all(|&s| s)).then_some(Painleve);
@@ -101,7 +101,7 @@ impl<const N: usize> Phase for ContactsPhase<N> {
             .map(Leaves)
             .chain(painleve)
             .chain(slips)
-            .chain(holds(ctx).into_iter().map(Holds))
+            .chain(holds(ctx, contacts).into_iter().map(Holds))
             .chain(others)
             .collect()
     }
@@ -136,13 +136,14 @@ impl<const N: usize> Phase for ContactsPhase<N> {
 
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: ContactsWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            ContactsWatch::Leaves(i) => leave(ctx, i, *t, y, events),
+            ContactsWatch::Leaves(i) => leave(ctx, contacts, i, *t, y, events),
             ContactsWatch::Slip(_) if !grips(ctx) => {
                 events.push(EventRecord {
                     kind: EventKind::SlipStop,
@@ -151,25 +152,25 @@ impl<const N: usize> Phase for ContactsPhase<N> {
                 Next::Stop(Status::SlipStopped, Self::MODE)
             }
             ContactsWatch::Slip(i) => {
-                let mut sticks = ctx.sticks();
+                let mut sticks = contacts.sticks;
                 sticks[i] = true;
-                grip(ctx, sticks, *t, y, events)
+                grip(ctx, contacts, sticks, *t, y, events)
             }
-            ContactsWatch::Holds(hold) => release(ctx, hold, *t, y, events),
+            ContactsWatch::Holds(hold) => release(ctx, contacts, hold, *t, y, events),
             ContactsWatch::Painleve => painleve(
                 Self::MODE,
-                ctx.system::<Self>().evaluate(y).response.painleve,
+                ctx.system::<Self>(contacts).evaluate(y).response.painleve,
                 None,
                 *t,
                 events,
             ),
             ContactsWatch::Touch(surface) if N < MOST_CONTACTS => {
-                third_touchdown(ctx, surface, t, y, events)
+                third_touchdown(ctx, contacts, surface, t, y, events)
             }
             ContactsWatch::Touch(surface) => Next::Stop(
                 Status::SeveralContacts {
                     touching: surface,
-                    pressed: ctx.surface(),
+                    pressed: contacts.surface,
                     approach: 0.0,
                 },
                 Self::MODE,
@@ -178,16 +179,7 @@ impl<const N: usize> Phase for ContactsPhase<N> {
     }
 }
 
-/// The surfaces in contact in the several-contact phase: `Context::surface`, then the
-/// others.
-pub(in crate::simulate) fn touching<E>(ctx: &Context<'_, E>) -> Vec<Surface> {
-    let others = ctx.others();
-    std::iter::once(ctx.surface())
-        .chain(others[..ctx.count() - 1].iter().copied())
-        .collect()
-}
-
-/// The normal force N_i of contact i (0: `Context::surface`, then the others) in the
+/// The normal force N_i of contact i (0: `ContactSet::surface`, then the others) in the
 /// several-contact law's response \[N\].
 pub(in crate::simulate) fn normal(r: &Response, i: usize) -> f64 {
     match i {
@@ -212,6 +204,8 @@ pub(in crate::simulate) fn grips<E>(ctx: &Context<'_, E>) -> bool {
 pub(in crate::simulate) fn above_stop<E>(ctx: &Context<'_, E>, kin: &Kinematics) -> f64 {
     match ctx.scene.disc {
         None => kin.slip.norm() - ctx.numerics.two_contact_stop(kin),
-        Some(_) => SlidingPhase::law(ctx).stop_speed(kin) - ctx.numerics.stop_threshold(kin, true),
+        Some(_) => {
+            SlidingPhase::sliding(ctx).stop_speed(kin) - ctx.numerics.stop_threshold(kin, true)
+        }
     }
 }

@@ -12,7 +12,7 @@ use crate::model::contensou::Law;
 use crate::state::{self, State};
 
 use super::{Next, Phase};
-use crate::simulate::context::Context;
+use crate::simulate::context::{ContactSet, Context};
 use crate::simulate::outcome::{EventKind, EventRecord, Mode};
 use crate::simulate::scene::ContactModel;
 use crate::simulate::transition::lift_off;
@@ -33,8 +33,8 @@ impl Phase for FacePhase {
     type Law = Face;
     type Watch = FaceWatch;
 
-    fn law<E>(ctx: &Context<'_, E>) -> Face {
-        let Surface::Rim(k) = ctx.surface() else {
+    fn law<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Face {
+        let Surface::Rim(k) = contacts.surface else {
             unreachable!("the face phase follows a rim's flat landing")
         };
         let rim = &ctx.scene.body.rims()[k];
@@ -53,8 +53,8 @@ impl Phase for FacePhase {
         }
     }
 
-    fn watches<E>(ctx: &Context<'_, E>) -> Vec<FaceWatch> {
-        let stop = Self::law(ctx).friction.map(|_| FaceWatch::Stop);
+    fn watches<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Vec<FaceWatch> {
+        let stop = Self::law(ctx, contacts).friction.map(|_| FaceWatch::Stop);
         std::iter::once(FaceWatch::Normal).chain(stop).collect()
     }
 
@@ -77,17 +77,18 @@ impl Phase for FacePhase {
 
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: FaceWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            FaceWatch::Normal => lift_off(ctx, Mode::Face, *t, y, events),
+            FaceWatch::Normal => lift_off(ctx, contacts, Mode::Face, *t, y, events),
             FaceWatch::Stop => {
                 // Slip and spin stop together: the body rests on its face, the kinetic
                 // energy left below the threshold booked in W.
-                let body = ctx.body();
+                let body = ctx.body(contacts);
                 let omega = state::omega(y);
                 let v = nalgebra::Vector2::new(y[state::VEL], y[state::VEL + 1]);
                 y[state::WORK] += 0.5 * body.mass() * v.norm_squared()

@@ -16,7 +16,7 @@ use crate::model::{Evaluation, Flight, System};
 use crate::state::{self, State};
 
 use super::{Next, Phase};
-use crate::simulate::context::Context;
+use crate::simulate::context::{ContactSet, Context};
 use crate::simulate::outcome::{EventRecord, Mode};
 use crate::simulate::transition::touchdown;
 
@@ -38,11 +38,11 @@ impl Phase for FlightPhase {
     type Law = Flight;
     type Watch = FlightWatch;
 
-    fn law<E>(_ctx: &Context<'_, E>) -> Flight {
+    fn law<E>(_ctx: &Context<'_, E>, _contacts: &ContactSet) -> Flight {
         Flight
     }
 
-    fn watches<E>(ctx: &Context<'_, E>) -> Vec<FlightWatch> {
+    fn watches<E>(ctx: &Context<'_, E>, _contacts: &ContactSet) -> Vec<FlightWatch> {
         ctx.scene.body.surfaces().map(FlightWatch::Gap).collect()
     }
 
@@ -89,12 +89,13 @@ impl Phase for FlightPhase {
 
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: FlightWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         let FlightWatch::Gap(surface) = watch;
-        touchdown(ctx, surface, t, y, events)
+        touchdown(ctx, contacts, surface, t, y, events)
     }
 }

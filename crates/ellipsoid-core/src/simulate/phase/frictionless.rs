@@ -7,7 +7,7 @@ use crate::state::State;
 
 use super::{Next, Phase, other_surfaces, touch_gap};
 use crate::body::Surface;
-use crate::simulate::context::Context;
+use crate::simulate::context::{ContactSet, Context};
 use crate::simulate::outcome::{EventRecord, Mode};
 use crate::simulate::transition::{lift_off, second_touchdown};
 
@@ -27,12 +27,12 @@ impl Phase for FrictionlessPhase {
     type Law = Frictionless;
     type Watch = FrictionlessWatch;
 
-    fn law<E>(_ctx: &Context<'_, E>) -> Frictionless {
+    fn law<E>(_ctx: &Context<'_, E>, _contacts: &ContactSet) -> Frictionless {
         Frictionless
     }
 
-    fn watches<E>(ctx: &Context<'_, E>) -> Vec<FrictionlessWatch> {
-        let touches = other_surfaces(ctx).map(FrictionlessWatch::Touch);
+    fn watches<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Vec<FrictionlessWatch> {
+        let touches = other_surfaces(ctx, contacts).map(FrictionlessWatch::Touch);
         std::iter::once(FrictionlessWatch::Normal)
             .chain(touches)
             .collect()
@@ -64,15 +64,16 @@ impl Phase for FrictionlessPhase {
 
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: FrictionlessWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            FrictionlessWatch::Normal => lift_off(ctx, Mode::Frictionless, *t, y, events),
+            FrictionlessWatch::Normal => lift_off(ctx, contacts, Mode::Frictionless, *t, y, events),
             FrictionlessWatch::Touch(surface) => {
-                second_touchdown(ctx, Mode::Frictionless, surface, t, y, events)
+                second_touchdown(ctx, contacts, Mode::Frictionless, surface, t, y, events)
             }
         }
     }

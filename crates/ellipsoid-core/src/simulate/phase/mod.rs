@@ -4,7 +4,8 @@
 //! every phase but flight, where they are states), its watch functions (an enum of its
 //! own, matched exhaustively), and for each watch the transition it leads to
 //! (`transition`, where every transition is written). A phase reads only its
-//! [`Context`] — the scene, its numerics and effects — and the system it integrates; the
+//! [`Context`] — the scene, its numerics and effects —, the run's contact state
+//! ([`ContactSet`], which only its transitions change) and the system it integrates; the
 //! hybrid machine (`machine`) runs any of them through the registry [`phase`].
 //!
 //! A new phase touches four files: its module here; this file (its `mod` line, its
@@ -12,7 +13,7 @@
 //! contact law (a module of `model`, named in `model/mod.rs`). The compiler lists every
 //! match that must learn the new mode and watches. (The several-contact phases, the first added
 //! this way, also needed the other contacts' normal forces and the law's own dissipated
-//! power in `model::Response`, and their other surfaces in the [`Context`].)
+//! power in `model::Response`, and their other surfaces in the [`ContactSet`].)
 //!
 //! | phase | law | watches (g falling through 0) | on the event |
 //! |---|---|---|---|
@@ -51,15 +52,13 @@ use crate::kinematics::Kinematics;
 use crate::model::{ContactLaw, Evaluation, Response, System};
 use crate::state::{EulerAngles, State};
 
-use super::context::Context;
+use super::context::{ContactSet, Context};
 use super::machine::{Segment, segment};
 use super::outcome::{EventRecord, Status};
 use super::recorder::Recorder;
 use crate::columns::{Mode, Sample};
 
-pub(super) use contacts::{
-    ContactsPhase, above_stop, contacts_mode, grips, holds, normal, touching,
-};
+pub(super) use contacts::{ContactsPhase, above_stop, contacts_mode, grips, holds, normal};
 pub(super) use face::FacePhase;
 pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
@@ -83,8 +82,11 @@ pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyP
 
 /// The other surfaces a contact phase watches (bodies with contact spheres): every
 /// surface but the one in contact.
-pub(super) fn other_surfaces<'c, E>(ctx: &'c Context<'_, E>) -> impl Iterator<Item = Surface> + 'c {
-    let touching = ctx.surface();
+pub(super) fn other_surfaces<'c, E>(
+    ctx: &'c Context<'_, E>,
+    contacts: &ContactSet,
+) -> impl Iterator<Item = Surface> + 'c {
+    let touching = contacts.surface;
     ctx.scene.body.surfaces().filter(move |&s| s != touching)
 }
 
@@ -172,10 +174,10 @@ pub(super) trait Phase {
     type Law: ContactLaw;
     /// Its watch functions.
     type Watch: Copy;
-    /// Its contact law, as the scene gives it.
-    fn law<E>(ctx: &Context<'_, E>) -> Self::Law;
+    /// Its contact law, as the scene and the contact state give it.
+    fn law<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Self::Law;
     /// Its watch functions (each falling through zero is an event).
-    fn watches<E>(ctx: &Context<'_, E>) -> Vec<Self::Watch>;
+    fn watches<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Vec<Self::Watch>;
     /// The value of one of its watches at a state, `ev` its evaluation under `sys`.
     fn watch<E: Effect>(
         ctx: &Context<'_, E>,
@@ -203,10 +205,11 @@ pub(super) trait Phase {
         Some(contact_gap_curvature(ctx, ev, other))
     }
     /// What the event of `watch` at (t, y) leads to (`transition`); may change `y` (the
-    /// state map at the switch) and `t` (a touchdown taken back to gap = 0), and records
-    /// what happened in `events`.
+    /// state map at the switch), `t` (a touchdown taken back to gap = 0) and `contacts`
+    /// (the surfaces in contact and their grip), and records what happened in `events`.
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: Self::Watch,
         t: &mut f64,
         y: &mut State,
@@ -218,6 +221,7 @@ pub(super) trait Phase {
     /// transition the phase's watches cannot see.
     fn on_failure<E: Effect + Copy + 'static>(
         _ctx: &Context<'_, E>,
+        _contacts: &mut ContactSet,
         _t: &mut f64,
         _y: &mut State,
         error: IntegrateError,
@@ -238,6 +242,7 @@ pub(super) trait AnyPhase<E> {
     fn segment(
         &self,
         ctx: &Context<'_, E>,
+        contacts: &ContactSet,
         t0: f64,
         y0: State,
         rec: &mut Recorder<'_>,
@@ -245,20 +250,22 @@ pub(super) trait AnyPhase<E> {
     fn sample(
         &self,
         ctx: &Context<'_, E>,
+        contacts: &ContactSet,
         t: f64,
         y: &State,
         prev: Option<&EulerAngles>,
     ) -> (Sample, Invariants);
-    fn response(&self, ctx: &Context<'_, E>, y: &State) -> Response;
+    fn response(&self, ctx: &Context<'_, E>, contacts: &ContactSet, y: &State) -> Response;
     /// The kinematics of `y` under the phase's law.
-    fn kinematics(&self, ctx: &Context<'_, E>, y: &State) -> Kinematics;
+    fn kinematics(&self, ctx: &Context<'_, E>, contacts: &ContactSet, y: &State) -> Kinematics;
     /// The first of the phase's gaps ([`Phase::gap_of`]) at or below zero and closing at
     /// `y`, by its watch number.
-    fn overdue(&self, ctx: &Context<'_, E>, y: &State) -> Option<usize>;
+    fn overdue(&self, ctx: &Context<'_, E>, contacts: &ContactSet, y: &State) -> Option<usize>;
     /// [`Phase::on_event`] of its watch number `watch`.
     fn on_event(
         &self,
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: usize,
         t: &mut f64,
         y: &mut State,
@@ -267,6 +274,7 @@ pub(super) trait AnyPhase<E> {
     fn on_failure(
         &self,
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         t: &mut f64,
         y: &mut State,
         error: IntegrateError,
@@ -280,34 +288,36 @@ impl<P: Phase, E: Effect + Copy + 'static> AnyPhase<E> for Registered<P> {
     fn segment(
         &self,
         ctx: &Context<'_, E>,
+        contacts: &ContactSet,
         t0: f64,
         y0: State,
         rec: &mut Recorder<'_>,
     ) -> Result<Segment, ModelError> {
-        segment::<P, E>(ctx, t0, y0, rec)
+        segment::<P, E>(ctx, contacts, t0, y0, rec)
     }
     fn sample(
         &self,
         ctx: &Context<'_, E>,
+        contacts: &ContactSet,
         t: f64,
         y: &State,
         prev: Option<&EulerAngles>,
     ) -> (Sample, Invariants) {
-        let sys = ctx.system::<P>();
-        ctx.sample(&sys, P::MODE, t, y, &sys.evaluate(y), prev)
+        let sys = ctx.system::<P>(contacts);
+        ctx.sample(&sys, contacts, P::MODE, t, y, &sys.evaluate(y), prev)
     }
-    fn response(&self, ctx: &Context<'_, E>, y: &State) -> Response {
-        ctx.system::<P>().evaluate(y).response
+    fn response(&self, ctx: &Context<'_, E>, contacts: &ContactSet, y: &State) -> Response {
+        ctx.system::<P>(contacts).evaluate(y).response
     }
-    fn kinematics(&self, ctx: &Context<'_, E>, y: &State) -> Kinematics {
-        ctx.system::<P>().evaluate(y).kin
+    fn kinematics(&self, ctx: &Context<'_, E>, contacts: &ContactSet, y: &State) -> Kinematics {
+        ctx.system::<P>(contacts).evaluate(y).kin
     }
-    fn overdue(&self, ctx: &Context<'_, E>, y: &State) -> Option<usize> {
-        let sys = ctx.system::<P>();
+    fn overdue(&self, ctx: &Context<'_, E>, contacts: &ContactSet, y: &State) -> Option<usize> {
+        let sys = ctx.system::<P>(contacts);
         let ev = sys.evaluate(y);
         // A gap watch is the gap plus its round-off δz.
         let dz = ctx.numerics.gap_resolution(&ev.kin);
-        P::watches(ctx).into_iter().position(|w| {
+        P::watches(ctx, contacts).into_iter().position(|w| {
             P::gap_of(ctx, w, &ev).is_some_and(|surface| {
                 P::watch(ctx, &sys, w, &ev, y) < dz && closing(ctx, &ev, surface)
             })
@@ -316,21 +326,24 @@ impl<P: Phase, E: Effect + Copy + 'static> AnyPhase<E> for Registered<P> {
     fn on_event(
         &self,
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: usize,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
-        P::on_event(ctx, P::watches(ctx)[watch], t, y, events)
+        let watch = P::watches(ctx, contacts)[watch];
+        P::on_event(ctx, contacts, watch, t, y, events)
     }
     fn on_failure(
         &self,
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         t: &mut f64,
         y: &mut State,
         error: IntegrateError,
         events: &mut Vec<EventRecord>,
     ) -> Next {
-        P::on_failure(ctx, t, y, error, events)
+        P::on_failure(ctx, contacts, t, y, error, events)
     }
 }

@@ -8,7 +8,7 @@ use crate::state::State;
 
 use super::{Next, Phase, other_surfaces, touch_gap};
 use crate::body::Surface;
-use crate::simulate::context::Context;
+use crate::simulate::context::{ContactSet, Context};
 use crate::simulate::outcome::{EventRecord, Mode};
 use crate::simulate::scene::ContactModel;
 use crate::simulate::transition::{cone_left, lift_off, second_touchdown};
@@ -31,18 +31,18 @@ impl Phase for RollingPhase {
     type Law = Rolling;
     type Watch = RollingWatch;
 
-    fn law<E>(_ctx: &Context<'_, E>) -> Rolling {
+    fn law<E>(_ctx: &Context<'_, E>, _contacts: &ContactSet) -> Rolling {
         Rolling
     }
 
-    fn watches<E>(ctx: &Context<'_, E>) -> Vec<RollingWatch> {
+    fn watches<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Vec<RollingWatch> {
         let cone = match ctx.scene.contact {
             ContactModel::Coulomb { friction } => Some(RollingWatch::Cone { friction }),
             _ => None,
         };
         std::iter::once(RollingWatch::Normal)
             .chain(cone)
-            .chain(other_surfaces(ctx).map(RollingWatch::Touch))
+            .chain(other_surfaces(ctx, contacts).map(RollingWatch::Touch))
             .collect()
     }
 
@@ -69,16 +69,17 @@ impl Phase for RollingPhase {
 
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: RollingWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            RollingWatch::Normal => lift_off(ctx, Mode::Rolling, *t, y, events),
-            RollingWatch::Cone { .. } => cone_left(ctx, *t, y, events),
+            RollingWatch::Normal => lift_off(ctx, contacts, Mode::Rolling, *t, y, events),
+            RollingWatch::Cone { .. } => cone_left(ctx, contacts, *t, y, events),
             RollingWatch::Touch(surface) => {
-                second_touchdown(ctx, Mode::Rolling, surface, t, y, events)
+                second_touchdown(ctx, contacts, Mode::Rolling, surface, t, y, events)
             }
         }
     }

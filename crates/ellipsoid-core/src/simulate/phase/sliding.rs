@@ -28,7 +28,7 @@ use crate::state::{self, State};
 
 use super::{Next, Phase, other_surfaces, touch_gap};
 use crate::body::Surface;
-use crate::simulate::context::Context;
+use crate::simulate::context::{ContactSet, Context};
 use crate::simulate::numerics::{
     CONFIRM_GROWTH, CONFIRM_HORIZON, PAINLEVE_COLLAPSE, SLIP_RATE_FACTOR,
 };
@@ -60,23 +60,17 @@ impl Phase for SlidingPhase {
     type Law = Sliding;
     type Watch = SlidingWatch;
 
-    /// Coulomb's law with the scene's μ (Coulomb–Contensou's with a contact disc) and
-    /// the numerics' slip band.
-    fn law<E>(ctx: &Context<'_, E>) -> Sliding {
-        Sliding {
-            friction: ctx.scene.contact.friction().unwrap_or(0.0),
-            disc: ctx.scene.disc,
-            band: ctx.numerics.band,
-        }
+    fn law<E>(ctx: &Context<'_, E>, _contacts: &ContactSet) -> Sliding {
+        Self::sliding(ctx)
     }
 
-    fn watches<E>(ctx: &Context<'_, E>) -> Vec<SlidingWatch> {
+    fn watches<E>(ctx: &Context<'_, E>, contacts: &ContactSet) -> Vec<SlidingWatch> {
         // A contact disc has no sign change of v_C·s_ref to watch (see the module docs).
         let slip = ctx.scene.disc.is_none().then_some(SlidingWatch::Slip);
         std::iter::once(SlidingWatch::Normal)
             .chain(slip)
             .chain([SlidingWatch::SlipFloor, SlidingWatch::Painleve])
-            .chain(other_surfaces(ctx).map(SlidingWatch::Touch))
+            .chain(other_surfaces(ctx, contacts).map(SlidingWatch::Touch))
             .collect()
     }
 
@@ -112,34 +106,35 @@ impl Phase for SlidingPhase {
 
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: SlidingWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            SlidingWatch::Normal => lift_off(ctx, Mode::Sliding, *t, y, events),
+            SlidingWatch::Normal => lift_off(ctx, contacts, Mode::Sliding, *t, y, events),
             SlidingWatch::Painleve => painleve(
                 Mode::Sliding,
-                ctx.system::<Self>().evaluate(y).response.painleve,
+                ctx.system::<Self>(contacts).evaluate(y).response.painleve,
                 None,
                 *t,
                 events,
             ),
             SlidingWatch::Touch(surface) => {
-                second_touchdown(ctx, Mode::Sliding, surface, t, y, events)
+                second_touchdown(ctx, contacts, Mode::Sliding, surface, t, y, events)
             }
             // Taken at once within the floor, else confirmed by a tight solve; one not
             // confirmed is a turn of the slip by more than 90° within a loose step.
             SlidingWatch::Slip | SlidingWatch::SlipFloor => {
-                let sys = ctx.system::<Self>();
+                let sys = ctx.system::<Self>(contacts);
                 let kin = sys.evaluate(y).kin;
                 let speed = sys.contact.stop_speed(&kin);
                 let disc = sys.contact.disc.is_some();
                 let confirmed = ctx.numerics.has_stopped(speed, &kin, disc)
                     || (ctx.numerics.may_confirm(speed, &kin, disc)
-                        && confirmed_by_tight_solve(ctx, &sys, *t, y));
-                slip_stop(ctx, confirmed, *t, y, events)
+                        && confirmed_by_tight_solve(ctx, contacts, &sys, *t, y));
+                slip_stop(ctx, contacts, confirmed, *t, y, events)
             }
         }
     }
@@ -155,12 +150,13 @@ impl Phase for SlidingPhase {
     /// between rolling and a new slip. Any other failure is a solver failure.
     fn on_failure<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         t: &mut f64,
         y: &mut State,
         error: IntegrateError,
         events: &mut Vec<EventRecord>,
     ) -> Next {
-        let sys = ctx.system::<Self>();
+        let sys = ctx.system::<Self>(contacts);
         let ev = sys.evaluate(y);
         if ev.response.painleve < PAINLEVE_COLLAPSE {
             return painleve(Mode::Sliding, ev.response.painleve, Some(error), *t, events);
@@ -171,7 +167,7 @@ impl Phase for SlidingPhase {
             let slip = sys.contact.stop_speed(&ev.kin);
             let relaxation = sys.contact.friction * ev.response.normal / (sys.body.mass() * slip);
             if rate <= SLIP_RATE_FACTOR * relaxation {
-                return slip_stop(ctx, true, *t, y, events);
+                return slip_stop(ctx, contacts, true, *t, y, events);
             }
         }
         Next::Stop(
@@ -184,13 +180,26 @@ impl Phase for SlidingPhase {
     }
 }
 
-/// Whether the slip (and a contact disc's spin) at `y` has stopped
+impl SlidingPhase {
+    /// Coulomb's law with the scene's μ (Coulomb–Contensou's with a contact disc) and
+    /// the numerics' slip band (the phase's law, which its contact state does not enter).
+    pub(in crate::simulate) fn sliding<E>(ctx: &Context<'_, E>) -> Sliding {
+        Sliding {
+            friction: ctx.scene.contact.friction().unwrap_or(0.0),
+            disc: ctx.scene.disc,
+            band: ctx.numerics.band,
+        }
+    }
+}
+
+/// Whether the slip (and a contact disc's spin) at `y` on `contacts` has stopped
 /// (`Numerics::has_stopped`).
 pub(in crate::simulate) fn slip_has_stopped<E: Effect + Copy>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     y: &State,
 ) -> bool {
-    let sys = ctx.system::<SlidingPhase>();
+    let sys = ctx.system::<SlidingPhase>(contacts);
     let kin = sys.evaluate(y).kin;
     let disc = sys.contact.disc.is_some();
     ctx.numerics
@@ -223,6 +232,7 @@ pub(in crate::simulate) fn slip_has_stopped<E: Effect + Copy>(
 /// taken at the located time and state, as one within the floor is.
 fn confirmed_by_tight_solve<E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
+    contacts: &ContactSet,
     sys: &System<Sliding, E>,
     t: f64,
     y: &State,
@@ -238,7 +248,7 @@ fn confirmed_by_tight_solve<E: Effect + Copy + 'static>(
     }
     let within_band = s0 <= law.band.width(&kin);
     let mut y0 = *y;
-    renew_reference(ctx, &mut y0);
+    renew_reference(ctx, contacts, &mut y0);
     let mut options = ctx.numerics.confirm_options();
     options.cancel = ctx.cancel.clone();
     let events = [
@@ -262,7 +272,7 @@ fn confirmed_by_tight_solve<E: Effect + Copy + 'static>(
     .is_ok_and(|sol| match sol.stop {
         StopReason::Event { index: 0 } => true,
         StopReason::Event { index: 1 } => {
-            within_band && !disc && rolls_once_stuck(ctx, &mut { *y })
+            within_band && !disc && rolls_once_stuck(ctx, contacts, &mut { *y })
         }
         _ => false,
     })
@@ -279,8 +289,12 @@ fn stop_when_falling(g: EventFn<'_, { state::DIM }>) -> Event<'_, { state::DIM }
 }
 
 /// Whether the material contact point's slip is zero to round-off.
-pub(in crate::simulate) fn slip_is_zero<E>(ctx: &Context<'_, E>, y: &State) -> bool {
-    let kin = Kinematics::new(&ctx.body(), y, false);
+pub(in crate::simulate) fn slip_is_zero<E>(
+    ctx: &Context<'_, E>,
+    contacts: &ContactSet,
+    y: &State,
+) -> bool {
+    let kin = Kinematics::new(&ctx.body(contacts), y, false);
     Sliding::direction(&kin, Vector2::zeros()) == Vector2::zeros()
 }
 

@@ -10,7 +10,7 @@ use crate::model::{Evaluation, System, Viscous};
 use crate::state::State;
 
 use super::{Next, Phase};
-use crate::simulate::context::Context;
+use crate::simulate::context::{ContactSet, Context};
 use crate::simulate::numerics::PAINLEVE_COLLAPSE;
 use crate::simulate::outcome::{EventRecord, Mode};
 use crate::simulate::scene::ContactModel;
@@ -33,7 +33,7 @@ impl Phase for ViscousPhase {
     type Watch = ViscousWatch;
 
     /// The viscous law with the scene's μ_v (0 under another model).
-    fn law<E>(ctx: &Context<'_, E>) -> Viscous {
+    fn law<E>(ctx: &Context<'_, E>, _contacts: &ContactSet) -> Viscous {
         let coefficient = match ctx.scene.contact {
             ContactModel::Viscous { viscous_friction } => viscous_friction,
             _ => 0.0,
@@ -41,7 +41,7 @@ impl Phase for ViscousPhase {
         Viscous { coefficient }
     }
 
-    fn watches<E>(_ctx: &Context<'_, E>) -> Vec<ViscousWatch> {
+    fn watches<E>(_ctx: &Context<'_, E>, _contacts: &ContactSet) -> Vec<ViscousWatch> {
         vec![ViscousWatch::Normal, ViscousWatch::Painleve]
     }
 
@@ -60,16 +60,17 @@ impl Phase for ViscousPhase {
 
     fn on_event<E: Effect + Copy + 'static>(
         ctx: &Context<'_, E>,
+        contacts: &mut ContactSet,
         watch: ViscousWatch,
         t: &mut f64,
         y: &mut State,
         events: &mut Vec<EventRecord>,
     ) -> Next {
         match watch {
-            ViscousWatch::Normal => lift_off(ctx, Mode::Viscous, *t, y, events),
+            ViscousWatch::Normal => lift_off(ctx, contacts, Mode::Viscous, *t, y, events),
             ViscousWatch::Painleve => painleve(
                 Mode::Viscous,
-                ctx.system::<Self>().evaluate(y).response.painleve,
+                ctx.system::<Self>(contacts).evaluate(y).response.painleve,
                 None,
                 *t,
                 events,
