@@ -10,7 +10,7 @@ mod common;
 use common::{G, run};
 use ellipsoid_core::body::{Body, Rim, Surface, uniform_inertia};
 use ellipsoid_core::geometry::{self, Contact};
-use ellipsoid_core::simulate::{Sample, Status};
+use ellipsoid_core::simulate::{EventKind, Sample, Status};
 use nalgebra::{Matrix2, Vector2, Vector3};
 
 /// The lowest point of the torus (circle of radius `ring` about body z centred at `c`, tube
@@ -324,4 +324,132 @@ fn a_body_without_ellipsoid_contact_touches_with_its_rims_only() {
     // sharp edge does not: the lowest surface is still the rim.
     let zeta = Vector3::new(0.0, 0.5f64.sin(), 0.5f64.cos());
     assert_eq!(Contact::lowest(&body, zeta, Vector3::zeros()).surface, Surface::Rim(0));
+}
+
+/// A coin: R = 12.13 mm, 1.75 mm thick (its rim's edge half that), 5.67 g, its moments
+/// those of a solid cylinder.
+fn coin_toml() -> String {
+    "[body]\na = 0.01213\nc = 0.000875\nmass = 5.67e-3\ninertia = [2.10e-7, 2.10e-7, 4.17e-7]\n\
+     ellipsoid_contact = false\n[[body.rim]]\nname = \"edge\"\ncenter = [0.0, 0.0, 0.0]\n\
+     radius = 0.011255\nedge = 0.000875\n"
+        .to_owned()
+}
+
+fn coin_scene(initial: &str, contact: &str, rtol: f64, t_end: f64) -> ellipsoid_core::scenario::Scenario {
+    let text = format!(
+        "{}[initial]\n{initial}\n[contact]\n{contact}\n[solver]\nmethod = \"dop853\"\nrtol = {rtol}\natol = {}\n\
+         [output]\nt_end = {t_end}\ndt = 0.001\n",
+        coin_toml(),
+        rtol * 1e-2
+    );
+    ellipsoid_core::scenario::parse(&text, "coin.toml", &[] as &[&str]).unwrap_or_else(|e| panic!("{e}\n{text}"))
+}
+
+/// The times of a run's flat landings, with their energy losses.
+fn flats(out: &ellipsoid_core::simulate::Outcome) -> Vec<(f64, f64)> {
+    (out.events.iter())
+        .filter_map(|e| match e.kind {
+            EventKind::Flat { energy_loss, .. } => Some((e.t, energy_loss)),
+            _ => None,
+        })
+        .collect()
+}
+
+/// A coin let go at 1.2 rad with friction tips over, lands flat once (the event located:
+/// its time agrees between rtol 1e-10 and 1e-12 to 1e-9 s), slides on its face and comes
+/// to rest: completed, E + W continuous across the landing, E never rising there.
+#[test]
+fn a_coin_tipping_over_lands_flat_once_and_comes_to_rest_on_its_face() {
+    let contact = "model = \"coulomb\"\nfriction = 0.3";
+    let (out, samples) = run(&coin_scene("theta = 1.2", contact, 1e-10, 0.5).scene);
+    assert_eq!(out.status, Status::Completed);
+    let landed = flats(&out);
+    assert_eq!(landed.len(), 1, "{:?}", out.events);
+    let (t_flat, loss) = landed[0];
+    assert!(loss > 0.0, "the face's impact removes energy: {loss}");
+    let (tight, _) = run(&coin_scene("theta = 1.2", contact, 1e-12, 0.5).scene);
+    assert!((flats(&tight)[0].0 - t_flat).abs() < 1e-9, "{t_flat} vs {:?}", flats(&tight));
+    // On its face from the landing on, at rest at the end.
+    for s in samples.iter().filter(|s| s.t > t_flat) {
+        assert_eq!(s.mode, ellipsoid_core::simulate::Mode::Face, "t = {}", s.t);
+        // θ from the attitude to round-off: acos near 1 amplifies ε to √ε.
+        assert!(s.angles.theta < 1e-7, "t = {}: θ = {}", s.t, s.angles.theta);
+    }
+    let last = samples.last().unwrap();
+    assert_eq!((last.velocity.norm(), last.omega.norm()), (0.0, 0.0));
+    assert!((last.position.z - 0.000875).abs() < 1e-15);
+    // E + W continuous; E falls at the landing.
+    let e0 = samples[0].energy + samples[0].work;
+    for s in &samples {
+        assert!((s.energy + s.work - e0).abs() < 1e-9 * e0, "t = {}: E + W moved", s.t);
+    }
+    let before = samples.iter().rfind(|s| s.t < t_flat).unwrap();
+    let after = samples.iter().find(|s| s.t > t_flat).unwrap();
+    assert!(after.energy < before.energy);
+}
+
+/// Without friction the plane's force is vertical: the angular momentum about the
+/// vertical through G, L_z, is kept through the fall, the face's impact and the spin on
+/// the face, where Ω = L_z/I_zz and v_G stay constant. (Its axial spin ω₃ is kept too, so
+/// the coin reaches flat only where L_z = I_a ω₃: ψ̇ = φ̇ (I_t (1 + cos θ)/I_a − cos θ).)
+#[test]
+fn a_frictionless_coin_keeps_its_vertical_angular_momentum_through_the_flat_landing() {
+    let (i_t, i_a) = disc_body_for_lz();
+    let (theta, phi_dot) = (1.0f64, 3.0);
+    let psi_dot = phi_dot * (i_t * (1.0 + theta.cos()) / i_a - theta.cos());
+    let initial = format!("theta = {theta}\nphi_dot = {phi_dot}\npsi_dot = {psi_dot}");
+    let (out, samples) = run(&coin_scene(&initial, "model = \"frictionless\"", 1e-11, 0.6).scene);
+    assert_eq!(out.status, Status::Completed);
+    assert_eq!(flats(&out).len(), 1, "{:?}", out.events);
+    let lz = |s: &Sample| {
+        let body = disc_body_for_lz();
+        let w = s.omega_world;
+        // L_z = e3·(R I Rᵀ) ω with R from the body's ζ: the body is axisymmetric, so
+        // L_z = I_t ω_z + (I_a − I_t)(n·ω) n_z, n the axis in world axes.
+        let (st, ct) = s.angles.theta.sin_cos();
+        let (sp, cp) = s.angles.phi.sin_cos();
+        let n = Vector3::new(st * sp, -st * cp, ct);
+        body.0 * w.z + (body.1 - body.0) * n.dot(&w) * n.z
+    };
+    let l0 = lz(&samples[0]);
+    for s in &samples {
+        assert!((lz(s) - l0).abs() < 1e-9 * l0.abs(), "t = {}: L_z {} vs {l0}", s.t, lz(s));
+    }
+    let face: Vec<&Sample> = samples.iter().filter(|s| s.mode == ellipsoid_core::simulate::Mode::Face).collect();
+    assert!(face.len() > 100);
+    let (first, last) = (face[0], face[face.len() - 1]);
+    assert!((last.omega_world.z - first.omega_world.z).abs() < 1e-12 * first.omega_world.z.abs());
+    assert!((last.velocity - first.velocity).norm() < 1e-15);
+}
+
+/// The coin's (I_t, I_a).
+fn disc_body_for_lz() -> (f64, f64) {
+    (2.10e-7, 4.17e-7)
+}
+
+/// A coin dropped flat from 5 cm lands on its face at t = √(2h/g) (a touchdown and a flat
+/// landing), which stops it dead without friction: the energy lost is m g h, and it lies
+/// at z_G = r.
+#[test]
+fn a_coin_dropped_flat_lands_on_its_face() {
+    let h = 0.05;
+    let (out, samples) = run(&coin_scene(&format!("theta = 0.0\nheight = {h}"), "model = \"frictionless\"", 1e-11, 0.3).scene);
+    assert_eq!(out.status, Status::Completed);
+    let landed = flats(&out);
+    assert_eq!(landed.len(), 1, "{:?}", out.events);
+    assert!((landed[0].0 - (2.0 * h / G).sqrt()).abs() < 1e-9, "{landed:?}");
+    assert!((landed[0].1 - 5.67e-3 * G * h).abs() < 1e-9 * 5.67e-3 * G * h, "{landed:?}");
+    let last = samples.last().unwrap();
+    assert!((last.position.z - 0.000875).abs() < 1e-15 && last.velocity.norm() == 0.0);
+}
+
+/// A coin started lying flat (θ = 0) is on its face from t = 0.
+#[test]
+fn a_coin_started_flat_lies_on_its_face() {
+    let (out, samples) = run(&coin_scene("theta = 0.0\nphi_dot = 10.0\nvelocity = [0.1, 0.0]", "model = \"sliding\"\nfriction = 0.2\ncontact_radius = 1e-4", 1e-10, 1.0).scene);
+    assert_eq!(out.status, Status::Completed, "{:?}", out.events);
+    assert!(samples.iter().all(|s| s.mode == ellipsoid_core::simulate::Mode::Face));
+    // Coulomb–Contensou: slip and spin stop together, within the run.
+    let last = samples.last().unwrap();
+    assert_eq!((last.velocity.norm(), last.omega.norm()), (0.0, 0.0));
 }

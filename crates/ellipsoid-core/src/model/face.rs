@@ -13,7 +13,7 @@
 //! face's to carry. Frictionless, F_h = M = 0. A face at rest (v_f = 0, Ω = 0) stays at
 //! rest: the plane holds it (the rolling model's face grips at once).
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::{UnitQuaternion, Vector2, Vector3};
 
 use super::contensou::Law;
 use super::{ContactLaw, MOST_CONTACTS, Response};
@@ -36,6 +36,24 @@ pub struct Face {
 }
 
 impl Face {
+    /// Turns the attitude of `y` so that the body's z axis, up or down, is vertical: the
+    /// shortest rotation, by the tilt (at most `geometry::FLAT_TILT` at a flat landing).
+    /// With u = ±(R e3) = (x, y, z), z > 0, it is the quaternion (w, y/2w, −x/2w, 0),
+    /// w = √((1 + z)/2): exact to round-off however small the tilt.
+    pub fn flatten(y: &mut State) {
+        let q = UnitQuaternion::new_normalize(state::quaternion(y));
+        let up = q * Vector3::z();
+        let up = up * up.z.signum();
+        let w = (0.5 * (1.0 + up.z)).sqrt();
+        let turn = UnitQuaternion::new_normalize(nalgebra::Quaternion::new(
+            w,
+            up.y / (2.0 * w),
+            -up.x / (2.0 * w),
+            0.0,
+        ));
+        state::set_quaternion(y, &(turn * q));
+    }
+
     /// The lever C_f − G in world axes at `kin` \[m\], C_f = c − r ζ (ζ = ±e3 in body
     /// axes, the face below).
     #[inline]
@@ -95,8 +113,10 @@ impl ContactLaw for Face {
         }
     }
 
-    /// Keeps ω along the vertical: ω_b = (ω_b·ζ) ζ.
+    /// Keeps the face flat and ω along the vertical: the axis turned back onto the
+    /// vertical (the integrator's error in q, of the tolerance's size), ω_b = (ω_b·ζ) ζ.
     fn project(&self, _body: &Body, y: &mut State) {
+        Face::flatten(y);
         let zeta = state::rotation(y).row(2).transpose();
         let omega = state::omega(y);
         y.fixed_rows_mut::<3>(state::OMEGA)

@@ -11,13 +11,14 @@
 //! the run stops `several_contacts`. The mechanical energy the landing removes is booked
 //! in W (E + W is continuous across it).
 
-use nalgebra::{UnitQuaternion, Vector3};
+use nalgebra::Vector3;
 
 use crate::body::Surface;
 use crate::effects::Effect;
 use crate::geometry;
 use crate::invariants::Invariants;
 use crate::kinematics::Kinematics;
+use crate::model::Face;
 use crate::state::{self, State};
 
 use super::context::{ContactSet, Context};
@@ -62,11 +63,8 @@ pub(super) fn land_flat<E: Effect + Copy + 'static>(
     let far = kin.rot * (rim.center + rim.radius * out - rim.edge * kin.contact.zeta - body.com_offset());
     let speed = -(kin.v_g + omega.cross(&far)).z;
     // The attitude set flat: the rim's axis, upward, turned onto the vertical.
-    let up = kin.rot * Vector3::z() * kin.contact.zeta.z.signum();
-    let turn = UnitQuaternion::rotation_between(&up, &Vector3::z()).unwrap_or_else(UnitQuaternion::identity);
-    let q = turn * UnitQuaternion::new_normalize(state::quaternion(y));
-    state::set_quaternion(y, &q);
-    let rot = q.to_rotation_matrix().into_inner();
+    Face::flatten(y);
+    let rot = state::rotation(y);
     let inertia = rot * body.inertia() * rot.transpose();
     // The plastic impact of the face.
     let grips = scene.contact == ContactModel::Rolling;
