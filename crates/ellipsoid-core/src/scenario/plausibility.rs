@@ -12,15 +12,16 @@
 //! - **Density no solid has.** The mass over the ellipsoid's volume (4/3)π a b c outside
 //!   [[`MIN_DENSITY`], [`MAX_DENSITY`]] = [10, 3e4] kg/m³: from the lightest rigid foams
 //!   (expanded polystyrene, about 11 kg/m³) to beyond osmium, the densest element (22 590
-//!   kg/m³). Above: a mass in grams, or semi-axes in m too small; below: semi-axes in cm
-//!   or mm typed as m. Contact spheres (a stem) are not counted in the volume: they add
+//!   kg/m³). The hint: grams typed as kg when a thousandth of the mass is plausible,
+//!   semi-axes in cm or mm typed as m when 10⁶ or 10⁹ times the density is. Contact spheres (a stem) are not counted in the volume: they add
 //!   little to it in every bundled body.
 //! - **Spin energy that dwarfs gravity.** The initial rotational energy ½ ωᵀ I ω above
 //!   [`MAX_SPIN_ENERGY`] = 100 times m g L (L the largest semi-axis, the energy that lifts
 //!   the body by its size; not checked without gravity). A hand-spun top or egg has a
 //!   ratio below about 30 (a 15 mm tippe top at 300 rad/s: 28; the bundled scenarios: at
 //!   most 24), while rpm typed as rad/s multiplies the energy by (60 / 2π)² ≈ 91: the
-//!   issue's egg at phi_dot = 1600 has 700.
+//!   issue's egg laid at 80° with phi_dot = 1600 has about 1100 (the hint "rpm typed as rad/s?"
+//!   is given when undoing that factor leaves a plausible spin).
 
 use nalgebra::Vector3;
 
@@ -183,22 +184,26 @@ fn density(ctx: &Ctx<'_>, scenario: &Scenario) -> Option<Warning> {
         short(MIN_DENSITY),
         short(MAX_DENSITY)
     );
-    let message = if rho > MAX_DENSITY {
+    let plausible = |x: f64| (MIN_DENSITY..=MAX_DENSITY).contains(&x);
+    let slip = if plausible(rho / 1000.0) {
         format!(
-            "the density mass / ((4/3)π a b c) is {} kg/m³, and {range}: grams? {} g is mass = {} ({} kg/m³)",
-            short(rho),
+            "grams? {} g is mass = {} ({} kg/m³)",
             short(m),
             short(m / 1000.0),
             short(rho / 1000.0)
         )
-    } else if rho < MIN_DENSITY {
-        format!(
-            "the density mass / ((4/3)π a b c) is {} kg/m³, and {range}: semi-axes a, b, c in cm or mm typed as m?",
-            short(rho)
-        )
+    } else if plausible(rho * 1e6) || plausible(rho * 1e9) {
+        "semi-axes a, b, c in cm or mm typed as m?".to_owned()
     } else {
-        return None;
+        "check the units of mass (kg) and a, b, c (m)".to_owned()
     };
+    if plausible(rho) {
+        return None;
+    }
+    let message = format!(
+        "the density mass / ((4/3)π a b c) is {} kg/m³, and {range}: {slip}",
+        short(rho)
+    );
     warn(ctx, &scenario.tree, "body.mass", message)
 }
 
@@ -238,7 +243,10 @@ fn spin(ctx: &Ctx<'_>, scenario: &Scenario) -> Option<Warning> {
             Some((*k, n))
         })
         .max_by(|a, b| magnitude(a.1).total_cmp(&magnitude(b.1)))?;
-    let rpm = if name.ends_with("_deg") {
+    // rpm typed as rad/s multiplies the energy by (2π / 60)⁻²: the hint when undoing it
+    // gives a plausible spin.
+    let undone = ratio * (MAX_ANGLE / 60.0).powi(2);
+    let rpm = if name.ends_with("_deg") || undone > MAX_SPIN_ENERGY {
         String::new()
     } else {
         format!(
@@ -367,6 +375,10 @@ mod tests {
         let w = lines(&text, &[]);
         assert_eq!(w.len(), 1);
         assert!(w[0].contains("body.mass = 0.06: the density mass / ((4/3)π a b c) is 0.00119 kg/m³, and solids have 10 to 30000 kg/m³, foam to osmium: semi-axes a, b, c in cm or mm typed as m?"), "{}", w[0]);
+        // No hint that would not help: 1000 times the mass of a 2 × 3 cm egg in grams.
+        let w = lines(&egg("mass = 60000", START), &[]);
+        assert_eq!(w.len(), 1);
+        assert!(w[0].ends_with("is 1.19e9 kg/m³, and solids have 10 to 30000 kg/m³, foam to osmium: check the units of mass (kg) and a, b, c (m)"), "{}", w[0]);
         // The bounds themselves are plausible: a 2 × 3 cm polystyrene egg, an osmium one.
         for rho in [MIN_DENSITY * (1.0 + 1e-9), MAX_DENSITY * (1.0 - 1e-9)] {
             let m = rho * 4.0 / 3.0 * std::f64::consts::PI * 0.02 * 0.02 * 0.03;
@@ -400,6 +412,10 @@ mod tests {
             w[0]
         );
         let w = lines(&egg(MASS, "psi_dot_deg = 200000"), &[]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(w[0].ends_with("more than 100 m g L"), "{}", w[0]);
+        // No rpm hint when a spin in rpm would still be implausible.
+        let w = lines(&egg(MASS, "phi_dot = 20000"), &[]);
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(w[0].ends_with("more than 100 m g L"), "{}", w[0]);
         // Without gravity there is no scale: no warning.
