@@ -48,7 +48,7 @@ that stops on an error returns its trajectory with `success` False), `OutputErro
 
 Warnings: a value that is valid but likely a unit slip — `theta = 80` (degrees in a radian
 key), `mass = 60` for a 2 × 3 cm egg (grams: a density no solid has), `phi_dot = 1600`
-(rpm: a spin energy hundreds of times m g L) — is reported by `simulate`, `sweep`,
+(rpm: a spin energy over 100 times m g L) — is reported by `simulate`, `sweep`,
 `check`, `precision` and `steady` as a `PlausibilityWarning` (a UserWarning) and the run
 goes on; `warnings.filterwarnings("ignore", category=ellipsoid.PlausibilityWarning)`
 silences it (docs/scenarios.md, "Plausibility warnings").
