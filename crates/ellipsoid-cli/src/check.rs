@@ -5,7 +5,6 @@
 use std::fmt::Write as _;
 use std::process::ExitCode;
 
-use ellipsoid_core::scenario;
 use ellipsoid_study::check::{self, Derived};
 
 use crate::cli::CheckArgs;
@@ -15,7 +14,7 @@ use crate::error::CliError;
 const LABEL_WIDTH: usize = 22;
 
 pub fn check(args: &CheckArgs) -> Result<ExitCode, CliError> {
-    let scenario = scenario::load_all(&args.scenario, &args.set)?;
+    let scenario = crate::plausible::load(&args.scenario, &args.set, args.quiet_plausibility)?;
     let derived = check::derive(&scenario).map_err(|e| CliError::from(*e))?;
     print!("{}", describe(&derived));
     Ok(ExitCode::SUCCESS)

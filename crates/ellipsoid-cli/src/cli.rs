@@ -112,6 +112,10 @@ pub struct SteadyArgs {
     /// Do not report the diagram written on stderr.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Do not print the plausibility warnings (values that are valid but likely a unit
+    /// slip, such as theta = 80 in radians; docs/scenarios.md, "Plausibility warnings").
+    #[arg(long)]
+    pub quiet_plausibility: bool,
     /// Override a scenario value before validation (as for `run`). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
@@ -162,9 +166,13 @@ pub struct RunArgs {
     /// (TOML syntax; a bare word is a string). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Print nothing but errors on standard error.
+    /// Print nothing but errors on standard error (no progress, no plausibility warnings).
     #[arg(short, long)]
     pub quiet: bool,
+    /// Do not print the plausibility warnings (values that are valid but likely a unit
+    /// slip, such as theta = 80 in radians; docs/scenarios.md, "Plausibility warnings").
+    #[arg(long)]
+    pub quiet_plausibility: bool,
 }
 
 #[derive(Debug, Args)]
@@ -194,6 +202,10 @@ pub struct PrecisionArgs {
     /// No progress lines on standard error.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Do not print the plausibility warnings (values that are valid but likely a unit
+    /// slip, such as theta = 80 in radians; docs/scenarios.md, "Plausibility warnings").
+    #[arg(long)]
+    pub quiet_plausibility: bool,
 }
 
 #[derive(Debug, Args)]
@@ -203,6 +215,10 @@ pub struct CheckArgs {
     /// Override a scenario value before validation (as for `run`). Repeatable.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
+    /// Do not print the plausibility warnings (values that are valid but likely a unit
+    /// slip, such as theta = 80 in radians; docs/scenarios.md, "Plausibility warnings").
+    #[arg(long)]
+    pub quiet_plausibility: bool,
 }
 
 #[derive(Debug, Args)]

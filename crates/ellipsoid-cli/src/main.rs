@@ -12,6 +12,7 @@ mod error;
 mod figure;
 mod interrupt;
 mod oom;
+mod plausible;
 mod plot_section;
 mod precision;
 mod progress;

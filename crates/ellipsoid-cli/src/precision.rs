@@ -6,14 +6,13 @@
 use std::path::Path;
 use std::process::ExitCode;
 
-use ellipsoid_core::scenario;
 use ellipsoid_study::precision::{self, Hooks, Spelling, StudyError, StudyOptions, WriteError};
 
 use crate::cli::PrecisionArgs;
 use crate::error::CliError;
 
 pub fn precision(args: &PrecisionArgs) -> Result<ExitCode, CliError> {
-    let scenario = scenario::load_all(&args.scenario, &args.set)?;
+    let scenario = crate::plausible::load(&args.scenario, &args.set, args.quiet_plausibility)?;
     let dir = args
         .output
         .clone()

@@ -4,7 +4,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use ellipsoid_core::scenario::{self, Scenario};
+use ellipsoid_core::scenario::Scenario;
 use ellipsoid_io::run::{Failure, Finished};
 use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, atomic};
 
@@ -20,7 +20,11 @@ const EARLY_STOP: u8 = 3;
 
 pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     let interrupt = Interrupt::install();
-    let scenario = scenario::load_all(&args.scenario, &args.set)?;
+    let scenario = crate::plausible::load(
+        &args.scenario,
+        &args.set,
+        args.quiet || args.quiet_plausibility,
+    )?;
     let output = args
         .output
         .clone()

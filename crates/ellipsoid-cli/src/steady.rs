@@ -30,7 +30,7 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     let interrupt = Interrupt::install();
     let family = Family::parse(&args.family).map_err(|e| CliError::Usage(format!("--{e}")))?;
     let solve = Solve::parse(&args.solve).map_err(|e| CliError::Usage(format!("--{e}")))?;
-    let scenario = scenario::load_all(&args.scenario, &args.set)?;
+    let scenario = crate::plausible::load(&args.scenario, &args.set, args.quiet_plausibility)?;
     if let Some(path) = &args.output {
         if let Some(plot) = &args.plot
             && same_file(path, plot)

@@ -90,6 +90,7 @@ pub fn simulate(
         resolved = resolved.with_output_times(py, &times)?;
     }
     let inner = resolved.inner;
+    crate::plausible::warn(py, &inner)?;
     let (result, interrupt) =
         run::detached(py, move |cancel| run::run_caught(inner, true, cancel))?;
     if let Some(e) = interrupt {
@@ -218,6 +219,7 @@ pub fn sweep<'py>(
     for (i, item) in items.enumerate() {
         match resolve(py, &item?, Vec::new()) {
             Ok(PyScenario { inner }) => {
+                crate::plausible::warn(py, &inner)?;
                 jobs.push((i, inner));
                 slots.push(None);
             }

@@ -9,7 +9,8 @@
 //! - [`parameter_study`]: `Study` and `make_study`, parameter studies from `ellipsoid-study`
 //!   (`ellipsoid.study` itself, with executors and the DataFrame, is `python/ellipsoid/_study.py`);
 //! - [`steady`]: `linearize` and the arrays behind `ellipsoid.steady` (`python/ellipsoid/_steady.py`);
-//! - [`errors`]: the exception tree, one base class `EllipsoidError`.
+//! - [`errors`]: the exception tree, one base class `EllipsoidError`;
+//! - [`plausible`]: the plausibility warnings, `PlausibilityWarning` (a UserWarning).
 //!
 //! The Python sources (`python/ellipsoid/`) re-export these names and carry the stubs.
 
@@ -18,6 +19,7 @@ mod args;
 mod convert;
 mod errors;
 mod parameter_study;
+mod plausible;
 mod run;
 mod scenario;
 mod steady;
@@ -44,6 +46,7 @@ fn _ellipsoid(m: &Bound<'_, PyModule>) -> PyResult<()> {
     for class in errors::Class::ALL {
         m.add(class.name(), class.get(py)?)?;
     }
+    m.add(plausible::NAME, plausible::class(py)?)?;
     m.add_class::<scenario::PyScenario>()?;
     m.add_class::<trajectory::Trajectory>()?;
     m.add_class::<study::PrecisionTable>()?;

@@ -121,6 +121,7 @@ pub fn steady_raw<'py>(
     solve: &str,
 ) -> PyResult<Bound<'py, PyDict>> {
     let scenario = resolve(py, scenario, Vec::new())?.inner;
+    crate::plausible::warn(py, &scenario)?;
     let family = Family::parse(family).map_err(|e| located(py, &scenario, &e))?;
     let solve = Solve::parse(solve).map_err(|e| located(py, &scenario, &e))?;
     let viscous = matches!(scenario.scene.contact, ContactModel::Viscous { .. });

@@ -56,6 +56,7 @@ pub fn precision(
     changes: Option<&Bound<'_, PyDict>>,
 ) -> PyResult<PrecisionTable> {
     let scenario = resolve(py, scenario, convert::changes_for(scenario, changes)?)?.inner;
+    crate::plausible::warn(py, &scenario)?;
     // Read by hand: pyo3's extraction would raise a plain TypeError.
     let quick = match quick.map(|q| q.cast::<pyo3::types::PyBool>()) {
         None => false,
@@ -537,6 +538,7 @@ pub fn check<'py>(
     changes: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let scenario = resolve(py, scenario, convert::changes_for(scenario, changes)?)?.inner;
+    crate::plausible::warn(py, &scenario)?;
     let derived = errors::guard(py, || {
         ellipsoid_study::check::derive(&scenario).map_err(|e| errors::scenario_error(py, &e))
     })?;

@@ -44,6 +44,7 @@ mod collect;
 mod file;
 mod format;
 mod path;
+pub mod plausibility;
 mod reader;
 pub mod schema;
 #[cfg(test)]
@@ -55,6 +56,7 @@ use collect::*;
 pub use file::{MAX_SCENARIO_BYTES, open_regular, read_bounded};
 use format::*;
 pub use path::{KEY_RULE, KeyPath, MAX_INDEX, PathError, Seg};
+pub use plausibility::{Warning, warnings};
 use reader::*;
 use schema::{DIRECTIONS, ROTATION_AXES, keys};
 use tree::*;

@@ -45,6 +45,13 @@ bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Pytho
 `SimulationError` (a RuntimeError) when `precision`'s reference run fails (a simulation
 that stops on an error returns its trajectory with `success` False), `OutputError` (an OSError) for files that cannot be written,
 `InternalError` for bugs.
+
+Warnings: a value that is valid but likely a unit slip — `theta = 80` (degrees in a radian
+key), `mass = 60` for a 2 × 3 cm egg (grams: a density no solid has), `phi_dot = 1600`
+(rpm: a spin energy over 100 times m g L) — is reported by `simulate`, `sweep`,
+`check`, `precision` and `steady` as a `PlausibilityWarning` (a UserWarning) and the run
+goes on; `warnings.filterwarnings("ignore", category=ellipsoid.PlausibilityWarning)`
+silences it (docs/scenarios.md, "Plausibility warnings").
 """
 
 from ellipsoid._ellipsoid import (
@@ -54,6 +61,7 @@ from ellipsoid._ellipsoid import (
     EllipsoidError,
     InternalError,
     OutputError,
+    PlausibilityWarning,
     PrecisionTable,
     Scenario,
     ScenarioError,
@@ -80,6 +88,7 @@ __all__ = [
     "EllipsoidError",
     "InternalError",
     "OutputError",
+    "PlausibilityWarning",
     "PrecisionTable",
     "Scenario",
     "Steady",

@@ -104,6 +104,12 @@ class OutputError(EllipsoidError, OSError):
 class InternalError(EllipsoidError, RuntimeError):
     """A bug in ellipsoid (a Rust panic caught at the Python boundary)."""
 
+class PlausibilityWarning(UserWarning):
+    """A scenario value that is valid but likely a unit slip (an angle beyond 2π in a
+    radian key, a density outside 10 to 3e4 kg/m³, an initial spin energy above
+    100 m g L). Issued by simulate, sweep, check, precision and steady; silence it with
+    `warnings.filterwarnings("ignore", category=ellipsoid.PlausibilityWarning)`."""
+
 @final
 class Scenario:
     """A validated scenario, from a TOML file (`load`) or keyword tables."""

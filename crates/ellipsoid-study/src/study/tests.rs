@@ -697,3 +697,32 @@ fn an_also_list_too_long_names_the_rule_of_keys() {
         "{e}"
     );
 }
+
+/// No point of a bundled study (`studies/*.toml`, every point of its axes) is a scenario
+/// with a plausibility warning (`ellipsoid_core::scenario::plausibility`).
+#[test]
+fn no_point_of_a_bundled_study_warns() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../studies");
+    let mut files = 0;
+    for e in std::fs::read_dir(&dir).expect("studies/") {
+        let path = e.expect("an entry").path();
+        if path.extension().is_none_or(|x| x != "toml") {
+            continue;
+        }
+        files += 1;
+        let plan = spec::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let study = Study::new(plan).unwrap_or_else(|e| panic!("{e}"));
+        assert!(!study.is_empty());
+        for i in 0..study.len() {
+            let r = study
+                .resolve(i)
+                .unwrap_or_else(|e| panic!("{}: point {i}: {e:?}", path.display()));
+            let s = study
+                .scenario(&r)
+                .unwrap_or_else(|e| panic!("{}: point {i}: {e}", path.display()));
+            let w = ellipsoid_core::scenario::warnings(&s);
+            assert!(w.is_empty(), "{}: point {i}: {}", path.display(), w[0]);
+        }
+    }
+    assert!(files >= 3, "{files} studies");
+}
