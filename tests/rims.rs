@@ -498,3 +498,28 @@ fn a_thin_disc_rolls_steadily_on_a_circle_at_the_derived_rates() {
         }
     }
 }
+
+/// A sharp cylinder (two rims, edge 0, at ±h) laid on its side touches with both rims:
+/// two contacts from the start; with friction its slip stops and it rolls straight on both
+/// edges (docs/hard-cases.md, row 35).
+#[test]
+fn a_sharp_cylinder_on_its_side_rolls_on_both_rims() {
+    let body = "[body]\na = 0.02\nc = 0.03\nmass = 0.3\ninertia = [9.75e-5, 9.75e-5, 6.0e-5]\nellipsoid_contact = false\n\
+                [[body.rim]]\nname = \"bottom\"\ncenter = [0.0, 0.0, -0.03]\nradius = 0.02\nedge = 0.0\n\
+                [[body.rim]]\nname = \"top\"\ncenter = [0.0, 0.0, 0.03]\nradius = 0.02\nedge = 0.0\n";
+    let text = format!(
+        "{body}[initial]\ntheta_deg = 90.0\npsi_dot = 20.0\n[contact]\nmodel = \"coulomb\"\nfriction = 0.5\n\
+         [solver]\nmethod = \"dop853\"\nrtol = 1e-11\natol = 1e-13\n[output]\nt_end = 2.0\ndt = 0.001\n"
+    );
+    let sc = ellipsoid_core::scenario::parse(&text, "cylinder.toml", &[] as &[&str]).unwrap();
+    let (out, samples) = run(&sc.scene);
+    assert_eq!(out.status, Status::Completed);
+    let last = samples.last().unwrap();
+    assert_eq!(last.mode, ellipsoid_core::simulate::Mode::TwoContacts);
+    assert!(samples.iter().skip(1).all(|s| s.mode == ellipsoid_core::simulate::Mode::TwoContacts));
+    // Rolling straight along x (the axis along y at φ = 0), at R ψ̇'s speed after the grip.
+    assert!(last.position.y.abs() < 1e-8, "lateral drift {} m", last.position.y);
+    assert!(last.position.x.abs() > 0.1);
+    let e0 = samples[0].energy + samples[0].work;
+    assert!((last.energy + last.work - e0).abs() < 1e-12 * e0);
+}
