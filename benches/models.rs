@@ -11,8 +11,8 @@ use std::path::Path;
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
 use ellipsoid_core::body::{Body, Rim, Surface};
-use ellipsoid_core::geometry;
 use ellipsoid_core::effects::AirDrag;
+use ellipsoid_core::geometry;
 use ellipsoid_core::integrate::{Method, OdeSystem, Options, integrate};
 use ellipsoid_core::model::contensou::Law;
 use ellipsoid_core::model::{

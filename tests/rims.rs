@@ -90,7 +90,12 @@ fn geo_the_rim_support_point_and_height_match_a_brute_force_minimum_over_the_tor
     ];
     for (ring, edge, z) in cases {
         let axes = Vector3::new(0.05, 0.05, 0.005);
-        let body = Body::new(axes, 0.3, uniform_inertia(axes, 0.3), Vector3::new(0.001, -0.002, 0.0))
+        let body = Body::new(
+            axes,
+            0.3,
+            uniform_inertia(axes, 0.3),
+            Vector3::new(0.001, -0.002, 0.0),
+        )
         .unwrap()
         .with_rims(vec![Rim {
             name: "rim".into(),
@@ -111,7 +116,10 @@ fn geo_the_rim_support_point_and_height_match_a_brute_force_minimum_over_the_tor
             // h = −ζ·p_c + ζ·g: the height of G when the lowest point touches.
             let h = -zeta.dot(&lowest) + zeta.dot(&body.com_offset());
             let height = geometry::height(&body, Surface::Rim(0), zeta);
-            assert!((height - h).abs() < 1e-14, "R = {ring}, r = {edge}: {height} vs {h}");
+            assert!(
+                (height - h).abs() < 1e-14,
+                "R = {ring}, r = {edge}: {height} vs {h}"
+            );
             assert!((contact.height - h).abs() < 1e-14);
         }
     }
@@ -130,7 +138,11 @@ fn geo_the_rim_curvature_matches_finite_differences_of_its_support_point() {
     let ahead = Contact::of(&body, Surface::Rim(0), zeta + c.zeta_dot * eps, omega);
     let behind = Contact::of(&body, Surface::Rim(0), zeta - c.zeta_dot * eps, omega);
     let rate = (ahead.p_c - behind.p_c) / (2.0 * eps);
-    assert!((rate - c.r_dot_surface).norm() < 1e-7 * rate.norm(), "{rate:?} vs {:?}", c.r_dot_surface);
+    assert!(
+        (rate - c.r_dot_surface).norm() < 1e-7 * rate.norm(),
+        "{rate:?} vs {:?}",
+        c.r_dot_surface
+    );
 }
 
 /// A disc's TOML: uniform thin disc of radius R (m = 0.3 kg) unless `body` says otherwise.
@@ -140,7 +152,8 @@ fn scene(body: &str, initial: &str, model: &str, t_end: f64) -> ellipsoid_core::
          [solver]\nmethod = \"dop853\"\nrtol = 1e-12\natol = 1e-14\n\
          [output]\nt_end = {t_end}\ndt = 0.01\n"
     );
-    ellipsoid_core::scenario::parse(&text, "disc.toml", &[] as &[&str]).unwrap_or_else(|e| panic!("{e}\n{text}"))
+    ellipsoid_core::scenario::parse(&text, "disc.toml", &[] as &[&str])
+        .unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
 fn disc_toml(radius: f64, edge: f64, rim_z: f64, d2: f64, inertia: (f64, f64)) -> String {
@@ -158,7 +171,10 @@ fn disc_toml(radius: f64, edge: f64, rim_z: f64, d2: f64, inertia: (f64, f64)) -
 /// The largest |θ − θ0| and horizontal excursion of G over a run.
 fn excursions(samples: &[Sample], theta0: f64) -> (f64, f64) {
     samples.iter().fold((0.0, 0.0), |(dt, dx), s| {
-        (dt.max((s.angles.theta - theta0).abs()), dx.max(s.position.xy().norm()))
+        (
+            dt.max((s.angles.theta - theta0).abs()),
+            dx.max(s.position.xy().norm()),
+        )
     })
 }
 
@@ -167,7 +183,14 @@ fn excursions(samples: &[Sample], theta0: f64) -> (f64, f64) {
 /// centre a distance d above G along the axis, transverse and axial moments I_t, I_a:
 /// ψ̇ = −Ω (d sin α + R cos α)/(R + r sin α) and
 /// Ω² = m g (d sin α + R cos α) / (sin α [I_t cos α − I_a sin α (r cos α − d)/(R + r sin α)]).
-fn steady_rates(m: f64, radius: f64, edge: f64, d: f64, inertia: (f64, f64), alpha: f64) -> (f64, f64) {
+fn steady_rates(
+    m: f64,
+    radius: f64,
+    edge: f64,
+    d: f64,
+    inertia: (f64, f64),
+    alpha: f64,
+) -> (f64, f64) {
     let (s, c) = alpha.sin_cos();
     let lever = d * s + radius * c;
     let denominator = s * (inertia.0 * c - inertia.1 * s * (edge * c - d) / (radius + edge * s));
@@ -197,9 +220,15 @@ fn moffatt_a_uniform_thin_disc_spinning_with_its_centre_fixed_keeps_its_tilt() {
             assert_eq!(out.status, Status::Completed);
             let (tilt, drift) = excursions(&samples, alpha);
             if stays {
-                assert!(tilt < 1e-9 && drift < 1e-9 * radius, "α = {alpha}: Δθ {tilt:e}, G moved {drift:e} m");
+                assert!(
+                    tilt < 1e-9 && drift < 1e-9 * radius,
+                    "α = {alpha}: Δθ {tilt:e}, G moved {drift:e} m"
+                );
             } else {
-                assert!(tilt > 1e-4, "α = {alpha}, Ω off by 1 %: Δθ {tilt:e} (the test must tell the rate apart)");
+                assert!(
+                    tilt > 1e-4,
+                    "α = {alpha}, Ω off by 1 %: Δθ {tilt:e} (the test must tell the rate apart)"
+                );
             }
         }
     }
@@ -220,7 +249,10 @@ fn moffatt_a_rounded_rim_off_the_plane_of_g_spins_steadily_at_the_general_rate()
         let (out, samples) = run(&sc.scene);
         assert_eq!(out.status, Status::Completed);
         let (tilt, drift) = excursions(&samples, alpha);
-        assert!(tilt < 1e-9 && drift < 1e-9 * radius, "α = {alpha}: Δθ {tilt:e}, G moved {drift:e} m");
+        assert!(
+            tilt < 1e-9 && drift < 1e-9 * radius,
+            "α = {alpha}: Δθ {tilt:e}, G moved {drift:e} m"
+        );
     }
 }
 
@@ -251,7 +283,10 @@ fn the_upright_rolling_disc_is_stable_above_the_critical_spin_and_falls_below_it
         let (first, second) = (lean(0.0, 10.0), lean(10.0, 20.0));
         let lean = first.max(second);
         if stable {
-            assert!(lean < 0.01 && second <= 1.01 * first, "{factor} n_c: leaned {first} then {second} rad");
+            assert!(
+                lean < 0.01 && second <= 1.01 * first,
+                "{factor} n_c: leaned {first} then {second} rad"
+            );
         } else {
             assert!(lean > 0.1, "{factor} n_c: leaned only {lean} rad");
         }
@@ -264,12 +299,23 @@ fn the_upright_rolling_disc_is_stable_above_the_critical_spin_and_falls_below_it
 fn rolling_and_frictionless_rims_conserve_energy() {
     let body = disc_toml(0.03, 0.004, -0.002, 0.001, (8e-5, 1.5e-4));
     for model in ["rolling", "frictionless"] {
-        let sc = scene(&body, "theta = 0.9\nphi_dot = 3.0\npsi_dot = 25.0\ntheta_dot = 1.0", model, 3.0);
+        let sc = scene(
+            &body,
+            "theta = 0.9\nphi_dot = 3.0\npsi_dot = 25.0\ntheta_dot = 1.0",
+            model,
+            3.0,
+        );
         let (out, samples) = run(&sc.scene);
         assert_eq!(out.status, Status::Completed, "{model}");
         let e0 = samples[0].energy;
-        let worst = samples.iter().map(|s| (s.energy - e0).abs()).fold(0.0, f64::max);
-        assert!(worst < 1e-10 * e0.abs(), "{model}: E moved {worst:e} J of {e0} J");
+        let worst = samples
+            .iter()
+            .map(|s| (s.energy - e0).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 1e-10 * e0.abs(),
+            "{model}: E moved {worst:e} J of {e0} J"
+        );
     }
 }
 
@@ -279,40 +325,74 @@ fn rolling_and_frictionless_rims_conserve_energy() {
 #[test]
 fn a_rim_of_vanishing_radius_moves_as_the_sphere_of_its_edge() {
     let base = "[body]\na = 0.02\nc = 0.03\nmass = 0.05\ncom_offset = 0.004\ninertia = [1.3e-5, 1.3e-5, 8e-6]\nellipsoid_contact = false\n";
-    let sphere = format!("{base}[[body.sphere]]\nname = \"tip\"\ncenter = [0.0, 0.0, -0.03]\nradius = 0.002\n");
+    let sphere = format!(
+        "{base}[[body.sphere]]\nname = \"tip\"\ncenter = [0.0, 0.0, -0.03]\nradius = 0.002\n"
+    );
     let rim = |ring: f64| {
-        format!("{base}[[body.rim]]\nname = \"tip\"\ncenter = [0.0, 0.0, -0.03]\nradius = {ring}\nedge = 0.002\n")
+        format!(
+            "{base}[[body.rim]]\nname = \"tip\"\ncenter = [0.0, 0.0, -0.03]\nradius = {ring}\nedge = 0.002\n"
+        )
     };
     let initial = "theta = 0.4\npsi_dot = 60.0\nphi_dot = 2.0";
     let (_, a) = run(&scene(&sphere, initial, "frictionless", 1.0).scene);
     let apart = |ring: f64| {
         let (_, b) = run(&scene(&rim(ring), initial, "frictionless", 1.0).scene);
         assert_eq!(a.len(), b.len());
-        a.iter().zip(&b).map(|(p, q)| (p.position - q.position).norm()).fold(0.0, f64::max)
+        a.iter()
+            .zip(&b)
+            .map(|(p, q)| (p.position - q.position).norm())
+            .fold(0.0, f64::max)
     };
     let (small, double) = (apart(3e-8), apart(6e-8));
     assert!(small < 3e-7, "G apart by {small:e} m");
-    assert!((1.8..2.2).contains(&(double / small)), "{small:e} m, then {double:e} m at twice R");
+    assert!(
+        (1.8..2.2).contains(&(double / small)),
+        "{small:e} m, then {double:e} m at twice R"
+    );
 }
 
 #[test]
 fn rim_keys_and_their_errors_name_the_line_and_the_rule() {
     let body = "[body]\na = 0.05\nc = 0.005\nmass = 0.3\ninertia = [1.875e-4, 1.875e-4, 3.75e-4]\n";
     let err = |rims: &str| {
-        let text = format!("{body}{rims}[initial]\ntheta = 0.5\n[contact]\nmodel = \"rolling\"\n[output]\nt_end = 1.0\ndt = 0.1\n");
-        ellipsoid_core::scenario::parse(&text, "x.toml", &[] as &[&str]).unwrap_err().to_string()
+        let text = format!(
+            "{body}{rims}[initial]\ntheta = 0.5\n[contact]\nmodel = \"rolling\"\n[output]\nt_end = 1.0\ndt = 0.1\n"
+        );
+        ellipsoid_core::scenario::parse(&text, "x.toml", &[] as &[&str])
+            .unwrap_err()
+            .to_string()
     };
-    let off_axis = err("[[body.rim]]\nname = \"edge\"\ncenter = [0.01, 0.0, 0.0]\nradius = 0.05\nedge = 0.0\n");
+    let off_axis = err(
+        "[[body.rim]]\nname = \"edge\"\ncenter = [0.01, 0.0, 0.0]\nradius = 0.05\nedge = 0.0\n",
+    );
     assert_eq!(
         off_axis,
         "x.toml:8:1: body.rim[0].center = [0.01, 0.0, 0.0]: a rim's centre lies on the body's symmetry axis: [0.0, 0.0, z]"
     );
-    let negative = err("[[body.rim]]\nname = \"edge\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.05\nedge = -0.001\n");
-    assert!(negative.starts_with("x.toml:10:1: body.rim[0].edge = -0.001: an edge radius must be finite and at least 0"), "{negative}");
-    let twin = err("[[body.sphere]]\nname = \"edge\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.01\n[[body.rim]]\nname = \"edge\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.05\nedge = 0.0\n");
-    assert!(twin.contains("body.rim[0].name = \"edge\": rim names must be unique among spheres and rims"), "{twin}");
+    let negative = err(
+        "[[body.rim]]\nname = \"edge\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.05\nedge = -0.001\n",
+    );
+    assert!(
+        negative.starts_with(
+            "x.toml:10:1: body.rim[0].edge = -0.001: an edge radius must be finite and at least 0"
+        ),
+        "{negative}"
+    );
+    let twin = err(
+        "[[body.sphere]]\nname = \"edge\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.01\n[[body.rim]]\nname = \"edge\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.05\nedge = 0.0\n",
+    );
+    assert!(
+        twin.contains(
+            "body.rim[0].name = \"edge\": rim names must be unique among spheres and rims"
+        ),
+        "{twin}"
+    );
     let alone = err("ellipsoid_contact = false\n");
-    assert!(alone.contains("body.ellipsoid_contact") && alone.contains("needs a contact sphere or a rim"), "{alone}");
+    assert!(
+        alone.contains("body.ellipsoid_contact")
+            && alone.contains("needs a contact sphere or a rim"),
+        "{alone}"
+    );
 }
 
 /// A coin has no ellipsoid: the surfaces a body names are its spheres and rims only.
@@ -323,7 +403,10 @@ fn a_body_without_ellipsoid_contact_touches_with_its_rims_only() {
     // Tilted 0.5 rad the ellipsoid (a = R, c = R/10) would reach lower than the rim's
     // sharp edge does not: the lowest surface is still the rim.
     let zeta = Vector3::new(0.0, 0.5f64.sin(), 0.5f64.cos());
-    assert_eq!(Contact::lowest(&body, zeta, Vector3::zeros()).surface, Surface::Rim(0));
+    assert_eq!(
+        Contact::lowest(&body, zeta, Vector3::zeros()).surface,
+        Surface::Rim(0)
+    );
 }
 
 /// A coin: R = 12.13 mm, 1.75 mm thick (its rim's edge half that), 5.67 g, its moments
@@ -335,14 +418,20 @@ fn coin_toml() -> String {
         .to_owned()
 }
 
-fn coin_scene(initial: &str, contact: &str, rtol: f64, t_end: f64) -> ellipsoid_core::scenario::Scenario {
+fn coin_scene(
+    initial: &str,
+    contact: &str,
+    rtol: f64,
+    t_end: f64,
+) -> ellipsoid_core::scenario::Scenario {
     let text = format!(
         "{}[initial]\n{initial}\n[contact]\n{contact}\n[solver]\nmethod = \"dop853\"\nrtol = {rtol}\natol = {}\n\
          [output]\nt_end = {t_end}\ndt = 0.001\n",
         coin_toml(),
         rtol * 1e-2
     );
-    ellipsoid_core::scenario::parse(&text, "coin.toml", &[] as &[&str]).unwrap_or_else(|e| panic!("{e}\n{text}"))
+    ellipsoid_core::scenario::parse(&text, "coin.toml", &[] as &[&str])
+        .unwrap_or_else(|e| panic!("{e}\n{text}"))
 }
 
 /// The times of a run's flat landings, with their energy losses.
@@ -368,7 +457,11 @@ fn a_coin_tipping_over_lands_flat_once_and_comes_to_rest_on_its_face() {
     let (t_flat, loss) = landed[0];
     assert!(loss > 0.0, "the face's impact removes energy: {loss}");
     let (tight, _) = run(&coin_scene("theta = 1.2", contact, 1e-12, 0.5).scene);
-    assert!((flats(&tight)[0].0 - t_flat).abs() < 1e-9, "{t_flat} vs {:?}", flats(&tight));
+    assert!(
+        (flats(&tight)[0].0 - t_flat).abs() < 1e-9,
+        "{t_flat} vs {:?}",
+        flats(&tight)
+    );
     // On its face from the landing on, at rest at the end.
     for s in samples.iter().filter(|s| s.t > t_flat) {
         assert_eq!(s.mode, ellipsoid_core::simulate::Mode::Face, "t = {}", s.t);
@@ -381,7 +474,11 @@ fn a_coin_tipping_over_lands_flat_once_and_comes_to_rest_on_its_face() {
     // E + W continuous; E falls at the landing.
     let e0 = samples[0].energy + samples[0].work;
     for s in &samples {
-        assert!((s.energy + s.work - e0).abs() < 1e-9 * e0, "t = {}: E + W moved", s.t);
+        assert!(
+            (s.energy + s.work - e0).abs() < 1e-9 * e0,
+            "t = {}: E + W moved",
+            s.t
+        );
     }
     let before = samples.iter().rfind(|s| s.t < t_flat).unwrap();
     let after = samples.iter().find(|s| s.t > t_flat).unwrap();
@@ -413,9 +510,17 @@ fn a_frictionless_coin_keeps_its_vertical_angular_momentum_through_the_flat_land
     };
     let l0 = lz(&samples[0]);
     for s in &samples {
-        assert!((lz(s) - l0).abs() < 1e-9 * l0.abs(), "t = {}: L_z {} vs {l0}", s.t, lz(s));
+        assert!(
+            (lz(s) - l0).abs() < 1e-9 * l0.abs(),
+            "t = {}: L_z {} vs {l0}",
+            s.t,
+            lz(s)
+        );
     }
-    let face: Vec<&Sample> = samples.iter().filter(|s| s.mode == ellipsoid_core::simulate::Mode::Face).collect();
+    let face: Vec<&Sample> = samples
+        .iter()
+        .filter(|s| s.mode == ellipsoid_core::simulate::Mode::Face)
+        .collect();
     assert!(face.len() > 100);
     let (first, last) = (face[0], face[face.len() - 1]);
     assert!((last.omega_world.z - first.omega_world.z).abs() < 1e-12 * first.omega_world.z.abs());
@@ -433,12 +538,24 @@ fn disc_body_for_lz() -> (f64, f64) {
 #[test]
 fn a_coin_dropped_flat_lands_on_its_face() {
     let h = 0.05;
-    let (out, samples) = run(&coin_scene(&format!("theta = 0.0\nheight = {h}"), "model = \"frictionless\"", 1e-11, 0.3).scene);
+    let (out, samples) = run(&coin_scene(
+        &format!("theta = 0.0\nheight = {h}"),
+        "model = \"frictionless\"",
+        1e-11,
+        0.3,
+    )
+    .scene);
     assert_eq!(out.status, Status::Completed);
     let landed = flats(&out);
     assert_eq!(landed.len(), 1, "{:?}", out.events);
-    assert!((landed[0].0 - (2.0 * h / G).sqrt()).abs() < 1e-9, "{landed:?}");
-    assert!((landed[0].1 - 5.67e-3 * G * h).abs() < 1e-9 * 5.67e-3 * G * h, "{landed:?}");
+    assert!(
+        (landed[0].0 - (2.0 * h / G).sqrt()).abs() < 1e-9,
+        "{landed:?}"
+    );
+    assert!(
+        (landed[0].1 - 5.67e-3 * G * h).abs() < 1e-9 * 5.67e-3 * G * h,
+        "{landed:?}"
+    );
     let last = samples.last().unwrap();
     assert!((last.position.z - 0.000875).abs() < 1e-15 && last.velocity.norm() == 0.0);
 }
@@ -446,9 +563,19 @@ fn a_coin_dropped_flat_lands_on_its_face() {
 /// A coin started lying flat (θ = 0) is on its face from t = 0.
 #[test]
 fn a_coin_started_flat_lies_on_its_face() {
-    let (out, samples) = run(&coin_scene("theta = 0.0\nphi_dot = 10.0\nvelocity = [0.1, 0.0]", "model = \"sliding\"\nfriction = 0.2\ncontact_radius = 1e-4", 1e-10, 1.0).scene);
+    let (out, samples) = run(&coin_scene(
+        "theta = 0.0\nphi_dot = 10.0\nvelocity = [0.1, 0.0]",
+        "model = \"sliding\"\nfriction = 0.2\ncontact_radius = 1e-4",
+        1e-10,
+        1.0,
+    )
+    .scene);
     assert_eq!(out.status, Status::Completed, "{:?}", out.events);
-    assert!(samples.iter().all(|s| s.mode == ellipsoid_core::simulate::Mode::Face));
+    assert!(
+        samples
+            .iter()
+            .all(|s| s.mode == ellipsoid_core::simulate::Mode::Face)
+    );
     // Coulomb–Contensou: slip and spin stop together, within the run.
     let last = samples.last().unwrap();
     assert_eq!((last.velocity.norm(), last.omega.norm()), (0.0, 0.0));
@@ -485,14 +612,20 @@ fn a_thin_disc_rolls_steadily_on_a_circle_at_the_derived_rates() {
         let sc = scene(&body, &initial, "rolling", turns);
         let (out, samples) = run(&sc.scene);
         assert_eq!(out.status, Status::Completed);
-        let tilt = samples.iter().map(|s| (s.angles.theta - theta).abs()).fold(0.0, f64::max);
+        let tilt = samples
+            .iter()
+            .map(|s| (s.angles.theta - theta).abs())
+            .fold(0.0, f64::max);
         if steady {
             // O lies x_G from G against the axis's horizontal direction (−x at φ = π/2).
             let centre = samples[0].position.xy() - nalgebra::Vector2::new(x_g, 0.0);
             let off = (samples.iter())
                 .map(|s| ((s.contact - centre).norm() - 10.0 * radius).abs())
                 .fold(0.0, f64::max);
-            assert!(tilt < 1e-9 && off < 1e-9 * radius, "Δθ {tilt:e}, contact off the circle by {off:e} m");
+            assert!(
+                tilt < 1e-9 && off < 1e-9 * radius,
+                "Δθ {tilt:e}, contact off the circle by {off:e} m"
+            );
         } else {
             assert!(tilt > 1e-4, "Ω off by 1 %: Δθ {tilt:e}");
         }
@@ -516,9 +649,18 @@ fn a_sharp_cylinder_on_its_side_rolls_on_both_rims() {
     assert_eq!(out.status, Status::Completed);
     let last = samples.last().unwrap();
     assert_eq!(last.mode, ellipsoid_core::simulate::Mode::TwoContacts);
-    assert!(samples.iter().skip(1).all(|s| s.mode == ellipsoid_core::simulate::Mode::TwoContacts));
+    assert!(
+        samples
+            .iter()
+            .skip(1)
+            .all(|s| s.mode == ellipsoid_core::simulate::Mode::TwoContacts)
+    );
     // Rolling straight along x (the axis along y at φ = 0), at R ψ̇'s speed after the grip.
-    assert!(last.position.y.abs() < 1e-8, "lateral drift {} m", last.position.y);
+    assert!(
+        last.position.y.abs() < 1e-8,
+        "lateral drift {} m",
+        last.position.y
+    );
     assert!(last.position.x.abs() > 0.1);
     let e0 = samples[0].energy + samples[0].work;
     assert!((last.energy + last.work - e0).abs() < 1e-12 * e0);

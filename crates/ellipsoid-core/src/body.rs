@@ -224,7 +224,10 @@ impl Body {
         }
         for (k, sp) in spheres.iter().enumerate() {
             let part = Part::new("sphere", k, &sp.name, self.semi_axes.max());
-            part.name(spheres[..k].iter().any(|o| o.name == sp.name) || self.rims.iter().any(|o| o.name == sp.name))?;
+            part.name(
+                spheres[..k].iter().any(|o| o.name == sp.name)
+                    || self.rims.iter().any(|o| o.name == sp.name),
+            )?;
             part.length("radius", sp.radius, false)?;
             part.center(sp.center)?;
         }
@@ -246,7 +249,10 @@ impl Body {
         }
         for (k, rim) in rims.iter().enumerate() {
             let part = Part::new("rim", k, &rim.name, self.semi_axes.max());
-            part.name(rims[..k].iter().any(|o| o.name == rim.name) || self.spheres.iter().any(|o| o.name == rim.name))?;
+            part.name(
+                rims[..k].iter().any(|o| o.name == rim.name)
+                    || self.spheres.iter().any(|o| o.name == rim.name),
+            )?;
             part.length("radius", rim.radius, false)?;
             part.length("edge", rim.edge, true)?;
             part.center(rim.center)?;
@@ -349,9 +355,12 @@ impl Body {
     /// Every surface that touches: the ellipsoid (unless it does not touch), then the
     /// spheres, then the rims.
     pub fn surfaces(&self) -> impl Iterator<Item = Surface> + '_ {
-        (self.ellipsoid_contact.then_some(Surface::Ellipsoid).into_iter())
-            .chain((0..self.spheres.len()).map(Surface::Sphere))
-            .chain((0..self.rims.len()).map(Surface::Rim))
+        (self
+            .ellipsoid_contact
+            .then_some(Surface::Ellipsoid)
+            .into_iter())
+        .chain((0..self.spheres.len()).map(Surface::Sphere))
+        .chain((0..self.rims.len()).map(Surface::Rim))
     }
     /// The name of `surface`: "ellipsoid", or its sphere's or rim's name.
     pub fn surface_name(&self, surface: Surface) -> &str {
@@ -365,7 +374,10 @@ impl Body {
     /// rim, |c| + ρ or |c| + R + r, if farther \[m\].
     pub fn reach(&self) -> f64 {
         let spheres = self.spheres.iter().map(|s| s.center.norm() + s.radius);
-        let rims = self.rims.iter().map(|r| r.center.norm() + r.radius + r.edge);
+        let rims = self
+            .rims
+            .iter()
+            .map(|r| r.center.norm() + r.radius + r.edge);
         spheres.chain(rims).fold(self.semi_axes.max(), f64::max)
     }
 }
@@ -380,7 +392,12 @@ struct Part<'a> {
 
 impl<'a> Part<'a> {
     fn new(kind: &'static str, k: usize, name: &'a str, size: f64) -> Self {
-        Part { kind, k, name_: name, size }
+        Part {
+            kind,
+            k,
+            name_: name,
+            size,
+        }
     }
 
     /// Its key `body.{kind}[k].{key}`.
@@ -406,7 +423,9 @@ impl<'a> Part<'a> {
             return Err(ModelError::invalid(
                 self.field("name"),
                 Value::Name(name.to_owned()),
-                format!("{kind} names must be unique among spheres and rims and not \"ellipsoid\" (the body's own surface)"),
+                format!(
+                    "{kind} names must be unique among spheres and rims and not \"ellipsoid\" (the body's own surface)"
+                ),
             ));
         }
         Ok(())

@@ -66,7 +66,15 @@ impl Contact {
             Surface::Ellipsoid => Contact::ellipsoid(body, zeta, omega),
             Surface::Sphere(k) => {
                 let sphere = &body.spheres()[k];
-                Contact::torus(body, surface, sphere.center, 0.0, sphere.radius, zeta, omega)
+                Contact::torus(
+                    body,
+                    surface,
+                    sphere.center,
+                    0.0,
+                    sphere.radius,
+                    zeta,
+                    omega,
+                )
             }
             Surface::Rim(k) => {
                 let rim = &body.rims()[k];

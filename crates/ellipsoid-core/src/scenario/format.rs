@@ -103,7 +103,13 @@ pub(super) fn read_body(ctx: &Ctx<'_>, tree: &Node, root: &Sec<'_>) -> Result<Bo
     Body::new(axes, mass, inertia, com)
         .and_then(|body| body.with_spheres(spheres))
         .and_then(|body| body.with_rims(rims))
-        .and_then(|body| if touches { Ok(body) } else { body.without_ellipsoid_contact() })
+        .and_then(|body| {
+            if touches {
+                Ok(body)
+            } else {
+                body.without_ellipsoid_contact()
+            }
+        })
         .map_err(|e| ctx.model(tree, &e))
 }
 
@@ -131,10 +137,19 @@ fn read_parts(ctx: &Ctx<'_>, body: &Sec<'_>) -> Result<(Vec<Sphere>, Vec<Rim>)> 
     let taken: Vec<&str> = spheres.iter().map(|p| p.name.as_str()).collect();
     let rims = read_part_tables(ctx, body, "rim", MAX_RIMS, &taken)?;
     let spheres = (spheres.into_iter())
-        .map(|p| Sphere { name: p.name, center: p.center, radius: p.radius })
+        .map(|p| Sphere {
+            name: p.name,
+            center: p.center,
+            radius: p.radius,
+        })
         .collect();
     let rims = (rims.into_iter())
-        .map(|p| Rim { name: p.name, center: p.center, radius: p.radius, edge: p.edge })
+        .map(|p| Rim {
+            name: p.name,
+            center: p.center,
+            radius: p.radius,
+            edge: p.edge,
+        })
         .collect();
     Ok((spheres, rims))
 }
@@ -153,7 +168,11 @@ fn read_part_tables(
         return Ok(Vec::new());
     };
     let Value::Array(items) = &got.node().value else {
-        return Err(ctx.wrong_type(body, got, &format!("an array of tables ([[body.{kind}]] entries)")));
+        return Err(ctx.wrong_type(
+            body,
+            got,
+            &format!("an array of tables ([[body.{kind}]] entries)"),
+        ));
     };
     if items.len() > most {
         let what = if rim { "rims" } else { "contact spheres" };
@@ -236,12 +255,24 @@ fn read_part_tables(
             "the sphere's radius (m)"
         };
         let radius = ctx
-            .checked(&sec, "radius", radius_what, |v| v > 0.0, "a radius must be positive and finite (m)")?
+            .checked(
+                &sec,
+                "radius",
+                radius_what,
+                |v| v > 0.0,
+                "a radius must be positive and finite (m)",
+            )?
             .ok_or_else(|| ctx.missing(&sec, "radius", format!("give {radius_what}")))?;
         let edge = if rim {
             let edge_what = "the radius r of the rim's rounded edge, 0 for a sharp edge (m)";
-            ctx.checked(&sec, "edge", edge_what, |v| v >= 0.0, "an edge radius must be finite and at least 0 (m)")?
-                .ok_or_else(|| ctx.missing(&sec, "edge", format!("give {edge_what}")))?
+            ctx.checked(
+                &sec,
+                "edge",
+                edge_what,
+                |v| v >= 0.0,
+                "an edge radius must be finite and at least 0 (m)",
+            )?
+            .ok_or_else(|| ctx.missing(&sec, "edge", format!("give {edge_what}")))?
         } else {
             0.0
         };

@@ -60,7 +60,8 @@ pub(super) fn land_flat<E: Effect + Copy + 'static>(
     // The far side: the circle's point opposite the contact, its approach speed.
     let rim = &body.rims()[k];
     let (out, _) = geometry::ring_direction(kin.contact.zeta);
-    let far = kin.rot * (rim.center + rim.radius * out - rim.edge * kin.contact.zeta - body.com_offset());
+    let far =
+        kin.rot * (rim.center + rim.radius * out - rim.edge * kin.contact.zeta - body.com_offset());
     let speed = -(kin.v_g + omega.cross(&far)).z;
     // The attitude set flat: the rim's axis, upward, turned onto the vertical.
     Face::flatten(y);
@@ -68,14 +69,20 @@ pub(super) fn land_flat<E: Effect + Copy + 'static>(
     let inertia = rot * body.inertia() * rot.transpose();
     // The plastic impact of the face.
     let grips = scene.contact == ContactModel::Rolling;
-    let spin = if grips { 0.0 } else { (inertia * omega).z / inertia[(2, 2)] };
+    let spin = if grips {
+        0.0
+    } else {
+        (inertia * omega).z / inertia[(2, 2)]
+    };
     let after = Vector3::new(0.0, 0.0, spin);
     let impulse = -m * kin.v_g.z;
     let moment = inertia * (after - omega);
     let lever = rot * (rim.center - rim.edge * rot.transpose() * Vector3::z() - body.com_offset());
     // Centre of pressure from G: J (r_y, −r_x) = ΔL_h.
     let offset = if impulse > 0.0 {
-        (Vector3::new(-moment.y / impulse, moment.x / impulse, 0.0) - lever).xy().norm()
+        (Vector3::new(-moment.y / impulse, moment.x / impulse, 0.0) - lever)
+            .xy()
+            .norm()
     } else if moment.xy().norm() == 0.0 {
         0.0
     } else {
@@ -91,12 +98,17 @@ pub(super) fn land_flat<E: Effect + Copy + 'static>(
             from,
         );
     }
-    let v = if grips { Vector3::zeros() } else { Vector3::new(kin.v_g.x, kin.v_g.y, 0.0) };
+    let v = if grips {
+        Vector3::zeros()
+    } else {
+        Vector3::new(kin.v_g.x, kin.v_g.y, 0.0)
+    };
     y[state::VEL] = v.x;
     y[state::VEL + 1] = v.y;
     y[state::HEIGHT] = 0.0;
     y[state::VEL_Z] = 0.0;
-    y.fixed_rows_mut::<3>(state::OMEGA).copy_from(&(rot.transpose() * after));
+    y.fixed_rows_mut::<3>(state::OMEGA)
+        .copy_from(&(rot.transpose() * after));
     let landed = energy(&Kinematics::new(body, y, false));
     let energy_loss = before - landed;
     y[state::WORK] += energy_loss;
@@ -109,7 +121,10 @@ pub(super) fn land_flat<E: Effect + Copy + 'static>(
         t,
     });
     events.push(EventRecord {
-        kind: EventKind::ModeSwitch { from, to: Mode::Face },
+        kind: EventKind::ModeSwitch {
+            from,
+            to: Mode::Face,
+        },
         t,
     });
     Next::Go(Mode::Face)

@@ -7,8 +7,8 @@
 
 use crate::body::Surface;
 use crate::effects::Effect;
-use crate::model::{Evaluation, Face, System};
 use crate::model::contensou::Law;
+use crate::model::{Evaluation, Face, System};
 use crate::state::{self, State};
 
 use super::{Next, Phase};
