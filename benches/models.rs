@@ -10,8 +10,9 @@ use std::ops::ControlFlow;
 use std::path::Path;
 
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
-use ellipsoid_core::body::Body;
+use ellipsoid_core::body::{Body, Rim, Surface};
 use ellipsoid_core::effects::AirDrag;
+use ellipsoid_core::geometry;
 use ellipsoid_core::integrate::{Method, OdeSystem, Options, integrate};
 use ellipsoid_core::model::contensou::Law;
 use ellipsoid_core::model::{
@@ -56,6 +57,33 @@ fn state() -> State {
     y
 }
 
+/// The top with a rounded rim round its equator (R = 22 mm, edge 3 mm).
+fn rimmed() -> Body {
+    top()
+        .with_rims(vec![Rim {
+            name: "rim".into(),
+            center: nalgebra::Vector3::zeros(),
+            radius: 0.022,
+            edge: 0.003,
+        }])
+        .unwrap()
+}
+
+/// The gap function h(ζ) of each kind of surface (the flight phase's and the guard's
+/// watch, evaluated at every step for every surface off the plane).
+fn gap(c: &mut Criterion) {
+    let zeta = nalgebra::Vector3::new(0.3, -0.2, 0.93).normalize();
+    let body = rimmed();
+    let mut group = c.benchmark_group("gap");
+    group.throughput(Throughput::Elements(1));
+    for (name, surface) in [("ellipsoid", Surface::Ellipsoid), ("rim", Surface::Rim(0))] {
+        group.bench_function(name, |b| {
+            b.iter(|| geometry::height(black_box(&body), surface, black_box(zeta)))
+        });
+    }
+    group.finish();
+}
+
 fn system<C: ContactLaw>(contact: C) -> System<C, ()> {
     System {
         body: top(),
@@ -84,6 +112,15 @@ fn rhs(c: &mut Criterion) {
     let roll = system(Rolling);
     group.bench_function("rolling", |b| {
         b.iter(|| black_box(&roll).rhs(0.0, black_box(&y)))
+    });
+    // The same rolling state on a rounded rim of the top's size instead of its ellipsoid
+    // (issue 44: a rim's contact costs at most the ellipsoid's).
+    let on_rim = System {
+        body: rimmed().touching(Surface::Rim(0)),
+        ..system(Rolling)
+    };
+    group.bench_function("rolling_rim", |b| {
+        b.iter(|| black_box(&on_rim).rhs(0.0, black_box(&y)))
     });
     // The sliding law over a contact disc (Coulomb–Contensou, issue #14) against the point
     // contact above: R = 0.5 mm puts d = |v_C|/(R|ω_n|) at 30 (the series in 1/d²),
@@ -265,5 +302,5 @@ fn sweep(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, rhs, steps, scenarios, idle_sphere, sweep);
+criterion_group!(benches, rhs, gap, steps, scenarios, idle_sphere, sweep);
 criterion_main!(benches);

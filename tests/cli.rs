@@ -193,6 +193,9 @@ fn every_bundled_scenario_has_a_test() {
         "tippe-top-stem",
         "top-on-peg",
         "top-falls-onto-rim",
+        "coin",
+        "euler-disk",
+        "rolling-disc",
     ];
     for entry in std::fs::read_dir(scenarios()).unwrap() {
         let path = entry.unwrap().path();
@@ -307,6 +310,32 @@ fn scenario_rattleback_reverses_its_spin() {
     let wz = column(&h, &rows, "omega_z");
     assert_eq!(wz[0], -5.0);
     assert!(*wz.last().unwrap() > 1.0, "ω3 = {}", wz.last().unwrap());
+}
+
+/// The coin and Euler's disk spin down and land flat once (the event `flat`), then lie on
+/// their face to the end; the rolling disc keeps its lean on its circle.
+#[test]
+fn scenario_coin_and_euler_disk_land_flat_and_the_rolling_disc_keeps_its_lean() {
+    for (name, at) in [("coin", 7.25), ("euler-disk", 19.55)] {
+        let (s, h, rows) = run_scenario(name, None, "completed");
+        let flats: Vec<f64> = (s["events"].as_array().unwrap().iter())
+            .filter(|e| e["kind"] == "flat")
+            .map(|e| e["t"].as_f64().unwrap())
+            .collect();
+        assert_eq!(flats.len(), 1, "{name}: {flats:?}");
+        assert!((flats[0] - at).abs() < 0.01, "{name}: flat at {}", flats[0]);
+        let k = h.iter().position(|c| c == "mode").unwrap();
+        assert!(rows.last().unwrap()[k].starts_with("face@"), "{name}");
+        assert!(
+            s["drift"]["energy_plus_work"].as_f64().unwrap() < 1e-8,
+            "{name}"
+        );
+    }
+    let (s, h, rows) = run_scenario("rolling-disc", None, "completed");
+    let theta = column(&h, &rows, "theta");
+    let lean = 85f64.to_radians();
+    assert!(theta.iter().all(|t| (t - lean).abs() < 1e-9));
+    assert!(s["drift"]["energy"].as_f64().unwrap() < 1e-10);
 }
 
 #[test]

@@ -531,6 +531,18 @@ const ROWS_ELSEWHERE: &[(&[usize], &str, &str)] = &[
         "tests/campaign.rs, random_scenes_whose_slip_was_held_at_the_cone_edge_end_physically \
          (14 random scenes; a scene file would need a state tuned to the cone's edge)",
     ),
+    (
+        &[29, 30, 31, 32],
+        "start on a flat rim; flight | touchdown of a flat rim; a rim in contact | sin α ↓ 1e-6; \
+         face | slip and spin stop",
+        "tests/rims.rs (a coin started flat, a coin dropped flat, a coin tipping over: each \
+         lands on its face and, with friction, rests there)",
+    ),
+    (
+        &[33],
+        "face | N ↓ 0 | as frictionless",
+        "not reached by a scene yet: no effect lifts a body lying on its face",
+    ),
 ];
 
 fn load(scene: &Scene) -> (Outcome, Vec<Sample>) {

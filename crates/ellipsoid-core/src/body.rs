@@ -1,8 +1,10 @@
 //! The rigid body: an ellipsoid with semi-axes (a, b, c) along its principal body axes,
 //! centre of mass G offset from the geometric centre C0, central inertia about G — and up
-//! to [`MAX_SPHERES`] contact spheres fixed in the body (a tippe top's stem, a top's peg;
-//! docs/physics.md, "Contact spheres"), which touch the plane but carry no mass of their
-//! own (the inertia is the whole body's).
+//! to [`MAX_SPHERES`] contact spheres and [`MAX_RIMS`] rims fixed in the body (a tippe
+//! top's stem, a top's peg; a coin's or a disc's edge: docs/physics.md, "Contact spheres"
+//! and "Rims"), which touch the plane but carry no mass of their own (the inertia is the
+//! whole body's). A body whose ellipsoid does not touch ([`Body::without_ellipsoid_contact`])
+//! touches with its spheres and rims only: a coin is its rim.
 //!
 //! docs/physics.md, "Body, frames, conventions". The paper's body is a = b, c, with
 //! `com_offset = (0, 0, −D2)` (paper eq. 7) and `I_b = diag(I, I, I3)`.
@@ -41,6 +43,25 @@ pub struct Sphere {
     pub radius: f64,
 }
 
+/// Most rims a body may have.
+pub const MAX_RIMS: usize = 4;
+
+/// A rim fixed in the body: the torus swept by a sphere of radius `edge` whose centre runs
+/// round the circle of radius `radius` about the body's z axis, centred at `center` on
+/// that axis (docs/physics.md, "Rims"). `edge` = 0 is a sharp edge (a thin disc's rim).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Rim {
+    /// Its name (output columns and events name the surface by it).
+    pub name: String,
+    /// The centre of its circle in body axes, from the ellipsoid's centre C0, on the body
+    /// z axis: (0, 0, z) \[m\].
+    pub center: Vector3<f64>,
+    /// R > 0: the radius of the circle through the centres of the edge's cross-section \[m\].
+    pub radius: f64,
+    /// r ≥ 0: the radius of the rounded edge; 0 a sharp edge \[m\].
+    pub edge: f64,
+}
+
 /// A surface of the body that can touch the plane.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Surface {
@@ -48,6 +69,8 @@ pub enum Surface {
     Ellipsoid,
     /// Contact sphere number k ([`Body::spheres`]).
     Sphere(usize),
+    /// Rim number k ([`Body::rims`]).
+    Rim(usize),
 }
 
 /// A validated rigid ellipsoid, with its contact spheres. Construct with [`Body::new`]
@@ -66,6 +89,11 @@ pub struct Body {
     com_offset: Vector3<f64>,
     /// Its contact spheres.
     spheres: Vec<Sphere>,
+    /// Its rims.
+    rims: Vec<Rim>,
+    /// Whether the ellipsoid itself touches the plane (false: only its spheres and rims
+    /// do, the ellipsoid carrying the mass only).
+    ellipsoid_contact: bool,
     /// The surface whose contact the geometry describes (`geometry::Contact::new`): the
     /// one touching the plane; the ellipsoid unless set ([`Body::touching`]).
     surface: Surface,
@@ -175,6 +203,8 @@ impl Body {
             inertia_inv,
             com_offset,
             spheres: Vec::new(),
+            rims: Vec::new(),
+            ellipsoid_contact: true,
             surface: Surface::Ellipsoid,
         })
     }
@@ -192,68 +222,66 @@ impl Body {
                 format!("a body has at most {MAX_SPHERES} contact spheres"),
             ));
         }
-        let (min, max) = (f64::MIN_POSITIVE.sqrt(), f64::MAX.sqrt());
         for (k, sp) in spheres.iter().enumerate() {
-            let field = |key: &str| format!("body.sphere[{k}].{key}");
-            let word = |c: char| c.is_ascii_alphanumeric() || c == '_';
-            if sp.name.is_empty() || sp.name.len() > MAX_NAME || !sp.name.chars().all(word) {
+            let part = Part::new("sphere", k, &sp.name, self.semi_axes.max());
+            part.name(
+                spheres[..k].iter().any(|o| o.name == sp.name)
+                    || self.rims.iter().any(|o| o.name == sp.name),
+            )?;
+            part.length("radius", sp.radius, false)?;
+            part.center(sp.center)?;
+        }
+        self.spheres = spheres;
+        Ok(self)
+    }
+
+    /// The body with rims `rims` (at most [`MAX_RIMS`]; names unique among its spheres and
+    /// rims, as a sphere's are; centres on the body z axis, as far from C0 as a sphere's;
+    /// radius R and edge r bounded as a sphere's radius is, the edge also 0:
+    /// docs/scenarios.md, "Rims").
+    pub fn with_rims(mut self, rims: Vec<Rim>) -> Result<Self, ModelError> {
+        if rims.len() > MAX_RIMS {
+            return Err(ModelError::invalid(
+                "body.rim",
+                Value::Count(rims.len() as u64, "entries"),
+                format!("a body has at most {MAX_RIMS} rims"),
+            ));
+        }
+        for (k, rim) in rims.iter().enumerate() {
+            let part = Part::new("rim", k, &rim.name, self.semi_axes.max());
+            part.name(
+                rims[..k].iter().any(|o| o.name == rim.name)
+                    || self.spheres.iter().any(|o| o.name == rim.name),
+            )?;
+            part.length("radius", rim.radius, false)?;
+            part.length("edge", rim.edge, true)?;
+            part.center(rim.center)?;
+            if rim.center.x != 0.0 || rim.center.y != 0.0 {
                 return Err(ModelError::invalid(
-                    field("name"),
-                    Value::Name(sp.name.clone()),
-                    format!(
-                        "a sphere's name is 1 to {MAX_NAME} ASCII letters, digits or underscores \
-                         (it names output columns, e.g. normal_force_stem)"
-                    ),
-                ));
-            }
-            if spheres[..k].iter().any(|o| o.name == sp.name) || sp.name == "ellipsoid" {
-                return Err(ModelError::invalid(
-                    field("name"),
-                    Value::Name(sp.name.clone()),
-                    "sphere names must be unique and not \"ellipsoid\" (the body's own surface)",
-                ));
-            }
-            if !(sp.radius.is_finite() && (min..=max).contains(&sp.radius)) {
-                return Err(ModelError::invalid(
-                    field("radius"),
-                    sp.radius,
-                    format!("a sphere's radius must be a length from {min:.1e} to {max:.1e} m"),
-                ));
-            }
-            if sp.center.iter().any(|v| !(v.is_finite() && v.abs() <= max)) {
-                return Err(ModelError::invalid(
-                    field("center"),
-                    Value::vector(&sp.center),
-                    format!(
-                        "a sphere's centre must be finite, each coordinate at most {max:.1e} m"
-                    ),
-                ));
-            }
-            let size = self.semi_axes.max();
-            let (small, large) = (MIN_SPHERE_RADIUS * size, MAX_SPHERE_SPAN * size);
-            if !(small..=large).contains(&sp.radius) {
-                return Err(ModelError::invalid(
-                    field("radius"),
-                    sp.radius,
-                    format!(
-                        "a sphere's radius must be from {MIN_SPHERE_RADIUS:.0e} to {MAX_SPHERE_SPAN:.0e} times the body's largest semi-axis ({} m): {small:.3e} to {large:.3e} m",
-                        crate::error::number(size)
-                    ),
-                ));
-            }
-            if !(sp.center.norm() <= large) {
-                return Err(ModelError::invalid(
-                    field("center"),
-                    Value::vector(&sp.center),
-                    format!(
-                        "a sphere's centre must be at most {MAX_SPHERE_SPAN:.0e} times the body's largest semi-axis ({} m) from the ellipsoid's centre: {large:.3e} m; it is {:.3e} m",
-                        crate::error::number(size),
-                        sp.center.norm()
-                    ),
+                    part.field("center"),
+                    Value::vector(&rim.center),
+                    "a rim's centre lies on the body's symmetry axis: [0.0, 0.0, z]",
                 ));
             }
         }
-        self.spheres = spheres;
+        self.rims = rims;
+        Ok(self)
+    }
+
+    /// The body with its ellipsoid not touching the plane: only its spheres and rims touch
+    /// (a coin: its rim), the ellipsoid giving the body its size and, unless the inertia
+    /// is given, its mass distribution. Refused for a body with neither.
+    pub fn without_ellipsoid_contact(mut self) -> Result<Self, ModelError> {
+        if self.spheres.is_empty() && self.rims.is_empty() {
+            return Err(ModelError::invalid(
+                "body.ellipsoid_contact",
+                Value::Choice("false".into()),
+                "a body whose ellipsoid does not touch needs a contact sphere or a rim ([[body.sphere]], [[body.rim]])",
+            ));
+        }
+        self.ellipsoid_contact = false;
+        let first = self.surfaces().next().unwrap_or(Surface::Ellipsoid);
+        self.surface = first;
         Ok(self)
     }
 
@@ -311,16 +339,152 @@ impl Body {
     pub fn surface(&self) -> Surface {
         self.surface
     }
-    /// Every surface: the ellipsoid, then the spheres.
-    pub fn surfaces(&self) -> impl Iterator<Item = Surface> + '_ {
-        std::iter::once(Surface::Ellipsoid).chain((0..self.spheres.len()).map(Surface::Sphere))
+    /// Its rims.
+    pub fn rims(&self) -> &[Rim] {
+        &self.rims
     }
-    /// The name of `surface`: "ellipsoid", or its sphere's name.
+    /// Whether the ellipsoid itself touches the plane.
+    pub fn ellipsoid_contact(&self) -> bool {
+        self.ellipsoid_contact
+    }
+    /// Whether the body's only surface is its ellipsoid (no spheres, no rims): the
+    /// paper's body, whose outputs name no surface.
+    pub fn plain(&self) -> bool {
+        self.spheres.is_empty() && self.rims.is_empty()
+    }
+    /// Every surface that touches: the ellipsoid (unless it does not touch), then the
+    /// spheres, then the rims.
+    pub fn surfaces(&self) -> impl Iterator<Item = Surface> + '_ {
+        (self
+            .ellipsoid_contact
+            .then_some(Surface::Ellipsoid)
+            .into_iter())
+        .chain((0..self.spheres.len()).map(Surface::Sphere))
+        .chain((0..self.rims.len()).map(Surface::Rim))
+    }
+    /// The name of `surface`: "ellipsoid", or its sphere's or rim's name.
     pub fn surface_name(&self, surface: Surface) -> &str {
         match surface {
             Surface::Ellipsoid => "ellipsoid",
             Surface::Sphere(k) => &self.spheres[k].name,
+            Surface::Rim(k) => &self.rims[k].name,
         }
+    }
+    /// The body's extent from C0: its largest semi-axis, or the reach of a sphere or a
+    /// rim, |c| + ρ or |c| + R + r, if farther \[m\].
+    pub fn reach(&self) -> f64 {
+        let spheres = self.spheres.iter().map(|s| s.center.norm() + s.radius);
+        let rims = self
+            .rims
+            .iter()
+            .map(|r| r.center.norm() + r.radius + r.edge);
+        spheres.chain(rims).fold(self.semi_axes.max(), f64::max)
+    }
+}
+
+/// A sphere or rim being validated: its kind, index, name and the body's size L.
+struct Part<'a> {
+    kind: &'static str,
+    k: usize,
+    name_: &'a str,
+    size: f64,
+}
+
+impl<'a> Part<'a> {
+    fn new(kind: &'static str, k: usize, name: &'a str, size: f64) -> Self {
+        Part {
+            kind,
+            k,
+            name_: name,
+            size,
+        }
+    }
+
+    /// Its key `body.{kind}[k].{key}`.
+    fn field(&self, key: &str) -> String {
+        format!("body.{}[{}].{key}", self.kind, self.k)
+    }
+
+    /// A word of at most [`MAX_NAME`] bytes, not `taken` and not "ellipsoid".
+    fn name(&self, taken: bool) -> Result<(), ModelError> {
+        let (kind, name) = (self.kind, self.name_);
+        let word = |c: char| c.is_ascii_alphanumeric() || c == '_';
+        if name.is_empty() || name.len() > MAX_NAME || !name.chars().all(word) {
+            return Err(ModelError::invalid(
+                self.field("name"),
+                Value::Name(name.to_owned()),
+                format!(
+                    "a {kind}'s name is 1 to {MAX_NAME} ASCII letters, digits or underscores \
+                     (it names output columns, e.g. normal_force_stem)"
+                ),
+            ));
+        }
+        if taken || name == "ellipsoid" {
+            return Err(ModelError::invalid(
+                self.field("name"),
+                Value::Name(name.to_owned()),
+                format!(
+                    "{kind} names must be unique among spheres and rims and not \"ellipsoid\" (the body's own surface)"
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A length whose square is a normal float, from [`MIN_SPHERE_RADIUS`] L to
+    /// [`MAX_SPHERE_SPAN`] L; also 0 where `zero` allows it.
+    fn length(&self, key: &str, v: f64, zero: bool) -> Result<(), ModelError> {
+        if zero && v == 0.0 {
+            return Ok(());
+        }
+        let kind = self.kind;
+        let (min, max) = (f64::MIN_POSITIVE.sqrt(), f64::MAX.sqrt());
+        let or_zero = if zero { " (or 0)" } else { "" };
+        if !(v.is_finite() && (min..=max).contains(&v)) {
+            return Err(ModelError::invalid(
+                self.field(key),
+                v,
+                format!("a {kind}'s {key} must be a length{or_zero} from {min:.1e} to {max:.1e} m"),
+            ));
+        }
+        let (small, large) = (MIN_SPHERE_RADIUS * self.size, MAX_SPHERE_SPAN * self.size);
+        if !(small..=large).contains(&v) {
+            return Err(ModelError::invalid(
+                self.field(key),
+                v,
+                format!(
+                    "a {kind}'s {key} must be{or_zero} from {MIN_SPHERE_RADIUS:.0e} to {MAX_SPHERE_SPAN:.0e} times the body's largest semi-axis ({} m): {small:.3e} to {large:.3e} m",
+                    crate::error::number(self.size)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// A finite centre at most [`MAX_SPHERE_SPAN`] L from C0.
+    fn center(&self, c: Vector3<f64>) -> Result<(), ModelError> {
+        let kind = self.kind;
+        let max = f64::MAX.sqrt();
+        if c.iter().any(|v| !(v.is_finite() && v.abs() <= max)) {
+            return Err(ModelError::invalid(
+                self.field("center"),
+                Value::vector(&c),
+                format!("a {kind}'s centre must be finite, each coordinate at most {max:.1e} m"),
+            ));
+        }
+        let large = MAX_SPHERE_SPAN * self.size;
+        if !(c.norm() <= large) {
+            return Err(ModelError::invalid(
+                self.field("center"),
+                Value::vector(&c),
+                format!(
+                    "a {kind}'s centre must be at most {MAX_SPHERE_SPAN:.0e} times the body's largest semi-axis ({} m) from the ellipsoid's centre: {large:.3e} m; it is {:.3e} m",
+                    crate::error::number(self.size),
+                    c.norm()
+                ),
+            ));
+        }
+        Ok(())
     }
 }
 

@@ -14,7 +14,15 @@
 //! ```
 //! A sphere of radius ρ centred at c (body axes, from C0) is the ellipsoid A = ρI moved
 //! by c: s = ρ|ζ| − c·ζ, p_c = c − ρζ/|ζ|, H = ρ(I/|ζ| − ζζᵀ/|ζ|³) (= ρ(I − ζζᵀ) on the
-//! unit sphere of ζ); the rest is the same.
+//! unit sphere of ζ); the rest is the same. A rim — the torus of a sphere of radius ρ
+//! whose centre runs round the circle of radius R about body z centred at c — adds the
+//! circle's support R|Pζ|, P = I − e3e3ᵀ (docs/physics.md, "Rims"):
+//! ```text
+//!   s    = ρ|ζ| − c·ζ + R|Pζ|,   p_c = c − ρζ/|ζ| − R Pζ/|Pζ|
+//!   H    = ρ(I/|ζ| − ζζᵀ/|ζ|³) + R(P/|Pζ| − PζζᵀP/|Pζ|³)
+//! ```
+//! singular where the rim lies flat (|Pζ| = 0, its whole circle at the plane): the run
+//! never integrates across it (the `flat` event).
 
 use nalgebra::{Matrix3, Vector3};
 
@@ -56,7 +64,22 @@ impl Contact {
     pub fn of(body: &Body, surface: Surface, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
         match surface {
             Surface::Ellipsoid => Contact::ellipsoid(body, zeta, omega),
-            Surface::Sphere(k) => Contact::sphere(body, k, zeta, omega),
+            Surface::Sphere(k) => {
+                let sphere = &body.spheres()[k];
+                Contact::torus(
+                    body,
+                    surface,
+                    sphere.center,
+                    0.0,
+                    sphere.radius,
+                    zeta,
+                    omega,
+                )
+            }
+            Surface::Rim(k) => {
+                let rim = &body.rims()[k];
+                Contact::torus(body, surface, rim.center, rim.radius, rim.edge, zeta, omega)
+            }
         }
     }
 
@@ -79,26 +102,38 @@ impl Contact {
         )
     }
 
-    /// Contact sphere `k`'s contact geometry.
+    /// The contact geometry of a torus about body z: a sphere of radius `edge` centred
+    /// at `center` moved round a circle of radius `ring` (a contact sphere: `ring` = 0; a
+    /// rim). At |Pζ| = 0 (a rim lying flat) the circle's support point is taken on body x
+    /// and its curvature left out: the machine ends the rim's contact before (`flat`).
     #[inline(never)]
-    fn sphere(body: &Body, k: usize, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
-        let sphere = &body.spheres()[k];
-        let (rho, c) = (sphere.radius, sphere.center);
+    fn torus(
+        body: &Body,
+        surface: Surface,
+        center: Vector3<f64>,
+        ring: f64,
+        edge: f64,
+        zeta: Vector3<f64>,
+        omega: Vector3<f64>,
+    ) -> Self {
+        let (rho, c) = (edge, center);
         let n = zeta.norm();
         let zeta_dot = zeta.cross(&omega);
         // ρ(ζ̇/|ζ| − ζ (ζ·ζ̇)/|ζ|³).
-        let h_zd = rho * (zeta_dot / n - zeta * (zeta.dot(&zeta_dot) / (n * n * n)));
-        let s = rho * n - c.dot(&zeta);
-        Contact::complete(
-            body,
-            Surface::Sphere(k),
-            zeta,
-            omega,
-            zeta_dot,
-            s,
-            c - zeta * (rho / n),
-            h_zd,
-        )
+        let mut h_zd = rho * (zeta_dot / n - zeta * (zeta.dot(&zeta_dot) / (n * n * n)));
+        let mut s = rho * n - c.dot(&zeta);
+        let mut p_c = c - zeta * (rho / n);
+        if ring > 0.0 {
+            let (out, m) = ring_direction(zeta);
+            s += ring * m;
+            p_c -= ring * out;
+            if m > 0.0 {
+                // R(Pζ̇/|Pζ| − Pζ (Pζ·ζ̇)/|Pζ|³), Pζ = m·out.
+                let pzd = Vector3::new(zeta_dot.x, zeta_dot.y, 0.0);
+                h_zd += ring * (pzd - out * out.dot(&zeta_dot)) / m;
+            }
+        }
+        Contact::complete(body, surface, zeta, omega, zeta_dot, s, p_c, h_zd)
     }
 
     /// The rest of the geometry from the support height s, the contact point p_c and H ζ̇.
@@ -134,13 +169,13 @@ impl Contact {
     /// highest on, touching: the body's lowest point; [`height`]), the ellipsoid on a tie.
     #[inline]
     pub fn lowest(body: &Body, zeta: Vector3<f64>, omega: Vector3<f64>) -> Self {
-        if body.spheres().is_empty() {
+        if body.plain() {
             return Contact::of(body, Surface::Ellipsoid, zeta, omega);
         }
         let lowest = body
             .surfaces()
             .map(|s| (s, height(body, s, zeta)))
-            .fold((Surface::Ellipsoid, f64::NEG_INFINITY), |best, x| {
+            .fold((body.surface(), f64::NEG_INFINITY), |best, x| {
                 if x.1 > best.1 { x } else { best }
             })
             .0;
@@ -164,8 +199,25 @@ pub fn height(body: &Body, surface: Surface, zeta: Vector3<f64>) -> f64 {
             let sphere = &body.spheres()[k];
             sphere.radius * zeta.norm() - sphere.center.dot(&zeta)
         }
+        Surface::Rim(k) => {
+            let rim = &body.rims()[k];
+            rim.edge * zeta.norm() - rim.center.dot(&zeta) + rim.radius * ring_direction(zeta).1
+        }
     };
     s + zeta.dot(&body.com_offset())
+}
+
+/// The outward direction Pζ/|Pζ| in the plane of a rim (body x at |Pζ| = 0) and |Pζ|,
+/// P = I − e3e3ᵀ: the rim's lowest point is its circle's point −R Pζ/|Pζ| from its centre,
+/// and |Pζ| = sin α for a rim tilted α from the plane (docs/physics.md, "Rims").
+#[inline(always)]
+pub fn ring_direction(zeta: Vector3<f64>) -> (Vector3<f64>, f64) {
+    let m = zeta.x.hypot(zeta.y);
+    if m > 0.0 {
+        (Vector3::new(zeta.x / m, zeta.y / m, 0.0), m)
+    } else {
+        (Vector3::x(), 0.0)
+    }
 }
 
 /// A bound of |d²h/dt²| for surface `surface`'s height h(ζ) ([`height`]) while the body
@@ -173,8 +225,17 @@ pub fn height(body: &Body, surface: Surface, zeta: Vector3<f64>) -> f64 {
 /// and ζ̈ = ζ̇ × ω + ζ × ω̇, |ζ̇| ≤ w and |ζ̈| ≤ w² + ẇ (|ζ| = 1):
 /// - a sphere, h = ρ − (c − g)·ζ: |ḧ| ≤ (w² + ẇ)|c − g|;
 /// - the ellipsoid, h = s(ζ) + g·ζ, ḧ = (∇s + g)·ζ̈ + ζ̇ᵀHζ̇ with |∇s| = |A²ζ|/s ≤ a_max
-///   and ‖H‖ ≤ a_max²/s ≤ a_max²/a_min: |ḧ| ≤ (w² + ẇ)(a_max + |g|) + w² a_max²/a_min.
-pub fn height_acceleration_bound(body: &Body, surface: Surface, w: f64, w_dot: f64) -> f64 {
+///   and ‖H‖ ≤ a_max²/s ≤ a_max²/a_min: |ḧ| ≤ (w² + ẇ)(a_max + |g|) + w² a_max²/a_min;
+/// - a rim, h = r − (c − g)·ζ + R|Pζ|: |ḧ| ≤ (w² + ẇ)(|c − g| + R) + w² R/|Pζ|, the last
+///   term unbounded as the rim goes flat; taken with |Pζ| at half its value `tilt` at the
+///   segment's start (floored at [`FLAT_TILT`]), an estimate the guard backs.
+pub fn height_acceleration_bound(
+    body: &Body,
+    surface: Surface,
+    w: f64,
+    w_dot: f64,
+    tilt: f64,
+) -> f64 {
     let turn = w * w + w_dot;
     let g = body.com_offset();
     match surface {
@@ -184,8 +245,17 @@ pub fn height_acceleration_bound(body: &Body, surface: Surface, w: f64, w_dot: f
             turn * (a_max + g.norm()) + w * w * a_max * a_max / a_min
         }
         Surface::Sphere(k) => turn * (body.spheres()[k].center - g).norm(),
+        Surface::Rim(k) => {
+            let rim = &body.rims()[k];
+            turn * ((rim.center - g).norm() + rim.radius)
+                + w * w * rim.radius / (0.5 * tilt).max(FLAT_TILT)
+        }
     }
 }
+
+/// The tilt |Pζ| = sin α below which a rim counts as lying flat: its circle's far side
+/// then lies within 2R·[`FLAT_TILT`] of the plane (docs/physics.md, "Rims").
+pub const FLAT_TILT: f64 = 1e-6;
 
 /// The support map of the ellipsoid with semi-axes `a` at `zeta` (any length): A², A²ζ
 /// and s = √(ζᵀA²ζ) \[m\], the height of the centre C0 above the ellipsoid's lowest point

@@ -59,6 +59,18 @@ pub fn comment(scenario: &Scenario) -> String {
             .collect();
         json["spheres"] = spheres.into();
     }
+    if !body.rims().is_empty() {
+        let rims: Vec<serde_json::Value> = (body.rims().iter())
+            .map(|r| {
+                let c = r.center;
+                serde_json::json!({ "name": r.name, "center": [c.x, c.y, c.z], "radius": r.radius, "edge": r.edge })
+            })
+            .collect();
+        json["rims"] = rims.into();
+    }
+    if !body.ellipsoid_contact() {
+        json["ellipsoid_contact"] = false.into();
+    }
     format!("{COMMENT}{json}")
 }
 

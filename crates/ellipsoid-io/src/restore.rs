@@ -212,6 +212,11 @@ fn event(e: &Value, names: &Names, layout: &Layout) -> Result<EventRecord, Strin
             surface: surface(body, text("surface")?)?,
             sticks: flag("sticks")?,
         },
+        "flat" => EventKind::Flat {
+            surface: surface(body, text("surface")?)?,
+            speed: number(e.get("speed"), "speed")?,
+            energy_loss: number(e.get("energy_loss"), "energy_loss")?,
+        },
         "touchdown" => EventKind::Touchdown {
             speed: number(e.get("speed"), "speed")?,
             surface: struck()?,

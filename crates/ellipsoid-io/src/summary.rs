@@ -223,7 +223,7 @@ pub fn state_map(layout: &columns::Layout, s: &Sample) -> Map<String, Value> {
 /// Adds the `surface` an event happened at, by name, for a body with contact spheres (a
 /// one-surface body's events have none).
 fn surface_name(body: &Body, m: &mut Map<String, Value>, surface: Surface) {
-    if !body.spheres().is_empty() {
+    if !body.plain() {
         m.insert("surface".into(), Value::from(body.surface_name(surface)));
     }
 }
@@ -232,7 +232,8 @@ fn surface_name(body: &Body, m: &mut Map<String, Value>, surface: Surface) {
 /// contact spheres name their `surface`), with `from` and `to` for a mode switch
 /// (and, by name, for a change of the surface in contact),
 /// `name` and the full `state` (the columns of `layout`) for an observable, the approach
-/// `speed` (m/s) for a touchdown, and for an impact its `impulse` (N s, world axes),
+/// `speed` (m/s) for a touchdown, the rim's `surface`, its far side's `speed` (m/s) and the
+/// `energy_loss` (J) for a flat landing, and for an impact its `impulse` (N s, world axes),
 /// `energy_loss` (J), whether the contact `stuck`, the `rebound` speed (m/s) and whether
 /// contact became `persistent`.
 fn event_json(names: &Names, layout: &columns::Layout, e: &EventRecord) -> Value {
@@ -279,6 +280,15 @@ fn event_json(names: &Names, layout: &columns::Layout, e: &EventRecord) -> Value
         EventKind::Grip { surface, sticks } => {
             m.insert("surface".into(), Value::from(body.surface_name(*surface)));
             m.insert("sticks".into(), Value::from(*sticks));
+        }
+        EventKind::Flat {
+            surface,
+            speed,
+            energy_loss,
+        } => {
+            m.insert("surface".into(), Value::from(body.surface_name(*surface)));
+            m.insert("speed".into(), finite_or_null(*speed));
+            m.insert("energy_loss".into(), finite_or_null(*energy_loss));
         }
         EventKind::SlipStop | EventKind::LostContact | EventKind::LiftOff | EventKind::Painleve => {
         }

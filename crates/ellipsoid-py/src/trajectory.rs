@@ -26,7 +26,7 @@ use crate::scenario::PyScenario;
 /// [rad/s]; `omega_x`, `omega_y`, `omega_z` [rad/s] (body axes); `vx`, `vy`, `vz` [m/s]
 /// (velocity of G); `energy` [J]; `normal_force` [N]; `slip_speed` [m/s] (speed of the
 /// contact point); `mode` (str array: "frictionless", "sliding", "rolling", "flight",
-/// "viscous", "two_contacts" or "three_contacts");
+/// "viscous", "two_contacts", "three_contacts" or "face");
 /// `work` [J]
 /// (dissipated so far); `omega_world_x`, `omega_world_y`, `omega_world_z` [rad/s] (world
 /// axes); `contact_x`, `contact_y` [m] (contact point on the plane); `drift` [1]
@@ -445,7 +445,7 @@ impl Trajectory {
         self.named(py, "gap")
     }
     /// Contact regime of each sample: "frictionless", "sliding", "rolling", "flight",
-    /// "viscous", "two_contacts" or "three_contacts" (numpy str array); for a body with contact spheres, the surfaces in
+    /// "viscous", "two_contacts", "three_contacts" or "face" (numpy str array); for a body with contact spheres, the surfaces in
     /// contact after `@` ("sliding@stem", "two_contacts@ellipsoid+stem").
     #[getter]
     fn mode<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {

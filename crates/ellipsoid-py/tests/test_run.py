@@ -268,7 +268,7 @@ def test_hdf5_round_trip_through_h5py(tmp_path: Path) -> None:
         for name in ellipsoid.COLUMNS:
             if name == "mode":
                 assert [m.decode() for m in f["mode"][...]] == traj.mode.tolist()
-                assert f["mode"].attrs["values"] == "frictionless, sliding, rolling, flight, two_contacts, viscous, three_contacts"
+                assert f["mode"].attrs["values"] == "frictionless, sliding, rolling, flight, two_contacts, viscous, three_contacts, face"
             else:
                 np.testing.assert_array_equal(f[name][...], getattr(traj, name), err_msg=name)
                 assert f[name].attrs["units"] == traj.units[name]

@@ -195,7 +195,7 @@ impl Layout {
     /// The layout of a run of `body`.
     pub fn of(body: &Body) -> Layout {
         Layout {
-            body: (!body.spheres().is_empty()).then(|| Arc::new(body.clone())),
+            body: (!body.plain()).then(|| Arc::new(body.clone())),
         }
     }
 
@@ -213,7 +213,7 @@ impl Layout {
     pub fn extra(&self) -> usize {
         self.body
             .as_ref()
-            .map_or(0, |b| SURFACE_COLUMNS.len() * (1 + b.spheres().len()))
+            .map_or(0, |b| SURFACE_COLUMNS.len() * b.surfaces().count())
     }
 
     /// Numeric columns in file order (`mode` not among them), with units.
@@ -298,10 +298,7 @@ impl Layout {
             Some(body) if s.mode != Mode::Flight => {
                 // In the body's order, whichever touched first.
                 let mut touching: Vec<Surface> = s.touching.iter().flatten().map(|t| t.0).collect();
-                touching.sort_by_key(|&surface| match surface {
-                    Surface::Ellipsoid => 0,
-                    Surface::Sphere(k) => k + 1,
-                });
+                touching.sort_by_key(|&surface| body.surfaces().position(|s| s == surface));
                 let names: Vec<&str> = touching.iter().map(|&t| body.surface_name(t)).collect();
                 Cow::Owned(format!("{}@{}", s.mode.name(), names.join("+")))
             }

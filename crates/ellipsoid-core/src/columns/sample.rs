@@ -54,11 +54,13 @@ pub enum Mode {
     Viscous,
     /// Three surfaces on the plane at once (docs/physics.md, "Several contacts").
     ThreeContacts,
+    /// A rim lying flat: the body on the face its circle bounds (docs/physics.md, "Rims").
+    Face,
 }
 
 impl Mode {
     /// Every mode, in [`Mode::NAMES`] order.
-    pub const ALL: [Mode; 7] = [
+    pub const ALL: [Mode; 8] = [
         Mode::Frictionless,
         Mode::Sliding,
         Mode::Rolling,
@@ -66,9 +68,10 @@ impl Mode {
         Mode::TwoContacts,
         Mode::Viscous,
         Mode::ThreeContacts,
+        Mode::Face,
     ];
     /// Their names in output files.
-    pub const NAMES: [&'static str; 7] = [
+    pub const NAMES: [&'static str; 8] = [
         "frictionless",
         "sliding",
         "rolling",
@@ -76,6 +79,7 @@ impl Mode {
         "two_contacts",
         "viscous",
         "three_contacts",
+        "face",
     ];
 
     /// Its name in output files.

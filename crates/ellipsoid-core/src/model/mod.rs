@@ -15,6 +15,7 @@
 
 pub mod contacts;
 pub mod contensou;
+mod face;
 pub mod flight;
 mod frictionless;
 mod rolling;
@@ -23,6 +24,7 @@ mod viscous;
 
 pub use contacts::{Contacts, Forces, Hold, MOST_CONTACTS};
 pub use contensou::ContactDisc;
+pub use face::Face;
 pub use flight::Flight;
 pub use frictionless::Frictionless;
 pub use rolling::Rolling;

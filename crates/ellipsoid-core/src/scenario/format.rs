@@ -86,63 +86,135 @@ pub(super) fn read_body(ctx: &Ctx<'_>, tree: &Node, root: &Sec<'_>) -> Result<Bo
     };
     let axes = Vector3::new(a, b, c);
     let inertia = read_inertia(ctx, &sec, axes, mass, com)?;
-    let spheres = read_spheres(ctx, &sec)?;
+    let (spheres, rims) = read_parts(ctx, &sec)?;
+    let touches = match sec.get("ellipsoid_contact") {
+        None => true,
+        Some(g) => match g.node().value {
+            Value::Bool(b) => b,
+            _ => {
+                return Err(ctx.wrong_type(
+                    &sec,
+                    g,
+                    "true or false: whether the ellipsoid itself touches the plane",
+                ));
+            }
+        },
+    };
     Body::new(axes, mass, inertia, com)
         .and_then(|body| body.with_spheres(spheres))
+        .and_then(|body| body.with_rims(rims))
+        .and_then(|body| {
+            if touches {
+                Ok(body)
+            } else {
+                body.without_ellipsoid_contact()
+            }
+        })
         .map_err(|e| ctx.model(tree, &e))
 }
 
-/// Whether `s` is a contact sphere's name: 1 to [`MAX_NAME`] ASCII letters, digits or
-/// underscores (`Body::with_spheres`' rule, checked here to point at the TOML value).
-fn is_sphere_name(s: &str) -> bool {
+/// Whether `s` is a contact sphere's or rim's name: 1 to [`MAX_NAME`] ASCII letters,
+/// digits or underscores (`Body::with_spheres`' rule, checked here to point at the TOML
+/// value).
+fn is_part_name(s: &str) -> bool {
     (1..=MAX_NAME).contains(&s.len()) && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
 }
 
-/// The `[[body.sphere]]` array of tables: contact spheres fixed in the body
-/// (docs/scenarios.md, "Contact spheres").
-fn read_spheres(ctx: &Ctx<'_>, body: &Sec<'_>) -> Result<Vec<Sphere>> {
-    let Some(got) = body.get("sphere") else {
+/// A contact sphere or rim read from its table: its name, its centre and its radius, and a
+/// rim's edge.
+struct Part {
+    name: String,
+    center: Vector3<f64>,
+    radius: f64,
+    edge: f64,
+}
+
+/// The `[[body.sphere]]` and `[[body.rim]]` arrays of tables: contact spheres and rims
+/// fixed in the body (docs/scenarios.md, "Contact spheres" and "Rims"); names unique
+/// among both.
+fn read_parts(ctx: &Ctx<'_>, body: &Sec<'_>) -> Result<(Vec<Sphere>, Vec<Rim>)> {
+    let spheres = read_part_tables(ctx, body, "sphere", MAX_SPHERES, &[])?;
+    let taken: Vec<&str> = spheres.iter().map(|p| p.name.as_str()).collect();
+    let rims = read_part_tables(ctx, body, "rim", MAX_RIMS, &taken)?;
+    let spheres = (spheres.into_iter())
+        .map(|p| Sphere {
+            name: p.name,
+            center: p.center,
+            radius: p.radius,
+        })
+        .collect();
+    let rims = (rims.into_iter())
+        .map(|p| Rim {
+            name: p.name,
+            center: p.center,
+            radius: p.radius,
+            edge: p.edge,
+        })
+        .collect();
+    Ok((spheres, rims))
+}
+
+/// The `[[body.{kind}]]` array of tables (`kind` "sphere" or "rim"), at most `most`, no
+/// name one of `taken`.
+fn read_part_tables(
+    ctx: &Ctx<'_>,
+    body: &Sec<'_>,
+    kind: &str,
+    most: usize,
+    taken: &[&str],
+) -> Result<Vec<Part>> {
+    let rim = kind == "rim";
+    let Some(got) = body.get(kind) else {
         return Ok(Vec::new());
     };
     let Value::Array(items) = &got.node().value else {
-        return Err(ctx.wrong_type(body, got, "an array of tables ([[body.sphere]] entries)"));
+        return Err(ctx.wrong_type(
+            body,
+            got,
+            &format!("an array of tables ([[body.{kind}]] entries)"),
+        ));
     };
-    if items.len() > MAX_SPHERES {
+    if items.len() > most {
+        let what = if rim { "rims" } else { "contact spheres" };
         return Err(ctx.bad(
             ErrorKind::Invalid,
             body,
             got,
-            format!(
-                "{} entries; a body has at most {MAX_SPHERES} contact spheres",
-                items.len()
-            ),
+            format!("{} entries; a body has at most {most} {what}", items.len()),
         ));
     }
-    let mut out: Vec<Sphere> = Vec::with_capacity(items.len());
+    let mut out: Vec<Part> = Vec::with_capacity(items.len());
     for (k, item) in items.iter().enumerate() {
+        let what = if rim {
+            "a rim: name, center, radius, edge"
+        } else {
+            "a contact sphere: name, center, radius"
+        };
         let sec = ctx.table_of(
-            &format!("body.sphere[{k}]"),
+            &format!("body.{kind}[{k}]"),
             item,
             &item.origin,
-            &keys("body.sphere"),
-            "a contact sphere: name, center, radius",
+            &keys(&format!("body.{kind}")),
+            what,
         )?;
         let name = match sec.get("name") {
             None => {
+                let example = if rim { "edge" } else { "stem" };
                 return Err(ctx.missing(
                     &sec,
                     "name",
-                    "give the sphere a name (a string, e.g. \"stem\")",
+                    format!("give the {kind} a name (a string, e.g. \"{example}\")"),
                 ));
             }
             Some(g) => match &g.node().value {
-                Value::Str(s) if is_sphere_name(s) => {
-                    if s == "ellipsoid" || out.iter().any(|o| &o.name == s) {
+                Value::Str(s) if is_part_name(s) => {
+                    let dup = out.iter().any(|o| &o.name == s) || taken.contains(&s.as_str());
+                    if s == "ellipsoid" || dup {
                         return Err(ctx.bad(
                             ErrorKind::Invalid,
                             &sec,
                             g,
-                            "sphere names must be unique and not \"ellipsoid\" (the body's own surface)",
+                            format!("{kind} names must be unique among spheres and rims and not \"ellipsoid\" (the body's own surface)"),
                         ));
                     }
                     s.clone()
@@ -153,36 +225,62 @@ fn read_spheres(ctx: &Ctx<'_>, body: &Sec<'_>) -> Result<Vec<Sphere>> {
                         &sec,
                         g,
                         format!(
-                            "a sphere's name is 1 to {MAX_NAME} ASCII letters, digits or \
+                            "a {kind}'s name is 1 to {MAX_NAME} ASCII letters, digits or \
                              underscores (it names output columns, e.g. normal_force_stem)"
                         ),
                     ));
                 }
-                _ => return Err(ctx.wrong_type(&sec, g, "a string: the sphere's name")),
+                _ => return Err(ctx.wrong_type(&sec, g, &format!("a string: the {kind}'s name"))),
             },
         };
+        let centre = if rim {
+            "the centre of the rim's circle in body axes, from the ellipsoid's centre, on the symmetry axis: [0.0, 0.0, z] (m)"
+        } else {
+            "the sphere's centre in body axes, from the ellipsoid's centre (m)"
+        };
         let center = ctx
-            .numbers::<3>(&sec, "center", "the sphere's centre in body axes, from the ellipsoid's centre (m)")?
-            .ok_or_else(|| {
-                ctx.missing(
-                    &sec,
-                    "center",
-                    "give the sphere's centre [x, y, z] in body axes, from the ellipsoid's centre (m)",
-                )
-            })?;
+            .numbers::<3>(&sec, "center", centre)?
+            .ok_or_else(|| ctx.missing(&sec, "center", format!("give {centre}")))?;
+        if rim && (center[0] != 0.0 || center[1] != 0.0) {
+            return Err(ctx.bad(
+                ErrorKind::Invalid,
+                &sec,
+                sec.get("center").expect("just read"),
+                "a rim's centre lies on the body's symmetry axis: [0.0, 0.0, z]",
+            ));
+        }
+        let radius_what = if rim {
+            "the radius R of the rim's circle through the centres of its edge's cross-section (m)"
+        } else {
+            "the sphere's radius (m)"
+        };
         let radius = ctx
             .checked(
                 &sec,
                 "radius",
-                "the sphere's radius (m)",
+                radius_what,
                 |v| v > 0.0,
                 "a radius must be positive and finite (m)",
             )?
-            .ok_or_else(|| ctx.missing(&sec, "radius", "give the sphere's radius (m)"))?;
-        out.push(Sphere {
+            .ok_or_else(|| ctx.missing(&sec, "radius", format!("give {radius_what}")))?;
+        let edge = if rim {
+            let edge_what = "the radius r of the rim's rounded edge, 0 for a sharp edge (m)";
+            ctx.checked(
+                &sec,
+                "edge",
+                edge_what,
+                |v| v >= 0.0,
+                "an edge radius must be finite and at least 0 (m)",
+            )?
+            .ok_or_else(|| ctx.missing(&sec, "edge", format!("give {edge_what}")))?
+        } else {
+            0.0
+        };
+        out.push(Part {
             name,
             center: Vector3::from(center),
             radius,
+            edge,
         });
     }
     Ok(out)

@@ -28,7 +28,7 @@ use nalgebra::{Matrix3, UnitQuaternion, Vector2, Vector3};
 use serde::Serialize;
 use toml::de::{DeTable, DeValue};
 
-use crate::body::{Body, MAX_NAME, MAX_SPHERES, Sphere, uniform_inertia};
+use crate::body::{Body, MAX_NAME, MAX_RIMS, MAX_SPHERES, Rim, Sphere, uniform_inertia};
 use crate::columns::Layout;
 use crate::effects::{AirDrag, RollingResistance, SpinFriction};
 use crate::error::{ModelError, number};

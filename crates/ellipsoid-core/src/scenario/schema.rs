@@ -132,6 +132,12 @@ pub const SCHEMA: &[Key] = &[
     key("body.sphere", "name", None, Text, Required, "1 to 24 ASCII letters, digits or _ (it names output columns); unique, not \"ellipsoid\""),
     key("body.sphere", "center", M, Numbers(3), Required, "the sphere's centre in body axes, from the ellipsoid's centre C0; at most 1e3 L from it (L the largest semi-axis)"),
     key("body.sphere", "radius", M, Number, Required, "the sphere's radius, 1e-6 L to 1e3 L (L the largest semi-axis)"),
+    key("body", "rim", None, Tables, Unset, "rims (circular edges, sharp or rounded) fixed in the body, at most 4"),
+    key("body.rim", "name", None, Text, Required, "1 to 24 ASCII letters, digits or _ (it names output columns); unique among spheres and rims, not \"ellipsoid\""),
+    key("body.rim", "center", M, Numbers(3), Required, "the centre of the rim's circle in body axes, on the symmetry axis: [0.0, 0.0, z]"),
+    key("body.rim", "radius", M, Number, Required, "R: the radius of the circle through the centres of the edge's cross-section, 1e-6 L to 1e3 L"),
+    key("body.rim", "edge", M, Number, Required, "r: the radius of the rounded edge, 0 (sharp) or 1e-6 L to 1e3 L"),
+    key("body", "ellipsoid_contact", None, Bool, Means("true"), "whether the ellipsoid itself touches the plane; false: only the spheres and rims touch (a coin is its rim)"),
     key("initial", "theta", RAD, Number, Value(0.0), "θ, the tilt of the symmetry axis from the vertical"),
     key("initial", "theta_deg", DEG, Number, Unset, "θ in degrees (exclusive with theta)"),
     key("initial", "phi", RAD, Number, Value(0.0), "φ, the precession angle"),
@@ -287,7 +293,7 @@ pub fn reference() -> String {
             ("", _) => format!("`[{}]`", k.name),
             (t, _) => {
                 let t = match t {
-                    "body.sphere" | "initial.rotation" => format!("{t}[i]"),
+                    "body.sphere" | "body.rim" | "initial.rotation" => format!("{t}[i]"),
                     "observe" | "section" => format!("{t}[i]"),
                     t => t.to_owned(),
                 };

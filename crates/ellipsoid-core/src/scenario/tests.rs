@@ -873,7 +873,7 @@ fn contact_sphere_keys_and_their_errors() {
         (
             with(&format!("{stem}{stem}")),
             format!(
-                "x.toml:{}:1: body.sphere[1].name = \"stem\": sphere names must be unique and not \"ellipsoid\" (the body's own surface)",
+                "x.toml:{}:1: body.sphere[1].name = \"stem\": sphere names must be unique among spheres and rims and not \"ellipsoid\" (the body's own surface)",
                 line + 5
             ),
         ),

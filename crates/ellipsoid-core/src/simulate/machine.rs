@@ -23,6 +23,7 @@ use crate::model::{ContactLaw, Evaluation, System};
 use crate::state::{self, EulerAngles, State};
 
 use super::context::{ContactSet, Context};
+use super::flat;
 use super::numerics::MAX_SWITCHES;
 use super::outcome::{Chatter, EventKind, EventRecord, Mode, Outcome, RunWarning, Sample, Status};
 use super::phase::{Next, Phase, Slot, phase};
@@ -79,7 +80,9 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                 // A surface already below the plane where the phase starts touched it
                 // before: its event at once (the integrator finds only zeros crossed).
                 let mut before = events.len();
-                let next = if let Some(watch) = current.overdue(self, &contacts, &y) {
+                let next = if flat_watched(mode, &contacts) && flat::tilt(&kin) <= 0.0 {
+                    flat::land_flat(self, &mut contacts, mode, t, &mut y, &mut events)
+                } else if let Some(watch) = current.overdue(self, &contacts, &y) {
                     current.on_event(self, &mut contacts, watch, &mut t, &mut y, &mut events)
                 } else {
                     let start_angles = rec.angles;
@@ -136,6 +139,9 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                                 &mut y,
                                 &mut events,
                             ),
+                            Slot::Flat => {
+                                flat::land_flat(self, &mut contacts, mode, t, &mut y, &mut events)
+                            }
                             Slot::Guard => {
                                 let kin = current.kinematics(self, &contacts, &y);
                                 match self.below_plane(mode, &contacts, &kin) {
@@ -241,6 +247,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             && on_axis(g)
             && axisymmetric_inertia
             && body.spheres().iter().all(|s| on_axis(s.center));
+        // Rims lie on the axis (`Body::with_rims`).
         Conservation {
             conservative,
             frictionless: conservative && scene.contact == ContactModel::Frictionless,
@@ -252,7 +259,7 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
             revolution,
             // The drilling torque of a contact disc changes Jellett's J = L_G·(G − C), and
             // so does a change of the contacting surface (contact spheres).
-            sphere: revolution && a.x == a.z && scene.disc.is_none() && body.spheres().is_empty(),
+            sphere: revolution && a.x == a.z && scene.disc.is_none() && body.plain(),
             elastic_impacts: scene.landing.lift_off == LiftOff::Stop
                 || (scene.contact == ContactModel::Frictionless
                     && scene.landing.restitution == 1.0),
@@ -278,6 +285,16 @@ fn in_contact(mode: Mode, contacts: &ContactSet, surface: Surface) -> bool {
     }
 }
 
+/// Whether `mode` on `contacts` watches its surface in contact going flat (`flat::tilt`):
+/// a rim in contact alone.
+pub(super) fn flat_watched(mode: Mode, contacts: &ContactSet) -> bool {
+    matches!(contacts.surface, Surface::Rim(_))
+        && matches!(
+            mode,
+            Mode::Frictionless | Mode::Sliding | Mode::Rolling | Mode::Viscous
+        )
+}
+
 /// Integrates phase `P` on `contacts` from (t0, y0) until t_end or a terminal event.
 pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
     ctx: &Context<'_, E>,
@@ -297,12 +314,13 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
     let phase_watches = P::watches(ctx, contacts);
     // The guard where a surface can be off the plane: every one in flight, the others
     // than the one touching with contact spheres.
-    let guarded = P::MODE == Mode::Flight || !scene.body.spheres().is_empty();
+    let guarded = P::MODE == Mode::Flight || !scene.body.plain();
     let watches: Vec<Slot> = (0..phase_watches.len())
         .map(Slot::Phase)
         .chain((0..scene.observe.len()).map(Slot::Observe))
         .chain((0..scene.sections.len()).map(Slot::Section))
         .chain(guarded.then_some(Slot::Guard))
+        .chain(flat_watched(P::MODE, contacts).then_some(Slot::Flat))
         .collect();
     // Observables unwrap φ and ψ against the last emitted row; they share one output
     // row per state.
@@ -367,6 +385,12 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
                     curvature: None,
                 }
             }
+            Slot::Flat => Event {
+                g: Box::new(move |t, y: &State| sys.with(t, y, |ev| flat::tilt(&ev.kin))),
+                direction: Direction::Falling,
+                action: Action::Stop,
+                curvature: None,
+            },
             Slot::Phase(i) => {
                 let w = phase_watches[i];
                 // A gap that starts at or below zero (by round-off, opening: see the

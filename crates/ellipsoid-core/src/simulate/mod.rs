@@ -19,6 +19,7 @@ use crate::effects::{Effect, WithEffects};
 use crate::error::ModelError;
 
 mod context;
+mod flat;
 mod machine;
 mod numerics;
 pub mod outcome;

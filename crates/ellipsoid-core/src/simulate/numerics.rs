@@ -158,9 +158,7 @@ impl Numerics {
             _ => 0.0,
         };
         // The body's extent from C0: its largest semi-axis, or a contact sphere's reach.
-        let size = (scene.body.spheres().iter())
-            .map(|s| s.center.norm() + s.radius)
-            .fold(scene.body.semi_axes().max(), f64::max);
+        let size = scene.body.reach();
         // The band: SLIP_BAND_FLOORS slip floors or as many absolute tolerances (the error
         // allowed in v_G alone, which dominates a slow motion's), whichever is wider, and at
         // most SLIP_BAND_CAP of the speed scale; none for fixed-step RK4, whose absolute

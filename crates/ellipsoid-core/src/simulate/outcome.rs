@@ -33,6 +33,14 @@ pub enum EventKind {
     Observed { index: usize, sample: Box<Sample> },
     /// The body's surface in contact changed (bodies with contact spheres).
     ContactSurface { from: Surface, to: Surface },
+    /// Rim `surface` reached the plane flat (its tilt sin α below `geometry::FLAT_TILT`):
+    /// the body landed on the face the rim bounds, its far side approaching at `speed`
+    /// [m/s], the face's impact removing `energy_loss` \[J\] (docs/physics.md, "Rims").
+    Flat {
+        surface: Surface,
+        speed: f64,
+        energy_loss: f64,
+    },
     /// With two surfaces in contact, `surface`'s contact started to stick (`sticks`) or
     /// to slide (docs/physics.md, "Several contacts"); entering two contacts, one for each
     /// contact that sticks.
@@ -52,6 +60,7 @@ impl EventKind {
             EventKind::Painleve => "painleve",
             EventKind::ContactSurface { .. } => "contact_surface",
             EventKind::Grip { .. } => "grip",
+            EventKind::Flat { .. } => "flat",
             EventKind::Observed { .. } => "observed",
         }
     }

@@ -512,11 +512,11 @@ impl Scene {
                 ),
             ));
         }
-        if !self.body.spheres().is_empty() {
+        if !self.body.plain() {
             return Err(ModelError::invalid(
                 "contact.model",
                 Value::Choice("viscous".into()),
-                "the viscous model is simulated with one contact: a body with contact spheres needs model = \"sliding\" or \"coulomb\"",
+                "the viscous model is simulated with one contact: a body with contact spheres or rims needs model = \"sliding\" or \"coulomb\"",
             ));
         }
         Ok(())

@@ -151,6 +151,13 @@ pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
             "steady motions are analysed on the ellipsoid's own surface: a body with contact spheres is not analysed (its spheres would be ignored)",
         ));
     }
+    if let Some(rim) = scene.body.rims().first() {
+        return Err(ModelError::invalid(
+            "body.rim",
+            Value::Name(rim.name.clone()),
+            "steady motions are analysed on the ellipsoid's own surface: a body with rims is not analysed yet",
+        ));
+    }
     if let Some(disc) = &scene.disc {
         return Err(ModelError::invalid(
             "contact.contact_radius",

@@ -83,7 +83,8 @@ impl Phase for FlightPhase {
         let w = (omega.dot(&(inertia * omega)) / i_min).sqrt();
         let w_dot = (i_max * w * w + LOAD_MARGIN * ev.load.torque.norm()) / i_min;
         let z_acc = ctx.scene.gravity + LOAD_MARGIN * ev.load.force.norm() / body.mass();
-        Some(z_acc + geometry::height_acceleration_bound(body, surface, w, w_dot))
+        let tilt = geometry::ring_direction(ev.kin.contact.zeta).1;
+        Some(z_acc + geometry::height_acceleration_bound(body, surface, w, w_dot, tilt))
     }
 
     fn on_event<E: Effect + Copy + 'static>(

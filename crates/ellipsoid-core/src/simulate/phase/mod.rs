@@ -22,6 +22,7 @@
 //! | rolling | v_C = 0 | N, μN − \|F_h\| (Coulomb only) | cone left, lift-off |
 //! | flight | F = 0 | gap z_G − h(ζ) + δz of the lowest surface | touchdown |
 //! | viscous | F = N(e3 − μ_v v_C) | N, Painlevé denominator | lift-off, Painlevé |
+//! | face | `model::Face`: Coulomb–Contensou over the face's disc | N, √(\|v_f\|² + (R Ω)²) − floor (with friction) | lift-off, rest on the face |
 //! | two contacts, three contacts | each contact sliding or sticking (`model::Contacts`) | each N_i, each sliding slip − floor, each sticking hold, Painlevé denominator, another surface's gap | a surface leaves, a contact grips or slides, a third touches down; stop `slip_stopped`, `painleve`, or a fourth surface `several_contacts` |
 //!
 //! With contact spheres every contact phase also watches each other surface's gap
@@ -32,6 +33,7 @@
 //! slip and spin stopping together ends the run (see `sliding`).
 
 mod contacts;
+mod face;
 mod flight;
 mod frictionless;
 mod rolling;
@@ -57,6 +59,7 @@ use super::recorder::Recorder;
 use crate::columns::{Mode, Sample};
 
 pub(super) use contacts::{ContactsPhase, above_stop, contacts_mode, grips, holds, normal};
+pub(super) use face::FacePhase;
 pub(super) use flight::FlightPhase;
 pub(super) use frictionless::FrictionlessPhase;
 pub(super) use rolling::RollingPhase;
@@ -73,6 +76,7 @@ pub(super) fn phase<E: Effect + Copy + 'static>(mode: Mode) -> &'static dyn AnyP
         Mode::TwoContacts => &Registered::<ContactsPhase<2>>(PhantomData),
         Mode::ThreeContacts => &Registered::<ContactsPhase<3>>(PhantomData),
         Mode::Viscous => &Registered::<ViscousPhase>(PhantomData),
+        Mode::Face => &Registered::<FacePhase>(PhantomData),
     }
 }
 
@@ -137,8 +141,9 @@ pub(super) fn contact_gap_curvature<E>(
         + m * ctx.scene.gravity * (kin.z_g() + reach);
     let w = (2.0 * energy.max(0.0) / i_min).sqrt();
     let w_dot = i_max * w * w / i_min + CONTACT_TURN_MARGIN * ev.response.omega_dot.norm();
-    geometry::height_acceleration_bound(body, kin.contact.surface, w, w_dot)
-        + geometry::height_acceleration_bound(body, other, w, w_dot)
+    let tilt = geometry::ring_direction(kin.contact.zeta).1;
+    geometry::height_acceleration_bound(body, kin.contact.surface, w, w_dot, tilt)
+        + geometry::height_acceleration_bound(body, other, w, w_dot, tilt)
 }
 
 /// An event function of a segment: one of its phase's watches (by its index in
@@ -151,6 +156,8 @@ pub(super) enum Slot {
     /// The guard: the deepest surface not in contact falling through the penetration
     /// tolerance (`Context::below_plane`).
     Guard,
+    /// A rim in contact going flat (`flat::tilt`).
+    Flat,
 }
 
 /// What a phase's event leads to.

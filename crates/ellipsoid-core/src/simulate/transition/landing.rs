@@ -11,7 +11,7 @@ use nalgebra::Vector3;
 
 use crate::body::{Body, Surface};
 use crate::effects::Effect;
-use crate::geometry::Contact;
+use crate::geometry::{self, Contact};
 use crate::impact::{self, Approach, Tangential};
 use crate::integrate::rk4_step;
 use crate::kinematics::Kinematics;
@@ -19,6 +19,7 @@ use crate::model::MOST_CONTACTS;
 use crate::state::{self, State};
 
 use crate::simulate::context::{ContactSet, Context};
+use crate::simulate::flat;
 use crate::simulate::numerics::{BACK_STEPS, SECOND_GAP_RISE};
 use crate::simulate::outcome::{EventKind, EventRecord, ImpactReport, Mode, Status};
 use crate::simulate::phase::{FlightPhase, FrictionlessPhase, Next, phase};
@@ -49,6 +50,21 @@ pub(in crate::simulate) fn touchdown<E: Effect + Copy + 'static>(
     let body = &ctx.scene.body;
     let (t0, y0) = (*t, *y);
     let strike = Strike::new(ctx, contacts, surface, t, y);
+    if matches!(surface, Surface::Rim(_))
+        && geometry::ring_direction(strike.kin.contact.zeta).1 <= geometry::FLAT_TILT
+    {
+        // A rim touching down flat lands on its face (`flat::land_flat`).
+        touch(contacts, surface, *t, events);
+        events.push(EventRecord {
+            kind: EventKind::Touchdown {
+                speed: -normal_velocity(body, surface, &strike.pre),
+                surface,
+            },
+            t: *t,
+        });
+        *y = strike.pre;
+        return flat::land_flat(ctx, contacts, Mode::Flight, *t, y, events);
+    }
     let law = tangential(ctx.scene.contact);
     let single = strike.impact(law, ctx.scene.landing.restitution);
     let coincide = coinciding(ctx, contacts, &strike, &[], &single.1);
