@@ -4,6 +4,7 @@
 //! (`--summary`, or the one stored in an HDF5 file) and the scenario it names.
 
 use std::path::Path;
+#[cfg(any(feature = "figures", feature = "view"))]
 use std::process::ExitCode;
 
 use ellipsoid_io::atomic;
