@@ -84,7 +84,6 @@ fn main() -> ExitCode {
 }
 
 /// The refusal of a command this build was compiled without.
-#[allow(dead_code)] // unused when every command is compiled in
 fn compiled_out(command: &cli::Command) -> error::CliError {
     let name = match command {
         cli::Command::Run(_) => "run",
