@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand};
 
 /// Fast, exact simulation of a rigid ellipsoid on a horizontal plane (SI units).
 #[derive(Debug, Parser)]
@@ -10,6 +10,59 @@ use clap::{Args, Parser, Subcommand};
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
+}
+
+/// Each command but `run` and the Cargo feature that compiles it in (crates/ellipsoid-cli's
+/// Cargo.toml; docs/development.md, "Features").
+pub const NEEDS: [(&str, &str); 7] = [
+    ("check", "study"),
+    ("precision", "study"),
+    ("plot", "figures"),
+    ("view", "view"),
+    ("animate", "animate"),
+    ("study", "study"),
+    ("steady", "study"),
+];
+
+/// Whether this build has the feature `name` (of those [`NEEDS`] names).
+pub fn has(feature: &str) -> bool {
+    let built = [
+        ("study", cfg!(feature = "study")),
+        ("figures", cfg!(feature = "figures")),
+        ("view", cfg!(feature = "view")),
+        ("animate", cfg!(feature = "animate")),
+    ];
+    built.iter().all(|&(name, on)| name != feature || on)
+}
+
+/// How to get a build with the feature `feature` (after "needs the `…` feature, which
+/// this build was compiled without: ").
+pub fn feature_hint(feature: &str) -> String {
+    format!(
+        "build with the default features (`cargo build --release -p ellipsoid-cli`, or \
+`cargo install --path crates/ellipsoid-cli`), or add `--features {feature}`"
+    )
+}
+
+/// The arguments, parsed. A command compiled out stays listed, its help saying which
+/// feature it needs; running it is refused (`error::CliError::NoFeature`, exit 2).
+pub fn parse() -> Cli {
+    let mut command = Cli::command();
+    for (name, feature) in NEEDS.into_iter().filter(|(_, f)| !has(f)) {
+        command = command.mut_subcommand(name, |sub| {
+            let about = sub.get_about().map(ToString::to_string).unwrap_or_default();
+            let note = format!(
+                "Not in this build: `ellipsoid {name}` needs the `{feature}` feature, which this \
+build was compiled without: {}.",
+                feature_hint(feature)
+            );
+            sub.about(format!("[needs the `{feature}` feature] {about}"))
+                .before_help(note.clone())
+                .before_long_help(note)
+        });
+    }
+    let matches = command.get_matches();
+    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
 }
 
 #[derive(Debug, Subcommand)]
@@ -45,7 +98,7 @@ pub enum Command {
     View(ViewArgs),
     /// Render a trajectory file (CSV or HDF5) as an animated GIF, without a browser: the
     /// body on the plane, its contact trace, the time and θ in a corner.
-    Animate(crate::animate::AnimateArgs),
+    Animate(AnimateArgs),
     /// Run a parameter study: every point of a study file's axes over a base scenario, in
     /// parallel on all cores, one table row per run (CSV, Parquet or HDF5). Resumable:
     /// finished rows are kept in RESULTS.journal beside the table, and a rerun skips them.
@@ -65,6 +118,7 @@ pub enum Command {
 }
 
 #[derive(Debug, Args)]
+#[cfg_attr(not(feature = "study"), allow(dead_code))] // read by `ellipsoid steady` only
 pub struct SteadyArgs {
     /// The scenario file (TOML): its body, contact model (frictionless, rolling, or
     /// coulomb's rolling phase) and initial spin (upright, inverted) or tilt and
@@ -122,6 +176,7 @@ pub struct SteadyArgs {
 }
 
 #[derive(Debug, Args)]
+#[cfg_attr(not(feature = "study"), allow(dead_code))] // read by `ellipsoid study` only
 pub struct StudyArgs {
     /// The study file (TOML; see docs/studies.md).
     pub study: PathBuf,
@@ -176,6 +231,7 @@ pub struct RunArgs {
 }
 
 #[derive(Debug, Args)]
+#[cfg_attr(not(feature = "study"), allow(dead_code))] // read by `ellipsoid precision` only
 pub struct PrecisionArgs {
     /// The scenario file (TOML).
     pub scenario: PathBuf,
@@ -209,6 +265,7 @@ pub struct PrecisionArgs {
 }
 
 #[derive(Debug, Args)]
+#[cfg_attr(not(feature = "study"), allow(dead_code))] // read by `ellipsoid check` only
 pub struct CheckArgs {
     /// The scenario file (TOML).
     pub scenario: PathBuf,
@@ -222,6 +279,7 @@ pub struct CheckArgs {
 }
 
 #[derive(Debug, Args)]
+#[cfg_attr(not(feature = "figures"), allow(dead_code))] // read by `ellipsoid plot` only
 pub struct PlotArgs {
     /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run` (with `--section`,
     /// the `.csv` table of `ellipsoid run --sections`).
@@ -264,6 +322,7 @@ pub struct PlotArgs {
 }
 
 #[derive(Debug, Args)]
+#[cfg_attr(not(feature = "view"), allow(dead_code))] // read by `ellipsoid view` only
 pub struct ViewArgs {
     /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run`.
     #[arg(value_name = "OUT.csv|OUT.h5")]
@@ -285,6 +344,38 @@ pub struct ViewArgs {
     /// and normal_force_* for a body with contact spheres.
     #[arg(long, value_name = "LIST")]
     pub columns: Option<String>,
+    /// Print nothing but errors.
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+#[derive(Debug, Args)]
+#[cfg_attr(not(feature = "animate"), allow(dead_code))] // read by `ellipsoid animate` only
+pub struct AnimateArgs {
+    /// The trajectory: a `.csv` or `.h5` file written by `ellipsoid run`.
+    #[arg(value_name = "OUT.csv|OUT.h5")]
+    pub input: PathBuf,
+    /// The animation: `.gif`, or `.mp4` (H.264, encoded by the system's ffmpeg: on the
+    /// PATH or named by ELLIPSOID_FFMPEG), by extension (directories created as needed).
+    #[arg(short, long, value_name = "ANIM.gif|ANIM.mp4")]
+    pub output: PathBuf,
+    /// The run's JSON summary (`ellipsoid run --summary`): the body's shape, through the
+    /// scenario it names (needed for a CSV file; an `.h5` file carries its own).
+    #[arg(long, value_name = "FILE.json")]
+    pub summary: Option<PathBuf>,
+    /// Frame width and height, px (16 to 2000).
+    #[arg(long, default_value_t = 480)]
+    pub width: u32,
+    #[arg(long, default_value_t = 360)]
+    pub height: u32,
+    /// Frames per second (at most 100).
+    #[arg(long, default_value_t = 25.0)]
+    pub fps: f64,
+    /// Simulated seconds per second of animation (0.1 = ten times slower than real time).
+    /// An animation has at most 2000 frames and shows the whole run: a speed at which the
+    /// run needs more frames is refused (exit 2), the message naming the speed that fits.
+    #[arg(long, default_value_t = 1.0)]
+    pub speed: f64,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,

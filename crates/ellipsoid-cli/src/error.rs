@@ -13,14 +13,25 @@ pub enum CliError {
     #[error(transparent)]
     Output(#[from] OutputError),
     /// A plot could not be drawn (exit 1).
+    #[cfg(any(feature = "figures", feature = "study"))]
     #[error("cannot draw the plot: {0}")]
     Plot(String),
     /// A bad command-line value (exit 2).
     #[error("{0}")]
     Usage(String),
     /// `precision` found no trustworthy reference (exit 3).
+    #[cfg(feature = "study")]
     #[error("no reference: {0}")]
     Reference(String),
+    /// A command (or option) of a feature this build was compiled without (exit 2).
+    #[error(
+        "`ellipsoid {command}` needs the `{feature}` feature, which this build was compiled without: {}",
+        crate::cli::feature_hint(feature)
+    )]
+    NoFeature {
+        command: &'static str,
+        feature: &'static str,
+    },
     /// A run stopped by SIGINT or SIGTERM (exit 128 + the signal's number).
     #[error("{message}")]
     Interrupted { signal: i32, message: String },
@@ -34,8 +45,11 @@ impl CliError {
             CliError::Output(
                 OutputError::UnknownFormat { .. } | OutputError::Hdf5Unavailable { .. },
             ) => 2,
-            CliError::Output(_) | CliError::Plot(_) => 1,
-            CliError::Usage(_) => 2,
+            CliError::Output(_) => 1,
+            #[cfg(any(feature = "figures", feature = "study"))]
+            CliError::Plot(_) => 1,
+            CliError::Usage(_) | CliError::NoFeature { .. } => 2,
+            #[cfg(feature = "study")]
             CliError::Reference(_) => 3,
             CliError::Interrupted { signal, .. } => u8::try_from(128 + signal).unwrap_or(130),
         }
@@ -83,5 +97,26 @@ mod tests {
         let text = message(&e);
         assert_eq!(text.matches("os error 21").count(), 1, "{text}");
         assert!(text.starts_with("d: "), "{text}");
+    }
+
+    #[test]
+    fn a_command_compiled_out_names_its_feature_and_the_build_that_has_it() {
+        let e = CliError::NoFeature {
+            command: "plot",
+            feature: "figures",
+        };
+        let text = message(&e);
+        assert!(
+            text.starts_with(
+                "`ellipsoid plot` needs the `figures` feature, which this build was compiled without: "
+            ),
+            "{text}"
+        );
+        assert!(
+            text.contains("`cargo build --release -p ellipsoid-cli`"),
+            "{text}"
+        );
+        assert!(text.contains("`--features figures`"), "{text}");
+        assert_eq!(e.exit_code(), 2);
     }
 }

@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 use signal_hook::consts::{SIGINT, SIGTERM};
 
+#[cfg(any(feature = "study", feature = "animate"))]
 use crate::error::CliError;
 
 /// The signals a run stops on, with their names.
@@ -57,7 +58,8 @@ impl Interrupt {
     }
 
     /// `Err(Interrupted)` if a signal came: `what` (e.g. "the sweep") was stopped and
-    /// nothing written.
+    /// nothing written. (`run` says more: where the run stopped.)
+    #[cfg(any(feature = "study", feature = "animate"))]
     pub fn check(&self, what: &str) -> Result<(), CliError> {
         match self.received() {
             None => Ok(()),

@@ -21,9 +21,11 @@ use ellipsoid_study::study::table::{self, TableFormat};
 use ellipsoid_study::study::{Cell, Column, Type};
 
 use crate::cli::SteadyArgs;
+#[cfg(feature = "figures")]
 use crate::diagram::{self, Diagram};
 use crate::error::CliError;
 use crate::interrupt::Interrupt;
+#[cfg(feature = "figures")]
 use crate::visual::{check_output, put};
 
 pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
@@ -56,6 +58,14 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
                 path.display()
             )));
         }
+        #[cfg(not(feature = "figures"))]
+        Some(_) => {
+            return Err(CliError::NoFeature {
+                command: "steady --plot",
+                feature: "figures",
+            });
+        }
+        #[cfg(feature = "figures")]
         Some(path) => {
             let n = vary.as_ref().map_or(0, |v| v.1.len());
             if n > diagram::MAX_VALUES {
@@ -193,6 +203,7 @@ fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
 }
 
 /// Writes the stability diagram of `sw` to `plot` (its path and format), if asked.
+#[cfg(feature = "figures")]
 fn draw<T: Stability>(
     scenario: &Scenario,
     sw: &Sweep<T>,
@@ -223,6 +234,17 @@ fn draw<T: Stability>(
             sw.critical.len()
         );
     }
+    Ok(())
+}
+
+/// Without the `figures` feature `--plot` is refused before anything runs: nothing to draw.
+#[cfg(not(feature = "figures"))]
+fn draw<T: Stability>(
+    _: &Scenario,
+    _: &Sweep<T>,
+    _: Option<(&PathBuf, String)>,
+    _: bool,
+) -> Result<(), CliError> {
     Ok(())
 }
 

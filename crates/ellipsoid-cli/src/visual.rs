@@ -4,13 +4,18 @@
 //! (`--summary`, or the one stored in an HDF5 file) and the scenario it names.
 
 use std::path::Path;
+#[cfg(any(feature = "figures", feature = "view"))]
 use std::process::ExitCode;
 
 use ellipsoid_io::atomic;
 use ellipsoid_io::table::{self, Table};
 
-use crate::cli::{PlotArgs, ViewArgs};
+#[cfg(feature = "figures")]
+use crate::cli::PlotArgs;
+#[cfg(feature = "view")]
+use crate::cli::ViewArgs;
 use crate::error::CliError;
+#[cfg(feature = "figures")]
 use crate::figure;
 
 /// Reads the trajectory's columns `keep` (all if None) and, if given, the summary.
@@ -30,6 +35,7 @@ pub(crate) fn load(
 /// The default title: the file name of the scenario the run's summary names (`--summary`,
 /// or the one an HDF5 file stores; never its directories, which a page must not carry),
 /// else the input's file name.
+#[cfg(any(feature = "figures", feature = "view"))]
 fn default_title(table: &Table, input: &Path) -> String {
     table.scenario.clone().unwrap_or_else(|| {
         input.file_name().map_or_else(
@@ -80,6 +86,7 @@ pub(crate) fn put(output: &Path, bytes: &[u8]) -> Result<(), CliError> {
     Ok(())
 }
 
+#[cfg(feature = "figures")]
 pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     if args.section {
         return crate::plot_section::plot_section(args);
@@ -128,6 +135,7 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     Ok(ExitCode::SUCCESS)
 }
 
+#[cfg(feature = "view")]
 pub fn view(args: &ViewArgs) -> Result<ExitCode, CliError> {
     check_output(&args.output, &["html", "htm"], "page")?;
     let asked = args

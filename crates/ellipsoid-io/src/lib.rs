@@ -4,8 +4,10 @@
 //! renamed into place only when complete).
 //!
 //! Column names and units are declared once, in [`columns`]. Trajectories are read back by
-//! [`table`]; [`viewer`] makes the self-contained 3-D viewer page from one.
+//! [`table`]; `viewer` (feature `viewer`) makes the self-contained 3-D viewer page from one,
+//! `animate` (feature `animate`) a GIF animation.
 
+#[cfg(feature = "animate")]
 pub mod animate;
 pub mod atomic;
 pub mod columns;
@@ -17,6 +19,7 @@ pub mod restore;
 pub mod run;
 pub mod summary;
 pub mod table;
+#[cfg(feature = "viewer")]
 pub mod viewer;
 
 use std::path::{Path, PathBuf};
