@@ -74,6 +74,24 @@ fn describe(d: &Derived) -> String {
             ),
         );
     }
+    for rim in &body.rims {
+        line(
+            "rim",
+            format!(
+                "{}: radius {} m, edge {} m, centre {} m (body axes, from C0)",
+                rim.name,
+                rim.radius,
+                rim.edge,
+                vec3(&rim.center)
+            ),
+        );
+    }
+    if !body.ellipsoid_contact {
+        line(
+            "ellipsoid",
+            "does not touch (ellipsoid_contact = false)".to_owned(),
+        );
+    }
     line("gravity", format!("{} m/s^2", d.gravity));
     line(
         "contact model",

@@ -60,6 +60,10 @@ pub struct BodyData {
     pub weight: f64,
     /// The contact spheres, in the body's order (empty: the ellipsoid alone touches).
     pub spheres: Vec<SphereData>,
+    /// The rims, in the body's order.
+    pub rims: Vec<RimData>,
+    /// Whether the ellipsoid itself touches the plane (`body.ellipsoid_contact`).
+    pub ellipsoid_contact: bool,
 }
 
 /// A contact sphere fixed in the body.
@@ -71,6 +75,19 @@ pub struct SphereData {
     pub center: [f64; 3],
     /// Its radius \[m\].
     pub radius: f64,
+}
+
+/// A rim fixed in the body (docs/physics.md, "Rims").
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct RimData {
+    /// Its name (its output columns and events name it).
+    pub name: String,
+    /// The centre of its circle in body axes, from C0, on the z axis \[m\].
+    pub center: [f64; 3],
+    /// R, the radius of its circle \[m\].
+    pub radius: f64,
+    /// r, the radius of its rounded edge (0: sharp) \[m\].
+    pub edge: f64,
 }
 
 /// The contact model.
@@ -221,6 +238,15 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
                     radius: sp.radius,
                 })
                 .collect(),
+            rims: (body.rims().iter())
+                .map(|rim| RimData {
+                    name: rim.name.clone(),
+                    center: arr(&rim.center),
+                    radius: rim.radius,
+                    edge: rim.edge,
+                })
+                .collect(),
+            ellipsoid_contact: body.ellipsoid_contact(),
         },
         gravity: scene.gravity,
         contact: ContactData {
@@ -342,6 +368,23 @@ mod tests {
         assert_eq!((d.solver.method, d.solver.step), ("dop853", None));
         assert_eq!(d.output.samples, 10001);
         assert!(d.body.spheres.is_empty() && d.contact.viscous_friction.is_none());
+    }
+
+    /// Euler's disk lists its two rims, and that its ellipsoid does not touch.
+    #[test]
+    fn rims_are_reported() {
+        let scenario = load("euler-disk.toml", &[]);
+        let d = derive(&scenario).unwrap();
+        let rims = scenario.scene.body.rims();
+        assert_eq!(d.body.rims.len(), 2);
+        for (got, rim) in d.body.rims.iter().zip(rims) {
+            assert_eq!(
+                (&got.name, got.radius, got.edge),
+                (&rim.name, rim.radius, rim.edge)
+            );
+            assert_eq!(got.center, [rim.center.x, rim.center.y, rim.center.z]);
+        }
+        assert!(!d.body.ellipsoid_contact);
     }
 
     /// A tippe top's stem is listed with the body, as the scenario gives it.
