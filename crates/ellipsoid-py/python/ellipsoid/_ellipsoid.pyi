@@ -18,6 +18,7 @@ __all__ = [
     "EllipsoidError",
     "InternalError",
     "OutputError",
+    "PlausibilityWarning",
     "PrecisionTable",
     "Scenario",
     "ScenarioError",
