@@ -173,3 +173,30 @@ def test_replace_sets_elements_of_arrays_by_index() -> None:
     assert info.value.kind == "override"
     with pytest.raises(ellipsoid.ScenarioError, match=r"body\.inertia\[2\] = -1|principal moments"):
         base.replace(**{"body.inertia[2]": -1.0})
+
+
+def test_rims_from_keyword_tables() -> None:
+    """`[[body.rim]]` and `ellipsoid_contact` as `body=dict(..., ellipsoid_contact=False,
+    rim=[dict(name=..., center=..., radius=..., edge=...)])`: the same run as the bundled
+    coin, which lands flat once and ends on its face; an off-axis centre an EllipsoidError
+    naming the rim's key."""
+    coin = REPO / "scenarios" / "coin.toml"
+    base = ellipsoid.load(coin)
+    body = dict(
+        a=0.01213,
+        c=0.000875,
+        mass=5.67e-3,
+        inertia=[2.10e-7, 2.10e-7, 4.17e-7],
+        ellipsoid_contact=False,
+        rim=[dict(name="edge", center=[0.0, 0.0, 0.0], radius=0.011255, edge=0.000875)],
+    )
+    built = base.replace(body=body)
+    a = ellipsoid.simulate(built)
+    b = ellipsoid.simulate(coin)
+    same_run(a, b)
+    flats = [e for e in a.events if e["kind"] == "flat"]
+    assert len(flats) == 1 and flats[0]["surface"] == "edge" and flats[0]["energy_loss"] > 0.0
+    assert a["mode"][-1] == "face@edge"
+    bad = dict(body, rim=[dict(name="edge", center=[0.01, 0.0, 0.0], radius=0.011255, edge=0.0)])
+    with pytest.raises(ellipsoid.EllipsoidError, match=r"body\.rim\[0\]\.center = \[0\.01, 0(\.0)?, 0(\.0)?\]: a rim's centre lies on the body's symmetry axis"):
+        base.replace(body=bad)
