@@ -63,9 +63,11 @@ pub(super) fn land_flat<E: Effect + Copy + 'static>(
     let far =
         kin.rot * (rim.center + rim.radius * out - rim.edge * kin.contact.zeta - body.com_offset());
     let speed = -(kin.v_g + omega.cross(&far)).z;
-    // The attitude set flat: the rim's axis, upward, turned onto the vertical.
-    Face::flatten(y);
-    let rot = state::rotation(y);
+    // The attitude set flat: the rim's axis, upward, turned onto the vertical (on a copy:
+    // a landing that is not simulated leaves the state as it found it).
+    let mut landed = *y;
+    Face::flatten(&mut landed);
+    let rot = state::rotation(&landed);
     let inertia = rot * body.inertia() * rot.transpose();
     // The plastic impact of the face.
     let grips = scene.contact == ContactModel::Rolling;
@@ -103,15 +105,16 @@ pub(super) fn land_flat<E: Effect + Copy + 'static>(
     } else {
         Vector3::new(kin.v_g.x, kin.v_g.y, 0.0)
     };
-    y[state::VEL] = v.x;
-    y[state::VEL + 1] = v.y;
-    y[state::HEIGHT] = 0.0;
-    y[state::VEL_Z] = 0.0;
-    y.fixed_rows_mut::<3>(state::OMEGA)
+    landed[state::VEL] = v.x;
+    landed[state::VEL + 1] = v.y;
+    landed[state::HEIGHT] = 0.0;
+    landed[state::VEL_Z] = 0.0;
+    landed
+        .fixed_rows_mut::<3>(state::OMEGA)
         .copy_from(&(rot.transpose() * after));
-    let landed = energy(&Kinematics::new(body, y, false));
-    let energy_loss = before - landed;
-    y[state::WORK] += energy_loss;
+    let energy_loss = before - energy(&Kinematics::new(body, &landed, false));
+    landed[state::WORK] += energy_loss;
+    *y = landed;
     events.push(EventRecord {
         kind: EventKind::Flat {
             surface,
