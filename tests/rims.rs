@@ -563,19 +563,41 @@ fn a_coin_dropped_flat_lands_on_its_face() {
 /// A coin started lying flat (θ = 0) is on its face from t = 0.
 #[test]
 fn a_coin_started_flat_lies_on_its_face() {
-    let (out, samples) = run(&coin_scene(
+    let scene = coin_scene(
         "theta = 0.0\nphi_dot = 10.0\nvelocity = [0.1, 0.0]",
         "model = \"sliding\"\nfriction = 0.2\ncontact_radius = 1e-4",
         1e-10,
         1.0,
     )
-    .scene);
+    .scene;
+    let (out, samples) = run(&scene);
     assert_eq!(out.status, Status::Completed, "{:?}", out.events);
     assert!(
         samples
             .iter()
             .all(|s| s.mode == ellipsoid_core::simulate::Mode::Face)
     );
+    // The face's friction acts at its centre, on the vertical through G (the axis stands
+    // vertical): the contact columns and the rim's own are that point and its speed |v_G|
+    // (ω is vertical), however the rim's support point falls at zero tilt.
+    let layout = ellipsoid_core::columns::Layout::of(&scene.body);
+    for s in &samples {
+        assert!((s.contact - s.position.xy()).norm() < 1e-15, "t = {}", s.t);
+        assert!(
+            (s.slip_speed - s.velocity.xy().norm()).abs() < 1e-15,
+            "t = {}",
+            s.t
+        );
+        let mut rim = Vec::new();
+        layout.surface_values(s, &mut rim);
+        let speed = s.velocity.xy().norm();
+        let want = [s.normal_force, speed, 0.0, s.position.x, s.position.y];
+        assert!(
+            rim.iter().zip(want).all(|(a, b)| (a - b).abs() < 1e-15),
+            "t = {}: {rim:?} vs {want:?}",
+            s.t
+        );
+    }
     // Coulomb–Contensou: slip and spin stop together, within the run.
     let last = samples.last().unwrap();
     assert_eq!((last.velocity.norm(), last.omega.norm()), (0.0, 0.0));

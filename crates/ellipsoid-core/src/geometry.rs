@@ -212,7 +212,9 @@ pub fn height(body: &Body, surface: Surface, zeta: Vector3<f64>) -> f64 {
 /// and |Pζ| = sin α for a rim tilted α from the plane (docs/physics.md, "Rims").
 #[inline(always)]
 pub fn ring_direction(zeta: Vector3<f64>) -> (Vector3<f64>, f64) {
-    let m = zeta.x.hypot(zeta.y);
+    // √(x² + y²) rather than hypot: |ζ| ≤ 1 cannot overflow, and hypot costs as much as
+    // the rest of the gap.
+    let m = (zeta.x * zeta.x + zeta.y * zeta.y).sqrt();
     if m > 0.0 {
         (Vector3::new(zeta.x / m, zeta.y / m, 0.0), m)
     } else {

@@ -10,11 +10,12 @@
 //! vx, vy, vz    m/s     velocity of G
 //! energy        J       E = ½m|v_G|² + ½ωᵀIω + m g z_G
 //! normal_force  N       N = F·e3
-//! slip_speed    m/s     |v_C|, speed of the material contact point
-//! mode          -       contact regime: frictionless | sliding | rolling | flight | two_contacts | viscous | three_contacts
+//! slip_speed    m/s     |v_C|, speed of the material contact point (a face: of its centre)
+//! mode          -       contact regime: frictionless | sliding | rolling | flight | two_contacts | viscous | three_contacts | face
 //! work          J       work dissipated so far (friction and effects)
 //! omega_world_* rad/s   angular velocity in world axes (omega_world_z: the vertical spin)
-//! contact_x, _y m       the contact point C on the plane
+//! contact_x, _y m       the contact point C on the plane (a rim lying on its face: the
+//!                       face's centre)
 //! drift         1       (Q − Q(0))/scale of the scene's conserved quantity Q: E where
 //!                       energy is conserved, else E + W (docs/physics.md, "Invariants")
 //! gap           m       height of the body's lowest point above the plane (0 in contact)
@@ -172,7 +173,8 @@ pub fn sample(
 /// normal_force_S  N    normal force of the plane on surface S (0 when S is open)
 /// slip_speed_S    m/s  horizontal speed of S's lowest material point (its slip in contact)
 /// gap_S           m    height of S's lowest point above the plane (0 in contact)
-/// contact_x_S, _y m    S's lowest point on the plane (its contact point in contact)
+/// contact_x_S, _y m    S's lowest point on the plane (its contact point in contact;
+///                      the face's centre for a rim lying on its face)
 /// ```
 pub const SURFACE_COLUMNS: [(&str, &str); 5] = [
     ("normal_force", "N"),
@@ -329,6 +331,10 @@ impl Layout {
 fn surface_row(body: &Body, rot: &UnitQuaternion<f64>, s: &Sample, surface: Surface) -> [f64; 5] {
     let zeta = rot.inverse_transform_vector(&Vector3::z());
     let normal = s.touching.iter().flatten().find(|t| t.0 == surface);
+    if let (Some(&(_, n)), Mode::Face) = (normal, s.mode) {
+        // The face's centre, where the law acts (the rim's support point is undefined).
+        return [n, s.slip_speed, 0.0, s.contact.x, s.contact.y];
+    }
     let c = Contact::of(body, surface, zeta, s.omega);
     let point = s.position + rot * c.r;
     let slip = s.velocity + rot * s.omega.cross(&c.r);

@@ -75,6 +75,11 @@ impl ContactLaw for Face {
     const ROLLING: bool = false;
 
     #[inline]
+    fn acting_point(&self, body: &Body, kin: &Kinematics) -> (Vector3<f64>, Vector2<f64>) {
+        (self.lever(body, kin), self.slip(body, kin).0)
+    }
+
+    #[inline]
     fn respond(
         &self,
         body: &Body,

@@ -31,7 +31,7 @@ pub use rolling::Rolling;
 pub use sliding::{Sliding, SlipBand};
 pub use viscous::Viscous;
 
-use nalgebra::Vector3;
+use nalgebra::{Vector2, Vector3};
 
 use crate::body::Body;
 use crate::effects::{Effect, Wrench};
@@ -76,6 +76,13 @@ pub trait ContactLaw {
     ) -> Response;
     /// Restores the law's algebraic relations on an accepted state (see [`OdeSystem::project`]).
     fn project(&self, _body: &Body, _y: &mut State) {}
+    /// The point the law acts at, from G in world axes \[m\], and its horizontal velocity
+    /// (the slip) [m/s]: the surface's contact point C and v_C by default, the face's
+    /// centre for a face ([`Face`]), whose rim's support point is undefined when flat.
+    #[inline(always)]
+    fn acting_point(&self, _body: &Body, kin: &Kinematics) -> (Vector3<f64>, Vector2<f64>) {
+        (kin.rot * kin.contact.r, kin.slip)
+    }
     /// [`ContactLaw::respond`] for a law that also adds a load of its own to the effects'
     /// `load` (the drilling torque of a contact disc, per unit N): returns the total load,
     /// which the power balance then books, and the response to it. By default the law

@@ -129,6 +129,7 @@ impl<'s, E: Copy> Context<'s, E> {
         let position = Vector3::new(y[state::POS], y[state::POS + 1], kin.z_g());
         let normal_force = self.numerics.reported_normal(&sys.body, sys.gravity, ev);
         let others = ev.response.other_normals;
+        let (lever, slip) = sys.contact.acting_point(&sys.body, kin);
         let count = match mode {
             Mode::Flight => 0,
             Mode::TwoContacts | Mode::ThreeContacts => contacts.count,
@@ -146,11 +147,11 @@ impl<'s, E: Copy> Context<'s, E> {
             omega: kin.omega,
             omega_world: kin.rot * kin.omega,
             velocity: kin.v_g,
-            contact: position.xy() + (kin.rot * kin.contact.r).xy(),
+            contact: position.xy() + lever.xy(),
             energy: inv.energy,
             work: y[state::WORK],
             normal_force,
-            slip_speed: kin.slip.norm(),
+            slip_speed: slip.norm(),
             drift: 0.0,
             gap: kin.gap,
             mode,
