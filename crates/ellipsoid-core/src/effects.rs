@@ -17,7 +17,8 @@
 use nalgebra::Vector3;
 use serde::Serialize;
 
-use crate::body::Body;
+use crate::body::{Body, Surface};
+use crate::geometry::{self, FLAT_TILT};
 use crate::kinematics::Kinematics;
 
 /// Generalised load of the optional effects.
@@ -91,8 +92,9 @@ impl Effect for AirDrag {
     }
 }
 
-/// Rolling resistance: torque −c_r N ω_h/|ω_h|, ω_h the horizontal part of ω,
-/// regularised as ω_h / √(|ω_h|² + ε²) so that it vanishes smoothly at ω_h = 0.
+/// Rolling resistance: a couple c_r N against the rolling angular velocity, torque
+/// −c_r N ω_h/|ω_h|, ω_h the horizontal part of ω (power c_r N |ω_h|), regularised as
+/// ω_h / √(|ω_h|² + ε²) so that it vanishes smoothly at ω_h = 0.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RollingResistance {
     /// c_r \[m\].
@@ -104,8 +106,7 @@ pub struct RollingResistance {
 impl Effect for RollingResistance {
     #[inline]
     fn wrench(&self, _: &Body, kin: &Kinematics) -> Wrench {
-        let zeta = kin.contact.zeta;
-        let omega_h = kin.omega - zeta * kin.omega.dot(&zeta);
+        let omega_h = rolling_part(kin);
         let scale = (omega_h.norm_squared() + self.regularisation * self.regularisation).sqrt();
         Wrench {
             force: Vector3::zeros(),
@@ -137,6 +138,118 @@ impl Effect for SpinFriction {
             torque_per_normal: -self.coefficient * sign * zeta,
         }
     }
+}
+
+/// Rolling friction: a force μ_r N resisting the travel of the contact point, which moves
+/// over the body at ṙ_C = −H ζ̇ (`geometry::Contact::r_dot_surface`; rolling, at the same
+/// speed along the plane). The material contact point is at rest in rolling, so the force
+/// acts as the couple whose power is μ_r N |ṙ_C|: −μ_r N (|ṙ_C|/|ω_h|) ω̂_h, ω_h the
+/// rolling (horizontal) part of ω (|ζ̇| = |ω_h|), regularised as ω_h/√(|ω_h|² + ε²)
+/// (docs/physics.md, "Dissipation of a rolling disc").
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RollingFriction {
+    /// μ_r \[1\].
+    pub coefficient: f64,
+    /// ε [rad/s].
+    pub regularisation: f64,
+}
+
+impl Effect for RollingFriction {
+    #[inline]
+    fn wrench(&self, _: &Body, kin: &Kinematics) -> Wrench {
+        let omega_h = rolling_part(kin);
+        let w = omega_h.norm();
+        let per_normal = if w > 0.0 {
+            let travel = kin.contact.r_dot_surface.norm();
+            -self.coefficient * travel / w * omega_h
+                / (w * w + self.regularisation * self.regularisation).sqrt()
+        } else {
+            Vector3::zeros()
+        };
+        Wrench {
+            force: Vector3::zeros(),
+            torque: Vector3::zeros(),
+            torque_per_normal: per_normal,
+        }
+    }
+}
+
+/// Moffatt's air film: the viscous air in the wedge under a disc touching the plane at
+/// its rim, in the lubrication approximation (Moffatt, Nature 404 (2000) 833). The
+/// Reynolds equation is linear in the rocking rate ω_h and the gap scales as a sin α, so
+/// the film's load is the couple −(π/4) μ a³ ω_h / sin³α; its power (π/4) μ a³ Ω² cos²α /
+/// sin α on the rolling disc (|ω_h| = Ω sin α cos α) is Moffatt's Φ, the constant that of
+/// his t0 = α0³ M/(2π μ a) (docs/physics.md, "Dissipation of a rolling disc"). It acts on
+/// a rim on the plane ([`rocking_disc`]), a its radius R.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AirFilm {
+    /// μ, the air's dynamic viscosity [Pa·s].
+    pub viscosity: f64,
+}
+
+impl Effect for AirFilm {
+    #[inline]
+    fn wrench(&self, body: &Body, kin: &Kinematics) -> Wrench {
+        let torque = rocking_disc(body, kin).map_or(Vector3::zeros(), |(a, sin_alpha, w)| {
+            -std::f64::consts::FRAC_PI_4 * self.viscosity * a.powi(3) / sin_alpha.powi(3) * w
+        });
+        Wrench {
+            force: Vector3::zeros(),
+            torque,
+            torque_per_normal: Vector3::zeros(),
+        }
+    }
+}
+
+/// Bildsten's boundary layer: above the angle where the air's viscous diffusion across
+/// the gap is slower than the precession, the shear is confined to a layer δ = √(2ν/Ω)
+/// (ν = μ/ρ) and the power lost is √(μρ) a⁴ Ω^{5/2}/√2 (Bildsten, Phys. Rev. E 66 (2002)
+/// 056309; docs/physics.md, "Dissipation of a rolling disc"). As a couple against the
+/// rocking rate with Ω = |ω_h|/sin α: −√(μρ) a⁴ |ω_h|^{1/2} ω_h / (√2 sin^{5/2}α), on a rim
+/// on the plane ([`rocking_disc`]), a its radius R.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct AirBoundaryLayer {
+    /// μ, the air's dynamic viscosity [Pa·s].
+    pub viscosity: f64,
+    /// ρ, the air's density [kg/m³].
+    pub density: f64,
+}
+
+impl Effect for AirBoundaryLayer {
+    #[inline]
+    fn wrench(&self, body: &Body, kin: &Kinematics) -> Wrench {
+        let torque = rocking_disc(body, kin).map_or(Vector3::zeros(), |(a, sin_alpha, w)| {
+            let k = (self.viscosity * self.density).sqrt()
+                * a.powi(4)
+                * std::f64::consts::FRAC_1_SQRT_2;
+            -k * w.norm().sqrt() / (sin_alpha * sin_alpha * sin_alpha.sqrt()) * w
+        });
+        Wrench {
+            force: Vector3::zeros(),
+            torque,
+            torque_per_normal: Vector3::zeros(),
+        }
+    }
+}
+
+/// The rolling (horizontal) part of ω, ω_h = ω − ζ (ζ·ω), body axes [rad/s].
+#[inline(always)]
+fn rolling_part(kin: &Kinematics) -> Vector3<f64> {
+    let zeta = kin.contact.zeta;
+    kin.omega - zeta * kin.omega.dot(&zeta)
+}
+
+/// The disc of the air laws: while a rim is on the plane (gap 0) and tilted α above
+/// [`FLAT_TILT`], its radius a = R \[m\], sin α = |Pζ| and the rocking rate ω_h (body
+/// axes) [rad/s]; `None` otherwise (another surface touching, flight, lying flat).
+#[inline]
+fn rocking_disc(body: &Body, kin: &Kinematics) -> Option<(f64, f64, Vector3<f64>)> {
+    let Surface::Rim(k) = kin.contact.surface else {
+        return None;
+    };
+    let (_, sin_alpha) = geometry::ring_direction(kin.contact.zeta);
+    (kin.gap == 0.0 && sin_alpha > FLAT_TILT)
+        .then(|| (body.rims()[k].radius, sin_alpha, rolling_part(kin)))
 }
 
 /// What runs with a scene's effects: [`EffectSet::dispatch`] calls `run` with exactly the
@@ -227,5 +340,27 @@ effect_set! {
     /// Air drag ([`AirDrag`]).
     air_drag: AirDrag {
         report: |e| format!("air drag k = {} kg/s, k_w = {} kg m^2/s", e.linear, e.angular),
+    },
+    /// Rolling friction ([`RollingFriction`]).
+    rolling_friction: RollingFriction {
+        report: |e| {
+            format!(
+                "rolling friction mu_r = {} (eps = {} rad/s)",
+                e.coefficient, e.regularisation
+            )
+        },
+    },
+    /// Moffatt's air film ([`AirFilm`]).
+    air_film: AirFilm {
+        report: |e| format!("air film (Moffatt) mu = {} Pa s", e.viscosity),
+    },
+    /// Bildsten's boundary layer ([`AirBoundaryLayer`]).
+    air_boundary_layer: AirBoundaryLayer {
+        report: |e| {
+            format!(
+                "air boundary layer (Bildsten) mu = {} Pa s, rho = {} kg/m^3",
+                e.viscosity, e.density
+            )
+        },
     },
 }

@@ -519,7 +519,8 @@ impl PrecisionTable {
 /// (`semi_axes` [m], `shape`, `mass` [kg], `inertia` [kg m²] by rows,
 /// `principal_moments` [kg m²], `com_offset` [m], `com_offset_radial` (gᵀA⁻²g, < 1
 /// inside the body), `weight` [N]), `gravity` [m/s²], `contact` (`model`, `friction`, `disc`: `radius` [m] and `law`, or None),
-/// `effects` (`rolling_resistance`, `spin_friction`, `air_drag`, None where absent),
+/// `effects` (`rolling_resistance`, `spin_friction`, `air_drag`, `rolling_friction`,
+/// `air_film`, `air_boundary_layer`, None where absent),
 /// `initial` (`theta`, `phi`, `psi` [rad], `theta_deg`, `rates` (`theta_dot`, `phi_dot`,
 /// `psi_dot` [rad/s]; None when `omega_body` was given), `omega_body` [rad/s],
 /// `omega_body_given`, `contact_point` [m] (from C0), `contact_point_world` [m],

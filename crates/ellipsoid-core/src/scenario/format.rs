@@ -734,6 +734,7 @@ pub(super) fn read_effects(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, Effect
             &sec,
             "rolling_resistance",
             "c_r, the rolling-resistance length (m)",
+            "m",
         )?
         .map(|(coefficient, regularisation)| RollingResistance {
             coefficient,
@@ -744,12 +745,44 @@ pub(super) fn read_effects(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<(f64, Effect
             &sec,
             "spin_friction",
             "c_s, the spin-friction length (m)",
+            "m",
         )?
         .map(|(coefficient, regularisation)| SpinFriction {
             coefficient,
             regularisation,
         }),
         air_drag: read_air_drag(ctx, &sec)?,
+        rolling_friction: resistance(
+            ctx,
+            &sec,
+            "rolling_friction",
+            "mu_r, the rolling-friction coefficient (1)",
+            "1",
+        )?
+        .map(|(coefficient, regularisation)| RollingFriction {
+            coefficient,
+            regularisation,
+        }),
+        air_film: air_table(ctx, &sec, "air_film", "{ viscosity = mu (Pa s) }")?
+            .map(|sub| {
+                Ok(AirFilm {
+                    viscosity: air_property(ctx, &sub, VISCOSITY)?,
+                })
+            })
+            .transpose()?,
+        air_boundary_layer: air_table(
+            ctx,
+            &sec,
+            "air_boundary_layer",
+            "{ viscosity = mu (Pa s), density = rho (kg/m^3) }",
+        )?
+        .map(|sub| {
+            Ok(AirBoundaryLayer {
+                viscosity: air_property(ctx, &sub, VISCOSITY)?,
+                density: air_property(ctx, &sub, DENSITY)?,
+            })
+        })
+        .transpose()?,
     };
     Ok((gravity, effects))
 }
@@ -787,19 +820,62 @@ fn read_air_drag(ctx: &Ctx<'_>, effects: &Sec<'_>) -> Result<Option<AirDrag>> {
     }))
 }
 
-/// `key = c` or `key = { coefficient = c, regularisation = ε }` → (c, ε).
-fn resistance(ctx: &Ctx<'_>, sec: &Sec<'_>, key: &str, what: &str) -> Result<Option<(f64, f64)>> {
-    const RULE: &str = "the coefficient must be finite and non-negative (m)";
+/// An air law's property: its key, what it is, and the rule (finite, positive, at most
+/// the bound, with its reason).
+type Property = (&'static str, &'static str, fn(f64) -> bool, &'static str);
+
+/// μ: a gas's or a thin liquid's; beyond 10 Pa s the film no longer is a lubricating gap.
+const VISCOSITY: Property = (
+    "viscosity",
+    "mu, the air's dynamic viscosity (Pa s)",
+    |v| v > 0.0 && v <= 10.0,
+    "the viscosity must be positive and at most 10 Pa s (air: 1.8e-5 Pa s)",
+);
+
+/// ρ: a fluid's, at most 1e4 kg/m³.
+const DENSITY: Property = (
+    "density",
+    "rho, the air's density (kg/m^3)",
+    |v| v > 0.0 && v <= 1e4,
+    "the density must be positive and at most 1e4 kg/m^3 (air: 1.2 kg/m^3)",
+);
+
+/// The table `[effects.key]` of an air law, if present.
+fn air_table<'t>(
+    ctx: &Ctx<'t>,
+    effects: &Sec<'t>,
+    key: &str,
+    form: &str,
+) -> Result<Option<Sec<'t>>> {
+    ctx.section(effects, key, &keys(&effects.full(key)), form)
+}
+
+/// A required property of an air law's table.
+fn air_property(ctx: &Ctx<'_>, sub: &Sec<'_>, (key, what, ok, rule): Property) -> Result<f64> {
+    ctx.checked(sub, key, what, ok, rule)?
+        .ok_or_else(|| ctx.missing(sub, key, format!("give {what}")))
+}
+
+/// `key = c` or `key = { coefficient = c, regularisation = ε }` → (c, ε), c in `unit`.
+fn resistance(
+    ctx: &Ctx<'_>,
+    sec: &Sec<'_>,
+    key: &str,
+    what: &str,
+    unit: &str,
+) -> Result<Option<(f64, f64)>> {
+    let rule = format!("the coefficient must be finite and non-negative ({unit})");
     let Some(got) = sec.get(key) else {
         return Ok(None);
     };
     if let Some(c) = got.node().as_f64() {
         if !(c.is_finite() && c >= 0.0) {
-            return Err(ctx.bad(ErrorKind::Invalid, sec, got, RULE));
+            return Err(ctx.bad(ErrorKind::Invalid, sec, got, rule));
         }
         return Ok(Some((c, DEFAULT_REGULARISATION)));
     }
-    let form = format!("a number {what}, or {{ coefficient = c (m), regularisation = ε (rad/s) }}");
+    let form =
+        format!("a number {what}, or {{ coefficient = c ({unit}), regularisation = ε (rad/s) }}");
     let sub = ctx.table_of(
         &sec.full(key),
         got.node(),
@@ -808,7 +884,7 @@ fn resistance(ctx: &Ctx<'_>, sec: &Sec<'_>, key: &str, what: &str) -> Result<Opt
         &form,
     )?;
     let c = ctx
-        .checked(&sub, "coefficient", what, |v| v >= 0.0, RULE)?
+        .checked(&sub, "coefficient", what, |v| v >= 0.0, &rule)?
         .ok_or_else(|| ctx.missing(&sub, "coefficient", format!("give {what}")))?;
     let eps = ctx
         .checked(

@@ -30,7 +30,9 @@ use toml::de::{DeTable, DeValue};
 
 use crate::body::{Body, MAX_NAME, MAX_RIMS, MAX_SPHERES, Rim, Sphere, uniform_inertia};
 use crate::columns::Layout;
-use crate::effects::{AirDrag, RollingResistance, SpinFriction};
+use crate::effects::{
+    AirBoundaryLayer, AirDrag, AirFilm, RollingFriction, RollingResistance, SpinFriction,
+};
 use crate::error::{ModelError, number};
 use crate::integrate::{Direction, Method};
 use crate::model::{ContactDisc, contensou};

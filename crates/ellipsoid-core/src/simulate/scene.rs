@@ -391,6 +391,7 @@ impl Scene {
         }
         self.validate_shape()?;
         self.validate_arms()?;
+        self.validate_disc_laws()?;
         self.validate_observe()
     }
 
@@ -413,6 +414,38 @@ impl Scene {
                     number(max),
                     number(min)
                 ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The air laws act under a rim's face: the body needs a rim. Rolling friction's
+    /// μ_r is a coefficient of resistance, at most 1 (measured ones are ~1e-4).
+    fn validate_disc_laws(&self) -> Result<(), ModelError> {
+        let e = &self.effects;
+        for (key, mu) in [
+            (
+                "effects.air_film.viscosity",
+                e.air_film.map(|f| f.viscosity),
+            ),
+            (
+                "effects.air_boundary_layer.viscosity",
+                e.air_boundary_layer.map(|b| b.viscosity),
+            ),
+        ] {
+            if let Some(mu) = mu.filter(|_| self.body.rims().is_empty()) {
+                return Err(ModelError::invalid(
+                    key,
+                    mu,
+                    "the air laws act in the gap under a rim's face (docs/physics.md, \"Dissipation of a rolling disc\"): the body has no [[body.rim]]",
+                ));
+            }
+        }
+        if let Some(f) = e.rolling_friction.filter(|f| f.coefficient > 1.0) {
+            return Err(ModelError::invalid(
+                "effects.rolling_friction",
+                f.coefficient,
+                "the rolling-friction coefficient μ_r must be at most 1 (measured: ~1e-4)",
             ));
         }
         Ok(())
