@@ -1625,3 +1625,88 @@ fn several_contacts_under_rolling_names_coulomb_friction_which_resolves_it() {
         assert!(balance.abs() < 1e-10, "μ = {mu}: E + W {balance:e}");
     }
 }
+
+/// `ellipsoid power-law`: the thin disc under rolling friction alone approaches its flat
+/// landing as α ∝ (t0 − t)^{2/3} and Ω ∝ (t0 − t)^{−1/3} (docs/physics.md, "Dissipation of
+/// a rolling disc"), t0 the located landing or fitted in a bracket; bad requests exit 2
+/// with one line naming the option.
+#[test]
+fn power_law_measures_the_disc_approach_and_refuses_bad_requests() {
+    let dir = tempfile::tempdir().unwrap();
+    let (g, a, m, alpha0) = (9.81f64, 0.0375f64, 0.445, 0.05f64);
+    let omega = (4.0 * g / (a * alpha0.sin())).sqrt();
+    let toml = format!(
+        "[body]\na = {a}\nc = {}\nmass = {m}\ninertia = [{i_t}, {i_t}, {i_a}]\nellipsoid_contact = false\n\
+         [[body.rim]]\nname = \"edge\"\ncenter = [0.0, 0.0, 0.0]\nradius = {a}\nedge = 0.0\n\
+         [initial]\ntheta = {alpha0}\nphi_dot = {omega}\npsi_dot = {}\n[contact]\nmodel = \"rolling\"\n\
+         [effects]\ngravity = {g}\nrolling_friction = 1e-4\n[output]\nt_end = 4.0\ndt = 1e-3\n",
+        a / 10.0,
+        -omega * alpha0.cos(),
+        i_t = m * a * a / 4.0,
+        i_a = m * a * a / 2.0,
+    );
+    std::fs::write(dir.path().join("disc.toml"), toml).unwrap();
+    let fit = |args: &[&str]| {
+        let mut all = vec!["power-law", "disc.toml", "--window", "0.03,3"];
+        all.extend(args);
+        let out = ellipsoid(dir.path(), &all);
+        assert_no_panic(&out);
+        assert_eq!(code(&out), 0, "{}", stderr(&out));
+        serde_json::from_slice::<Value>(&out.stdout).expect("JSON on stdout")
+    };
+    let t0 = alpha0.powf(1.5) / (2.0 * 1e-4 * (g / a).sqrt());
+    let tilt = fit(&["--column", "theta"]);
+    assert_eq!(tilt["t0_from"], "landing");
+    assert!(
+        (tilt["t0"].as_f64().unwrap() / t0 - 1.0).abs() < 0.01,
+        "{tilt}"
+    );
+    assert!(
+        (tilt["exponent"].as_f64().unwrap() * 1.5 - 1.0).abs() < 0.02,
+        "{tilt}"
+    );
+    let rate = fit(&[
+        "--column",
+        "phi_dot",
+        "--t0",
+        &format!("{},{}", 0.95 * t0, 1.05 * t0),
+    ]);
+    assert_eq!(rate["t0_from"], "fitted");
+    assert!(
+        (rate["exponent"].as_f64().unwrap() * -3.0 - 1.0).abs() < 0.03,
+        "{rate}"
+    );
+    for (args, says) in [
+        (
+            vec!["--column", "tilt", "--window", "0.03,3"],
+            "--column tilt: not a numeric output column",
+        ),
+        (
+            vec!["--column", "theta", "--window", "3,0.03"],
+            "0 < lo < hi",
+        ),
+        (
+            vec!["--column", "theta", "--window", "0.03"],
+            "--window 0.03: expected two numbers",
+        ),
+        (
+            vec!["--column", "theta", "--window", "0.03,3", "--t0", "soon"],
+            "--t0 soon: expected two numbers",
+        ),
+        (
+            vec!["--column", "theta", "--window", "10,20", "--t0", "3.0"],
+            "at least 3",
+        ),
+    ] {
+        let mut all = vec!["power-law", "disc.toml"];
+        all.extend(args);
+        let out = ellipsoid(dir.path(), &all);
+        assert_no_panic(&out);
+        assert_eq!(code(&out), 2, "{all:?}");
+        let err = stderr(&out);
+        assert!(
+            err.lines().count() == 1 && err.contains(says),
+            "{all:?}: {err}"
+        );
+    }
+}

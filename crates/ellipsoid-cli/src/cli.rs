@@ -14,7 +14,7 @@ pub struct Cli {
 
 /// Each command but `run` and the Cargo feature that compiles it in (crates/ellipsoid-cli's
 /// Cargo.toml; docs/development.md, "Features").
-pub const NEEDS: [(&str, &str); 7] = [
+pub const NEEDS: [(&str, &str); 8] = [
     ("check", "study"),
     ("precision", "study"),
     ("plot", "figures"),
@@ -22,6 +22,7 @@ pub const NEEDS: [(&str, &str); 7] = [
     ("animate", "animate"),
     ("study", "study"),
     ("steady", "study"),
+    ("power-law", "study"),
 ];
 
 /// Whether this build has the feature `name` (of those [`NEEDS`] names).
@@ -115,6 +116,15 @@ pub enum Command {
     ///
     /// Exit status: 0 done; 2 bad input (nothing written); 1 output error.
     Steady(SteadyArgs),
+    /// Simulate a scenario and fit the power law |y| ≈ A (t0 − t)^p of one output column
+    /// over a window of t0 − t: the approach of Euler's disk to its finite-time end (its
+    /// tilt `theta` and precession rate `phi_dot`; docs/physics.md, "Dissipation of a
+    /// rolling disc"). Prints the fit as JSON (SI units): column, exponent, prefactor, t0,
+    /// t0_from, window, samples, rms.
+    ///
+    /// Exit status: 0 fitted; 2 bad input (the scenario, the column, the window or t0, or
+    /// too few samples in the window); 3 the run stopped early (nothing fitted).
+    PowerLaw(PowerLawArgs),
 }
 
 #[derive(Debug, Args)]
@@ -274,6 +284,29 @@ pub struct CheckArgs {
     pub set: Vec<String>,
     /// Do not print the plausibility warnings (values that are valid but likely a unit
     /// slip, such as theta = 80 in radians; docs/scenarios.md, "Plausibility warnings").
+    #[arg(long)]
+    pub quiet_plausibility: bool,
+}
+
+#[derive(Debug, Args)]
+#[cfg_attr(not(feature = "study"), allow(dead_code))] // read by `ellipsoid power-law` only
+pub struct PowerLawArgs {
+    /// The scenario file (TOML).
+    pub scenario: PathBuf,
+    /// The output column to fit (e.g. `theta`, `phi_dot`).
+    #[arg(long, value_name = "NAME")]
+    pub column: String,
+    /// The window of t0 − t in seconds, `LO,HI` with 0 < LO < HI.
+    #[arg(long, value_name = "LO,HI")]
+    pub window: String,
+    /// t0 in seconds, or `LO,HI` to fit it in that bracket. Default: the run's first flat
+    /// landing (the event `flat`).
+    #[arg(long, value_name = "T|LO,HI")]
+    pub t0: Option<String>,
+    /// Override a scenario value before validation (as for `run`). Repeatable.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Do not print the plausibility warnings.
     #[arg(long)]
     pub quiet_plausibility: bool,
 }

@@ -23,6 +23,8 @@ mod plausible;
 #[cfg(feature = "figures")]
 mod plot_section;
 #[cfg(feature = "study")]
+mod power_law;
+#[cfg(feature = "study")]
 mod precision;
 mod progress;
 mod run;
@@ -68,6 +70,8 @@ fn main() -> ExitCode {
         cli::Command::Study(args) => study::study(args),
         #[cfg(feature = "study")]
         cli::Command::Steady(args) => steady::steady(args),
+        #[cfg(feature = "study")]
+        cli::Command::PowerLaw(args) => power_law::power_law(args),
         #[allow(unreachable_patterns)] // every command compiled in
         other => Err(compiled_out(other)),
     };
@@ -95,6 +99,7 @@ fn compiled_out(command: &cli::Command) -> error::CliError {
         cli::Command::Animate(_) => "animate",
         cli::Command::Study(_) => "study",
         cli::Command::Steady(_) => "steady",
+        cli::Command::PowerLaw(_) => "power-law",
     };
     let (command, feature) = cli::NEEDS
         .into_iter()

@@ -13,6 +13,8 @@ use pyo3::prelude::*;
 use pyo3::sync::PyOnceLock;
 use pyo3::types::PyDict;
 
+use ellipsoid_study::power_law::{self, T0};
+
 use crate::args;
 use crate::errors::{self, Class};
 use crate::run::{self, Run};
@@ -871,6 +873,69 @@ impl Trajectory {
     /// ended.
     fn to_pandas<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
         result_helper(slf, "to_pandas")
+    }
+
+    /// The power law |y| ≈ A (t0 − t)^p of column `column` (any numeric column: `theta`
+    /// for a disc's tilt α, `phi_dot` for its precession rate Ω) over the samples with
+    /// t0 − t in `window` = (lo, hi) [s], by least squares of ln|y| on ln(t0 − t)
+    /// (docs/physics.md, "Dissipation of a rolling disc"). `t0` None takes the run's first
+    /// flat landing (the event `flat`); a number gives t0 [s]; a pair (lo, hi) fits it
+    /// there. Returns a dict: `column`, `exponent` p, `prefactor` A, `t0` [s], `t0_from`
+    /// ("landing", "given" or "fitted"), `window`, `samples` (used) and `rms` (of ln|y|).
+    /// ScenarioError names a bad window or t0 (or too few samples in the window),
+    /// ScenarioKeyError an unknown column.
+    #[pyo3(signature = (column, window, t0=None))]
+    fn power_law<'py>(
+        &self,
+        py: Python<'py>,
+        column: &str,
+        window: (f64, f64),
+        t0: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let source = &self.scenario.inner.source;
+        let k = self.layout.index(column).ok_or_else(|| {
+            errors::input_error(
+                py,
+                errors::Class::ScenarioKey,
+                ellipsoid_core::scenario::ErrorKind::UnknownKey,
+                source,
+                Some(column),
+                None,
+                format!(
+                    "not a numeric column of this trajectory; the columns are {}",
+                    self.layout.names().join(", ")
+                ),
+            )
+        })?;
+        let t0 = match t0 {
+            None => T0::Landing(power_law::landing(&self.summary.events)),
+            Some(v) if v.is_none() => T0::Landing(power_law::landing(&self.summary.events)),
+            Some(v) => match (v.extract::<f64>(), v.extract::<(f64, f64)>()) {
+                (Ok(t), _) => T0::Given(t),
+                (_, Ok((lo, hi))) => T0::Fitted(lo, hi),
+                _ => {
+                    return Err(errors::type_error(
+                        py,
+                        source,
+                        Some("t0"),
+                        None,
+                        format!(
+                            "t0 is None (the flat landing), a number (s) or a pair (lo, hi) to fit it in, found {}",
+                            args::type_name(v)
+                        ),
+                    ));
+                }
+            },
+        };
+        let t: Vec<f64> = self.samples.iter().map(|s| s.t).collect();
+        let y: Vec<f64> = (self.samples.iter())
+            .map(|s| self.layout.value(s, k))
+            .collect();
+        let fitted = power_law::fit(column, &t, &y, window, t0)
+            .map_err(|rule| errors::value_error(py, source, Some("power_law"), None, rule))?;
+        let json = serde_json::to_string(&fitted)
+            .map_err(|e| Class::Internal.error(py, &e.to_string(), &[]))?;
+        py.import("json")?.getattr("loads")?.call1((json,))
     }
 
     /// The columns as an xarray Dataset (needs xarray) over the dimension `t` [s], each

@@ -10,6 +10,7 @@
 
 pub mod check;
 pub mod plot;
+pub mod power_law;
 pub mod precision;
 pub mod study;
 
