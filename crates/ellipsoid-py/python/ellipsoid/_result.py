@@ -12,7 +12,7 @@ import numpy as np
 from ellipsoid._ellipsoid import Scenario, Trajectory
 
 #: Built-in event kinds, as `Trajectory.events` names them (`kind`).
-EVENT_KINDS = ("slip_stop", "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve", "contact_surface", "grip")
+EVENT_KINDS = ("slip_stop", "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve", "contact_surface", "grip", "flat")
 
 
 def _readonly(a: np.ndarray) -> np.ndarray:
