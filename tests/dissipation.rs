@@ -313,3 +313,53 @@ fn the_boundary_layer_alone_brings_the_disc_down_as_the_time_left_to_the_four_ni
     );
     assert!((fitted_t0 - t0).abs() < 0.01 * t0, "t0 {fitted_t0} vs {t0}");
 }
+
+/// The laws' keys refuse bad values with the key, the value and the rule, and the air
+/// laws refuse a body without a rim.
+#[test]
+fn the_laws_keys_refuse_bad_values_by_name() {
+    let disc = |effects: &str| {
+        let text = format!(
+            "[body]\na = {RADIUS}\nc = 0.004\nmass = {MASS}\ninertia = \"uniform\"\nellipsoid_contact = false\n\
+             [[body.rim]]\nname = \"edge\"\ncenter = [0.0, 0.0, 0.0]\nradius = {RADIUS}\nedge = 0.0\n\
+             [initial]\ntheta = 0.3\n[contact]\nmodel = \"rolling\"\n[effects]\n{effects}\n\
+             [output]\nt_end = 1.0\ndt = 0.1\n"
+        );
+        ellipsoid_core::scenario::parse(&text, "disc.toml", &[] as &[&str])
+            .err()
+            .map(|e| e.to_string())
+    };
+    assert_eq!(disc("air_film = { viscosity = 1.8e-5 }"), None);
+    for (effects, says) in [
+        (
+            "air_film = { viscosity = -1.0 }",
+            "effects.air_film.viscosity = -1",
+        ),
+        ("air_film = { viscosity = 100.0 }", "at most 10 Pa s"),
+        ("air_film = {}", "give mu, the air's dynamic viscosity"),
+        (
+            "air_boundary_layer = { viscosity = 1.8e-5 }",
+            "effects.air_boundary_layer.density",
+        ),
+        (
+            "air_boundary_layer = { viscosity = 1.8e-5, density = 1e9 }",
+            "at most 1e4 kg/m^3",
+        ),
+        ("rolling_friction = -1e-4", "non-negative (1)"),
+        ("rolling_friction = 2.0", "μ_r must be at most 1"),
+    ] {
+        let got = disc(effects).unwrap_or_else(|| panic!("{effects} accepted"));
+        assert!(got.contains(says), "{effects}: {got}");
+    }
+    let ball = "[body]\na = 0.02\nc = 0.02\nmass = 0.1\ninertia = \"uniform\"\n\
+                [contact]\nmodel = \"rolling\"\n[effects]\nair_film = { viscosity = 1.8e-5 }\n\
+                [output]\nt_end = 1.0\ndt = 0.1\n";
+    let got = ellipsoid_core::scenario::parse(ball, "ball.toml", &[] as &[&str])
+        .err()
+        .map(|e| e.to_string())
+        .expect("refused");
+    assert!(
+        got.contains("effects.air_film.viscosity") && got.contains("no [[body.rim]]"),
+        "{got}"
+    );
+}

@@ -180,7 +180,7 @@ impl Effect for RollingFriction {
 /// the film's load is the couple −(π/4) μ a³ ω_h / sin³α; its power (π/4) μ a³ Ω² cos²α /
 /// sin α on the rolling disc (|ω_h| = Ω sin α cos α) is Moffatt's Φ, the constant that of
 /// his t0 = α0³ M/(2π μ a) (docs/physics.md, "Dissipation of a rolling disc"). It acts on
-/// a rim on the plane ([`rocking_disc`]), a its radius R.
+/// a rim on the plane, a its radius R.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct AirFilm {
     /// μ, the air's dynamic viscosity [Pa·s].
@@ -206,7 +206,7 @@ impl Effect for AirFilm {
 /// (ν = μ/ρ) and the power lost is √(μρ) a⁴ Ω^{5/2}/√2 (Bildsten, Phys. Rev. E 66 (2002)
 /// 056309; docs/physics.md, "Dissipation of a rolling disc"). As a couple against the
 /// rocking rate with Ω = |ω_h|/sin α: −√(μρ) a⁴ |ω_h|^{1/2} ω_h / (√2 sin^{5/2}α), on a rim
-/// on the plane ([`rocking_disc`]), a its radius R.
+/// on the plane, a its radius R.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct AirBoundaryLayer {
     /// μ, the air's dynamic viscosity [Pa·s].
