@@ -766,7 +766,7 @@ fn painleve_inconsistency_is_a_clear_error() {
 
 #[test]
 fn inv_optional_effects_balance_work_and_energy() {
-    use ellipsoid_core::effects::{AirDrag, RollingResistance, SpinFriction};
+    use ellipsoid_core::effects::{AirDrag, RollingFriction, RollingResistance, SpinFriction};
     use ellipsoid_core::simulate::EffectSet;
     let none = EffectSet::default();
     let effects = [
@@ -801,6 +801,16 @@ fn inv_optional_effects_balance_work_and_energy() {
             },
         ),
         (
+            "rolling friction",
+            EffectSet {
+                rolling_friction: Some(RollingFriction {
+                    coefficient: 1e-3,
+                    regularisation: 1e-3,
+                }),
+                ..none
+            },
+        ),
+        (
             "all three",
             EffectSet {
                 air_drag: Some(AirDrag {
@@ -815,6 +825,7 @@ fn inv_optional_effects_balance_work_and_energy() {
                     coefficient: 1e-4,
                     regularisation: 1e-3,
                 }),
+                ..none
             },
         ),
     ];
