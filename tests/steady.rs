@@ -537,7 +537,8 @@ fn a_scene_with_an_effect_is_refused_naming_every_effect_of_the_schema() {
     assert_eq!(
         e.to_string(),
         "effects = present: steady motions are analysed without effects \
-         (air_drag, rolling_resistance, spin_friction): remove them"
+         (air_boundary_layer, air_drag, air_film, rolling_friction, rolling_resistance, \
+         spin_friction): remove them"
     );
 }
 

@@ -6,6 +6,7 @@
 //! - [`overrides`]: `replace(contact={"friction": 0.2})` or `replace(**{"contact.friction":
 //!   0.2})` → `contact.friction=0.2`, the command line's `--set` overrides. Nested dicts
 //!   merge into the tables they name (only the keys given change).
+//! - [`to_python`]: the other way, a document's value for `Scenario.get`.
 //!
 //! Accepted values: bool, int, float, str, dicts (tables), lists and tuples (arrays), and
 //! anything with `tolist()` (numpy arrays and scalars) or `__index__` / `__float__`.
@@ -362,4 +363,30 @@ fn toml_key(key: &str) -> String {
     } else {
         toml::Value::String(key.to_owned()).to_string()
     }
+}
+
+/// A TOML value as Python's: float, int, str, bool, list or dict (a date as its text).
+/// The document it comes from was parsed with nesting bounded, so the recursion is too.
+pub fn to_python(py: Python<'_>, value: &toml::Value) -> PyResult<Py<PyAny>> {
+    Ok(match value {
+        toml::Value::Float(f) => f.into_pyobject(py)?.into_any().unbind(),
+        toml::Value::Integer(i) => i.into_pyobject(py)?.into_any().unbind(),
+        toml::Value::String(s) => s.into_pyobject(py)?.into_any().unbind(),
+        toml::Value::Boolean(b) => b.into_pyobject(py)?.to_owned().into_any().unbind(),
+        toml::Value::Datetime(d) => d.to_string().into_pyobject(py)?.into_any().unbind(),
+        toml::Value::Array(items) => {
+            let items = items
+                .iter()
+                .map(|v| to_python(py, v))
+                .collect::<PyResult<Vec<_>>>()?;
+            PyList::new(py, items)?.into_any().unbind()
+        }
+        toml::Value::Table(table) => {
+            let dict = PyDict::new(py);
+            for (k, v) in table {
+                dict.set_item(k, to_python(py, v)?)?;
+            }
+            dict.into_any().unbind()
+        }
+    })
 }

@@ -285,6 +285,30 @@ impl PyScenario {
         })
     }
 
+    /// The value the scenario's document holds at `key`, a key path of `replace`'s grammar
+    /// (`"contact.friction"`, `"body.inertia[0]"`, `"observe[0].crosses"`), after its
+    /// changes: a float, int, str, bool, list or dict as the document has it, in the unit
+    /// of its key (`initial.theta` in rad, `initial.theta_deg` in degrees; each twin only
+    /// as written). `default` (None) when the document does not set the key: the format's
+    /// default then applies, which this does not show. A key that is not of the grammar
+    /// raises ScenarioError.
+    #[pyo3(signature = (key, default = None))]
+    fn get(&self, py: Python<'_>, key: &str, default: Option<Py<PyAny>>) -> PyResult<Py<PyAny>> {
+        let path = scenario::KeyPath::parse(key).map_err(|e| {
+            errors::value_error(
+                py,
+                &self.inner.source,
+                Some(&errors::short(key)),
+                None,
+                e.to_string(),
+            )
+        })?;
+        match self.inner.draft().get(&path) {
+            Some(value) => convert::to_python(py, &value),
+            None => Ok(default.unwrap_or_else(|| py.None())),
+        }
+    }
+
     /// Where the scenario came from: the file path as given, or the name of the text.
     #[getter]
     fn source(&self) -> &str {

@@ -499,7 +499,7 @@ impl Trajectory {
     /// Event times [s] by name (solve_ivp's `t_events`): one float64 array per observable
     /// of the scenario (by its `name`) and per built-in event kind ("slip_stop",
     /// "mode_switch", "lost_contact", "lift_off", "touchdown", "impact", "painleve",
-    /// "contact_surface", "grip"), empty when it did not occur.
+    /// "contact_surface", "grip", "flat"), empty when it did not occur.
     #[getter]
     fn t_events<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
         result_helper(slf, "t_events")
@@ -773,7 +773,8 @@ impl Trajectory {
     /// "slip_stop", "mode_switch" (with "from" and "to"), "lost_contact", "lift_off",
     /// "touchdown", "impact", "painleve", "contact_surface" (with "from" and "to", the
     /// surfaces by name), "grip" (with "surface" and "sticks": with two surfaces in
-    /// contact, that surface's contact started to stick, or to slide), "observed" (with
+    /// contact, that surface's contact started to stick, or to slide), "flat" (a rim
+    /// landing on its face, docs/physics.md "Rims"), "observed" (with
     /// "name" and "state", a dict of every column at the event). A touchdown and an impact of a body with contact spheres name the
     /// `surface` struck.
     #[getter]

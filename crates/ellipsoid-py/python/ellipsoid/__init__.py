@@ -39,6 +39,12 @@ solved for) and their eigenvalues and critical values (`Steady`: `.values`,
 returns the Jacobian of the reduced dynamics and its coordinates' names
 (docs/physics.md, "Steady motions and their stability").
 
+`fit(scenario, data, params={"contact.friction": (0.05, 0.8)}, columns=["theta"])` fits
+scenario keys to a measured motion (a DataFrame, a dict of arrays or a CSV file with t [s]
+and measured output columns) by weighted least squares and returns a `Fit` with the
+estimates, their standard errors and correlation, the residuals and `plot()`
+(docs/fitting.md).
+
 Errors: every exception derives from `EllipsoidError`: `ScenarioError` (a ValueError) for
 bad input (`ScenarioTypeError`, also a TypeError, for a value of the wrong Python type;
 `ScenarioKeyError`, also a KeyError, for a column a Trajectory does not have),
@@ -77,6 +83,7 @@ from ellipsoid._ellipsoid import (
     simulate,
     sweep,
 )
+from ellipsoid._fit import Fit, fit
 from ellipsoid._result import study_to_xarray as to_xarray
 from ellipsoid._steady import Steady, steady
 from ellipsoid._study import Study, load_study, study
@@ -86,6 +93,7 @@ __all__ = [
     "HDF5",
     "UNITS",
     "EllipsoidError",
+    "Fit",
     "InternalError",
     "OutputError",
     "PlausibilityWarning",
@@ -100,6 +108,7 @@ __all__ = [
     "Trajectory",
     "__version__",
     "check",
+    "fit",
     "linearize",
     "load",
     "load_study",
