@@ -256,6 +256,12 @@ fn trajectories_are_one_hdf5_group_per_row_named_by_its_key() {
         .map(|l| l.split(',').collect())
         .collect();
     assert_eq!(rows.len(), 3);
+    // Numbers as people write them (issue 47): 60, not 6e1.
+    let spins: Vec<&str> = rows
+        .iter()
+        .map(|r| r[col("initial.psi_dot [rad/s]")])
+        .collect();
+    assert_eq!(spins, ["20", "40", "60"]);
     let mut keys: Vec<String> = rows.iter().map(|r| r[col("key")].to_owned()).collect();
     keys.sort();
     assert_eq!(ellipsoid_io::hdf5::group_names(&h5).unwrap(), keys);

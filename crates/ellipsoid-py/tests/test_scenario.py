@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -83,6 +84,18 @@ def test_replace_merges_tables_and_accepts_dotted_keys() -> None:
     assert d.overrides[:2] == ["effects.air_drag.linear=0.001", "initial.position=[0.5, 0.25]"]
     traj = ellipsoid.simulate(d)
     assert traj.x[0] == 0.5 and traj.y[0] == 0.25
+
+
+def test_a_change_replaces_its_twin_key() -> None:
+    # nutation.toml gives theta_deg = 10: a change of theta replaces it (issue 47), and the
+    # scenario reads back the change, not the twin.
+    base = ellipsoid.load(NUTATION)
+    changed = base.replace(**{"initial.theta": 0.2})
+    assert changed.get("initial.theta") == 0.2 and changed.get("initial.theta_deg") is None
+    assert base.get("initial.theta_deg") == 10.0
+    assert ellipsoid.simulate(changed, output={"t_end": 0.01}).theta[0] == pytest.approx(0.2, abs=1e-15)
+    back = changed.replace(initial={"theta_deg": 10.0})
+    assert ellipsoid.simulate(back, output={"t_end": 0.01}).theta[0] == pytest.approx(math.radians(10.0), abs=1e-15)
 
 
 def test_from_toml_and_paths() -> None:

@@ -75,6 +75,45 @@ fn sampling_grid_ends_at_t_end() {
     assert!(grid(1.0, 1e-9).is_err());
 }
 
+/// A change of one of two exclusive keys replaces the other (issue 47): the degree twin,
+/// the general form, the sampling; a file holding both is still refused.
+#[test]
+fn a_change_replaces_the_keys_twin() {
+    let deg = edit("theta = 0.1745", "theta_deg = 10");
+    assert_eq!(
+        ok(&deg, &["initial.theta=0.2"]).scene.initial.angles.theta,
+        0.2
+    );
+    assert_eq!(
+        ok(PAPER, &["initial.theta_deg=5"])
+            .scene
+            .initial
+            .angles
+            .theta,
+        5f64.to_radians()
+    );
+    let vector = ok(PAPER, &["body.com_offset_vector=[0.0, 0.0, -0.002]"]);
+    let scalar = ok(PAPER, &["body.com_offset=0.002"]);
+    assert_eq!(vector.scene, scalar.scene);
+    let times = ok(PAPER, &["output.times=[0.0, 0.5, 1.0]"]);
+    assert_eq!(times.scene.sample_times, [0.0, 0.5, 1.0]);
+    assert_eq!(
+        ok(PAPER, &["output.dt=0.5", "output.t_end=1.0"])
+            .scene
+            .sample_times,
+        [0.0, 0.5, 1.0]
+    );
+    // Only the twin goes: the rest of the table stays.
+    assert_eq!(
+        ok(&deg, &["initial.theta=0.2"])
+            .scene
+            .initial
+            .angles
+            .psi_dot,
+        60.0
+    );
+}
+
 #[test]
 fn degree_twins_convert_and_exclude_each_other() {
     let s = ok(
@@ -527,6 +566,25 @@ fn all(text: &str, sets: &[&str]) -> Vec<String> {
         .iter()
         .map(ToString::to_string)
         .collect()
+}
+
+/// A body that fails is not followed by an error about an observable of one of its
+/// surfaces' columns (issue 47): that column is unknown only because the body failed.
+#[test]
+fn an_observable_of_a_failed_body_surface_is_no_second_error() {
+    let stem = "[[body.sphere]]\nname = \"stem\"\ncenter = [0.0, 0.0, 0.013]\nradius = 0.005\n";
+    let observe = "[[observe]]\nname = \"n\"\ncolumn = \"normal_force_stem\"\ncrosses = 0.1\n";
+    ok(&format!("{PAPER}\n{stem}\n{observe}"), &[]);
+    let broken = edit("mass = 0.05", "mass = -1.0");
+    let got = all(&format!("{broken}\n{stem}\n{observe}"), &[]);
+    assert_eq!(got.len(), 1, "{got:?}");
+    assert!(got[0].contains("body.mass = -1.0"), "{got:?}");
+    // With the body read, an unknown column is still an error.
+    let typo = observe.replace("normal_force_stem", "normal_force_stm");
+    let got = all(&format!("{broken}\n{stem}\n{typo}"), &[]);
+    assert_eq!(got.len(), 1, "{got:?}");
+    let got = all(&format!("{PAPER}\n{stem}\n{typo}"), &[]);
+    assert!(got[0].contains("observe[0].column"), "{got:?}");
 }
 
 #[test]

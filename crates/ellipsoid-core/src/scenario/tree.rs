@@ -253,7 +253,8 @@ impl SetError {
 /// Sets `node` at `path` in `tree`, making tables (or, before an index, empty arrays) for
 /// names that are absent; an index must name an element that exists. The keys and nodes
 /// from the last name of the path down take `node`'s origin, so that a message about
-/// the changed key or array names the change.
+/// the changed key or array names the change. A key set replaces its twins in the same
+/// table ([`twins`]): `initial.theta=0.2` on a file with `theta_deg` changes θ.
 pub(super) fn set_node(
     tree: &mut Node,
     path: &KeyPath,
@@ -275,6 +276,10 @@ pub(super) fn set_node(
                 let Value::Table(entries) = &mut cur.value else {
                     return Err(blocked(Blocked::NotTable));
                 };
+                if last {
+                    let twins = twins(name);
+                    entries.retain(|e| !twins.contains(&e.key));
+                }
                 let pos = entries
                     .iter()
                     .position(|e| &e.key == name)
@@ -319,6 +324,22 @@ pub(super) fn set_node(
         cur = slot;
     }
     unreachable!("a key path has at least one segment")
+}
+
+/// The keys a table may hold instead of `name`, one of them at most: a quantity in
+/// radians and its degree twin (`theta`, `theta_deg`), a scalar and its general form
+/// (`com_offset`, `com_offset_vector`), and the output's sampling (`dt`, `times`).
+fn twins(name: &str) -> Vec<String> {
+    if name == "dt" || name == "times" {
+        return vec![if name == "dt" { "times" } else { "dt" }.to_owned()];
+    }
+    match name
+        .strip_suffix("_deg")
+        .or_else(|| name.strip_suffix("_vector"))
+    {
+        Some(base) => vec![base.to_owned()],
+        None => vec![format!("{name}_deg"), format!("{name}_vector")],
+    }
 }
 
 /// The `--set` form `key.path=value`: the path and the value, the value in TOML syntax or

@@ -266,7 +266,9 @@ def fit(
     if t[0] < 0 or t[-1] > scenario.t_end:
         i = 0 if t[0] < 0 else int(np.argmax(t > scenario.t_end))
         raise _bad(f"data['t'] row {i}", float(t[i]), f"outside the run's time span [0, {scenario.t_end:g}] s (output.t_end)")
-    names = [c for c in table if c != "t"] if columns is None else _fit_names(columns)
+    names = [c for c in table if c != "t"] if columns is None else list(dict.fromkeys(_fit_names(columns)))
+    if "t" in names:
+        raise _bad("columns", "t", "t is the time of the samples, not a measured column")
     if not names:
         raise _bad("columns", columns, "no column to fit: the data have only t")
     keys, start, lo, hi = _params(scenario, params)

@@ -2,8 +2,8 @@
 //! file beside the target, renamed into place when complete) as CSV, Parquet (feature
 //! `parquet`) or HDF5 (feature `hdf5`), chosen by the extension.
 //!
-//! - **CSV**: a header of `name [unit]` cells, then one line per row; numbers in Rust's
-//!   `{:e}` form (exact), empty cells where there is no value, text quoted as RFC 4180 asks.
+//! - **CSV**: a header of `name [unit]` cells, then one line per row; numbers in the
+//!   shortest form that reads back exactly ([`number`]: `60`, `1e-10`), empty cells where there is no value, text quoted as RFC 4180 asks.
 //! - **Parquet**: one column per table column (INT64, DOUBLE or UTF-8 BYTE_ARRAY), named by
 //!   the same headers, no value stored as null; key–value metadata `units` (JSON: header →
 //!   unit) and `study` (the study's source). Uncompressed (no codec is built in).
@@ -15,6 +15,7 @@
 use std::io::Write;
 use std::path::Path;
 
+use ellipsoid_core::error::number;
 use ellipsoid_io::OutputError;
 use ellipsoid_io::atomic::AtomicFile;
 
@@ -160,7 +161,8 @@ pub fn write_csv(
     Ok(())
 }
 
-/// One CSV line.
+/// One CSV line: floats as the shortest text that reads back exactly, plain from 1e-4 to
+/// 1e15 (`60`, `0.25`) and in scientific notation beyond (`1e-10`).
 fn write_csv_row(out: &mut impl Write, row: &[Cell]) -> std::io::Result<()> {
     for (i, c) in row.iter().enumerate() {
         if i > 0 {
@@ -169,7 +171,7 @@ fn write_csv_row(out: &mut impl Write, row: &[Cell]) -> std::io::Result<()> {
         match c {
             Cell::Null => {}
             Cell::Int(v) => write!(out, "{v}")?,
-            Cell::Float(v) => write!(out, "{v:e}")?,
+            Cell::Float(v) => out.write_all(number(*v).as_bytes())?,
             Cell::Text(s) => out.write_all(quote(s).as_bytes())?,
         }
     }
