@@ -818,6 +818,62 @@ fn summary_has_every_documented_field_and_goes_to_stdout() {
     );
 }
 
+/// The run's report names each observable that crossed and when (issue 47): the times
+/// of the summary's `observed` events.
+#[test]
+fn the_report_names_the_observables_crossings() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = scenarios().join("tippe-top.toml");
+    let json = dir.path().join("s.json");
+    let out = ellipsoid(
+        dir.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "-o",
+            "t.csv",
+            "--summary",
+            json.to_str().unwrap(),
+        ],
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let times: Vec<f64> = s["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|e| e["kind"] == "observed" && e["name"] == "inverted")
+        .map(|e| e["t"].as_f64().unwrap())
+        .collect();
+    assert_eq!(times.len(), 1, "{}", s["events"]);
+    let line = stderr(&out)
+        .lines()
+        .find(|l| l.starts_with("ellipsoid: observed: "))
+        .map(str::to_owned)
+        .unwrap_or_else(|| panic!("no observables in the report: {}", stderr(&out)));
+    let t: f64 = line
+        .strip_prefix("ellipsoid: observed: inverted at t = ")
+        .and_then(|rest| rest.strip_suffix(" s"))
+        .unwrap_or_else(|| panic!("{line}"))
+        .parse()
+        .unwrap();
+    assert_eq!(t, times[0]);
+    // A run whose observables do not cross says nothing of them.
+    let short = ellipsoid(
+        dir.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "-o",
+            "u.csv",
+            "--set",
+            "output.t_end=0.1",
+        ],
+    );
+    assert!(!stderr(&short).contains("observed"), "{}", stderr(&short));
+}
+
 #[test]
 fn csv_numbers_round_trip_exactly() {
     let dir = tempfile::tempdir().unwrap();

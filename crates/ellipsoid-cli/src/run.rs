@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use ellipsoid_core::scenario::Scenario;
+use ellipsoid_core::simulate::{EventKind, Observe};
 use ellipsoid_io::run::{Failure, Finished};
 use ellipsoid_io::{Format, Metadata, OutputError, Summary, TrajectoryWriter, atomic};
 
@@ -117,7 +118,7 @@ pub fn run(args: &RunArgs) -> Result<ExitCode, CliError> {
     let finished = summary.status.finished();
 
     if !args.quiet || !finished {
-        report(&summary, &output, finished);
+        report(&summary, &scenario.scene.observe, &output, finished);
     }
     Ok(if finished {
         ExitCode::SUCCESS
@@ -253,9 +254,10 @@ fn make_parent(path: &Path, made: &mut Vec<PathBuf>) -> Result<(), CliError> {
     Ok(())
 }
 
-/// A few lines on standard error: how the run ended, where the output is, the drifts.
-/// `finished`: the run ended where the scene asked (t_end or a terminal observable).
-fn report(summary: &Summary, output: &Path, finished: bool) {
+/// A few lines on standard error: how the run ended, where the output is, the
+/// observables' crossings (`observe`: the scene's), the drifts. `finished`: the run ended
+/// where the scene asked (t_end or a terminal observable).
+fn report(summary: &Summary, observe: &[Observe], output: &Path, finished: bool) {
     let t = summary.final_sample.t;
     let s = &summary.stats;
     let work = format!(
@@ -282,6 +284,9 @@ fn report(summary: &Summary, output: &Path, finished: bool) {
             output.display()
         ));
     }
+    if let Some(line) = crossings(summary, observe) {
+        lines.push(line);
+    }
     let drifts: Vec<String> = summary
         .drift
         .iter()
@@ -304,4 +309,33 @@ fn report(summary: &Summary, output: &Path, finished: bool) {
         ));
     }
     eprintln!("{}", lines.join("\n"));
+}
+
+/// `ellipsoid: observed: inverted at t = 0.9779 s; tilt 3 times, t = 0.1 s to 2.5 s`: each
+/// observable that crossed its value, with the times; None when none did.
+fn crossings(summary: &Summary, observe: &[Observe]) -> Option<String> {
+    let parts: Vec<String> = observe
+        .iter()
+        .enumerate()
+        .filter_map(|(k, o)| {
+            let times: Vec<f64> = summary
+                .events
+                .iter()
+                .filter(|e| matches!(e.kind, EventKind::Observed { index, .. } if index == k))
+                .map(|e| e.t)
+                .collect();
+            match times.as_slice() {
+                [] => None,
+                [t] => Some(format!("{} at t = {} s", o.name, number(*t))),
+                [first, .., last] => Some(format!(
+                    "{} {} times, t = {} s to {} s",
+                    o.name,
+                    times.len(),
+                    number(*first),
+                    number(*last)
+                )),
+            }
+        })
+        .collect();
+    (!parts.is_empty()).then(|| format!("ellipsoid: observed: {}", parts.join("; ")))
 }
