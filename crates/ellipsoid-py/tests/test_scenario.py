@@ -119,7 +119,8 @@ def test_from_toml_and_paths() -> None:
         (lambda: oblate().replace(**{"body.mass": -1}), "body.mass", "invalid", "the change body.mass=-1: body.mass = -1: the mass must be positive"),
         (lambda: oblate().replace(solver={"rtol": 0.0}), "solver.rtol", "invalid", "the change solver.rtol=0.0: solver.rtol = 0: the relative tolerance must lie between 10·EPS"),
         (lambda: oblate().replace(body={"mass": {"x": 1}}), "body.mass", "override", "body.mass: is not a table, so body.mass.x cannot be set"),
-        (lambda: ellipsoid.load(NUTATION, initial={"theta": 0.1}), "initial.theta_deg", "conflict", "give either initial.theta or initial.theta_deg, not both"),
+        # A file holding both twins (a change of one replaces the other: see below).
+        (lambda: ellipsoid.Scenario.from_toml(NUTATION.read_text().replace("theta_deg = 10.0", "theta = 0.1\ntheta_deg = 10.0")), "initial.theta_deg", "conflict", "give either initial.theta or initial.theta_deg, not both"),
         (lambda: ellipsoid.load("/nonexistent/x.toml"), None, "io", "/nonexistent/x.toml: cannot read the scenario file"),
         (lambda: ellipsoid.Scenario.from_toml("[body\n", name="bad.toml"), None, "syntax", "bad.toml:1:6: TOML syntax error"),
     ],

@@ -315,7 +315,8 @@ def test_check_is_data() -> None:
     assert d["output"] == {"t_end": 2.0, "samples": 2001}
     assert d["overrides"] and d["body"]["shape"] == "oblate spheroid"
     assert d["initial"]["mode"] == "frictionless" and 0 < d["initial"]["normal_force"] < d["body"]["weight"]
-    assert d["effects"] == {"rolling_resistance": None, "spin_friction": None, "air_drag": None}
+    assert d["effects"] == {"rolling_resistance": None, "spin_friction": None, "air_drag": None,
+                            "rolling_friction": None, "air_film": None, "air_boundary_layer": None}
     # The same values a run starts from.
     traj = ellipsoid.simulate(NUTATION, output={"t_end": 0.01})
     assert traj.normal_force[0] == d["initial"]["normal_force"] and traj.energy[0] == d["initial"]["energy"]
