@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import csv
 import math
-import operator
 import os
 import re
 import warnings
@@ -26,6 +25,8 @@ from typing import Any
 import numpy as np
 
 from ellipsoid._ellipsoid import Scenario, SimulationError, Trajectory, _argument_error, load, simulate
+from ellipsoid._plot import _names
+from ellipsoid._steady import _index
 
 #: Error messages name this source.
 _SOURCE = "fit"
@@ -75,7 +76,7 @@ def _table(data: Any) -> dict[str, Any]:
     """`data` as columns by name: a pandas DataFrame (t a column, or its index named t as
     `Trajectory.to_pandas` makes it), a mapping of arrays, or a CSV file's path."""
     if isinstance(data, (str, os.PathLike)):
-        return dict(_read_csv(data))
+        return _read_csv(data)
     if hasattr(data, "columns") and hasattr(data, "index"):  # a pandas DataFrame
         cols = {_UNIT.sub("", str(c)).strip(): data[c].to_numpy() for c in data.columns}
         if "t" not in cols and str(getattr(data.index, "name", "")).split(" [")[0] == "t":
@@ -197,7 +198,7 @@ class Fit:
         """Data (points), fit (line) and residuals (below) of each column against t [s], in a
         new pyplot figure (shown once in Jupyter, as pandas' plots are); returns the numpy
         array of its Axes, two rows per column."""
-        from ellipsoid._plot import _figure, _names
+        from ellipsoid._plot import _figure
 
         names = list(self.data) if columns is None else _names("columns", columns)
         for n in names:
@@ -266,7 +267,7 @@ def fit(
     if t[0] < 0 or t[-1] > scenario.t_end:
         i = 0 if t[0] < 0 else int(np.argmax(t > scenario.t_end))
         raise _bad(f"data['t'] row {i}", float(t[i]), f"outside the run's time span [0, {scenario.t_end:g}] s (output.t_end)")
-    names = [c for c in table if c != "t"] if columns is None else list(dict.fromkeys(_fit_names(columns)))
+    names = [c for c in table if c != "t"] if columns is None else list(dict.fromkeys(_names("columns", columns)))
     if "t" in names:
         raise _bad("columns", "t", "t is the time of the samples, not a measured column")
     if not names:
@@ -394,20 +395,11 @@ def fit(
     )
 
 
-def _fit_names(columns: Any) -> list[str]:
-    from ellipsoid._plot import _names
-
-    return _names("columns", columns)
-
-
 def _count(key: str, value: Any) -> int:
     """A positive integer argument (anything `operator.index` takes, not a bool)."""
-    try:
-        if isinstance(value, (bool, np.bool_)):
-            raise TypeError
-        n = operator.index(value)
-    except TypeError:
-        raise _bad(key, value, f"expected an integer, found {type(value).__name__}", True) from None
+    n = _index(value)
+    if n is None:
+        raise _bad(key, value, f"expected an integer, found {type(value).__name__}", True)
     if not 1 <= n <= 100_000:
         raise _bad(key, value, "from 1 to 100000")
     return n
