@@ -485,6 +485,58 @@ fn a_coin_tipping_over_lands_flat_once_and_comes_to_rest_on_its_face() {
     assert!(after.energy < before.energy);
 }
 
+/// `[contact] flat_tilt` moves the landing to a rougher face: the coin tipping over with
+/// flat_tilt = 1e-4 lands where the default run's tilt passes sin θ = 1e-4 (that run's
+/// observable on θ, an independent watch) to 1e-9 s, turned flat by at most that tilt, and
+/// comes to rest on its face with E + W continuous. A flat tilt outside [1e-6, 1e-3] is
+/// refused at its line.
+#[test]
+fn a_rougher_face_lands_the_coin_where_its_tilt_reaches_the_flat_tilt() {
+    let contact = "model = \"coulomb\"\nfriction = 0.3";
+    let alpha = 1e-4f64.asin();
+    let observed = format!(
+        "{contact}\n[[observe]]\nname = \"rough\"\ncolumn = \"theta\"\ncrosses = {alpha:e}\ndirection = \"down\""
+    );
+    let (default, _) = run(&coin_scene("theta = 1.2", &observed, 1e-11, 0.5).scene);
+    let crossing = (default.events.iter())
+        .find(|e| matches!(e.kind, EventKind::Observed { .. }))
+        .expect("the default run passes sin θ = 1e-4")
+        .t;
+    let rough = format!("{contact}\nflat_tilt = 1e-4");
+    let (out, samples) = run(&coin_scene("theta = 1.2", &rough, 1e-11, 0.5).scene);
+    assert_eq!(out.status, Status::Completed);
+    let landed = flats(&out);
+    assert_eq!(landed.len(), 1, "{:?}", out.events);
+    assert!(
+        (landed[0].0 - crossing).abs() < 1e-9,
+        "landed at {} s, the tilt passed 1e-4 at {crossing} s",
+        landed[0].0
+    );
+    assert!(landed[0].0 < flats(&default)[0].0);
+    let e0 = samples[0].energy + samples[0].work;
+    for s in &samples {
+        assert!((s.energy + s.work - e0).abs() < 1e-9 * e0, "t = {}", s.t);
+    }
+    let last = samples.last().unwrap();
+    assert_eq!(last.mode, ellipsoid_core::simulate::Mode::Face);
+    assert_eq!((last.velocity.norm(), last.omega.norm()), (0.0, 0.0));
+    for bad in ["1e-7", "0.01", "nan"] {
+        let text = format!(
+            "{}[initial]\ntheta = 1.2\n[contact]\n{contact}\nflat_tilt = {bad}\n[output]\nt_end = 0.1\ndt = 0.01\n",
+            coin_toml()
+        );
+        let err = ellipsoid_core::scenario::parse(&text, "coin.toml", &[] as &[&str])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.starts_with(&format!(
+                "coin.toml:17:1: contact.flat_tilt = {bad}: the flat tilt must lie in [1e-6, 1e-3]"
+            )),
+            "{err}"
+        );
+    }
+}
+
 /// Without friction the plane's force is vertical: the angular momentum about the
 /// vertical through G, L_z, is kept through the fall, the face's impact and the spin on
 /// the face, where Ω = L_z/I_zz and v_G stay constant. (Its axial spin ω₃ is kept too, so

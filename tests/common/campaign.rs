@@ -157,6 +157,7 @@ pub fn scene(rng: &mut Rng, method: Method) -> Option<Scene> {
         landing: Landing {
             restitution,
             lift_off: LiftOff::Fly,
+            ..Landing::default()
         },
         effects,
         initial,

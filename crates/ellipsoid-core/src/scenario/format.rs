@@ -472,7 +472,8 @@ pub(super) fn read_disc(
     }))
 }
 
-/// `[contact] restitution` and `on_lift_off` (docs/physics.md, "Flight").
+/// `[contact] restitution` and `on_lift_off` (docs/physics.md, "Flight"), `flat_tilt`
+/// (docs/physics.md, "Rims": "The flat landing").
 pub(super) fn read_landing(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Landing> {
     let Some(sec) = ctx.section(root, "contact", &keys("contact"), "model and friction")? else {
         return Ok(Landing::default());
@@ -490,9 +491,23 @@ pub(super) fn read_landing(ctx: &Ctx<'_>, root: &Sec<'_>) -> Result<Landing> {
         Some(("stop", _)) => LiftOff::Stop,
         _ => LiftOff::Fly,
     };
+    let flat_tilt = ctx
+        .checked(
+            &sec,
+            "flat_tilt",
+            "sin α, the tilt at which a rim lands on its face",
+            |v| (geometry::FLAT_TILT..=Landing::MAX_FLAT_TILT).contains(&v),
+            &format!(
+                "the flat tilt must lie in [{:e}, {:e}] (sin α; the rim's far side within 2R sin α of the plane)",
+                geometry::FLAT_TILT,
+                Landing::MAX_FLAT_TILT
+            ),
+        )?
+        .unwrap_or(geometry::FLAT_TILT);
     Ok(Landing {
         restitution,
         lift_off,
+        flat_tilt,
     })
 }
 

@@ -34,6 +34,7 @@ use crate::effects::{
     AirBoundaryLayer, AirDrag, AirFilm, RollingFriction, RollingResistance, SpinFriction,
 };
 use crate::error::{ModelError, number};
+use crate::geometry;
 use crate::integrate::{Direction, Method};
 use crate::model::{ContactDisc, contensou};
 use crate::simulate::{

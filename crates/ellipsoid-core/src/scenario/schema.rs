@@ -8,6 +8,7 @@
 //! effect's keys are read by its entry of the effect list (`crate::effects`).
 
 use crate::error::number;
+use crate::geometry;
 use crate::integrate::Method;
 use crate::model::contensou;
 use crate::simulate::{ContactModel, LiftOff};
@@ -164,6 +165,7 @@ pub const SCHEMA: &[Key] = &[
     key("contact", "viscous_friction", Some("s/m"), Number, Unset, "μ_v, the viscous coefficient (tangential force −μ_v N v_C): required by viscous, rejected by the others"),
     key("contact", "restitution", ONE, Number, Value(0.0), "e ∈ [0, 1], the energetic coefficient of restitution at touchdowns"),
     key("contact", "on_lift_off", None, Choice(&LiftOff::NAMES), Means("fly"), "what happens when the normal force reaches zero"),
+    key("contact", "flat_tilt", ONE, Number, Value(geometry::FLAT_TILT), "sin α below which a rim lies on its face: its far side within 2R sin α of the plane, the surfaces' roughness"),
     key("contact", "contact_radius", M, Number, Value(0.0), "R, the radius of a flat contact disc (0: a point contact)"),
     key("contact", "contact_law", None, Choice(&contensou::Law::NAMES), Means("exact"), "the contact disc's friction law"),
     key("effects", "gravity", Some("m/s^2"), Number, Value(super::DEFAULT_GRAVITY), "g"),

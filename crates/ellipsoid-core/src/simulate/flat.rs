@@ -1,8 +1,8 @@
 //! A rim going flat (docs/physics.md, "Rims": "The flat landing"): as its tilt α → 0 the
 //! whole circle reaches the plane at once and its support point is singular there. The
-//! moment is an event, located where sin α = |Pζ| falls through `geometry::FLAT_TILT`
-//! (the watch [`tilt`]), and the body lands on the face the rim bounds: its attitude is
-//! set flat (the axis turned onto the vertical, at most FLAT_TILT rad), and the face's
+//! moment is an event, located where sin α = |Pζ| falls through the scene's flat tilt
+//! (`[contact] flat_tilt`, by default `geometry::FLAT_TILT`; the watch [`tilt`]), and the body lands on the face the rim bounds: its attitude is
+//! set flat (the axis turned onto the vertical, by at most the flat tilt), and the face's
 //! impact is plastic — v_Gz and the horizontal ω vanish, the horizontal v_G and the
 //! vertical angular momentum L_z = e3·I_w ω are kept (the face's normal impulses have no
 //! vertical moment), and with the rolling model the face grips (the body stops). The
@@ -26,10 +26,11 @@ use super::outcome::{EventKind, EventRecord, Mode, Status};
 use super::phase::{Next, phase};
 use super::scene::ContactModel;
 
-/// The flat watch of a rim in contact at `kin`: sin α − FLAT_TILT, |Pζ| = sin α the rim's
-/// tilt (`geometry::ring_direction`); falling through zero, the rim lands flat.
-pub(super) fn tilt(kin: &Kinematics) -> f64 {
-    geometry::ring_direction(kin.contact.zeta).1 - geometry::FLAT_TILT
+/// The flat watch of a rim in contact at `kin`: sin α − `flat_tilt` (the scene's
+/// `Landing::flat_tilt`), |Pζ| = sin α the rim's tilt (`geometry::ring_direction`);
+/// falling through zero, the rim lands flat.
+pub(super) fn tilt(kin: &Kinematics, flat_tilt: f64) -> f64 {
+    geometry::ring_direction(kin.contact.zeta).1 - flat_tilt
 }
 
 /// The rim in contact on `contacts` (touching down from flight: the rim touching) is flat

@@ -80,7 +80,9 @@ impl<E: Effect + Copy + 'static> Context<'_, E> {
                 // A surface already below the plane where the phase starts touched it
                 // before: its event at once (the integrator finds only zeros crossed).
                 let mut before = events.len();
-                let next = if flat_watched(mode, &contacts) && flat::tilt(&kin) <= 0.0 {
+                let next = if flat_watched(mode, &contacts)
+                    && flat::tilt(&kin, self.scene.landing.flat_tilt) <= 0.0
+                {
                     flat::land_flat(self, &mut contacts, mode, t, &mut y, &mut events)
                 } else if let Some(watch) = current.overdue(self, &contacts, &y) {
                     current.on_event(self, &mut contacts, watch, &mut t, &mut y, &mut events)
@@ -386,7 +388,9 @@ pub(super) fn segment<P: Phase, E: Effect + Copy + 'static>(
                 }
             }
             Slot::Flat => Event {
-                g: Box::new(move |t, y: &State| sys.with(t, y, |ev| flat::tilt(&ev.kin))),
+                g: Box::new(move |t, y: &State| {
+                    sys.with(t, y, |ev| flat::tilt(&ev.kin, ctx.scene.landing.flat_tilt))
+                }),
                 direction: Direction::Falling,
                 action: Action::Stop,
                 curvature: None,

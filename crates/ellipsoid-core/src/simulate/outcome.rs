@@ -33,7 +33,7 @@ pub enum EventKind {
     Observed { index: usize, sample: Box<Sample> },
     /// The body's surface in contact changed (bodies with contact spheres).
     ContactSurface { from: Surface, to: Surface },
-    /// Rim `surface` reached the plane flat (its tilt sin α below `geometry::FLAT_TILT`):
+    /// Rim `surface` reached the plane flat (its tilt sin α below `Landing::flat_tilt`):
     /// the body landed on the face the rim bounds, its far side approaching at `speed`
     /// [m/s], the face's impact removing `energy_loss` \[J\] (docs/physics.md, "Rims").
     Flat {

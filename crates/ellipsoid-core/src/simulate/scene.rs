@@ -7,6 +7,7 @@ use crate::body::Body;
 use crate::columns;
 pub use crate::effects::EffectSet;
 use crate::error::{Brackets, Digits, ModelError, Value, number};
+use crate::geometry;
 use crate::integrate::{self, Direction, Method};
 use crate::model::ContactDisc;
 use crate::state::EulerAngles;
@@ -92,13 +93,23 @@ impl LiftOff {
     pub const NAMES: [&'static str; 2] = ["fly", "stop"];
 }
 
-/// Leaving and landing on the plane (`[contact] restitution`, `on_lift_off`).
+/// Leaving and landing on the plane (`[contact] restitution`, `on_lift_off`, `flat_tilt`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Landing {
     /// Energetic coefficient of restitution e ∈ [0, 1] (docs/physics.md, "Impact at
     /// touchdown"); the default 0 (plastic) adds no bounce the scene did not ask for.
     pub restitution: f64,
     pub lift_off: LiftOff,
+    /// The tilt sin α below which a rim lands on its face (docs/physics.md, "Rims": "The
+    /// flat landing"), in [`geometry::FLAT_TILT`], [`Landing::MAX_FLAT_TILT`]: the far side
+    /// of the face is then within 2R sin α of the plane.
+    pub flat_tilt: f64,
+}
+
+impl Landing {
+    /// The largest `flat_tilt`: a face 2R·1e-3 above the plane at its far side (75 µm on
+    /// a 75 mm disc) is as rough as a landing is modelled.
+    pub const MAX_FLAT_TILT: f64 = 1e-3;
 }
 
 impl Default for Landing {
@@ -106,6 +117,7 @@ impl Default for Landing {
         Landing {
             restitution: 0.0,
             lift_off: LiftOff::Fly,
+            flat_tilt: geometry::FLAT_TILT,
         }
     }
 }

@@ -51,7 +51,7 @@ pub(in crate::simulate) fn touchdown<E: Effect + Copy + 'static>(
     let (t0, y0) = (*t, *y);
     let strike = Strike::new(ctx, contacts, surface, t, y);
     if matches!(surface, Surface::Rim(_))
-        && geometry::ring_direction(strike.kin.contact.zeta).1 <= geometry::FLAT_TILT
+        && geometry::ring_direction(strike.kin.contact.zeta).1 <= ctx.scene.landing.flat_tilt
     {
         // A rim touching down flat lands on its face (`flat::land_flat`).
         touch(contacts, surface, *t, events);

@@ -34,9 +34,9 @@
 //! | two contacts | a third surface's gap ↓ −δz | | by who stays after the impact at the three contacts, at rest together (`rest_on`), then the first consistent set of them ("Which contacts stay", `active_set`): three → three contacts (`onto_contacts`), two → two contacts, one → the rule "on the plane" for it, none → flight; no solution, or no consistent set → stop `several_contacts` | flight form, back to its zero gap; impact at the three contacts ("Impact at several contacts", `impact::resolve_contacts`), plastic where all stay and one rebounds; loss in W, an `impact` event per surface |
 //! | three contacts | N_i ↓ 0 | | two contacts, the other two (`go_on`) | |
 //! | three contacts | a fourth surface's gap ↓ −δz | | stop `several_contacts` (four contacts are not simulated) | |
-//! | start | on the plane, a rim flat (sin α ≤ 10⁻⁶) | | face | as a flat landing |
-//! | flight | touchdown of a rim flat (sin α ≤ 10⁻⁶) | | face (`flat::land_flat`) | back to gap = 0; attitude turned flat; plastic impact of the face ("Rims"); loss in W, a `flat` event |
-//! | frictionless, sliding, rolling, viscous (a rim in contact) | sin α ↓ 10⁻⁶ (`flat`) | | face (`flat::land_flat`); the face's centre of pressure off the face → stop `several_contacts` | attitude turned flat; plastic impact of the face ("Rims"); loss in W, a `flat` event |
+//! | start | on the plane, a rim flat (sin α ≤ `flat_tilt`) | | face | as a flat landing |
+//! | flight | touchdown of a rim flat (sin α ≤ `flat_tilt`) | | face (`flat::land_flat`) | back to gap = 0; attitude turned flat; plastic impact of the face ("Rims"); loss in W, a `flat` event |
+//! | frictionless, sliding, rolling, viscous (a rim in contact) | sin α ↓ `flat_tilt` (`flat`) | | face (`flat::land_flat`); the face's centre of pressure off the face → stop `several_contacts` | attitude turned flat; plastic impact of the face ("Rims"); loss in W, a `flat` event |
 //! | face | √(\|v_f\|² + (R Ω)²) ↓ stop threshold (friction) | | face, at rest | v_G ← 0, ω ← 0; the kinetic energy left in W |
 //! | face | N ↓ 0 | | as frictionless | as frictionless |
 //!
