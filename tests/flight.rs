@@ -28,6 +28,7 @@ fn flying(mut s: Scene, v: Vector3<f64>, height: f64) -> Scene {
     s.landing = Landing {
         restitution: 0.0,
         lift_off: LiftOff::Fly,
+        ..Landing::default()
     };
     s.initial.velocity = Some(v.xy());
     s.initial.height = height;
