@@ -37,9 +37,9 @@ pub struct Face {
 
 impl Face {
     /// Turns the attitude of `y` so that the body's z axis, up or down, is vertical: the
-    /// shortest rotation, by the tilt (at most the scene's `Landing::flat_tilt` at a flat landing).
-    /// With u = ±(R e3) = (x, y, z), z > 0, it is the quaternion (w, y/2w, −x/2w, 0),
-    /// w = √((1 + z)/2): exact to round-off however small the tilt.
+    /// shortest rotation, by the tilt (at most the scene's `Landing::flat_tilt` at a flat
+    /// landing). With u = ±(R e3) = (x, y, z), z > 0, it is the quaternion
+    /// (w, y/2w, −x/2w, 0), w = √((1 + z)/2): exact to round-off however small the tilt.
     pub fn flatten(y: &mut State) {
         let q = UnitQuaternion::new_normalize(state::quaternion(y));
         let up = q * Vector3::z();

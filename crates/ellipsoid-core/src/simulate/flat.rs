@@ -1,11 +1,12 @@
 //! A rim going flat (docs/physics.md, "Rims": "The flat landing"): as its tilt α → 0 the
 //! whole circle reaches the plane at once and its support point is singular there. The
 //! moment is an event, located where sin α = |Pζ| falls through the scene's flat tilt
-//! (`[contact] flat_tilt`, by default `geometry::FLAT_TILT`; the watch [`tilt`]), and the body lands on the face the rim bounds: its attitude is
-//! set flat (the axis turned onto the vertical, by at most the flat tilt), and the face's
-//! impact is plastic — v_Gz and the horizontal ω vanish, the horizontal v_G and the
-//! vertical angular momentum L_z = e3·I_w ω are kept (the face's normal impulses have no
-//! vertical moment), and with the rolling model the face grips (the body stops). The
+//! (`[contact] flat_tilt`, by default `geometry::FLAT_TILT`; the watch [`tilt`]), and the
+//! body lands on the face the rim bounds: its attitude is set flat (the axis turned onto
+//! the vertical, by at most the flat tilt), and the face's impact is plastic — v_Gz and
+//! the horizontal ω vanish, the horizontal v_G and the vertical angular momentum
+//! L_z = e3·I_w ω are kept (the face's normal impulses have no vertical moment), and
+//! with the rolling model the face grips (the body stops). The
 //! impulse J = −m v_Gz must press (J ≥ 0) and its centre of pressure, where
 //! J (r × e3) = ΔL_h, lie on the face: otherwise the flat landing is not simulated and
 //! the run stops `several_contacts`. The mechanical energy the landing removes is booked
