@@ -36,10 +36,11 @@ fi
 # mpmath: reference values of some tests; dask[distributed] and pyarrow: the parameter-study
 # tests (a LocalCluster of 2 worker processes; Parquet tables read back).
 # nbclient, nbformat, ipykernel, nbconvert: the notebooks executed (tutorials, display tests)
-# and rendered; pdoc: the API reference; xarray: Trajectory.to_xarray.
+# and rendered; pdoc: the API reference; xarray: Trajectory.to_xarray; ipywidgets:
+# ellipsoid.explore.
 mkdir -p target
 "${pip[@]}" numpy pytest scipy h5py pandas mypy hypothesis matplotlib websocket-client pillow mpmath "dask[distributed]" pyarrow \
-  xarray nbclient nbformat ipykernel nbconvert pdoc >target/venv-install.log 2>&1 &
+  xarray nbclient nbformat ipykernel nbconvert pdoc ipywidgets >target/venv-install.log 2>&1 &
 venv_install=$!
 if ! command -v h5dump >/dev/null; then
   sudo=""; [ "$(id -u)" = 0 ] || sudo="sudo"

@@ -83,6 +83,7 @@ from ellipsoid._ellipsoid import (
     simulate,
     sweep,
 )
+from ellipsoid._explore import Explorer, explore
 from ellipsoid._fit import Fit, fit
 from ellipsoid._result import study_to_xarray as to_xarray
 from ellipsoid._steady import Steady, steady
@@ -93,6 +94,7 @@ __all__ = [
     "HDF5",
     "UNITS",
     "EllipsoidError",
+    "Explorer",
     "Fit",
     "InternalError",
     "OutputError",
@@ -108,6 +110,7 @@ __all__ = [
     "Trajectory",
     "__version__",
     "check",
+    "explore",
     "fit",
     "linearize",
     "load",

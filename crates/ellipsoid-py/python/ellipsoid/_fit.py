@@ -41,11 +41,11 @@ MAX_PARAMS = 32
 _UNIT = re.compile(r"\s*\[[^\]]*\]\s*$")
 
 
-def _bad(key: str, value: Any, rule: str, wrong_type: bool = False) -> Exception:
+def _bad(key: str, value: Any, rule: str, wrong_type: bool = False, source: str = _SOURCE) -> Exception:
     """The ScenarioError (ScenarioTypeError if `wrong_type`) naming `key`, as every input
-    error of the package."""
+    error of the package; `source` names the call."""
     shown = None if wrong_type else repr(value)[:60]
-    return _argument_error(key, shown, rule, wrong_type, _SOURCE)
+    return _argument_error(key, shown, rule, wrong_type, source)
 
 
 def _read_csv(path: str | os.PathLike[str]) -> dict[str, list[str]]:
@@ -114,29 +114,30 @@ def _numbers(name: str, values: Any) -> np.ndarray:
     return out
 
 
-def _params(scenario: Scenario, params: Any) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
-    """The keys, their starting values (the scenario's own) and bounds."""
+def _params(scenario: Scenario, params: Any, source: str = _SOURCE) -> tuple[list[str], np.ndarray, np.ndarray, np.ndarray]:
+    """The keys, their starting values (the scenario's own) and bounds; `source` (fit,
+    explore) names the call in messages."""
     if not isinstance(params, Mapping) or not params:
-        raise _bad("params", params, "expected a non-empty dict {key: (low, high)}", not isinstance(params, Mapping))
+        raise _bad("params", params, "expected a non-empty dict {key: (low, high)}", not isinstance(params, Mapping), source=source)
     if len(params) > MAX_PARAMS:
-        raise _bad("params", len(params), f"at most {MAX_PARAMS} parameters")
+        raise _bad("params", len(params), f"at most {MAX_PARAMS} parameters", source=source)
     keys, start, lo, hi = [], [], [], []
     for key, bounds in params.items():
         if not isinstance(key, str):
-            raise _bad("params", key, f"a key is a str, found {type(key).__name__}", True)
+            raise _bad("params", key, f"a key is a str, found {type(key).__name__}", True, source=source)
         try:
             low, high = (float(b) for b in bounds)
         except (TypeError, ValueError):
-            raise _bad(f"params[{key!r}]", bounds, "expected (low, high), two numbers") from None
+            raise _bad(f"params[{key!r}]", bounds, "expected (low, high), two numbers", source=source) from None
         if not (math.isfinite(low) and math.isfinite(high) and low < high):
-            raise _bad(f"params[{key!r}]", bounds, "expected finite bounds with low < high")
+            raise _bad(f"params[{key!r}]", bounds, "expected finite bounds with low < high", source=source)
         value = scenario.get(key)
         if value is None:
-            raise _bad(f"params[{key!r}]", bounds, "the scenario does not set this key: its value there starts the fit (set it, or fit the twin the scenario sets, e.g. initial.theta_deg)")
+            raise _bad(f"params[{key!r}]", bounds, f"the scenario does not set this key: its value there is the starting value (set it, or use the twin the scenario sets, e.g. initial.theta_deg)", source=source)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
-            raise _bad(f"params[{key!r}]", value, "the scenario's value is not a number")
+            raise _bad(f"params[{key!r}]", value, "the scenario's value is not a number", source=source)
         if not low <= value <= high:
-            raise _bad(f"params[{key!r}]", bounds, f"the scenario's value {value!r}, which starts the fit, is outside the bounds")
+            raise _bad(f"params[{key!r}]", bounds, f"the scenario's value {value!r}, the starting value, is outside the bounds", source=source)
         keys.append(key)
         start.append(float(value))
         lo.append(low)
