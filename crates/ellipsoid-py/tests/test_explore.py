@@ -38,11 +38,14 @@ def test_each_slider_reruns_the_scenario_at_its_value() -> None:
     assert ex.status.value.startswith("completed at t = 0.5 s")
 
 
-def test_changes_reach_every_run_and_columns_choose_the_figure() -> None:
-    ex = ellipsoid.explore(TIPPE, {"contact.friction": (0.05, 0.8)}, columns=["theta", "omega_world_z"], output={"t_end": 0.2})
-    assert ex.trajectory.t[-1] == 0.2
+def test_changes_reach_every_run_and_the_sliders_win_over_them() -> None:
+    ex = ellipsoid.explore(TIPPE, {"contact.friction": (0.05, 0.8)}, columns=["theta", "omega_world_z"],
+                           output={"t_end": 0.2}, contact={"friction": 0.4}, rtol=1e-6)  # fmt: skip
+    assert ex.sliders["contact.friction"].value == 0.4  # starts at the changed value
     ex.sliders["contact.friction"].value = 0.1
-    assert ex.trajectory.t[-1] == 0.2
+    assert ex.trajectory.t[-1] == 0.2 and ex.scenario.get("contact.friction") == 0.1
+    ref = ellipsoid.simulate(TIPPE, output={"t_end": 0.2}, contact={"friction": 0.1}, rtol=1e-6)
+    assert np.array_equal(ex.trajectory.theta, ref.theta)
 
 
 def test_a_refused_value_is_shown_not_raised() -> None:

@@ -11,6 +11,8 @@ from ellipsoid._plot import _names
 
 #: Slider positions between the bounds (a run each time one moves).
 STEPS = 100
+#: `simulate`'s own arguments; every other change is the scenario's.
+RUN_ARGUMENTS = ("t_eval", "method", "rtol", "atol")
 
 
 class Explorer:
@@ -65,6 +67,7 @@ class Explorer:
         except EllipsoidError as err:
             self.scenario, self.trajectory = None, None
             self.status.value = f"<b>refused</b>: {_escape(str(err))}"
+            self.figure.clear_output()
             return
         traj = self.trajectory
         self.status.value = f"{_escape(traj.status)} at t = {traj.t[-1]:.6g} s: {_escape(traj.message)}"
@@ -101,8 +104,9 @@ def explore(
     take them: `"contact.friction"`, `"initial.psi_dot"`) to their bounds `(low, high)`;
     each slider starts at the scenario's own value, which must lie within them, and moves
     in 100 steps. `columns`: what the figure shows, as `Trajectory.plot(columns=...)` (None:
-    `Trajectory.plot()`'s default panels). `changes`: passed to every `simulate` (e.g.
-    `output={"t_end": 2.0}` or `rtol=1e-8`).
+    `Trajectory.plot()`'s default panels). `changes`: made to the scenario before the
+    sliders (e.g. `output={"t_end": 2.0}`; a slider's key set there starts at that value),
+    and `simulate`'s own `t_eval`, `method`, `rtol`, `atol` given to every run.
 
     Each move reruns the scenario (tens of milliseconds for most scenes) and redraws; a
     value the scenario refuses (a ScenarioError, e.g. a tilt the body cannot start at) is
@@ -114,6 +118,9 @@ def explore(
     except ImportError:
         raise ImportError("ellipsoid.explore needs ipywidgets: pip install ipywidgets") from None
     base = scenario if isinstance(scenario, Scenario) else load(os.fspath(scenario))
+    run = {key: changes.pop(key) for key in RUN_ARGUMENTS if key in changes}
+    if changes:  # the scenario's changes first: the sliders start from, and win over, them
+        base = base.replace(**changes)
     keys, start, lo, hi = _params(base, params, source="explore")
     names = None if columns is None else _names("columns", columns)
-    return Explorer(base, keys, lo, hi, start, names, changes)
+    return Explorer(base, keys, lo, hi, start, names, run)
