@@ -3,7 +3,7 @@
 //! command prints and the table it writes agree with the analytic critical spin of a
 //! frictionless egg on its end, C²n_c² = 4 A m g (l − ρ).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 const BIN: &str = env!("CARGO_BIN_EXE_ellipsoid");
@@ -496,6 +496,41 @@ crosses = 0.0
     scene
 }
 
+/// Issue 47: a body with contact spheres is analysed on the surface it rests on, and the
+/// report says which: the inverted tippe top of scenarios/tippe-top-stem.toml stands on
+/// its stem (stable at 120 rad/s, above its critical 85.67), upright on its ball; the
+/// paper's body, one surface, has no such line.
+#[test]
+fn steady_names_the_surface_a_body_with_spheres_rests_on() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios");
+    let stem = root.join("tippe-top-stem.toml");
+    let report = |path: &Path, args: &[&str]| {
+        stdout_of(Command::new(BIN).arg("steady").arg(path).args(args))
+    };
+    let point = "contact.contact_radius=0";
+    let down = report(
+        &stem,
+        &[
+            "--family",
+            "inverted",
+            "--set",
+            point,
+            "--set",
+            "initial.psi_dot=-120",
+        ],
+    );
+    assert!(down.contains("resting on           stem"), "{down}");
+    assert!(down.contains("spin n               120 rad/s"), "{down}");
+    assert!(down.contains("verdict              stable"), "{down}");
+    let up = report(&stem, &["--set", point, "--set", "initial.theta=0"]);
+    assert!(up.contains("resting on           ellipsoid"), "{up}");
+    let plain = report(
+        &root.join("egg.toml"),
+        &["--set", "contact.model=\"coulomb\""],
+    );
+    assert!(!plain.contains("resting on"), "{plain}");
+}
+
 /// `ellipsoid plot --section` draws one marker per row of the section table, in the
 /// colour of its section, whichever output format; a column the table lacks, a
 /// non-numeric column and a missing --y are refused naming them, and nothing is written.
@@ -538,6 +573,19 @@ fn plot_section_draws_one_marker_per_crossing() {
     assert_eq!(text.matches(r##"fill="#D62728""##).count(), spin_rows + 1);
     assert!(text.contains("psi (rad)") && text.contains("omega_z (rad/s)"));
     assert!(text.contains("spin, &quot;reversal&quot;") || text.contains("spin, \"reversal\""));
+    // Issue 47: ψ modulo 2π (the run's ψ reaches several turns).
+    let wrapped = scratch("rb-section-wrapped.svg");
+    stdout_of(
+        Command::new(BIN)
+            .arg("plot")
+            .arg(&sections)
+            .args(["--section", "--x", "psi", "--y", "omega_z", "--wrap", "psi"])
+            .args(["-q", "-o"])
+            .arg(&wrapped),
+    );
+    let text = std::fs::read_to_string(&wrapped).unwrap();
+    assert!(text.contains("psi (rad, modulo 2π)"), "the axis says so");
+    assert_eq!(text.matches("<circle").count(), rows.len());
     for ext in ["png", "pdf"] {
         let fig = scratch(&format!("rb-section.{ext}"));
         stdout_of(
@@ -551,8 +599,39 @@ fn plot_section_draws_one_marker_per_crossing() {
         let magic: &[u8] = if ext == "png" { b"\x89PNG" } else { b"%PDF" };
         assert!(bytes.starts_with(magic), "{ext}");
     }
+    // Issue 47: --dpi scales a PNG's pixels (the IHDR's width and height, bytes 16–24).
+    let size = |dpi: Option<&str>| {
+        let fig = scratch(&format!("rb-section-{}.png", dpi.unwrap_or("default")));
+        let mut cmd = Command::new(BIN);
+        cmd.arg("plot")
+            .arg(&sections)
+            .args(["--section", "--x", "t", "--y", "theta", "-q", "-o"])
+            .arg(&fig);
+        if let Some(d) = dpi {
+            cmd.args(["--dpi", d]);
+        }
+        stdout_of(&mut cmd);
+        let b = std::fs::read(&fig).unwrap();
+        let be = |k: usize| u32::from_be_bytes([b[k], b[k + 1], b[k + 2], b[k + 3]]);
+        (be(16), be(20))
+    };
+    let (w, h) = size(None);
+    assert_eq!(size(Some("96")), (w, h));
+    assert_eq!(size(Some("192")), (2 * w, 2 * h));
     let never = scratch("never-section.svg");
     for (args, says) in [
+        (
+            vec!["--x", "psi", "--y", "omega_z", "--wrap", "omega_z"],
+            "--wrap \"omega_z\": not an angle: its unit is rad/s",
+        ),
+        (
+            vec!["--x", "psi", "--y", "omega_z", "--wrap", "theta"],
+            "--wrap \"theta\": not a column of this plot",
+        ),
+        (
+            vec!["--x", "psi", "--y", "omega_z", "--dpi", "200"],
+            "--dpi 200: a resolution applies to PNG figures only",
+        ),
         (vec!["--x", "psi", "--y", "spin"], "--y \"spin\""),
         (vec!["--x", "section", "--y", "psi"], "--x \"section\""),
         (

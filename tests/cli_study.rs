@@ -380,6 +380,32 @@ fn jobs_beyond_four_per_cpu_are_refused_at_once() {
     );
 }
 
+/// Issue 47: a study prints its points' plausibility warnings before it runs, each
+/// distinct one once (ψ̇ typed in rpm at two points, 1600 twice), and
+/// `--quiet-plausibility` and `-q` silence them; a plausible study prints none.
+#[test]
+fn a_study_prints_each_plausibility_warning_once() {
+    let dir = tempfile::tempdir().unwrap();
+    write_small_study(dir.path(), "20.0, 1600.0, 1600.0, 2000.0");
+    let out = study(dir.path(), &["study.toml", "-o", "t.csv"]);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let warnings: Vec<&str> = stderr
+        .lines()
+        .filter(|l| l.contains(": warning: "))
+        .collect();
+    assert_eq!(warnings.len(), 2, "{stderr}");
+    assert!(warnings[0].contains("initial.psi_dot = 1600") && warnings[0].contains("rpm"));
+    assert!(warnings[1].contains("initial.psi_dot = 2000"), "{stderr}");
+    for quiet in ["--quiet-plausibility", "-q"] {
+        let out = study(dir.path(), &["study.toml", "-o", "t.csv", quiet]);
+        assert!(!String::from_utf8_lossy(&out.stderr).contains("warning"));
+    }
+    write_small_study(dir.path(), "20.0, 40.0");
+    let out = study(dir.path(), &["study.toml", "-o", "t.csv", "--fresh"]);
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("warning"));
+}
+
 /// Points that run the same scenario (a repeated value) share a key: one group for them,
 /// where a second group of the same name used to fail the whole study.
 #[test]

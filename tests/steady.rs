@@ -195,8 +195,9 @@ fn assert_growth(scene: &Scene, an: &Analysis, what: &str) {
         .map(|i| i as f64 * start.t_end / 4000.0)
         .collect();
     let samples = run(&start);
-    let t1 = first_reaching(&samples, 0.0, 1e-5);
-    let t2 = first_reaching(&samples, 0.0, 1e-4);
+    // The tilt's deviation from the motion's own (0 upright, π inverted).
+    let t1 = first_reaching(&samples, an.motion.theta, 1e-5);
+    let t2 = first_reaching(&samples, an.motion.theta, 1e-4);
     let fitted = 10f64.ln() / (t2 - t1);
     eprintln!("{what}: growth {fitted} against Re λ = {rate}");
     assert!(
@@ -1133,5 +1134,164 @@ fn linearize_refuses_states_beyond_what_doubles_resolve() {
         let lin = steady::linearize_scene(&scene, Some(steady::Phase::from_row_slice(&state)))
             .unwrap_or_else(|e| panic!("{state:?}: {e}"));
         assert!(lin.jacobian.iter().all(|x| x.is_finite()), "{state:?}");
+    }
+}
+
+/// Leine & Glocker's tippe top with its stem (scenarios/tippe-top-stem.toml) as a point
+/// contact under `model`, spinning at ψ̇ = `spin` upright (θ = 0) or inverted (θ = π),
+/// with or without the stem. SI units.
+fn stemmed_top(model: &str, spin: f64, inverted: bool, stem: bool) -> scenario::Scenario {
+    let theta = if inverted { 180.0 } else { 0.0 };
+    let sphere = if stem {
+        "[[body.sphere]]\nname = \"stem\"\ncenter = [0.0, 0.0, 0.013]\nradius = 0.005\n"
+    } else {
+        ""
+    };
+    let text = format!(
+        "[body]\na = 0.015\nc = 0.015\nmass = 6e-3\ncom_offset = 0.003\n\
+         inertia = [8e-7, 8e-7, 7e-7]\n{sphere}\
+         [initial]\ntheta_deg = {theta:e}\npsi_dot = {spin:e}\n\
+         [contact]\nmodel = \"{model}\"\n\
+         [solver]\nmethod = \"dop853\"\nrtol = 1e-12\natol = 1e-15\n[output]\nt_end = 1.0\ndt = 0.01\n"
+    );
+    scenario::parse(&text, "stemmed", &[] as &[&str]).unwrap()
+}
+
+/// Issue 47: a body with contact spheres is analysed on the surface it rests on. The
+/// inverted tippe top stands on its stem, a sphere of radius ρ = 5 mm whose centre is
+/// l − ρ = 16 mm below G: frictionless, its spectrum is the sleeping criterion's with
+/// k = m g (l − ρ) to 1e-10, stable exactly above n_c = 2√(A k)/C. Upright it rests on
+/// its ball, and the stem (far above the plane) changes nothing: the spectrum is the
+/// stemless top's.
+#[test]
+fn val_the_inverted_tippe_top_stands_on_its_stem_by_the_sleeping_criterion() {
+    let (big_a, big_c, m) = (8e-7, 7e-7, 6e-3);
+    let k = m * G * 0.016;
+    let n_c = 2.0 * (big_a * k).sqrt() / big_c;
+    for f in [0.0, 0.5, 0.999, 1.001, 3.0] {
+        let an = steady::analyse(
+            &stemmed_top("frictionless", f * n_c, true, true).scene,
+            Family::Inverted,
+        )
+        .unwrap();
+        let what = format!("inverted on the stem at {f} n_c");
+        assert_eq!(
+            an.motion.surface,
+            ellipsoid_core::body::Surface::Sphere(0),
+            "{what}"
+        );
+        // The spin about the upward vertical is −ψ̇ inverted.
+        let expected = sleeping_eigenvalues(big_a, big_c, k, -f * n_c);
+        assert_spectrum(&an.spectrum.eigenvalues(), &expected, 1e-10, &what);
+        assert_eq!(an.spectrum.stable(), f > 1.0, "{what}: {:?}", an.spectrum);
+        assert!(
+            (an.motion.normal_force / (m * G) - 1.0).abs() < 1e-12,
+            "{what}"
+        );
+    }
+    for model in ["frictionless", "rolling"] {
+        for spin in [0.0, 40.0, 180.0] {
+            let with = steady::analyse(
+                &stemmed_top(model, spin, false, true).scene,
+                Family::Upright,
+            )
+            .unwrap();
+            let without = steady::analyse(
+                &stemmed_top(model, spin, false, false).scene,
+                Family::Upright,
+            )
+            .unwrap();
+            assert_eq!(
+                with.motion.surface,
+                ellipsoid_core::body::Surface::Ellipsoid
+            );
+            let what = format!("{model} upright on the ball at {spin} rad/s");
+            assert_spectrum(
+                &with.spectrum.eigenvalues(),
+                &without.spectrum.eigenvalues(),
+                1e-13,
+                &what,
+            );
+        }
+    }
+}
+
+/// Issue 47: the rolling inverted tippe top on its stem against an independent path, runs
+/// of the simulator on the stem started 1e-6 along a mode: slower than the critical spin
+/// (n = 40 rad/s) the tilt grows at Re λ, faster (200 rad/s) each pair oscillates at
+/// |Im λ|, both to 1e-6. A sweep of the spin finds one critical spin, 85.67 rad/s
+/// (docs/physics.md, "Bodies with contact spheres").
+#[test]
+fn val_the_rolling_top_on_its_stem_runs_as_its_spectrum_says() {
+    let slow = stemmed_top("rolling", -40.0, true, true).scene;
+    let an = steady::analyse(&slow, Family::Inverted).unwrap();
+    assert_eq!(an.motion.surface, ellipsoid_core::body::Surface::Sphere(0));
+    assert_growth(&slow, &an, "rolling on the stem at 40 rad/s");
+    let fast = stemmed_top("rolling", -200.0, true, true).scene;
+    let an = steady::analyse(&fast, Family::Inverted).unwrap();
+    assert!(an.spectrum.stable(), "{:?}", an.spectrum);
+    for k in [0, 2] {
+        assert_frequency(
+            &fast,
+            &an,
+            k,
+            &format!("rolling on the stem at 200 rad/s, mode {k}"),
+        );
+    }
+    let values: Vec<f64> = (0..=20).map(|i| -10.0 * i as f64).collect();
+    let base = stemmed_top("rolling", 0.0, true, true);
+    let sw = steady::sweep(&base, Family::Inverted, "initial.psi_dot", &values).unwrap();
+    assert_eq!(sw.critical.len(), 1, "{:?}", sw.critical);
+    let crit = &sw.critical[0];
+    assert_eq!(crit.kind, steady::CriticalKind::Collision);
+    assert!((crit.value + 85.67).abs() < 0.005, "{crit:?}");
+}
+
+/// Issue 47: along a sweep a mode keeps its name. The rattleback's raw names change with
+/// the spin (at rest its modes are a pure pitch and a pure roll; spun at 30 rad/s both
+/// pairs are named roll, in between one is a wobble); swept from −30 to 30 rad/s each
+/// branch is named by its clearest member, the pure modes at rest: every row names two
+/// pitch and two roll modes, the pitch pair being the one followed from the faster pair
+/// at rest.
+#[test]
+fn val_a_mode_keeps_its_name_along_a_sweep() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/rattleback.toml");
+    let text = std::fs::read_to_string(path)
+        .unwrap()
+        .replace(
+            "rotation = [{ axis = \"x\", angle_deg = 0.5 }, { axis = \"y\", angle_deg = 0.5 }]",
+            "",
+        )
+        .replace("omega_body = [0.0, 0.0, -5.0]", "psi_dot = 0.0");
+    let base = scenario::parse(&text, "rattleback", &[] as &[&str]).unwrap();
+    let raw = |spin: f64| {
+        let scene = scenario::parse(&text, "rattleback", &[format!("initial.psi_dot={spin}")])
+            .unwrap()
+            .scene;
+        let an = steady::analyse(&scene, Family::Upright).unwrap();
+        let mut names: Vec<&str> = an.spectrum.modes.iter().map(|m| m.name).collect();
+        names.sort_unstable();
+        names
+    };
+    assert_eq!(raw(0.0), ["pitch", "pitch", "roll", "roll"]);
+    assert_eq!(raw(30.0), ["roll", "roll", "roll", "roll"]);
+    assert!(raw(3.0).contains(&"wobble"), "{:?}", raw(3.0));
+    let values: Vec<f64> = (0..=60).map(|i| -30.0 + i as f64).collect();
+    let sw = steady::sweep(&base, Family::Upright, "initial.psi_dot", &values).unwrap();
+    for (v, row) in values.iter().zip(&sw.rows) {
+        let an = row.as_ref().unwrap();
+        let mut names: Vec<&str> = an.spectrum.modes.iter().map(|m| m.name).collect();
+        names.sort_unstable();
+        assert_eq!(names, ["pitch", "pitch", "roll", "roll"], "at ψ̇ = {v}");
+        // The pitch pair is the faster one at rest, followed by continuity: at every spin
+        // here it is still the pair of larger |Im λ|.
+        let fastest = an
+            .spectrum
+            .modes
+            .iter()
+            .max_by(|a, b| a.eigenvalue.im.abs().total_cmp(&b.eigenvalue.im.abs()))
+            .unwrap();
+        assert_eq!(fastest.name, "pitch", "at ψ̇ = {v}: {:?}", an.spectrum.modes);
     }
 }

@@ -212,21 +212,36 @@ def test_a_long_event_list_scrolls(cli: Path, tmp_path: Path, page) -> None:
 
 def test_a_failed_webgl_context_says_so_on_the_page(cli: Path, tmp_path: Path, page) -> None:
     """A browser that gives no WebGL context (as a GPU-less one may): the page says why
-    there is no 3-D view instead of staying blank."""
-    scene = tmp_path / "egg.toml"
-    scene.write_text(EGG.format(theta=0.0), encoding="utf-8")
-    html = run(cli, tmp_path, scene, "egg")
+    there is no 3-D view instead of staying blank, and loses only that (issue 47): the
+    plots, the event list, the slider and the HUD work, the plot cursor following the
+    slider."""
+    # The tippe top with its contact disc: two events in 2 s (its inversion observed).
+    html = run(cli, tmp_path, REPO / "scenarios/tippe-top-disc.toml", "top", "output.t_end=2")
     script = page.send("Page.addScriptToEvaluateOnNewDocument", {"source": (
         "const get = HTMLCanvasElement.prototype.getContext;"
         "HTMLCanvasElement.prototype.getContext = function (kind, ...rest) {"
         " return /webgl/.test(kind) ? null : get.call(this, kind, ...rest); };")})
     try:
         page.goto(html.as_uri())
-        page.wait("document.getElementById('error') && document.getElementById('error').textContent.length > 0")
+        page.wait("document.body.dataset.ready === '1'")
         text = page.eval("document.getElementById('error').textContent")
         assert "WebGL is not available in this browser" in text and "3-D view cannot be drawn" in text, text
         shown = page.rect("#error")
         assert shown["width"] > 100 and shown["height"] > 5, "the message is visible"
+        assert page.eval("ellipsoidViewer.webgl") is False
+        assert page.eval("document.querySelectorAll('#scene canvas').length") == 0
+        assert page.eval("document.getElementById('events').children.length") == 2, "the event list"
+        slider = page.rect("#slider")
+        for frac in (0.25, 0.75):
+            page.click(slider["x"] + frac * slider["width"], slider["y"] + slider["height"] / 2)
+            page.pump(0.15)
+            t = page.eval("ellipsoidViewer.time()")
+            assert abs(t - frac * 2.0) < 0.1, t
+            assert f"t = {t:.4f} s" in page.eval("document.getElementById('hud').textContent")
+            x = cursor_column(page.screenshot(page.rect("#plot-theta")))
+            want = page.eval(f"ellipsoidViewer.plotX('theta', {t})")
+            assert abs(x + 0.5 - want) < 2.5, f"cursor at {x}, t = {t} belongs at {want}"
+        assert [e for e in page.errors() if "WebGL" not in e] == []
     finally:
         page.send("Page.removeScriptToEvaluateOnNewDocument", {"identifier": script["identifier"]})
 

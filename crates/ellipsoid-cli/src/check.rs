@@ -92,6 +92,23 @@ fn describe(d: &Derived) -> String {
             "does not touch (ellipsoid_contact = false)".to_owned(),
         );
     }
+    match &body.two_contact_tilts {
+        Some(tilts) => {
+            for t in tilts {
+                line(
+                    "two contacts",
+                    format!(
+                        "{} and {} at theta* = {} rad ({:.2} deg)",
+                        t.surfaces[0], t.surfaces[1], t.theta, t.theta_deg
+                    ),
+                );
+            }
+        }
+        None => line(
+            "two contacts",
+            "theta* not given: the body is not of revolution about its c axis, so it depends on the heading psi".to_owned(),
+        ),
+    }
     line("gravity", format!("{} m/s^2", d.gravity));
     line(
         "contact model",

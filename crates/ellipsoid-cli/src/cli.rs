@@ -173,6 +173,11 @@ pub struct SteadyArgs {
     /// ranges shaded, the critical values marked (SVG, PNG or PDF by the extension).
     #[arg(long, value_name = "OUT.svg|png|pdf")]
     pub plot: Option<PathBuf>,
+    /// With --plot: the resolution of a PNG figure in pixels per inch, 24 to 1200 and at
+    /// most 5e7 pixels (default 96: one pixel per pixel of the SVG; 192 is sharp on a
+    /// HiDPI screen). PNG only.
+    #[arg(long, value_name = "DPI", requires = "plot")]
+    pub dpi: Option<f64>,
     /// Do not report the diagram written on stderr.
     #[arg(short, long)]
     pub quiet: bool,
@@ -209,6 +214,10 @@ pub struct StudyArgs {
     /// Print nothing but errors on standard error.
     #[arg(short, long)]
     pub quiet: bool,
+    /// Do not print the plausibility warnings of the study's points (values that are
+    /// valid but likely a unit slip; docs/scenarios.md, "Plausibility warnings").
+    #[arg(long)]
+    pub quiet_plausibility: bool,
 }
 
 #[derive(Debug, Args)]
@@ -346,9 +355,18 @@ pub struct PlotArgs {
     /// With `--section`: the column along the vertical axis (e.g. `omega_z`).
     #[arg(long, value_name = "COL", requires = "section")]
     pub y: Option<String>,
+    /// With `--section`: the angle columns (rad) of --x and --y drawn modulo 2π, in
+    /// [0, 2π), comma-separated (e.g. `psi`).
+    #[arg(long, value_name = "LIST", requires = "section")]
+    pub wrap: Option<String>,
     /// Title line (default: the scenario named by the summary, else the input file name).
     #[arg(long)]
     pub title: Option<String>,
+    /// The resolution of a PNG figure in pixels per inch, 24 to 1200 and at most 5e7
+    /// pixels (default 96: one pixel per pixel of the SVG; 192 is sharp on a HiDPI screen;
+    /// the six-panel figure takes up to about 480). PNG only.
+    #[arg(long, value_name = "DPI")]
+    pub dpi: Option<f64>,
     /// Print nothing but errors.
     #[arg(short, long)]
     pub quiet: bool,

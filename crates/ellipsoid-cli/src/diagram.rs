@@ -306,12 +306,7 @@ fn six(v: f64) -> String {
     }
 }
 
-/// The diagram in the format of `path`'s extension (svg, png or pdf).
-pub fn render(d: &Diagram, title: &str, ext: &str) -> Result<Vec<u8>, String> {
-    let svg = svg(d, title)?;
-    match ext {
-        "png" => figure::png(&svg),
-        "pdf" => figure::pdf(&svg),
-        _ => Ok(svg.into_bytes()),
-    }
+/// The diagram in `format`.
+pub fn render(d: &Diagram, title: &str, format: &figure::Format) -> Result<Vec<u8>, String> {
+    format.encode(svg(d, title)?)
 }

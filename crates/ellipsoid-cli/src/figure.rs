@@ -216,15 +216,34 @@ pub(crate) fn bounds<'a>(values: impl Iterator<Item = &'a f64>) -> (f64, f64) {
 struct Series {
     name: String,
     color: RGBColor,
-    points: Vec<(f64, f64)>,
+    /// The line's pieces: runs of samples with a value, each drawn on its own, so that a
+    /// gap (NaN: a value left out) is not bridged by a straight line that looks like data.
+    pieces: Vec<Vec<(f64, f64)>>,
 }
 
+/// The series `v(t)`, NaN where it has no value, as the min/max envelope of each run of
+/// values ([`envelope`], [`BUCKETS`] in all, shared by length).
 fn series(name: &str, color: RGBColor, t: &[f64], v: &[f64]) -> Series {
-    let (ts, vs) = envelope(t, v, BUCKETS);
+    let n = t.len().min(v.len()).max(1);
+    let mut pieces = Vec::new();
+    let mut start = 0;
+    while start < t.len().min(v.len()) {
+        if v[start].is_nan() {
+            start += 1;
+            continue;
+        }
+        let end = (start..v.len().min(t.len()))
+            .find(|&i| v[i].is_nan())
+            .unwrap_or(v.len().min(t.len()));
+        let buckets = (BUCKETS * (end - start)).div_ceil(n).max(1);
+        let (ts, vs) = envelope(&t[start..end], &v[start..end], buckets);
+        pieces.push(ts.into_iter().zip(vs).collect());
+        start = end;
+    }
     Series {
         name: name.to_owned(),
         color,
-        points: ts.into_iter().zip(vs).collect(),
+        pieces,
     }
 }
 
@@ -259,7 +278,11 @@ fn time_chart(
 ) -> Res {
     let t = table.t();
     let (t0, t1) = (t[0], t[t.len() - 1].max(t[0] + 1e-12));
-    let (mut y0, mut y1) = bounds(series.iter().flat_map(|s| s.points.iter().map(|p| &p.1)));
+    let (mut y0, mut y1) = bounds(
+        series
+            .iter()
+            .flat_map(|s| s.pieces.iter().flatten().map(|p| &p.1)),
+    );
     if log {
         (y0, y1) = (y0.floor(), y1.ceil().max(y0.floor() + 1.0));
     }
@@ -316,14 +339,19 @@ fn time_chart(
     }
     for s in series {
         let color = s.color;
-        chart
-            .draw_series(LineSeries::new(
-                s.points.iter().copied(),
-                color.stroke_width(2),
-            ))
-            .map_err(err)?
-            .label(s.name.clone())
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 22, y)], color.stroke_width(2)));
+        for (k, piece) in s.pieces.iter().enumerate() {
+            let drawn = chart
+                .draw_series(LineSeries::new(
+                    piece.iter().copied(),
+                    color.stroke_width(2),
+                ))
+                .map_err(err)?;
+            if k == 0 {
+                drawn.label(s.name.clone()).legend(move |(x, y)| {
+                    PathElement::new([(x, y), (x + 22, y)], color.stroke_width(2))
+                });
+            }
+        }
     }
     let mut labels = chart.configure_series_labels();
     labels
@@ -373,8 +401,9 @@ fn column_panel(area: &Area<'_>, table: &Table, name: &str) -> Res {
 }
 
 /// A declared series' samples as (times, values): a column, or a derived quantity
-/// (`energy_plus_work` when work is dissipated, `drift`); `euler` series only where
-/// |sin θ| is at least the declared threshold. `None` when the trajectory lacks it.
+/// (`energy_plus_work` when work is dissipated, `drift`); `euler` series NaN (left out,
+/// the line broken there) where |sin θ| is below the declared threshold. `None` when the
+/// trajectory lacks it.
 fn series_data(table: &Table, s: &panels::Series) -> Option<(Vec<f64>, Vec<f64>)> {
     let t = table.t();
     let values: Vec<f64> = match s.data.as_str() {
@@ -389,21 +418,16 @@ fn series_data(table: &Table, s: &panels::Series) -> Option<(Vec<f64>, Vec<f64>)
         "drift" => table.drift()?.0,
         column => table.column(column)?.to_vec(),
     };
-    let theta = table.column("theta").filter(|_| s.euler);
-    match theta {
-        Some(theta) => {
-            let min = panels::declaration().euler_min_sin_theta;
-            Some(
-                t.iter()
-                    .zip(values)
-                    .zip(theta)
-                    .filter(|(_, th)| th.sin().abs() >= min)
-                    .map(|((t, v), _)| (*t, v))
-                    .unzip(),
-            )
+    let mut values = values;
+    if let Some(theta) = table.column("theta").filter(|_| s.euler) {
+        let min = panels::declaration().euler_min_sin_theta;
+        for (v, th) in values.iter_mut().zip(theta) {
+            if th.sin().abs() < min {
+                *v = f64::NAN;
+            }
         }
-        None => Some((t.to_vec(), values)),
     }
+    Some((t.to_vec(), values))
 }
 
 /// One declared axis against time: its series, its title with the suffixes of what is
@@ -430,12 +454,15 @@ fn time_axis(area: &Area<'_>, table: &Table, axis: &panels::Axis) -> Res {
             }
             return Err(format!("the {} series has no data", s.data));
         };
-        left_out |= s.euler && t.len() < table.rows();
-        if t.is_empty() {
+        left_out |= s.euler && v.iter().any(|x| x.is_nan());
+        if v.iter().all(|x| x.is_nan()) {
             continue;
         }
         if axis.log {
-            v.iter_mut().for_each(|x| *x = x.abs().max(FLOOR).log10());
+            // NaN (a value left out) stays NaN: f64::max would make it the floor.
+            v.iter_mut()
+                .filter(|x| !x.is_nan())
+                .for_each(|x| *x = x.abs().max(FLOOR).log10());
         }
         title.push_str(&s.title_suffix);
         let label = s.label.replace("{conserved}", conserved);
@@ -661,15 +688,87 @@ fn parse(svg: &str) -> Result<resvg::usvg::Tree, String> {
         .map_err(|e| format!("cannot read the SVG: {e}"))
 }
 
-/// Renders SVG text to PNG bytes with resvg (fonts as [`svg_options`] finds them).
-pub fn png(svg: &str) -> Result<Vec<u8>, String> {
+/// The resolution of a figure's PNG unless `--dpi` says otherwise: 1 px of the SVG per
+/// pixel, the SVG's 1 px being 1/96 inch.
+pub const DEFAULT_DPI: f64 = 96.0;
+/// The range of `--dpi` [pixels per inch].
+pub const DPI_RANGE: (f64, f64) = (24.0, 1200.0);
+/// Most pixels of a PNG (200 MB of pixmap): a tall figure at a high `--dpi` beyond it is
+/// refused before it is drawn.
+pub const MAX_PIXELS: f64 = 5e7;
+
+/// A figure's file format, by the output's extension, and a PNG's resolution.
+#[derive(Debug, Clone)]
+pub struct Format {
+    /// "svg", "png" or "pdf".
+    pub ext: String,
+    /// Pixels per inch of a PNG.
+    pub dpi: f64,
+}
+
+impl Format {
+    /// The format of `output` (`.svg`, `.png` or `.pdf`) and `--dpi` `dpi` (a PNG's
+    /// resolution, [`DPI_RANGE`]; SVG and PDF are vector formats and take none): an error
+    /// naming `--dpi`, its value and the rule otherwise.
+    pub fn of(
+        output: &std::path::Path,
+        dpi: Option<f64>,
+    ) -> Result<Format, crate::error::CliError> {
+        let ext = crate::visual::check_output(output, &["svg", "png", "pdf"], "figure")?;
+        let usage = |rule: String| crate::error::CliError::Usage(rule);
+        let dpi = match dpi {
+            None => DEFAULT_DPI,
+            Some(d) if ext != "png" => {
+                return Err(usage(format!(
+                    "--dpi {d}: a resolution applies to PNG figures only ({} is a vector format, sharp at any size)",
+                    output.display()
+                )));
+            }
+            Some(d) if !(DPI_RANGE.0..=DPI_RANGE.1).contains(&d) => {
+                return Err(usage(format!(
+                    "--dpi {d}: must be from {} to {} pixels per inch",
+                    DPI_RANGE.0, DPI_RANGE.1
+                )));
+            }
+            Some(d) => d,
+        };
+        Ok(Format { ext, dpi })
+    }
+
+    /// The figure `svg` in this format: SVG as is, PNG rendered at [`Format::dpi`], PDF.
+    pub fn encode(&self, svg: String) -> Result<Vec<u8>, String> {
+        match self.ext.as_str() {
+            "png" => png(&svg, self.dpi),
+            "pdf" => pdf(&svg),
+            _ => Ok(svg.into_bytes()),
+        }
+    }
+}
+
+/// Renders SVG text to PNG bytes with resvg (fonts as [`svg_options`] finds them) at
+/// `dpi` pixels per inch (1 px of the SVG = 1/96 inch), at most [`MAX_PIXELS`].
+pub fn png(svg: &str, dpi: f64) -> Result<Vec<u8>, String> {
     use resvg::tiny_skia;
     let tree = parse(svg)?;
-    let size = tree.size().to_int_size();
+    let scale = (dpi / DEFAULT_DPI) as f32;
+    let size = tree.size();
+    let (width, height) = (
+        (size.width() * scale).ceil(),
+        (size.height() * scale).ceil(),
+    );
+    if f64::from(width) * f64::from(height) > MAX_PIXELS {
+        return Err(format!(
+            "the PNG would be {width} × {height} pixels at {dpi} dpi, more than {MAX_PIXELS:e}: use a lower --dpi, or write SVG or PDF"
+        ));
+    }
     let mut pixmap =
-        tiny_skia::Pixmap::new(size.width(), size.height()).ok_or("the figure has no size")?;
+        tiny_skia::Pixmap::new(width as u32, height as u32).ok_or("the figure has no size")?;
     pixmap.fill(tiny_skia::Color::WHITE);
-    resvg::render(&tree, tiny_skia::Transform::default(), &mut pixmap.as_mut());
+    resvg::render(
+        &tree,
+        tiny_skia::Transform::from_scale(scale, scale),
+        &mut pixmap.as_mut(),
+    );
     pixmap
         .encode_png()
         .map_err(|e| format!("cannot encode the PNG: {e}"))
@@ -834,7 +933,7 @@ mod tests {
         assert!(lines.len() <= 4, "{} lines", lines.len());
         let svg = svg(&t, &default_panels(&t), "test").unwrap();
         assert!(svg.len() < 2_000_000, "{} bytes", svg.len());
-        png(&svg).unwrap();
+        png(&svg, DEFAULT_DPI).unwrap();
     }
 
     /// A table of only the columns `columns_for` names draws each panel as the whole
@@ -958,6 +1057,41 @@ mod tests {
         );
         // the rate axis ends near ±10 (1/0.1), not at ±1e6
         assert!(!svg.contains(">1e6<") && !svg.contains("1000000"));
+        // φ̇ and ψ̇ are broken where they are left out, as Trajectory.plot breaks them:
+        // two pieces each (and a legend mark), where θ̇ is one line (and its mark).
+        let lines = |color: &str| {
+            svg.split("<polyline")
+                .skip(1)
+                .filter(|l| l.split("/>").next().unwrap_or("").contains(color))
+                .count()
+        };
+        assert_eq!(lines("#1F77B4"), 2, "θ̇");
+        assert_eq!(lines("#FF7F0E"), 3, "φ̇");
+        assert_eq!(lines("#2CA02C"), 3, "ψ̇");
+    }
+
+    /// `--dpi` takes 24 to 1200 for a PNG only, and a PNG beyond [`MAX_PIXELS`] is refused
+    /// before a pixmap is made.
+    #[test]
+    fn the_resolution_is_bounded_and_for_png_only() {
+        let dir = std::env::temp_dir();
+        let fail = |name: &str, dpi: f64| match Format::of(&dir.join(name), Some(dpi)) {
+            Err(crate::error::CliError::Usage(e)) => e,
+            other => panic!("{name} at {dpi}: {other:?}"),
+        };
+        assert!(fail("f.svg", 200.0).contains("PNG figures only"));
+        assert!(fail("f.pdf", 200.0).contains("PNG figures only"));
+        for dpi in [10.0, 5000.0, f64::NAN, f64::INFINITY] {
+            assert!(
+                fail("f.png", dpi).contains("must be from 24 to 1200"),
+                "{dpi}"
+            );
+        }
+        assert_eq!(Format::of(&dir.join("f.png"), None).unwrap().dpi, 96.0);
+        let t = table();
+        let svg = svg(&t, &default_panels(&t), "test").unwrap();
+        let e = png(&svg, 1200.0).unwrap_err();
+        assert!(e.contains("pixels at 1200 dpi"), "{e}");
     }
 
     #[test]

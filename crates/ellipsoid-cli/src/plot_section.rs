@@ -14,7 +14,7 @@ use plotters::prelude::*;
 use crate::cli::PlotArgs;
 use crate::error::CliError;
 use crate::figure::{self, bounds, err, tick};
-use crate::visual::{check_output, put};
+use crate::visual::put;
 
 /// Most points a section figure reads.
 pub const MAX_POINTS: usize = 1_000_000;
@@ -60,8 +60,18 @@ pub fn plot_section(args: &PlotArgs) -> Result<ExitCode, CliError> {
             "--section draws one column against another: give --x COL and --y COL".into(),
         ));
     };
-    let ext = check_output(&args.output, &["svg", "png", "pdf"], "figure")?;
-    let points = read(&args.input, x, y).map_err(CliError::Usage)?;
+    let format = figure::Format::of(&args.output, args.dpi)?;
+    let wrap: Vec<&str> = args
+        .wrap
+        .as_deref()
+        .map_or_else(Vec::new, |w| w.split(',').map(str::trim).collect());
+    if let Some(w) = wrap.iter().find(|w| **w != x.as_str() && **w != y.as_str()) {
+        return Err(CliError::Usage(format!(
+            "--wrap {w:?}: not a column of this plot (--x {x:?}, --y {y:?})"
+        )));
+    }
+    let wrapped = (wrap.contains(&x.as_str()), wrap.contains(&y.as_str()));
+    let points = read(&args.input, (x, y), wrapped).map_err(CliError::Usage)?;
     let title = args.title.clone().unwrap_or_else(|| {
         let source = points.scenario.clone().unwrap_or_else(|| {
             args.input
@@ -71,11 +81,7 @@ pub fn plot_section(args: &PlotArgs) -> Result<ExitCode, CliError> {
         format!("Poincaré section of {source}: {y} against {x}")
     });
     let (svg, markers) = svg(&points, &title).map_err(CliError::Plot)?;
-    let bytes = match ext.as_str() {
-        "png" => figure::png(&svg).map_err(CliError::Plot)?,
-        "pdf" => figure::pdf(&svg).map_err(CliError::Plot)?,
-        _ => svg.into_bytes(),
-    };
+    let bytes = format.encode(svg).map_err(CliError::Plot)?;
     put(&args.output, &bytes)?;
     if !args.quiet {
         let drawn = if markers < points.xy.len() {
@@ -98,8 +104,9 @@ pub fn plot_section(args: &PlotArgs) -> Result<ExitCode, CliError> {
 /// Reads the columns `x` and `y` of the section table at `path`: a comment line
 /// (`# ellipsoid {json}`, its `units` and `scenario` used if present), a header whose
 /// first column is `section`, one row per crossing, the section's name quoted if it
-/// holds a comma, a quote or a line break (RFC 4180).
-pub fn read(path: &Path, x: &str, y: &str) -> Result<Points, String> {
+/// holds a comma, a quote or a line break (RFC 4180). The columns `wrap` marks, angles
+/// (rad), are taken modulo 2π, in [0, 2π) (`--wrap`).
+pub fn read(path: &Path, (x, y): (&str, &str), wrap: (bool, bool)) -> Result<Points, String> {
     let at = |line: Option<usize>| match line {
         Some(l) => format!("{}:{l}", path.display()),
         None => path.display().to_string(),
@@ -153,22 +160,27 @@ pub fn read(path: &Path, x: &str, y: &str) -> Result<Points, String> {
             })
     };
     let (kx, ky) = (column("x", x)?, column("y", y)?);
-    let label = |name: &str| {
+    let label = |name: &str, wrapped: bool| {
         let unit = comment
             .as_ref()
             .and_then(|c| c.get("units")?.get(name)?.as_str().map(str::to_owned))
             .filter(|u| !u.is_empty() && u != "1");
-        match unit {
-            Some(u) => format!("{name} ({u})"),
-            None => name.to_owned(),
+        match (unit, wrapped) {
+            (Some(u), true) if u != "rad" => Err(format!(
+                "--wrap {name:?}: not an angle: its unit is {u}, and only angles (rad) are taken modulo 2π"
+            )),
+            (Some(u), true) => Ok(format!("{name} ({u}, modulo 2π)")),
+            (None, true) => Ok(format!("{name} (modulo 2π)")),
+            (Some(u), false) => Ok(format!("{name} ({u})")),
+            (None, false) => Ok(name.to_owned()),
         }
     };
     let mut points = Points {
         xy: Vec::new(),
         section: Vec::new(),
         names: Vec::new(),
-        x_label: label(x),
-        y_label: label(y),
+        x_label: label(x, wrap.0)?,
+        y_label: label(y, wrap.1)?,
         scenario: comment.as_ref().and_then(|c| {
             let s = c.get("scenario")?.as_str()?;
             Some(Path::new(s).file_name()?.to_string_lossy().into_owned())
@@ -205,7 +217,17 @@ pub fn read(path: &Path, x: &str, y: &str) -> Result<Points, String> {
                     )
                 })
         };
-        points.xy.push((value(kx)?, value(ky)?));
+        let turn = std::f64::consts::TAU;
+        let modulo = |v: f64, wrapped: bool| {
+            if wrapped {
+                v.rem_euclid(turn) % turn
+            } else {
+                v
+            }
+        };
+        points
+            .xy
+            .push((modulo(value(kx)?, wrap.0), modulo(value(ky)?, wrap.1)));
         let name = &fields[0];
         let index = match points.names.iter().position(|n| n == name) {
             Some(i) => i,

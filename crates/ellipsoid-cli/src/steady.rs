@@ -8,6 +8,7 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use ellipsoid_core::body::{Body, Surface};
 use ellipsoid_core::error::{ModelError, number};
 use ellipsoid_core::scenario::{self, Scenario};
 use ellipsoid_core::simulate::ContactModel;
@@ -26,7 +27,7 @@ use crate::diagram::{self, Diagram};
 use crate::error::CliError;
 use crate::interrupt::Interrupt;
 #[cfg(feature = "figures")]
-use crate::visual::{check_output, put};
+use crate::visual::put;
 
 pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
     let interrupt = Interrupt::install();
@@ -75,7 +76,7 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
                     diagram::MAX_VALUES
                 )));
             }
-            Some((path, check_output(path, &["svg", "png", "pdf"], "figure")?))
+            Some((path, crate::figure::Format::of(path, args.dpi)?))
         }
         None => None,
     };
@@ -119,7 +120,7 @@ pub fn steady(args: &SteadyArgs) -> Result<ExitCode, CliError> {
         }
         (None, false) => {
             let an = steady::analyse_solving(&scenario.scene, family, solve).map_err(located)?;
-            print!("{}", describe(&an, solve));
+            print!("{}", describe(&an, solve, &scenario.scene.body));
             let modes = family.modes();
             table_of(family, modes, "spin", &[an.motion.spin], &[Ok(an)])
         }
@@ -207,10 +208,10 @@ fn same_file(a: &std::path::Path, b: &std::path::Path) -> bool {
 fn draw<T: Stability>(
     scenario: &Scenario,
     sw: &Sweep<T>,
-    plot: Option<(&PathBuf, String)>,
+    plot: Option<(&PathBuf, crate::figure::Format)>,
     quiet: bool,
 ) -> Result<(), CliError> {
-    let Some((path, ext)) = plot else {
+    let Some((path, format)) = plot else {
         return Ok(());
     };
     let d = Diagram::of(sw);
@@ -224,7 +225,7 @@ fn draw<T: Stability>(
             .unwrap_or(&scenario.source),
         sw.key
     );
-    let bytes = diagram::render(&d, &title, &ext).map_err(CliError::Plot)?;
+    let bytes = diagram::render(&d, &title, &format).map_err(CliError::Plot)?;
     put(path, &bytes)?;
     if !quiet {
         eprintln!(
@@ -246,6 +247,18 @@ fn draw<T: Stability>(
     _: bool,
 ) -> Result<(), CliError> {
     Ok(())
+}
+
+/// The surface a body with contact spheres rests on, a line of the description (none for
+/// the paper's body, which has one surface).
+fn describe_surface(o: &mut String, body: &Body, surface: Surface) {
+    if !body.plain() {
+        let _ = writeln!(
+            o,
+            "resting on           {} (the surface touching the plane)",
+            body.surface_name(surface)
+        );
+    }
 }
 
 /// A steady spin under the viscous law in words (docs/steady.md, "Under viscous sliding").
@@ -397,12 +410,13 @@ fn parse_vary(spec: &str) -> Result<(String, Vec<f64>), String> {
 
 /// One steady motion in words: the state (a tilted family's unknown marked as solved
 /// for), then each mode.
-fn describe(an: &Analysis, solve: Solve) -> String {
+fn describe(an: &Analysis, solve: Solve, body: &Body) -> String {
     let m = &an.motion;
     let mut o = String::new();
     // + 0.0 prints −0 (a zero times a negative spin) as 0.
     let (zeta, omega) = steady::reduce::split(&m.at.map(|x| x + 0.0));
     let _ = writeln!(o, "family               {}", m.family.name());
+    describe_surface(&mut o, body, m.surface);
     let solved = |what: Solve| {
         if m.family.tilted() && solve == what {
             ", solved for"

@@ -35,6 +35,11 @@ pub fn study(args: &StudyArgs) -> Result<ExitCode, CliError> {
         .map_err(|rule| CliError::Usage(format!("{}: {rule}", args.output.display())))?;
     let plan = spec::load(&args.study)?;
     let study = Study::new(plan)?;
+    if !(args.quiet || args.quiet_plausibility) {
+        for w in study.warnings() {
+            eprintln!("{w}");
+        }
+    }
     let max = study::max_threads();
     if let Some(j) = args.jobs.filter(|j| !(1..=max).contains(j)) {
         return Err(CliError::Usage(format!(

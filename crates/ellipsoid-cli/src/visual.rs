@@ -91,7 +91,7 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
     if args.section {
         return crate::plot_section::plot_section(args);
     }
-    let ext = check_output(&args.output, &["svg", "png", "pdf"], "figure")?;
+    let format = figure::Format::of(&args.output, args.dpi)?;
     let asked = match (&args.columns, &args.panels) {
         (Some(columns), _) => Some(figure::parse_columns(columns)),
         (None, Some(panels)) => Some(figure::parse_panels(panels)),
@@ -116,11 +116,7 @@ pub fn plot(args: &PlotArgs) -> Result<ExitCode, CliError> {
         .clone()
         .unwrap_or_else(|| default_title(&table, &args.input));
     let svg = figure::svg(&table, &panels, &title).map_err(CliError::Plot)?;
-    let bytes = match ext.as_str() {
-        "png" => figure::png(&svg).map_err(CliError::Plot)?,
-        "pdf" => figure::pdf(&svg).map_err(CliError::Plot)?,
-        _ => svg.into_bytes(),
-    };
+    let bytes = format.encode(svg).map_err(CliError::Plot)?;
     put(&args.output, &bytes)?;
     if !args.quiet {
         eprintln!(

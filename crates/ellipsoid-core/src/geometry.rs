@@ -278,11 +278,33 @@ pub fn support_point(a: Vector3<f64>, zeta: Vector3<f64>) -> Vector3<f64> {
     -a2z / s
 }
 
-/// The Hessian H = A²/s − (A²ζ)(A²ζ)ᵀ/s³ (used by tests and diagnostics; the
-/// right-hand side applies it to a vector without forming it).
+/// The Hessian H of the support height of the body's surface ([`Body::surface`]), see the
+/// module docs: the ellipsoid's A²/s − (A²ζ)(A²ζ)ᵀ/s³, a sphere's ρ(I/|ζ| − ζζᵀ/|ζ|³), a
+/// rim's adds R(P/|Pζ| − PζζᵀP/|Pζ|³) (left out at |Pζ| = 0, where it is singular). Used
+/// by the steady analysis (rest attitudes) and tests; the right-hand side applies H to a
+/// vector without forming it.
 pub fn hessian(body: &Body, zeta: Vector3<f64>) -> Matrix3<f64> {
-    let (a2, a2z, s) = support(body.semi_axes(), zeta);
-    Matrix3::from_diagonal(&a2) / s - a2z * a2z.transpose() / (s * s * s)
+    let ball = |rho: f64| {
+        let n = zeta.norm();
+        (Matrix3::identity() / n - zeta * zeta.transpose() / (n * n * n)) * rho
+    };
+    match body.surface() {
+        Surface::Ellipsoid => {
+            let (a2, a2z, s) = support(body.semi_axes(), zeta);
+            Matrix3::from_diagonal(&a2) / s - a2z * a2z.transpose() / (s * s * s)
+        }
+        Surface::Sphere(k) => ball(body.spheres()[k].radius),
+        Surface::Rim(k) => {
+            let rim = &body.rims()[k];
+            let (out, m) = ring_direction(zeta);
+            let mut h = ball(rim.edge);
+            if m > 0.0 {
+                let p = Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 0.0));
+                h += (p - out * out.transpose()) * (rim.radius / m);
+            }
+            h
+        }
+    }
 }
 
 #[cfg(test)]
@@ -316,25 +338,51 @@ mod tests {
         assert!(normal.normalize().dot(&-zeta) > 1.0 - 1e-14);
     }
 
-    /// Finite differences: ∇h = −r and the Hessian of s is H.
+    /// Finite differences, on every kind of surface: ∇h = −r and the Hessian of s is H.
     #[test]
     fn height_gradient_and_hessian_match_finite_differences() {
-        let b = body();
+        use crate::body::{Rim, Sphere};
+        let plain = body();
+        let stem = Sphere {
+            name: "stem".into(),
+            center: Vector3::new(0.002, -0.001, 0.013),
+            radius: 0.004,
+        };
+        let rim = Rim {
+            name: "rim".into(),
+            center: Vector3::new(0.0, 0.0, -0.004),
+            radius: 0.02,
+            edge: 0.002,
+        };
+        let sphered = plain.clone().with_spheres(vec![stem]).unwrap();
+        let rimmed = plain.clone().with_rims(vec![rim]).unwrap();
+        let bodies = [
+            plain,
+            sphered.touching(Surface::Sphere(0)),
+            rimmed.touching(Surface::Rim(0)),
+        ];
         let zeta = Vector3::new(0.3, -0.5, 0.8).normalize();
         let eps = 1e-6;
-        let c0 = Contact::new(&b, zeta, Vector3::zeros());
-        let h = hessian(&b, zeta);
-        for k in 0..3 {
-            let mut dz = Vector3::zeros();
-            dz[k] = eps;
-            let cp = Contact::new(&b, zeta + dz, Vector3::zeros());
-            let cm = Contact::new(&b, zeta - dz, Vector3::zeros());
-            // h is defined for any ζ (not only unit): s(ζ) + ζ·g.
-            let grad = (cp.height - cm.height) / (2.0 * eps);
-            assert!((grad + c0.r[k]).abs() < 1e-9, "gradient {k}");
-            // −p_c = ∇s, so ∂(−p_c)/∂ζ_k = H[:, k].
-            let col = -(cp.p_c - cm.p_c) / (2.0 * eps);
-            assert!((col - h.column(k)).norm() < 1e-7, "hessian column {k}");
+        for b in &bodies {
+            let c0 = Contact::new(b, zeta, Vector3::zeros());
+            let h = hessian(b, zeta);
+            for k in 0..3 {
+                let mut dz = Vector3::zeros();
+                dz[k] = eps;
+                let cp = Contact::new(b, zeta + dz, Vector3::zeros());
+                let cm = Contact::new(b, zeta - dz, Vector3::zeros());
+                // h is defined for any ζ (not only unit): s(ζ) + ζ·g.
+                let grad = (cp.height - cm.height) / (2.0 * eps);
+                assert!(
+                    (grad + c0.r[k]).abs() < 1e-9,
+                    "{:?}: gradient {k}",
+                    b.surface()
+                );
+                // −p_c = ∇s, so ∂(−p_c)/∂ζ_k = H[:, k].
+                let col = -(cp.p_c - cm.p_c) / (2.0 * eps);
+                let err = (col - h.column(k)).norm();
+                assert!(err < 1e-7, "{:?}: hessian column {k}, {err:e}", b.surface());
+            }
         }
     }
 }

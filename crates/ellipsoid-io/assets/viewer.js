@@ -44,16 +44,19 @@ if (!shape) $('note').textContent = D.shape_note + ' — drawn as a sphere; G\'s
 else if (!D.contact) $('note').textContent = 'contact point unknown: G\'s path shown.';
 
 // ---------------------------------------------------------------- scene
+// Without WebGL there is no 3-D view, and only it is lost: the pose is still computed
+// (the HUD), and the plots, the event list and the controls need no WebGL.
 const host = $('scene');
-let renderer;
+let renderer = null;
 try {
   renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
 } catch (e) {
-  fail(`WebGL is not available in this browser (${e.message || e}), so the 3-D view cannot be drawn: enable hardware acceleration or WebGL, or open the page in another browser.`);
-  throw e;
+  fail(`WebGL is not available in this browser (${e.message || e}), so the 3-D view cannot be drawn (the plots, the event list and the controls work without it): enable hardware acceleration or WebGL, or open the page in another browser.`);
 }
-renderer.setPixelRatio(window.devicePixelRatio || 1);
-host.appendChild(renderer.domElement);
+if (renderer) {
+  renderer.setPixelRatio(window.devicePixelRatio || 1);
+  host.appendChild(renderer.domElement);
+}
 const scene = new THREE.Scene();
 scene.background = new THREE.Color(0xdfe6ee);
 const camera = new THREE.PerspectiveCamera(35, 1, L / 200, L * 5000);
@@ -156,19 +159,23 @@ function placeCamera() {
   camera.lookAt(cam.target);
 }
 let drag = null;
-renderer.domElement.addEventListener('pointerdown', (e) => { drag = [e.clientX, e.clientY]; renderer.domElement.setPointerCapture(e.pointerId); });
-renderer.domElement.addEventListener('pointerup', () => { drag = null; });
-renderer.domElement.addEventListener('pointermove', (e) => {
-  if (!drag) return;
-  cam.az -= (e.clientX - drag[0]) * 0.008;
-  cam.el = Math.min(1.5, Math.max(-0.05, cam.el + (e.clientY - drag[1]) * 0.008));
-  drag = [e.clientX, e.clientY];
-  dirty = true;
-});
-renderer.domElement.addEventListener('wheel', (e) => { e.preventDefault(); cam.dist *= Math.exp(e.deltaY * 0.001); dirty = true; }, { passive: false });
+if (renderer) {
+  const el = renderer.domElement;
+  el.addEventListener('pointerdown', (e) => { drag = [e.clientX, e.clientY]; el.setPointerCapture(e.pointerId); });
+  el.addEventListener('pointerup', () => { drag = null; });
+  el.addEventListener('pointermove', (e) => {
+    if (!drag) return;
+    cam.az -= (e.clientX - drag[0]) * 0.008;
+    cam.el = Math.min(1.5, Math.max(-0.05, cam.el + (e.clientY - drag[1]) * 0.008));
+    drag = [e.clientX, e.clientY];
+    dirty = true;
+  });
+  el.addEventListener('wheel', (e) => { e.preventDefault(); cam.dist *= Math.exp(e.deltaY * 0.001); dirty = true; }, { passive: false });
+}
 $('follow').addEventListener('change', (e) => { cam.follow = e.target.checked; dirty = true; });
 
 function resize() {
+  if (!renderer) return;
   const w = host.clientWidth, h = host.clientHeight;
   renderer.setSize(w, h, false);
   camera.aspect = w / Math.max(h, 1);
@@ -314,8 +321,10 @@ if (D.events.length) {
 let frames = 0;
 function render() {
   const p = apply(now);
-  placeCamera();
-  renderer.render(scene, camera);
+  if (renderer) {
+    placeCamera();
+    renderer.render(scene, camera);
+  }
   for (const s of plots) drawPlot(s, now);
   frames++;
   return p;
@@ -339,6 +348,8 @@ requestAnimationFrame(loop);
 
 window.ellipsoidViewer = {
   t0: T0, t1: T1, frames: N, rows: D.rows, semiAxes: A, shapeKnown: !!shape, contactKnown: !!cTrace,
+  // Whether the 3-D view is drawn (false without WebGL).
+  webgl: !!renderer,
   // The body's surfaces (the ellipsoid, then its contact spheres), which touch the plane
   // now, and where a sphere's centre is in the world (metres).
   surfaces: () => (S ? S.names.slice() : ['ellipsoid']),
@@ -353,8 +364,9 @@ window.ellipsoidViewer = {
   setSpeed: (v) => { speed = v; },
   setCamera: (o) => { Object.assign(cam, o); dirty = true; render(); },
   pose: (t) => pose(t === undefined ? now : t),
-  // Where a world point (metres) appears on the page, in CSS pixels.
+  // Where a world point (metres) appears on the page, in CSS pixels (null without WebGL).
   project: (x, y, z) => {
+    if (!renderer) return null;
     const v = new THREE.Vector3(x, y, z).project(camera);
     const r = renderer.domElement.getBoundingClientRect();
     return [r.left + (v.x + 1) / 2 * r.width, r.top + (1 - v.y) / 2 * r.height];

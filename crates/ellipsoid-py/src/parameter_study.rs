@@ -403,6 +403,14 @@ impl PyStudy {
         Ok((r.draft.overrides, r.key))
     }
 
+    /// Issues the study's plausibility warnings (each distinct one once, as
+    /// `ellipsoid study` prints them: `Study::warnings` of ellipsoid-study) as
+    /// `ellipsoid.PlausibilityWarning`, attributed to the line that called
+    /// `ellipsoid.study`, which calls it before running.
+    fn _warn_plausibility(&self, py: Python<'_>) -> PyResult<()> {
+        crate::plausible::issue(py, self.inner.warnings(), 2)
+    }
+
     /// Runs points `start` to `stop` (exclusive) on `threads` threads (0 or None: one per
     /// CPU), without the GIL, and returns their rows (tuples in column order, None where
     /// there is no value), in point order. With `journal` (a path), rows already in it are

@@ -39,14 +39,26 @@ pub fn class(py: Python<'_>) -> PyResult<Bound<'_, PyType>> {
 /// Issues each plausibility warning of `scenario`, attributed to the Python line that
 /// called into the package. Errs only when a filter turns the warning into an error.
 pub fn warn(py: Python<'_>, scenario: &Scenario) -> PyResult<()> {
-    let list = warnings(scenario);
-    if list.is_empty() {
+    issue(py, warnings(scenario).iter().map(ToString::to_string), 1)
+}
+
+/// Issues each of `lines` (warnings' texts) as a [`NAME`] warning, attributed to the
+/// Python frame `stacklevel` up (1: the caller of this function; 2 when that caller is
+/// the package's own Python, so that the user's line is named). Errs only when a filter
+/// makes it an error.
+pub fn issue(
+    py: Python<'_>,
+    lines: impl IntoIterator<Item = String>,
+    stacklevel: i32,
+) -> PyResult<()> {
+    let mut lines = lines.into_iter().peekable();
+    if lines.peek().is_none() {
         return Ok(());
     }
     let category = class(py)?;
-    for w in list {
-        let text = CString::new(w.to_string().replace('\0', " ")).expect("no NUL left");
-        PyErr::warn(py, category.as_any(), &text, 1)?;
+    for line in lines {
+        let text = CString::new(line.replace('\0', " ")).expect("no NUL left");
+        PyErr::warn(py, category.as_any(), &text, stacklevel)?;
     }
     Ok(())
 }

@@ -2,6 +2,7 @@
 //! their stability"): the raw arrays; `python/ellipsoid/_steady.py` wraps them in the
 //! `Steady` result.
 
+use ellipsoid_core::body::Surface;
 use ellipsoid_core::error::{ModelError, Value};
 use ellipsoid_core::scenario::Scenario;
 use ellipsoid_core::simulate::ContactModel;
@@ -34,6 +35,8 @@ struct Summary {
     circles: Option<Vec<f64>>,
     max_real: f64,
     stable: bool,
+    /// The surface the body rests on.
+    surface: Surface,
 }
 
 impl From<&Analysis> for Summary {
@@ -49,6 +52,7 @@ impl From<&Analysis> for Summary {
             circles: a.motion.circles.map(|c| vec![c.center, c.contact]),
             max_real: a.spectrum.max_real(),
             stable: a.spectrum.stable(),
+            surface: a.motion.surface,
         }
     }
 }
@@ -66,6 +70,8 @@ impl From<&ViscousSpin> for Summary {
             circles: None,
             max_real: v.max_real(),
             stable: v.stable(),
+            // The viscous model takes no contact spheres (the scene refuses them).
+            surface: Surface::Ellipsoid,
         }
     }
 }
@@ -107,7 +113,8 @@ where
 /// and inverted spins by `steady::viscous`) as a dict of numpy arrays and lists: values,
 /// eigenvalues (n × 4 complex; n × 2 for a tilted family, n × 6 under the viscous law),
 /// names (likewise), states (n × 6: ζ, ω), spin, theta, normal_force, stable, critical
-/// (list of dicts); for a tilted family also phi_dot and circles (n × 2: the radii of G's
+/// (list of dicts), surface (the name of the surface each motion rests on); for a
+/// tilted family also phi_dot and circles (n × 2: the radii of G's
 /// and the contact point's circles), None otherwise. Ctrl-C stops a sweep before its next
 /// value and raises KeyboardInterrupt.
 #[pyfunction]
@@ -193,6 +200,9 @@ pub fn steady_raw<'py>(
     out.set_item("max_real", PyArray1::from_vec(py, column(&|r| r.max_real)))?;
     let stable: Vec<bool> = rows.iter().map(|r| r.stable).collect();
     out.set_item("stable", PyArray1::from_vec(py, stable))?;
+    let body = &scenario.scene.body;
+    let surfaces: Vec<&str> = rows.iter().map(|r| body.surface_name(r.surface)).collect();
+    out.set_item("surface", surfaces)?;
     let crit = critical
         .iter()
         .map(|c| {

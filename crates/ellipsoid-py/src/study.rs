@@ -518,7 +518,12 @@ impl PrecisionTable {
 /// as lists, body axes unless named `_world`): `scenario`, `overrides`, `body`
 /// (`semi_axes` [m], `shape`, `mass` [kg], `inertia` [kg m²] by rows,
 /// `principal_moments` [kg m²], `com_offset` [m], `com_offset_radial` (gᵀA⁻²g, < 1
-/// inside the body), `weight` [N]), `gravity` [m/s²], `contact` (`model`, `friction`, `disc`: `radius` [m] and `law`, or None),
+/// inside the body), `weight` [N], `spheres` (`name`, `center` [m], `radius` [m]), `rims`
+/// (`name`, `center`, `radius`, `edge` [m]), `ellipsoid_contact`, `two_contact_tilts`:
+/// the tilts θ* at which two surfaces touch at once, dicts of `surfaces` (two names),
+/// `theta` [rad] and `theta_deg`; empty for one surface, None for a body of several not
+/// of revolution about its c axis),
+/// `gravity` [m/s²], `contact` (`model`, `friction`, `disc`: `radius` [m] and `law`, or None),
 /// `effects` (`rolling_resistance`, `spin_friction`, `air_drag`, `rolling_friction`,
 /// `air_film`, `air_boundary_layer`, None where absent),
 /// `initial` (`theta`, `phi`, `psi` [rad], `theta_deg`, `rates` (`theta_dot`, `phi_dot`,

@@ -705,20 +705,22 @@ impl Trajectory {
 
     /// Plots section `name`'s points (`sections[name]`): column `y` against column `x`,
     /// one marker per crossing, the axes labelled with the columns' units, on a new
-    /// pyplot figure or, with `ax` (a matplotlib Axes), there. Returns the Axes, as pandas'
-    /// `DataFrame.plot` does (needs matplotlib).
-    #[pyo3(signature = (name, x, y, ax=None))]
+    /// pyplot figure or, with `ax` (a matplotlib Axes), there. `wrap` names the angle
+    /// columns (rad) of `x` and `y` drawn modulo 2π, in [0, 2π) (`wrap="psi"`, or a list).
+    /// Returns the Axes, as pandas' `DataFrame.plot` does (needs matplotlib).
+    #[pyo3(signature = (name, x, y, ax=None, wrap=None))]
     fn plot_section<'py>(
         slf: &Bound<'py, Self>,
         name: Bound<'py, PyAny>,
         x: Bound<'py, PyAny>,
         y: Bound<'py, PyAny>,
         ax: Option<Bound<'py, PyAny>>,
+        wrap: Option<Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         slf.py()
             .import("ellipsoid._plot")?
             .getattr("plot_section")?
-            .call1((slf, name, x, y, ax))
+            .call1((slf, name, x, y, ax, wrap))
     }
 
     /// Column names in the CSV file's order: `ellipsoid.COLUMNS`, and for a body with

@@ -165,3 +165,29 @@ def test_observe_reports_the_tippe_top_passing_the_horizontal() -> None:
     assert np.max(np.abs(traj.omega_world_z - vertical)[ok]) < 1e-9 * np.max(np.abs(traj.omega_z))
     with pytest.raises(ellipsoid.ScenarioError, match="theta"):
         ellipsoid.simulate(scenarios / "tippe-top.toml", observe=[dict(obs, column="thetta")])
+
+
+def test_the_slip_columns_say_which_contact_sticks() -> None:
+    """Issue 47: the point-contact tippe top with its stem (scenarios/tippe-top-jump-stem.toml)
+    ends on ball and stem. Which contact sticks is in its per-surface slip columns,
+    computed from the state (the material point's horizontal speed), and it agrees with
+    an independent path, the machine's `grip` events: between two grip events a surface
+    that gripped has slip_speed_S below 1e-12 m/s at every sample, one that let go more
+    than 1e-4 m/s a little after (docs/physics.md, "With point contacts the stemmed top
+    ends on ball and stem")."""
+    traj = ellipsoid.simulate(Path(__file__).parents[3] / "scenarios" / "tippe-top-jump-stem.toml")
+    grips = [e for e in traj.summary["events"] if e["kind"] == "grip"]
+    assert [(e["surface"], e["sticks"]) for e in grips][-3:] == [("stem", True), ("stem", False), ("ellipsoid", True)]
+    assert traj.mode[-1] == "two_contacts@ellipsoid+stem"
+    ends = [e["t"] for e in grips[1:]] + [traj.t[-1] + 1.0]
+    for e, end in zip(grips[-3:], ends[-3:]):
+        slip = traj[f"slip_speed_{e['surface']}"]
+        during = (traj.t > e["t"] + 1e-6) & (traj.t < end)
+        assert during.sum() > 10, e
+        if e["sticks"]:
+            assert np.all(slip[during] < 1e-12), (e, slip[during].max())
+        else:
+            later = during & (traj.t > e["t"] + 0.01)
+            assert np.all(slip[later] > 1e-4), (e, slip[later].min())
+    # At the end the ball sticks and the stem slides.
+    assert traj["slip_speed_ellipsoid"][-1] < 1e-12 < 0.1 < traj["slip_speed_stem"][-1]

@@ -89,3 +89,21 @@ def test_no_bundled_scenario_warns(path: Any) -> None:
     with warnings.catch_warnings():
         warnings.filterwarnings("error", category=ellipsoid.PlausibilityWarning)
         ellipsoid.check(path)
+
+
+def test_a_study_warns_once_for_each_slip_among_its_points() -> None:
+    """Issue 47: `ellipsoid.study` warns before it runs, each distinct slip once: here θ
+    typed in degrees at two of an axis's values (80 and 60 rad), and the mass in grams on
+    the other axis, whatever the number of points that carry them; a plausible study
+    does not warn."""
+    base = egg(initial=dict(theta=0.5, phi_dot=10.0))
+    axes = {"initial.theta": [0.5, 80.0, 60.0, 80.0], "body.mass": [0.06, 60.0]}
+    df, seen = caught(lambda: ellipsoid.study(base, axes, workers=1))
+    assert len(df) == 8 and set(df["status"]) <= {"completed", "slip_stopped"}
+    texts = [str(w.message) for w in seen if w.category is ellipsoid.PlausibilityWarning]
+    assert len(texts) == 3, texts
+    assert sum("initial.theta = 80" in t for t in texts) == 1
+    assert sum("initial.theta = 60" in t for t in texts) == 1
+    assert sum("body.mass = 60" in t for t in texts) == 1
+    _, seen = caught(lambda: ellipsoid.study(base, {"initial.theta": [0.5, 0.6]}, workers=1))
+    assert not [w for w in seen if w.category is ellipsoid.PlausibilityWarning]

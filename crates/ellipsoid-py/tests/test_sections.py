@@ -85,6 +85,23 @@ def test_plot_section_draws_the_points_and_refuses_bad_arguments() -> None:
     np.testing.assert_array_equal(y, traj.sections["bottom"]["theta"])
     assert ax.get_xlabel() == "phi (rad)"
     assert ax.get_ylabel() == "theta (rad)"
+    # Issue 47: an angle drawn modulo 2π, in [0, 2π).
+    ax = traj.plot_section("bottom", "phi", "theta", wrap="phi")
+    x, y = ax.lines[0].get_data()
+    phi = traj.sections["bottom"]["phi"]
+    assert np.ptp(phi) > 4 * np.pi, "the run's φ turns more than twice, so the wrap is seen"
+    assert np.all((0 <= x) & (x < 2 * np.pi))
+    np.testing.assert_allclose(np.cos(x), np.cos(phi), atol=1e-12)
+    np.testing.assert_allclose(np.sin(x), np.sin(phi), atol=1e-12)
+    np.testing.assert_array_equal(y, traj.sections["bottom"]["theta"])
+    assert ax.get_xlabel() == "phi (rad, modulo 2π)" and ax.get_ylabel() == "theta (rad)"
+    plt.close("all")
+    with pytest.raises(ellipsoid.ScenarioError, match="not an angle: its unit is rad/s"):
+        traj.plot_section("bottom", "phi", "psi_dot", wrap=["phi", "psi_dot"])
+    with pytest.raises(ellipsoid.ScenarioError, match="not a column of this plot"):
+        traj.plot_section("bottom", "phi", "theta", wrap="psi")
+    with pytest.raises(ellipsoid.ScenarioError, match="wrap"):
+        traj.plot_section("bottom", "phi", "theta", wrap=3)
     with pytest.raises(ellipsoid.ScenarioError, match="not a section"):
         traj.plot_section("nowhere", "phi", "theta")
     with pytest.raises(ellipsoid.ScenarioError, match="not a numeric column"):

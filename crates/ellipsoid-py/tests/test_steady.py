@@ -200,3 +200,25 @@ def test_ctrl_c_interrupts_a_long_sweep() -> None:
     # instead of this one's (`interrupt_inside`).
     values = [float(v) for v in np.linspace(-200.0, 200.0, 100_000)]
     interrupt_inside(INTERRUPT_MAIN, steady_raw, egg(), "upright", "initial.psi_dot", values, "spin")
+
+
+def test_a_body_with_a_stem_stands_on_it_inverted() -> None:
+    """Issue 47: a body with contact spheres is analysed on the surface it rests on. The
+    inverted tippe top of Leine & Glocker stands on its stem, a sphere of 5 mm whose centre
+    is l − ρ = 16 mm from G: without friction its critical spin is the sleeping
+    criterion's 2√(A m g (l − ρ))/C; upright it rests on its ball."""
+    top = ellipsoid.Scenario(
+        body=dict(a=0.015, c=0.015, mass=6e-3, com_offset=0.003, inertia=[8e-7, 8e-7, 7e-7],
+                  sphere=[dict(name="stem", center=[0.0, 0.0, 0.013], radius=0.005)]),
+        initial=dict(theta=math.pi, psi_dot=0.0),
+        contact=dict(model="frictionless"),
+        effects=dict(gravity=G),
+        output=dict(t_end=1.0, dt=0.01),
+    )
+    n_c = 2 * math.sqrt(8e-7 * 6e-3 * G * 0.016) / 7e-7
+    values = np.linspace(-2 * n_c, 0.0, 21)
+    res = ellipsoid.steady(top, family="inverted", vary={"initial.psi_dot": values})
+    assert res.surface == ["stem"] * 21
+    (crit,) = res.critical
+    assert crit["value"] == pytest.approx(-n_c, rel=1e-9)
+    assert ellipsoid.steady(top, family="upright").surface == ["ellipsoid"]

@@ -271,6 +271,12 @@ def assert_check_equals_printed(d: dict[str, Any], p: dict[str, str]) -> None:
         expected = [solver["rtol"], solver["atol"]] + ([solver["initial_step"]] if solver["initial_step"] else [])
         assert numbers(s) == expected
     assert numbers(p["output"]) == [d["output"]["t_end"], d["output"]["samples"]]
+    tilts = body["two_contact_tilts"]
+    if tilts:  # the printed line is the last θ*'s (a label repeats)
+        assert numbers(p["two contacts"])[0] == tilts[-1]["theta"]
+        assert p["two contacts"].startswith(" and ".join(tilts[-1]["surfaces"]) + " at theta* = ")
+    elif tilts is None:
+        assert "not of revolution" in p["two contacts"]
     assert p.get("[check] status") == d["check"]["status"]
     drifts = {k[len("[check] "):]: numbers(v)[0] for k, v in p.items() if k.startswith("[check] ") and k != "[check] status"}
     assert drifts == d["check"]["drift"]
@@ -322,6 +328,22 @@ def test_check_is_data() -> None:
     assert traj.normal_force[0] == d["initial"]["normal_force"] and traj.energy[0] == d["initial"]["energy"]
     assert traj.z[0] == d["initial"]["height"]
     assert d["invariants"] == [k for k, v in traj.summary["drift"].items() if v is not None]
+
+
+def test_check_gives_the_tilt_at_which_two_surfaces_touch(tmp_path: Path) -> None:
+    """Issue 47: θ* of the tippe top with its stem, against its closed form: the ball
+    (r1 = 15 mm, about C0) and the stem (r2 = 5 mm, centre 13 mm up the axis) touch at
+    once where r1 = r2 − 13 mm cos θ (docs/physics.md, "Contact spheres")."""
+    stem = REPO / "scenarios" / "tippe-top-stem.toml"
+    (tilt,) = ellipsoid.check(stem)["body"]["two_contact_tilts"]
+    assert tilt["surfaces"] == ["ellipsoid", "stem"]
+    assert tilt["theta"] == pytest.approx(math.acos((0.005 - 0.015) / 0.013), rel=1e-14, abs=0)
+    assert tilt["theta_deg"] == pytest.approx(140.28, abs=0.005)
+    assert ellipsoid.check(NUTATION)["body"]["two_contact_tilts"] == []
+    # An off-axis sphere: θ* depends on the heading, and is not given.
+    off = tmp_path / "off.toml"
+    off.write_text(stem.read_text().replace("center = [0.0, 0.0, 0.013]", "center = [0.002, 0.0, 0.013]"))
+    assert ellipsoid.check(off)["body"]["two_contact_tilts"] is None
 
 
 def test_check_refuses_a_bad_scenario_like_the_command_line() -> None:

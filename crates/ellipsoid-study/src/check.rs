@@ -7,7 +7,8 @@
 
 use std::ops::ControlFlow;
 
-use ellipsoid_core::geometry::Contact;
+use ellipsoid_core::body::{Body, Surface};
+use ellipsoid_core::geometry::{self, Contact};
 use ellipsoid_core::integrate::Method;
 use ellipsoid_core::scenario::{Scenario, ScenarioError};
 use ellipsoid_core::simulate::{self, ContactModel, EffectSet, Sample};
@@ -64,6 +65,22 @@ pub struct BodyData {
     pub rims: Vec<RimData>,
     /// Whether the ellipsoid itself touches the plane (`body.ellipsoid_contact`).
     pub ellipsoid_contact: bool,
+    /// The tilts θ* at which two surfaces touch the plane at once, lowest of all (a
+    /// body of revolution with several surfaces; empty for one surface), by increasing
+    /// θ; None for a body of several surfaces not of revolution about its c axis, whose
+    /// θ* depends on the heading ψ.
+    pub two_contact_tilts: Option<Vec<TwoContactTilt>>,
+}
+
+/// A tilt θ* at which two surfaces touch the plane at once (docs/physics.md, "Contact
+/// spheres"): where their heights of G, h(ζ), are equal and no other surface is lower.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct TwoContactTilt {
+    /// The two surfaces' names, in the body's order.
+    pub surfaces: [String; 2],
+    /// θ* \[rad\] and in degrees.
+    pub theta: f64,
+    pub theta_deg: f64,
 }
 
 /// A contact sphere fixed in the body.
@@ -247,6 +264,7 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
                 })
                 .collect(),
             ellipsoid_contact: body.ellipsoid_contact(),
+            two_contact_tilts: two_contact_tilts(body),
         },
         gravity: scene.gravity,
         contact: ContactData {
@@ -308,6 +326,76 @@ pub fn derive(scenario: &Scenario) -> Result<Derived, Box<ScenarioError>> {
             drift: scenario.check.drift.clone(),
         },
     })
+}
+
+/// Intervals of θ over [0, π] searched for a change of sign of h1 − h2 (a pair of roots
+/// closer than π/3600 = 0.05° would be missed).
+const TILT_GRID: usize = 3600;
+
+/// The tilts θ* of a body of revolution about its c axis (a = b, sphere centres and G
+/// on the axis, to 1e-12 of its size) at which two of its surfaces touch at once
+/// ([`TwoContactTilt`]): the roots in [0, π] of h1(θ) − h2(θ) along the meridian ψ = 0,
+/// bracketed on a grid of [`TILT_GRID`] intervals and bisected to round-off, kept where
+/// no third surface is lower. Empty for a body of one surface; None when a body of
+/// several is not of revolution.
+fn two_contact_tilts(body: &Body) -> Option<Vec<TwoContactTilt>> {
+    let surfaces: Vec<Surface> = body.surfaces().collect();
+    if surfaces.len() < 2 {
+        return Some(Vec::new());
+    }
+    let ax = body.semi_axes();
+    let tol = 1e-12 * ax.max();
+    let on_axis = |c: &Vector3<f64>| c.x.abs().max(c.y.abs()) <= tol;
+    if (ax.x - ax.y).abs() > tol
+        || !on_axis(&body.com_offset())
+        || !body.spheres().iter().all(|sp| on_axis(&sp.center))
+    {
+        return None;
+    }
+    let zeta = |theta: f64| Vector3::new(0.0, theta.sin(), theta.cos());
+    let h = |s: Surface, theta: f64| geometry::height(body, s, zeta(theta));
+    let mut tilts = Vec::new();
+    for (i, &s1) in surfaces.iter().enumerate() {
+        for &s2 in &surfaces[i + 1..] {
+            let f = |theta: f64| h(s1, theta) - h(s2, theta);
+            let step = std::f64::consts::PI / TILT_GRID as f64;
+            for k in 0..TILT_GRID {
+                let (mut lo, mut hi) = (k as f64 * step, (k + 1) as f64 * step);
+                let (f_lo, f_hi) = (f(lo), f(hi));
+                if !(f_lo < 0.0 && f_hi >= 0.0 || f_lo > 0.0 && f_hi <= 0.0) {
+                    continue;
+                }
+                for _ in 0..200 {
+                    let mid = 0.5 * (lo + hi);
+                    if mid <= lo || mid >= hi {
+                        break;
+                    }
+                    if (f(mid) > 0.0) == (f_lo > 0.0) {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                let theta = 0.5 * (lo + hi);
+                let both = h(s1, theta).max(h(s2, theta));
+                if surfaces
+                    .iter()
+                    .all(|&s| s == s1 || s == s2 || h(s, theta) < both - tol)
+                {
+                    tilts.push(TwoContactTilt {
+                        surfaces: [
+                            body.surface_name(s1).to_owned(),
+                            body.surface_name(s2).to_owned(),
+                        ],
+                        theta,
+                        theta_deg: theta.to_degrees(),
+                    });
+                }
+            }
+        }
+    }
+    tilts.sort_by(|a, b| a.theta.total_cmp(&b.theta));
+    Some(tilts)
 }
 
 fn shape(ax: &Vector3<f64>) -> &'static str {

@@ -18,7 +18,7 @@ use nalgebra::{Matrix2, Vector2, Vector3};
 use super::linearize::tangent_basis;
 use super::reduce::{Phase, ReducedField, join};
 use super::tilted::Solve;
-use crate::body::Body;
+use crate::body::{Body, Surface};
 use crate::error::{Brackets, Digits, ModelError, Value, number};
 use crate::geometry::{Contact, hessian};
 use crate::simulate::{ContactModel, Scene};
@@ -90,6 +90,8 @@ pub struct Circles {
 #[derive(Debug, Clone, PartialEq)]
 pub struct SteadyMotion {
     pub family: Family,
+    /// The surface the body rests on ([`Body::surface`] of the field's body).
+    pub surface: Surface,
     /// (ζ0, ω0): world up and the angular velocity, body axes.
     pub at: Phase,
     /// The spin n [rad/s]: upright and inverted, about the upward vertical (ω0·ζ0);
@@ -185,8 +187,7 @@ pub fn steady_motion(
         ));
     }
     let start = match family {
-        Family::Upright => Vector3::z(),
-        Family::Inverted => -Vector3::z(),
+        Family::Upright | Family::Inverted => start_attitude(scene, family),
         Family::Precession | Family::RollingCircle => {
             if let Some(w) = scene.initial.omega_body {
                 return Err(ModelError::invalid(
@@ -213,6 +214,39 @@ pub fn steady_motion(
     let spin = omega_init.dot(&zeta);
     check_derived_rate(body, field.gravity(), "spin n", spin)?;
     upright_motion(field, family, zeta, spin)
+}
+
+/// The attitude ζ at which `family`'s motion of `scene` is sought: the c axis up
+/// (upright), down (inverted), or the scene's tilt θ and yaw ψ (the tilted families).
+/// The surface lowest there is the one the motion rests on
+/// ([`super::reduce::resting_surface`]).
+pub fn start_attitude(scene: &Scene, family: Family) -> Vector3<f64> {
+    match family {
+        Family::Upright => Vector3::z(),
+        Family::Inverted => -Vector3::z(),
+        Family::Precession | Family::RollingCircle => {
+            let angles = &scene.initial.angles;
+            super::tilted::zeta_at(angles.theta, angles.psi)
+        }
+    }
+}
+
+/// Refuses a motion at ζ0 on a surface that is not the body's lowest there: another
+/// surface would be below the plane, so the body does not rest on this one.
+pub(super) fn check_lowest(
+    body: &Body,
+    zeta: &Vector3<f64>,
+    at_fault: impl FnOnce(String) -> ModelError,
+) -> Result<(), ModelError> {
+    let lowest = super::reduce::resting_surface(body, zeta);
+    if lowest != body.surface() {
+        return Err(at_fault(format!(
+            "at its attitude the body would rest on {}, which is lower than {}, the surface it is analysed on",
+            body.surface_name(lowest),
+            body.surface_name(body.surface())
+        )));
+    }
+    Ok(())
 }
 
 /// Refuses a rest attitude ζ0 that is not a principal axis of inertia: spinning about the
@@ -253,6 +287,13 @@ pub fn upright_motion(
 ) -> Result<SteadyMotion, ModelError> {
     let at = join(&zeta, &(zeta * spin));
     let body = field.body();
+    check_lowest(body, &zeta, |rule| {
+        ModelError::invalid(
+            "body",
+            Value::Name(body.surface_name(body.surface()).into()),
+            format!("the {} rest attitude: {rule}", family.name()),
+        )
+    })?;
     let scale_omega = spin
         .abs()
         .max((field.gravity() / body.semi_axes().max()).sqrt());
@@ -286,6 +327,7 @@ pub fn upright_motion(
         .map(|mu| mu * normal_force - force.xy().norm());
     Ok(SteadyMotion {
         family,
+        surface: body.surface(),
         at,
         spin,
         theta: zeta.xy().norm().atan2(zeta.z),

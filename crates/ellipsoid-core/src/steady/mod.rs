@@ -42,7 +42,8 @@ pub struct Analysis {
 
 /// The steady motion of `family` that `scene` defines (its body, contact model and
 /// initial spin, or for a tilted family its tilt and precession rate, the spin solved
-/// for) and its stability.
+/// for) and its stability. A body with contact spheres rests on the surface lowest where
+/// the family starts ([`families::start_attitude`]).
 pub fn analyse(scene: &Scene, family: Family) -> Result<Analysis, ModelError> {
     analyse_solving(scene, family, Solve::Spin)
 }
@@ -54,7 +55,9 @@ pub fn analyse_solving(
     family: Family,
     solve: Solve,
 ) -> Result<Analysis, ModelError> {
-    let field = ReducedField::from_scene(scene)?;
+    let start = families::start_attitude(scene, family);
+    let field =
+        ReducedField::from_scene(scene)?.touching(reduce::resting_surface(&scene.body, &start));
     let motion = families::steady_motion(&field, scene, family, solve)?;
     analyse_motion(&field, motion)
 }
@@ -105,6 +108,7 @@ pub fn linearize_scene(scene: &Scene, at: Option<Phase>) -> Result<Linearization
             format!("|ω| = {:e} rad/s: {rule}", omega.norm()),
         )
     })?;
+    let field = field.touching(reduce::resting_surface(&scene.body, &zeta));
     let lin = linearize(&field, &at, None);
     if !lin.jacobian.iter().all(|x| x.is_finite()) {
         return Err(ModelError::invalid(
@@ -176,12 +180,14 @@ fn shape(body: &Body, zeta: Vector3<f64>) -> Shape {
     let unit = |k: usize| Vector3::from_fn(|j, _| if j == k { 1.0 } else { 0.0 });
     let tol = 1e-12;
     let g = body.com_offset();
+    let on_axis = |c: &Vector3<f64>| c[p].abs().max(c[q].abs()) <= tol * axes.max();
     let revolution = (axes[p] - axes[q]).abs() <= tol * axes.max()
+        && body.spheres().iter().all(|sp| on_axis(&sp.center))
         && (i[(p, p)] - i[(q, q)]).abs() <= tol * i.norm()
         && i[(p, q)].abs() <= tol * i.norm()
         && i[(p, vertical)].abs() <= tol * i.norm()
         && i[(q, vertical)].abs() <= tol * i.norm()
-        && g[p].abs().max(g[q].abs()) <= tol * axes.max()
+        && on_axis(&g)
         && (zeta.abs()[vertical] - 1.0).abs() <= tol;
     Shape {
         zeta,

@@ -13,8 +13,9 @@
 
 use nalgebra::{Vector3, Vector6};
 
-use crate::body::Body;
+use crate::body::{Body, Surface};
 use crate::error::{ModelError, Value};
+use crate::geometry::Contact;
 use crate::model::{ContactLaw, Frictionless, Rolling, System};
 use crate::simulate::{ContactModel, Scene};
 use crate::state::{self, EulerAngles, State};
@@ -82,6 +83,21 @@ impl ReducedField {
         })
     }
 
+    /// The same field, the body touching the plane with `surface` (its contact geometry:
+    /// [`Body::touching`]).
+    pub fn touching(self, surface: Surface) -> Self {
+        match self {
+            ReducedField::Frictionless(mut s) => {
+                s.body = s.body.touching(surface);
+                ReducedField::Frictionless(s)
+            }
+            ReducedField::Rolling(mut s, mu) => {
+                s.body = s.body.touching(surface);
+                ReducedField::Rolling(s, mu)
+            }
+        }
+    }
+
     /// The body.
     pub fn body(&self) -> &Body {
         match self {
@@ -128,7 +144,14 @@ impl ReducedField {
     }
 }
 
-/// Refuses what no steady analysis takes: effects and a contact disc.
+/// The surface of `body` lowest at attitude ζ (`Contact::lowest`): the one the body rests
+/// on there, and so the contact of a steady motion at ζ (docs/physics.md, "Steady
+/// motions and their stability", "Bodies with contact spheres").
+pub fn resting_surface(body: &Body, zeta: &Vector3<f64>) -> Surface {
+    Contact::lowest(body, *zeta, Vector3::zeros()).surface
+}
+
+/// Refuses what no steady analysis takes: effects, rims and a contact disc.
 pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
     if scene.effects.any() {
         // The effects are the keys of [effects] but gravity, named in alphabetical order.
@@ -144,18 +167,11 @@ pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
             ),
         ));
     }
-    if let Some(sphere) = scene.body.spheres().first() {
-        return Err(ModelError::invalid(
-            "body.sphere",
-            Value::Name(sphere.name.clone()),
-            "steady motions are analysed on the ellipsoid's own surface: a body with contact spheres is not analysed (its spheres would be ignored)",
-        ));
-    }
     if let Some(rim) = scene.body.rims().first() {
         return Err(ModelError::invalid(
             "body.rim",
             Value::Name(rim.name.clone()),
-            "steady motions are analysed on the ellipsoid's own surface: a body with rims is not analysed yet",
+            "steady motions are analysed on the ellipsoid and contact spheres: a body with rims is not analysed yet",
         ));
     }
     if let Some(disc) = &scene.disc {

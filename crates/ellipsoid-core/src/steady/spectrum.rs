@@ -34,6 +34,11 @@ pub struct Mode {
     /// mainly about the longer horizontal body axis), "pitch" (the shorter), "wobble"
     /// (both), "spin" (ω only).
     pub name: &'static str,
+    /// How clearly the mode is what `name` says: ≥ 1, the larger the clearer (its distance
+    /// inside the naming rule, e.g. a roll whose rotation about the longer axis is r times
+    /// that about the shorter has r/3; [`tilt_name`]). A sweep gives every mode of a branch
+    /// the name and clarity of the branch's clearest member.
+    pub clarity: f64,
 }
 
 /// The spectrum of a steady motion: four modes (upright, inverted) or two (the tilted
@@ -116,10 +121,12 @@ pub fn spectrum(
         .into_iter()
         .map(|(lambda, v)| {
             let vector = normalise(SVector::<Complex<f64>, 5>::from_column_slice(v.as_slice()));
+            let (name, clarity) = name(lin, &vector, shape);
             Mode {
                 eigenvalue: lambda,
                 vector,
-                name: name(lin, &vector, shape),
+                name,
+                clarity,
             }
         })
         .collect();
@@ -271,11 +278,12 @@ fn normalise(v: SVector<Complex<f64>, 5>) -> SVector<Complex<f64>, 5> {
     v * (phase / scale)
 }
 
-/// What moves in a mode (see [`Mode::name`]).
-fn name(lin: &Linearization, v: &SVector<Complex<f64>, 5>, shape: &Shape) -> &'static str {
+/// What moves in a mode (see [`Mode::name`]) and how clearly ([`Mode::clarity`]; ∞ for
+/// "spin", ω alone).
+fn name(lin: &Linearization, v: &SVector<Complex<f64>, 5>, shape: &Shape) -> (&'static str, f64) {
     let tilt = (v[0].norm_sqr() + v[1].norm_sqr()).sqrt();
     if tilt < 1e-9 {
-        return "spin";
+        return ("spin", f64::INFINITY);
     }
     tilt_name(lin.tangent, v[0], v[1], shape)
 }
@@ -283,18 +291,22 @@ fn name(lin: &Linearization, v: &SVector<Complex<f64>, 5>, shape: &Shape) -> &'s
 /// What moves in a mode that tilts the body by δζ = `a` t1 + `b` t2 (complex amplitudes
 /// along the tangent basis `tangent` at ζ0): "nutation" for a tilted motion, "tilt" for a
 /// body of revolution, else "roll", "pitch" or "wobble" by the rotation's horizontal part
-/// about the body's longer and shorter horizontal axes (see [`Mode::name`]).
+/// about the body's longer and shorter horizontal axes (see [`Mode::name`]); and its
+/// clarity ([`Mode::clarity`]: with r the ratio of the rotation about the longer axis to
+/// that about the shorter, r/3 for a roll, 1/(3r) for a pitch, 3/max(r, 1/r) for a
+/// wobble, ∞ for a pure roll or pitch; 1 for "tilt" and "nutation", which a body's
+/// symmetry decides).
 pub(super) fn tilt_name(
     tangent: [Vector3<f64>; 2],
     a: Complex<f64>,
     b: Complex<f64>,
     shape: &Shape,
-) -> &'static str {
+) -> (&'static str, f64) {
     if shape.tilted {
-        return "nutation";
+        return ("nutation", 1.0);
     }
     if shape.revolution {
-        return "tilt";
+        return ("tilt", 1.0);
     }
     // δζ = ζ0 × δ, so the rotation's horizontal part is δ = δζ × ζ0.
     let [t1, t2] = tangent;
@@ -305,11 +317,13 @@ pub(super) fn tilt_name(
     };
     let about_long = rotation(&shape.long).norm();
     let about_short = rotation(&shape.short).norm();
+    // A pure roll or pitch (the other rotation zero) is infinitely clear.
     if about_long > 3.0 * about_short {
-        "roll"
+        ("roll", about_long / (3.0 * about_short))
     } else if about_short > 3.0 * about_long {
-        "pitch"
+        ("pitch", about_short / (3.0 * about_long))
     } else {
-        "wobble"
+        let r = about_long / about_short;
+        ("wobble", 3.0 / r.max(1.0 / r))
     }
 }

@@ -75,6 +75,13 @@ pub trait Stability: Clone {
     fn stable(&self) -> bool;
     /// The spectrum's scale max |λ| [1/s].
     fn scale(&self) -> f64;
+    /// What moves in each mode and how clearly ([`super::Mode::clarity`]), in the order of
+    /// the eigenvalues.
+    fn names(&self) -> Vec<(&'static str, f64)>;
+    /// Renames the modes (name and clarity), in the order of the eigenvalues.
+    fn rename(&mut self, names: &[(&'static str, f64)]);
+    /// The eigenvectors, in the order of the eigenvalues.
+    fn vectors(&self) -> Vec<Vec<Complex<f64>>>;
     /// The largest real part [1/s].
     fn max_real(&self) -> f64 {
         self.eigenvalues()
@@ -93,6 +100,25 @@ impl Stability for Analysis {
     }
     fn scale(&self) -> f64 {
         self.spectrum.scale()
+    }
+    fn names(&self) -> Vec<(&'static str, f64)> {
+        self.spectrum
+            .modes
+            .iter()
+            .map(|m| (m.name, m.clarity))
+            .collect()
+    }
+    fn rename(&mut self, names: &[(&'static str, f64)]) {
+        for (mode, &(name, clarity)) in self.spectrum.modes.iter_mut().zip(names) {
+            (mode.name, mode.clarity) = (name, clarity);
+        }
+    }
+    fn vectors(&self) -> Vec<Vec<Complex<f64>>> {
+        self.spectrum
+            .modes
+            .iter()
+            .map(|m| m.vector.as_slice().to_vec())
+            .collect()
     }
 }
 
@@ -232,6 +258,7 @@ pub fn sweep_with<T: Stability>(
         }
         rows.push(analyse(&scene_at(base, key, v)?));
     }
+    name_branches(&mut rows);
     let mut critical = Vec::new();
     for k in 1..values.len() {
         let (Ok(a), Ok(b)) = (&rows[k - 1], &rows[k]) else {
@@ -260,6 +287,90 @@ pub fn sweep_with<T: Stability>(
         rows,
         critical,
     })
+}
+
+/// Gives each branch of modes one name along the sweep (docs/physics.md, "Steady motions
+/// and their stability", "The family's zero"): a branch is a mode followed from one
+/// value's row to the next by nearest match ([`nearest_match`]: eigenvalue and
+/// eigenvector), broken by a row without a motion or with another number of modes; its
+/// name is that of its clearest member ([`super::Mode::clarity`]; on
+/// a tie, the first), so that a mode whose eigenvector turns gradually from a pitch into
+/// a roll keeps the name of where it is most clearly one of them.
+fn name_branches<T: Stability>(rows: &mut [Row<T>]) {
+    // The branch of each mode of each row, and each branch's clearest name so far.
+    let mut branch_of: Vec<Vec<usize>> = Vec::with_capacity(rows.len());
+    let mut names: Vec<(&'static str, f64)> = Vec::new();
+    type Modes = (Vec<Complex<f64>>, Vec<Vec<Complex<f64>>>);
+    let mut previous: Option<(Modes, Vec<usize>)> = None;
+    for row in rows.iter() {
+        let Ok(motion) = row else {
+            branch_of.push(Vec::new());
+            previous = None;
+            continue;
+        };
+        let modes = (motion.eigenvalues(), motion.vectors());
+        let count = modes.0.len();
+        let ids: Vec<usize> = match &previous {
+            Some((before, ids)) if before.0.len() == count => {
+                let matched = nearest_match(before, &modes);
+                matched.iter().map(|&i| ids[i]).collect()
+            }
+            _ => (0..count).map(|k| names.len() + k).collect(),
+        };
+        for (&id, named) in ids.iter().zip(motion.names()) {
+            if id == names.len() {
+                names.push(named);
+            } else if named.1 > names[id].1 {
+                names[id] = named;
+            }
+        }
+        branch_of.push(ids.clone());
+        previous = Some((modes, ids));
+    }
+    for (row, ids) in rows.iter_mut().zip(&branch_of) {
+        if let Ok(motion) = row {
+            let renamed: Vec<(&'static str, f64)> = ids.iter().map(|&id| names[id]).collect();
+            motion.rename(&renamed);
+        }
+    }
+}
+
+/// For each mode of `after` (eigenvalues and eigenvectors), the index of its match in
+/// `before` (as many modes): the closest pair first, then the closest of the rest, the
+/// distance of modes i and j being |λi − λj| / max |λ| + 1 − |vi* vj| / (|vi| |vj|), so that
+/// two eigenvalues that cross are told apart by what moves.
+fn nearest_match(
+    (lb, vb): &(Vec<Complex<f64>>, Vec<Vec<Complex<f64>>>),
+    (la, va): &(Vec<Complex<f64>>, Vec<Vec<Complex<f64>>>),
+) -> Vec<usize> {
+    let m = la.len();
+    let scale = lb
+        .iter()
+        .chain(la)
+        .map(|z| z.norm())
+        .fold(f64::MIN_POSITIVE, f64::max);
+    let overlap = |x: &[Complex<f64>], y: &[Complex<f64>]| {
+        let dot: Complex<f64> = x.iter().zip(y).map(|(a, b)| a.conj() * b).sum();
+        let norms = x.iter().map(|a| a.norm_sqr()).sum::<f64>().sqrt()
+            * y.iter().map(|b| b.norm_sqr()).sum::<f64>().sqrt();
+        if norms > 0.0 { dot.norm() / norms } else { 0.0 }
+    };
+    let distance =
+        |i: usize, j: usize| (lb[i] - la[j]).norm() / scale + 1.0 - overlap(&vb[i], &va[j]);
+    let mut pairs: Vec<(f64, usize, usize)> = (0..m)
+        .flat_map(|i| (0..m).map(move |j| (i, j)))
+        .map(|(i, j)| (distance(i, j), i, j))
+        .collect();
+    pairs.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let mut matched = vec![usize::MAX; m];
+    let mut used = vec![false; m];
+    for (_, i, j) in pairs {
+        if !used[i] && matched[j] == usize::MAX {
+            used[i] = true;
+            matched[j] = i;
+        }
+    }
+    matched
 }
 
 /// Bisects between a stable and an unstable value until the bracket is

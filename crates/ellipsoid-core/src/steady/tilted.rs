@@ -424,13 +424,9 @@ pub fn motion(
             ),
         ));
     }
-    if Contact::lowest(body, zeta, Vector3::zeros()).surface != body.surface() {
-        return Err(ModelError::invalid(
-            "initial.theta",
-            theta,
-            "at this tilt another surface of the body is lower than the one the scene touches with",
-        ));
-    }
+    super::families::check_lowest(body, &zeta, |rule| {
+        ModelError::invalid("initial.theta", theta, rule)
+    })?;
     // The family's tangents: d/dθ and d/dΩ of x0 with n solved (n_θ = −F_θ/F_n, …).
     let t_theta = (zeta * ct - k) / st;
     let n_theta = -f_theta / f_n;
@@ -457,6 +453,7 @@ pub fn motion(
     };
     Ok(SteadyMotion {
         family,
+        surface: body.surface(),
         at,
         spin: n,
         theta,

@@ -119,6 +119,8 @@ pub struct ViscousSpin {
     pub error: f64,
     /// What moves in each mode ([`mode_name`]).
     pub names: Vec<&'static str>,
+    /// How clearly each mode is what its name says ([`super::Mode::clarity`]).
+    pub clarity: Vec<f64>,
 }
 
 impl ViscousSpin {
@@ -158,6 +160,19 @@ impl Stability for ViscousSpin {
     }
     fn scale(&self) -> f64 {
         ViscousSpin::scale(self)
+    }
+    fn names(&self) -> Vec<(&'static str, f64)> {
+        self.names
+            .iter()
+            .copied()
+            .zip(self.clarity.iter().copied())
+            .collect()
+    }
+    fn rename(&mut self, names: &[(&'static str, f64)]) {
+        (self.names, self.clarity) = names.iter().copied().unzip();
+    }
+    fn vectors(&self) -> Vec<Vec<Complex<f64>>> {
+        self.vectors.iter().map(|v| v.as_slice().to_vec()).collect()
     }
 }
 
@@ -290,10 +305,10 @@ pub fn spin_at(
         .map(|(lambda, v)| (lambda, normalise(&v)))
         .unzip();
     let shape = super::shape(body, zeta);
-    let names = vectors
+    let (names, clarity) = vectors
         .iter()
         .map(|v| mode_name(field, &x0, tangent, &shape, v))
-        .collect();
+        .unzip();
     let normal_force = {
         let y = reduce::full_state(&zeta, &(zeta * spin));
         field.system.evaluate(&y).response.normal
@@ -309,6 +324,7 @@ pub fn spin_at(
         vectors,
         error,
         names,
+        clarity,
     })
 }
 
@@ -319,14 +335,15 @@ pub fn spin_at(
 /// which the body rolls sideways, G moving but the contact point not slipping, is not
 /// one); else, if the axis moves, named
 /// by the tilt ("tilt" for a body of revolution; "roll", "pitch" or "wobble" of a triaxial
-/// body such as the rattleback, [`tilt_name`]); else "spin".
+/// body such as the rattleback, [`tilt_name`]); else "spin". With its clarity
+/// ([`super::Mode::clarity`]; a slip's is the ratio of the two energies).
 fn mode_name(
     field: &ViscousField,
     x0: &State9,
     tangent: [Vector3<f64>; 2],
     shape: &Shape,
     v: &SVector<Complex<f64>, 7>,
-) -> &'static str {
+) -> (&'static str, f64) {
     let body = &field.system.body;
     // δv_C = d/ds of the slip along Re v and Im v (central differences: the slip is
     // linear to O(s²), enough to compare energies).
@@ -345,11 +362,11 @@ fn mode_name(
     let tilt = (v[0].norm_sqr() + v[1].norm_sqr()).sqrt();
     let moving = body.mass() * (v[5].norm_sqr() + v[6].norm_sqr());
     if slipping > moving + rotation {
-        "slip"
+        ("slip", slipping / (moving + rotation))
     } else if tilt > 1e-6 * v.norm() {
         tilt_name(tangent, v[0], v[1], shape)
     } else {
-        "spin"
+        ("spin", f64::INFINITY)
     }
 }
 

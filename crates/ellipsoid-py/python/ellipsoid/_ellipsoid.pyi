@@ -319,8 +319,8 @@ class Trajectory:
     @property
     def sections(self) -> dict[str, dict[str, _FloatArray | npt.NDArray[np.str_]]]:
         """The points of each Poincaré section (`[[section]]`): name → a dict of read-only numpy arrays named like the columns (`mode` a str array), one element per crossing, in time order."""
-    def plot_section(self, name: str, x: str, y: str, ax: Any = None) -> Any:
-        """Section `name`'s column `y` against column `x`, one marker per crossing, on a pyplot figure (or into `ax`); the Axes (needs matplotlib)."""
+    def plot_section(self, name: str, x: str, y: str, ax: Any = None, wrap: str | Sequence[str] | None = None) -> Any:
+        """Section `name`'s column `y` against column `x`, one marker per crossing, on a pyplot figure (or into `ax`), the angle columns `wrap` names modulo 2π; the Axes (needs matplotlib)."""
 
 @final
 class Study:

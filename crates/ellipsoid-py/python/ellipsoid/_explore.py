@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import html
 import os
 from typing import Any, Sequence
 
@@ -66,11 +67,11 @@ class Explorer:
             self.trajectory = simulate(self.scenario, **self._changes)
         except EllipsoidError as err:
             self.scenario, self.trajectory = None, None
-            self.status.value = f"<b>refused</b>: {_escape(str(err))}"
+            self.status.value = f"<b>refused</b>: {html.escape(str(err), quote=False)}"
             self.figure.clear_output()
             return
         traj = self.trajectory
-        self.status.value = f"{_escape(traj.status)} at t = {traj.t[-1]:.6g} s: {_escape(traj.message)}"
+        self.status.value = f"{html.escape(traj.status, quote=False)} at t = {traj.t[-1]:.6g} s: {html.escape(traj.message, quote=False)}"
         with self.figure:
             self.figure.clear_output(wait=True)
             if self._columns:
@@ -84,10 +85,6 @@ class Explorer:
 
     def _repr_mimebundle_(self, **kwargs: Any) -> Any:
         return self.widget._repr_mimebundle_(**kwargs)
-
-
-def _escape(text: str) -> str:
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
 def explore(

@@ -133,7 +133,7 @@ def _params(scenario: Scenario, params: Any, source: str = _SOURCE) -> tuple[lis
             raise _bad(f"params[{key!r}]", bounds, "expected finite bounds with low < high", source=source)
         value = scenario.get(key)
         if value is None:
-            raise _bad(f"params[{key!r}]", bounds, f"the scenario does not set this key: its value there is the starting value (set it, or use the twin the scenario sets, e.g. initial.theta_deg)", source=source)
+            raise _bad(f"params[{key!r}]", bounds, "the scenario does not set this key: its value there is the starting value (set it, or use the twin the scenario sets, e.g. initial.theta_deg)", source=source)
         if isinstance(value, bool) or not isinstance(value, (int, float)):
             raise _bad(f"params[{key!r}]", value, "the scenario's value is not a number", source=source)
         if not low <= value <= high:

@@ -340,9 +340,10 @@ def plot(traj: Any, panels: str | Sequence[str] | None = None, columns: str | Se
     return _axes(drawn)
 
 
-def plot_section(traj: Any, name: Any, x: Any, y: Any, ax: Any = None) -> Any:
+def plot_section(traj: Any, name: Any, x: Any, y: Any, ax: Any = None, wrap: Any = None) -> Any:
     """`Trajectory.plot_section`: section `name`'s column `y` against column `x`, one
-    marker per crossing, the axes labelled with the columns' SI units."""
+    marker per crossing, the axes labelled with the columns' SI units; the angle columns
+    that `wrap` names (one name or several, of `x` and `y`) drawn modulo 2π, in [0, 2π)."""
     if ax is not None and not (callable(getattr(ax, "plot", None)) and hasattr(ax, "figure")):
         raise _bad("ax", ax, f"expected a matplotlib Axes, found {type(ax).__name__}", True)
     sections = traj.sections
@@ -357,12 +358,22 @@ def plot_section(traj: Any, name: Any, x: Any, y: Any, ax: Any = None) -> Any:
             raise _bad(key, column, f"expected a column name (str), found {type(column).__name__}", True)
         if column not in points or column == "mode":
             raise _bad(key, column, "not a numeric column (one of Trajectory.columns but mode)")
+    wrapped = [wrap] if isinstance(wrap, str) else ([] if wrap is None else wrap)
+    if not isinstance(wrapped, (list, tuple)) or not all(isinstance(w, str) for w in wrapped):
+        raise _bad("wrap", wrap, "expected a column name or a list of them (str)", True)
+    for w in wrapped:
+        if w not in (x, y):
+            raise _bad("wrap", w, f"not a column of this plot (x = {x!r}, y = {y!r})")
+        if traj.units[w] != "rad":
+            raise _bad("wrap", w, f"not an angle: its unit is {traj.units[w]}, and only angles (rad) are taken modulo 2π")
+    # The second modulo maps a value that rounds to 2π (a tiny negative one) to 0.
+    values = {c: np.mod(np.mod(points[c], 2 * np.pi), 2 * np.pi) if c in wrapped else points[c] for c in (x, y)}
     if ax is None:
         fig = _figure(figsize=(6, 5), layout="constrained")
         fig.suptitle(f"{_suptitle(traj)}: section {name}")
         ax = fig.subplots()
-    ax.plot(points[x], points[y], ".", ms=3, label=f"{name} ({len(points[x])} points)")
-    ax.set_xlabel(f"{x} ({traj.units[x]})")
-    ax.set_ylabel(f"{y} ({traj.units[y]})")
+    ax.plot(values[x], values[y], ".", ms=3, label=f"{name} ({len(points[x])} points)")
+    ax.set_xlabel(f"{x} ({traj.units[x]}{', modulo 2π' if x in wrapped else ''})")
+    ax.set_ylabel(f"{y} ({traj.units[y]}{', modulo 2π' if y in wrapped else ''})")
     ax.grid(alpha=0.3)
     return ax

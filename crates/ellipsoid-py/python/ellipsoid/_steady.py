@@ -45,7 +45,7 @@ class Steady:
     "nutation"; under the viscous law "tilt" or "slip"); ``states``: (ζ1, ζ2, ζ3,
     ω1, ω2, ω3) per value (world up and the angular velocity in body axes [rad/s]);
     ``spin`` [rad/s], ``theta`` [rad], ``normal_force`` [N], ``max_real`` [1/s],
-    ``stable``; for the tilted families ``phi_dot`` [rad/s] and ``circles`` [m] (None
+    ``stable``, ``surface`` (the surface each motion rests on); for the tilted families ``phi_dot`` [rad/s] and ``circles`` [m] (None
     otherwise); ``critical``: the critical values, dicts with ``value``, ``kind``
     ("collision", "hopf", "real"), ``stable_side`` ("above" or "below") and
     ``eigenvalue``.
@@ -78,6 +78,8 @@ class Steady:
         """The largest real part of each row of eigenvalues [1/s]."""
         self.stable: np.ndarray = raw["stable"]
         """Whether each steady motion is linearly stable (max_real ≤ 0 to round-off)."""
+        self.surface: list[str] = raw["surface"]
+        """The surface each steady motion rests on: "ellipsoid", or a contact sphere's name (a body with contact spheres rests on the surface lowest where the family starts: a tippe top's stem when inverted)."""
         self.critical: list[dict[str, Any]] = raw["critical"]
         """The critical values: dicts with ``value``, ``kind`` ("collision", "hopf", "real"), ``stable_side`` ("above" or "below") and ``eigenvalue``."""
         self._source: tuple[Any, str] = (None, "spin")

@@ -130,6 +130,11 @@ def study(
     axes' columns and ``df.attrs["combine"]`` says "grid" or "zip"
     (``ellipsoid.to_xarray(df)`` makes a grid an n-D Dataset, its names without the
     ``[unit]``, each unit in its variable's ``attrs["units"]``).
+
+    Before running, the plausibility warnings of its points (likely unit slips, found at
+    the points that give every value of every axis) are issued as
+    ``ellipsoid.PlausibilityWarning``, each once (docs/scenarios.md, "Plausibility
+    warnings").
     """
     threads = _study_workers(workers)
     _check_seconds(chunk_seconds)
@@ -144,6 +149,7 @@ def study(
         st = axes.replace(base=base, outcomes=outcomes) if (base is not None or outcomes is not None) else axes
     else:
         st = make_study(base, axes, outcomes, combine)
+    st._warn_plausibility()
     n = len(st)
     if executor is None:
         rows = st.run(0, n, threads, journal)

@@ -361,6 +361,9 @@ pub fn study_error(
     }
 }
 
+/// Most points [`Study::warnings`] checks (each a scenario built: about 0.2 s in all).
+pub const MAX_WARNING_POINTS: usize = 2_000;
+
 /// The points of a grid over axes of `lens` values each, or the rule it breaks (more than
 /// [`MAX_POINTS`]).
 pub(crate) fn grid_points(lens: &[usize]) -> Result<usize, String> {
@@ -660,6 +663,52 @@ impl Study {
             key: hash_hex(&text),
             draft,
         })
+    }
+
+    /// The plausibility warnings of the study's points (`scenario::warnings`: valid values
+    /// that are likely unit slips), each text once, in the order found. Checked at the
+    /// points that give every value of every axis, the other axes at their first values —
+    /// as many points as the axes have values together, not their product — so a slip in
+    /// one axis's values is always found, and one that needs two axes' values together (a
+    /// density from a mass and a size) where these points have them; at most
+    /// [`MAX_WARNING_POINTS`] of them, the axes' values taken in turn (a zipped study: its
+    /// first points). Points the scenario refuses are skipped: a run reports them.
+    pub fn warnings(&self) -> Vec<String> {
+        let mut points = vec![0];
+        match self.plan.combine {
+            Combine::Zip => points.extend(1..self.points),
+            Combine::Grid => {
+                // Row-major: axis k's stride is the product of the later axes' lengths.
+                // The axes' values taken in turn (the second of each, then the third, …),
+                // so that the cap leaves no axis unchecked.
+                let mut strides = vec![1; self.lens.len()];
+                for k in (0..self.lens.len().saturating_sub(1)).rev() {
+                    strides[k] = strides[k + 1] * self.lens[k + 1];
+                }
+                let longest = self.lens.iter().copied().max().unwrap_or(0);
+                for c in 1..longest.min(MAX_WARNING_POINTS) {
+                    for (&n, &stride) in self.lens.iter().zip(&strides) {
+                        if c < n {
+                            points.push(c * stride);
+                        }
+                    }
+                }
+            }
+        }
+        let mut out: Vec<String> = Vec::new();
+        points.truncate(MAX_WARNING_POINTS);
+        for index in points.into_iter().filter(|&i| i < self.points) {
+            let Ok(Ok(point)) = self.resolve(index).map(|r| self.scenario(&r)) else {
+                continue;
+            };
+            for w in scenario::warnings(&point) {
+                let text = w.to_string();
+                if !out.contains(&text) {
+                    out.push(text);
+                }
+            }
+        }
+        out
     }
 
     /// Point `index`'s scenario.
