@@ -361,6 +361,8 @@ class Study:
         self, start: SupportsIndex = 0, stop: SupportsIndex | None = None, threads: SupportsIndex | None = None, journal: _Path | None = None
     ) -> list[tuple[Any, ...]]:
         """Runs points `start` to `stop` (exclusive) without the GIL; their rows in point order."""
+    def _warn_plausibility(self) -> None:
+        """Issues the study's plausibility warnings, each once (`ellipsoid.study` calls it before running)."""
     def write(self, path: _Path, rows: list[tuple[Any, ...]]) -> None:
         """Writes rows from `run` as the table at `path` (.csv, .h5; .parquet if built in), atomically."""
     def write_bytes(self, path: _Path, data: bytes) -> None:
