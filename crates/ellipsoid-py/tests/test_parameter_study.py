@@ -283,15 +283,25 @@ def test_ctrl_c_cancels_the_queued_chunks_of_a_concurrent_futures_executor() -> 
 
     with Recording() as ex:
 
+        finished = threading.Event()
+
         def interrupt_after_the_first_chunk() -> None:
             while not any(f.done() for f in ex.futures):
                 time.sleep(0.001)
-            os.kill(os.getpid(), signal.SIGINT)
+            # A SIGINT that lands while Python runs a weakref callback is swallowed
+            # ("Exception ignored in ... KeyboardInterrupt"), so it is sent again, as a
+            # user's second Ctrl-C would be, while the study still runs.
+            while not finished.is_set():
+                os.kill(os.getpid(), signal.SIGINT)
+                finished.wait(0.5)
 
         watcher = threading.Thread(target=interrupt_after_the_first_chunk, daemon=True)
         watcher.start()
         with pytest.raises(KeyboardInterrupt):
-            ellipsoid.study(base(), AXES, OUTCOMES, executor=ex, chunk_seconds=0.001)
+            try:
+                ellipsoid.study(base(), AXES, OUTCOMES, executor=ex, chunk_seconds=0.001)
+            finally:
+                finished.set()
         watcher.join()
         waiting = [f for f in ex.futures if not (f.done() or f.running())]
         assert waiting == [], f"{len(waiting)} of {len(ex.futures)} chunks still queued"
