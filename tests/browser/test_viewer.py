@@ -223,7 +223,7 @@ def test_a_failed_webgl_context_says_so_on_the_page(cli: Path, tmp_path: Path, p
         " return /webgl/.test(kind) ? null : get.call(this, kind, ...rest); };")})
     try:
         page.goto(html.as_uri())
-        page.wait("document.body.dataset.ready === '1'")
+        page.wait("document.body && document.body.dataset.ready === '1'")
         text = page.eval("document.getElementById('error').textContent")
         assert "WebGL is not available in this browser" in text and "3-D view cannot be drawn" in text, text
         shown = page.rect("#error")
