@@ -739,3 +739,184 @@ fn a_sharp_cylinder_on_its_side_rolls_on_both_rims() {
     let e0 = samples[0].energy + samples[0].work;
     assert!((last.energy + last.work - e0).abs() < 1e-12 * e0);
 }
+
+/// λ² of the straight upright rolling of a body of revolution at spin n (docs/physics.md,
+/// "Rims": "Rolling upright"), derived independently with Kane's method
+/// (scripts/derive-upright-rolling.py): on a parallel at distance ρ from G (G in its
+/// plane) whose meridian has radius of curvature r,
+/// A (A + m ρ²) λ² = A m g (ρ − r) − C (C + m ρ²) n²; the other two eigenvalues are
+/// zero (the family's spin and its turn into circles).
+fn upright_rolling_lambda2(m: f64, (a, c): (f64, f64), rho: f64, r: f64, n: f64) -> f64 {
+    (a * m * G * (rho - r) - c * (c + m * rho * rho) * n * n) / (a * (a + m * rho * rho))
+}
+
+/// A rolling scenario of `body` (its TOML) started at `initial` (the `[initial]` table's
+/// lines), for the steady analysis.
+fn rolling_text(body: &str, initial: &str) -> String {
+    format!(
+        "{body}\n[initial]\n{initial}\n[contact]\nmodel = \"rolling\"\n[output]\nt_end = 1.0\ndt = 0.1\n"
+    )
+}
+
+/// The steady analysis of a scenario text at its initial state.
+fn steady_of(
+    text: &str,
+    family: ellipsoid_core::steady::Family,
+    sets: &[String],
+) -> Result<ellipsoid_core::steady::Analysis, ellipsoid_core::error::ModelError> {
+    let scene = ellipsoid_core::scenario::parse(text, "disc.toml", sets)
+        .unwrap_or_else(|e| panic!("{e}\n{text}"))
+        .scene;
+    ellipsoid_core::steady::analyse(&scene, family)
+}
+
+/// Rims rolling straight on, upright (θ = π/2, φ̇ = 0, the rolling-circle family at its
+/// infinite radius): the spectrum equals the closed form of Kane's method to 1e-9 at
+/// spins from 0.5 to 2 times the critical one, for a sharp thin disc (n_c² = g/(3R)), a
+/// rounded rim (ρ = R + r) and an ellipsoid on its equator (ρ = a, r = c²/a, the same
+/// formula through a different support map); a sweep of the spin finds ±n_c to 1e-9.
+#[test]
+fn steady_upright_rolling_of_a_rim_has_the_closed_form_spectrum() {
+    use ellipsoid_core::steady::{Family, sweep};
+    let m = 0.3;
+    let lens = "[body]\na = 0.03\nc = 0.004\nmass = 0.3\ninertia = \"uniform\"\n";
+    let lens_inertia = (
+        m * (0.03f64.powi(2) + 0.004f64.powi(2)) / 5.0,
+        m * 0.0009 * 0.4,
+    );
+    let cases = [
+        // name, body text, (A, C), ρ, r
+        (
+            "thin disc",
+            disc_toml(0.05, 0.0, 0.0, 0.0, (m * 0.0025 / 4.0, m * 0.0025 / 2.0)),
+            (m * 0.0025 / 4.0, m * 0.0025 / 2.0),
+            0.05,
+            0.0,
+        ),
+        (
+            "rounded rim",
+            disc_toml(0.03, 0.004, 0.0, 0.0, (8e-5, 1.5e-4)),
+            (8e-5, 1.5e-4),
+            0.034,
+            0.004,
+        ),
+        (
+            "ellipsoid",
+            lens.to_string(),
+            lens_inertia,
+            0.03,
+            0.004 * 0.004 / 0.03,
+        ),
+    ];
+    for (name, body, inertia, rho, r) in cases {
+        let critical =
+            (inertia.0 * m * G * (rho - r) / (inertia.1 * (inertia.1 + m * rho * rho))).sqrt();
+        if name == "thin disc" {
+            assert!((critical / (G / 0.15).sqrt() - 1.0).abs() < 1e-14);
+        }
+        let text = rolling_text(
+            &body,
+            &format!(
+                "theta = {}\nphi_dot = 0.0\npsi_dot = 1.0",
+                std::f64::consts::FRAC_PI_2
+            ),
+        );
+        for factor in [0.5, 0.9, 1.1, 2.0] {
+            let n = factor * critical;
+            let an = steady_of(
+                &text,
+                Family::RollingCircle,
+                &[format!("initial.psi_dot={n}")],
+            )
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+            let circles = an.motion.circles.unwrap();
+            assert!(circles.center.is_infinite() && circles.contact.is_infinite());
+            assert_eq!(an.motion.precession, Some(0.0));
+            let lambda2 = upright_rolling_lambda2(m, inertia, rho, r, n);
+            let scale = lambda2.abs().sqrt();
+            let values = an.spectrum.eigenvalues();
+            assert_eq!(values.len(), 2, "{name}: {values:?}");
+            for l in &values {
+                let (along, across) = if lambda2 > 0.0 {
+                    (l.re.abs(), l.im.abs())
+                } else {
+                    (l.im.abs(), l.re.abs())
+                };
+                let err = (along - scale).abs().max(across) / scale;
+                eprintln!("{name} at {factor} n_c: λ = {l} against λ² = {lambda2}: {err:.1e}");
+                assert!(
+                    err < 1e-9,
+                    "{name} at {factor} n_c: {values:?} against λ² = {lambda2}"
+                );
+            }
+            assert_eq!(an.spectrum.stable(), factor > 1.0, "{name} at {factor} n_c");
+        }
+        let base = ellipsoid_core::scenario::parse(&text, "disc.toml", &[] as &[&str]).unwrap();
+        let values: Vec<f64> = (0..=8)
+            .map(|i| critical * (-2.0 + 0.5 * i as f64))
+            .collect();
+        let sw = sweep(&base, Family::RollingCircle, "initial.psi_dot", &values).unwrap();
+        assert_eq!(sw.critical.len(), 2, "{name}: {:?}", sw.critical);
+        for (crit, expected) in sw.critical.iter().zip([-critical, critical]) {
+            eprintln!("{name}: critical spin {} against {expected}", crit.value);
+            assert!(
+                (crit.value / expected - 1.0).abs() < 1e-9,
+                "{name}: {crit:?}"
+            );
+        }
+    }
+}
+
+/// The rolling-circle family of a rim holds Moffatt's disc spinning with its centre
+/// fixed: at its tilt α and Ω of the general relation (`steady_rates`), the spin solved
+/// for is the relation's n = Ω cos α + ψ̇ to 1e-9 (0 for the thin uniform disc) and G's
+/// circle has radius below 1e-9 R, for a thin disc and a rounded rim off G's plane.
+#[test]
+fn steady_rolling_circle_of_a_rim_holds_the_disc_spinning_with_its_centre_fixed() {
+    use ellipsoid_core::steady::Family;
+    let thin = (0.05, 0.0, 0.0, (0.3 * 0.0025 / 4.0, 0.3 * 0.0025 / 2.0));
+    let rounded = (0.0359, 0.0016, -0.0049, (1.7e-4, 3.1e-4));
+    for (radius, edge, rim_z, inertia) in [thin, rounded] {
+        for alpha in [0.2f64, 0.7, 1.3] {
+            let (omega, psi_dot) = steady_rates(0.3, radius, edge, rim_z, inertia, alpha);
+            let n = omega * alpha.cos() + psi_dot;
+            let text = rolling_text(
+                &disc_toml(radius, edge, rim_z, 0.0, inertia),
+                &format!("theta = {alpha}\nphi_dot = {omega}"),
+            );
+            let an = steady_of(&text, Family::RollingCircle, &[]).unwrap();
+            let m = &an.motion;
+            eprintln!(
+                "R {radius}, α {alpha}: n {} against {n}, G's circle {:e} m",
+                m.spin,
+                m.circles.unwrap().center
+            );
+            assert!((m.spin - n).abs() < 1e-9 * omega, "{m:?} against n = {n}");
+            assert!(m.circles.unwrap().center < 1e-9 * radius, "{m:?}");
+        }
+    }
+}
+
+/// A rim with its axis vertical lies on its face: the upright and inverted families,
+/// which start there, are refused naming the rim; at φ̇ = 0 off the edge (s ≠ 0) no
+/// spin is steady, and the error says where the contact point is.
+#[test]
+fn steady_motions_a_rim_has_not_are_refused_by_name() {
+    use ellipsoid_core::steady::Family;
+    let body = disc_toml(
+        0.05,
+        0.0,
+        0.0,
+        0.0,
+        (0.3 * 0.0025 / 4.0, 0.3 * 0.0025 / 2.0),
+    );
+    let text = rolling_text(&body, "theta = 0.0\npsi_dot = 10.0");
+    for family in [Family::Upright, Family::Inverted] {
+        let e = steady_of(&text, family, &[]).unwrap_err();
+        assert_eq!(e.key(), "body.rim", "{e}");
+        assert!(e.to_string().contains("flat on its face"), "{e}");
+    }
+    let e = steady_of(&text, Family::RollingCircle, &["initial.theta=1.2".into()]).unwrap_err();
+    assert_eq!(e.key(), "initial.theta", "{e}");
+    assert!(e.to_string().contains("straight below G"), "{e}");
+}

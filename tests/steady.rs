@@ -497,21 +497,27 @@ fn val_sweep_locates_the_critical_spin() {
     }
 }
 
+/// scenarios/rattleback.toml in its rest attitude (its initial tilt removed), spinning at
+/// ψ̇ = 0 about the vertical: the text, for `--set initial.psi_dot=…`.
+fn resting_rattleback() -> String {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/rattleback.toml");
+    std::fs::read_to_string(path)
+        .unwrap()
+        .replace(
+            "rotation = [{ axis = \"x\", angle_deg = 0.5 }, { axis = \"y\", angle_deg = 0.5 }]",
+            "",
+        )
+        .replace("omega_body = [0.0, 0.0, -5.0]", "psi_dot = 0.0")
+}
+
 /// The rolling rattleback's spectrum is not symmetric about the imaginary axis: its
 /// stability is lost transversally, a pair crossing alone (Re λ ∝ n), on both sides of
 /// n = 0 where it is neutrally stable. A sweep through 0 finds two `hopf` critical values
 /// next to 0 (within where Re λ = 1e-9 max |λ|: |n| < 1e-5 rad/s).
 #[test]
 fn val_rattleback_loses_stability_by_crossing_at_zero_spin() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/rattleback.toml");
-    let text = std::fs::read_to_string(path)
-        .unwrap()
-        .replace(
-            "rotation = [{ axis = \"x\", angle_deg = 0.5 }, { axis = \"y\", angle_deg = 0.5 }]",
-            "",
-        )
-        .replace("omega_body = [0.0, 0.0, -5.0]", "psi_dot = 0.0");
+    let text = resting_rattleback();
     let base = scenario::parse(&text, "rattleback", &[] as &[&str]).unwrap();
     let sw = steady::sweep(&base, Family::Upright, "initial.psi_dot", &[-1.0, 0.0, 1.0]).unwrap();
     let stable: Vec<bool> = sw
@@ -872,19 +878,25 @@ fn parsed(text: &str, sets: &[&str]) -> scenario::Scenario {
 
 /// Issue 48: solved for θ at φ̇ = 0, the tilted families took F_n = φ̇ (…) = 0 as a
 /// divisor; the family's tangents were NaN and the singular value decomposition panicked
-/// ("Singular value was NaN"), killing a whole sweep. Now no steady motion, with the
-/// reason, and a sweep through φ̇ = 0 has a row without one between two that have.
+/// ("Singular value was NaN"), killing a whole sweep. Issue 44: φ̇ = 0 now has its
+/// motion, the lens on its edge (θ = π/2, where s = 0) rolling straight on or spinning
+/// in place, whose tangents come from the null space of ∇F: a sweep through φ̇ = 0 has
+/// three rows, each with a finite spectrum, the middle one at θ = π/2 to 1e-12.
 #[test]
-fn the_tilted_families_without_precession_have_no_steady_motion_and_do_not_panic() {
+fn the_tilted_families_without_precession_stand_on_the_edge_and_do_not_panic() {
     use steady::Solve;
     for (family, model) in [
         (Family::RollingCircle, "contact.model=\"rolling\""),
         (Family::Precession, "contact.model=\"frictionless\""),
     ] {
         let base = parsed(LENS, &[model, "initial.phi_dot=0"]);
-        let e = steady::analyse_solving(&base.scene, family, Solve::Theta).unwrap_err();
-        assert_eq!(e.key(), "initial.phi_dot", "{e}");
-        assert!(e.to_string().contains("without precession"), "{e}");
+        let an = steady::analyse_solving(&base.scene, family, Solve::Theta).unwrap();
+        assert!(
+            (an.motion.theta - std::f64::consts::FRAC_PI_2).abs() < 1e-12,
+            "{:?}",
+            an.motion
+        );
+        assert_eq!(an.motion.precession, Some(0.0));
         let sw = steady::sweep_solving(
             &parsed(LENS, &[model]),
             family,
@@ -894,8 +906,20 @@ fn the_tilted_families_without_precession_have_no_steady_motion_and_do_not_panic
             None,
         )
         .unwrap();
-        assert!(sw.rows[1].is_err(), "{family:?}");
-        assert!(sw.rows[0].is_ok() && sw.rows[2].is_ok(), "{family:?}");
+        for row in &sw.rows {
+            let an = row.as_ref().unwrap();
+            assert!(
+                an.spectrum
+                    .eigenvalues()
+                    .iter()
+                    .all(|l| l.re.is_finite() && l.im.is_finite())
+            );
+        }
+        let middle = sw.rows[1].as_ref().unwrap();
+        assert!(
+            (middle.motion.theta - std::f64::consts::FRAC_PI_2).abs() < 1e-12,
+            "{family:?}"
+        );
     }
 }
 
@@ -1255,15 +1279,7 @@ fn val_the_rolling_top_on_its_stem_runs_as_its_spectrum_says() {
 /// at rest.
 #[test]
 fn val_a_mode_keeps_its_name_along_a_sweep() {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenarios/rattleback.toml");
-    let text = std::fs::read_to_string(path)
-        .unwrap()
-        .replace(
-            "rotation = [{ axis = \"x\", angle_deg = 0.5 }, { axis = \"y\", angle_deg = 0.5 }]",
-            "",
-        )
-        .replace("omega_body = [0.0, 0.0, -5.0]", "psi_dot = 0.0");
+    let text = resting_rattleback();
     let base = scenario::parse(&text, "rattleback", &[] as &[&str]).unwrap();
     let raw = |spin: f64| {
         let scene = scenario::parse(&text, "rattleback", &[format!("initial.psi_dot={spin}")])

@@ -294,3 +294,22 @@ def test_the_stem_is_drawn_and_the_surface_in_contact_marked(cli: Path, tmp_path
     assert hue_mask(shots[0.3], "violet").mean() > 0.5, "the stem is not drawn"
     assert hue_mask(shots[0.3], "green").mean() == 0, "an open stem is marked"
     assert hue_mask(shots[1.5], "green").mean() > 0.3, "the stem in contact is not marked"
+
+
+def test_a_coin_is_drawn_with_its_rim_marked_where_it_touches(cli: Path, tmp_path: Path, page) -> None:
+    """The coin of coin.toml touches with its rim alone (its ellipsoid does not touch): the
+    page names that one surface, draws the rim as its torus about G (the rim's centre is
+    the coin's centre, G), green while it rolls on it, and the ellipsoid never glows."""
+    html = run(cli, tmp_path, REPO / "scenarios/coin.toml", "coin", "output.t_end=1.0")
+    open_page(page, html)
+    assert page.eval("ellipsoidViewer.surfaces()") == ["edge"]
+    page.eval("ellipsoidViewer.seek(0.5)")
+    page.eval("ellipsoidViewer.setCamera({az: -0.9, el: 0.3, dist: 0.08})")
+    assert page.eval("ellipsoidViewer.touching()") == ["edge"]
+    assert page.eval("ellipsoidViewer.rimColour('edge')") == 0x2CA02C
+    p = page.eval("ellipsoidViewer.pose()")
+    centre = np.array(page.eval("ellipsoidViewer.rimCentre('edge')"))
+    assert np.linalg.norm(centre - np.array([p["x"], p["y"], p["z"]])) < 1e-7
+    img = scene_shot(page)
+    assert hue_mask(img, "green").sum() > 200, "the rim in contact is not drawn green"
+    assert page.errors() == []

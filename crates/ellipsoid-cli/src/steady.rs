@@ -458,11 +458,18 @@ fn describe(an: &Analysis, solve: Solve, body: &Body) -> String {
         );
     }
     if let Some(c) = m.circles {
-        let _ = writeln!(
-            o,
-            "circles              G {} m, contact point {} m (radii about a common vertical)",
-            c.center, c.contact
-        );
+        if c.center.is_infinite() {
+            let _ = writeln!(
+                o,
+                "circles              none: G and the contact point go straight on (phi_dot = 0)"
+            );
+        } else {
+            let _ = writeln!(
+                o,
+                "circles              G {} m, contact point {} m (radii about a common vertical)",
+                c.center, c.contact
+            );
+        }
     }
     let _ = writeln!(
         o,

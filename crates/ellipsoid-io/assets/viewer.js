@@ -108,18 +108,20 @@ const gMark = new THREE.Mesh(new THREE.SphereGeometry(0.07 * L, 16, 12), new THR
 gMark.renderOrder = 10;
 body.add(gMark);
 
-// The contact spheres fixed in the body (centres from C0, body axes), violet while open;
-// a surface touching the plane is marked green (the ellipsoid by a green glow).
-const SPHERE_OPEN = 0x8a5a9a, IN_CONTACT = 0x2ca02c, ELLIPSOID_GLOW = 0x1f6f1f;
-const spheres = S ? S.spheres.map((sp) => {
-  const m = new THREE.Mesh(new THREE.SphereGeometry(sp.radius, 32, 20), new THREE.MeshLambertMaterial({ color: SPHERE_OPEN }));
-  m.position.set(sp.center[0] - gOff[0], sp.center[1] - gOff[1], sp.center[2] - gOff[2]);
-  body.add(m);
-  return m;
-}) : [];
+// The contact spheres and rims fixed in the body (centres from C0, body axes), violet and
+// brown while open; a surface touching the plane is marked green (the ellipsoid by a green
+// glow). A rim is its torus (a sharp edge drawn with a thin tube, 1.5 % of the body).
+const SPHERE_OPEN = 0x8a5a9a, RIM_OPEN = 0x8c6d46, IN_CONTACT = 0x2ca02c, ELLIPSOID_GLOW = 0x1f6f1f;
+const place = (m, c) => { m.position.set(c[0] - gOff[0], c[1] - gOff[1], c[2] - gOff[2]); body.add(m); return m; };
+const spheres = S ? S.spheres.map((sp) => place(new THREE.Mesh(new THREE.SphereGeometry(sp.radius, 32, 20), new THREE.MeshLambertMaterial({ color: SPHERE_OPEN })), sp.center)) : [];
+const rims = S && S.rims ? S.rims.map((rim) => place(new THREE.Mesh(new THREE.TorusGeometry(rim.radius, Math.max(rim.edge, 0.015 * L), 16, 96), new THREE.MeshLambertMaterial({ color: RIM_OPEN })), rim.center)) : [];
+// Bit k of a pose's touch word is surface k of S.names: the ellipsoid (if it touches),
+// the spheres, the rims.
+const first = S ? (S.ellipsoid === false ? 0 : 1) : 1;
 if (S) {
   const legend = document.querySelector('.legend');
-  for (const [color, text] of [[SPHERE_OPEN, 'contact sphere'], [IN_CONTACT, 'surface in contact']]) {
+  const items = [...(spheres.length ? [[SPHERE_OPEN, 'contact sphere']] : []), ...(rims.length ? [[RIM_OPEN, 'rim']] : []), [IN_CONTACT, 'surface in contact']];
+  for (const [color, text] of items) {
     const item = document.createElement('span');
     item.innerHTML = `<i class="sw" style="background:#${color.toString(16).padStart(6, '0')}"></i>${text}`;
     legend.appendChild(item);
@@ -130,8 +132,9 @@ const touching = (i) => (S ? S.names.filter((_, k) => (F.touch[i] >> k) & 1) : [
 function markContacts(i) {
   if (!S) return;
   const bits = F.touch[i];
-  mesh.material.emissive.setHex(bits & 1 ? ELLIPSOID_GLOW : 0x000000);
-  spheres.forEach((m, k) => m.material.color.setHex((bits >> (k + 1)) & 1 ? IN_CONTACT : SPHERE_OPEN));
+  mesh.material.emissive.setHex(first === 1 && bits & 1 ? ELLIPSOID_GLOW : 0x000000);
+  spheres.forEach((m, k) => m.material.color.setHex((bits >> (first + k)) & 1 ? IN_CONTACT : SPHERE_OPEN));
+  rims.forEach((m, k) => m.material.color.setHex((bits >> (first + spheres.length + k)) & 1 ? IN_CONTACT : RIM_OPEN));
 }
 
 // Traces on the plane: the contact point (or G when it is unknown) and G's ground path.
@@ -350,11 +353,14 @@ window.ellipsoidViewer = {
   t0: T0, t1: T1, frames: N, rows: D.rows, semiAxes: A, shapeKnown: !!shape, contactKnown: !!cTrace,
   // Whether the 3-D view is drawn (false without WebGL).
   webgl: !!renderer,
-  // The body's surfaces (the ellipsoid, then its contact spheres), which touch the plane
+  // The body's surfaces (the ellipsoid if it touches, its contact spheres, its rims), which touch the plane
   // now, and where a sphere's centre is in the world (metres).
   surfaces: () => (S ? S.names.slice() : ['ellipsoid']),
   touching: () => touching(pose(now).frame),
   sphereCentre: (name) => { const k = S ? S.spheres.findIndex((sp) => sp.name === name) : -1; if (k < 0) return null; const v = new THREE.Vector3(); body.updateMatrixWorld(); spheres[k].getWorldPosition(v); return [v.x, v.y, v.z]; },
+  // A rim's colour now (hex), and the centre of its circle in the world (metres).
+  rimColour: (name) => { const k = S && S.rims ? S.rims.findIndex((r) => r.name === name) : -1; return k < 0 ? null : rims[k].material.color.getHex(); },
+  rimCentre: (name) => { const k = S && S.rims ? S.rims.findIndex((r) => r.name === name) : -1; if (k < 0) return null; const v = new THREE.Vector3(); body.updateMatrixWorld(); rims[k].getWorldPosition(v); return [v.x, v.y, v.z]; },
   time: () => now,
   playing: () => playing,
   rendered: () => frames,

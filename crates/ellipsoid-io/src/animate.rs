@@ -9,7 +9,9 @@
 //! Lambert's law with the surface normal R S⁻² p_b; the body's octants are coloured
 //! alternately so that the spin shows, its lower half (z_b < 0) in another hue; a contact
 //! sphere fixed in the body (a tippe top's stem, a top's peg) is hit where
-//! |p − C0 − R c| = r and drawn grey-green, the nearest surface along the ray shown. Pixels
+//! |p − C0 − R c| = r and drawn grey-green, and a rim (a coin's edge) where the ray meets
+//! its torus (sphere tracing; a sharp edge drawn with a tube of 1.5 % of the body) and
+//! drawn brown, the nearest surface along the ray shown. Pixels
 //! that miss it show the plane z = 0 (a checkerboard, one square per largest semi-axis)
 //! and the contact point's path so far. The camera is fixed (the run's whole path in
 //! view), so a frame differs from the last only around the body: each is written as the
@@ -89,13 +91,29 @@ const BODY_COLOURS: [[f64; 3]; 5] = [
     [0.90, 0.45, 0.15], // lower half, even
     [0.98, 0.85, 0.55], // lower half, odd
     [0.55, 0.68, 0.55], // a contact sphere
+    [0.62, 0.50, 0.34], // a rim
 ];
 /// The palette colour of a contact sphere (see [`BODY_COLOURS`]).
 const SPHERE_COLOUR: u8 = 4;
+/// The palette colour of a rim.
+const RIM_COLOUR: u8 = 5;
 
-/// The palette of a body with contact spheres (`spheres`) or without: the sphere's colour
+/// A sharp rim (edge 0) is drawn as a torus with a tube of this fraction of the body's
+/// largest semi-axis, so that it shows.
+const SHARP_RIM_TUBE: f64 = 0.015;
+
+/// How many of [`BODY_COLOURS`] a body's frames use: the sphere's and the rim's colours
 /// only when drawn, so a one-surface body's GIF is as it always was.
-fn palette(spheres: bool) -> Vec<u8> {
+fn body_colours(shape: Option<&Shape>) -> usize {
+    match shape {
+        Some(s) if !s.rims.is_empty() => usize::from(RIM_COLOUR) + 1,
+        Some(s) if !s.spheres.is_empty() => usize::from(SPHERE_COLOUR) + 1,
+        _ => usize::from(SPHERE_COLOUR),
+    }
+}
+
+/// The palette of a body whose frames use the first `colours` of [`BODY_COLOURS`].
+fn palette(colours: usize) -> Vec<u8> {
     let mut p = vec![
         255, 255, 255, // background
         222, 226, 232, // checker light
@@ -104,12 +122,7 @@ fn palette(spheres: bool) -> Vec<u8> {
         20, 20, 20, // text
         255, 255, 255, // text background
     ];
-    let colours = if spheres {
-        &BODY_COLOURS[..]
-    } else {
-        &BODY_COLOURS[..usize::from(SPHERE_COLOUR)]
-    };
-    for c in colours {
+    for c in &BODY_COLOURS[..colours] {
         for l in 0..BODY_LEVELS {
             let k = 0.25 + 0.75 * f64::from(l) / f64::from(BODY_LEVELS - 1);
             p.extend(c.map(|x| (255.0 * x * k).round() as u8));
@@ -197,7 +210,7 @@ impl Pose {
 }
 
 /// The palette index of the body where the ray from `o` along −`back` first hits it (the
-/// ellipsoid or a contact sphere, whichever is nearer), if it does.
+/// ellipsoid, a contact sphere or a rim, whichever is nearer), if it does.
 fn body_pixel(shape: &Shape, pose: &Pose, o: &Vector3<f64>, back: &Vector3<f64>) -> Option<u8> {
     let inv = Vector3::from(shape.semi_axes).map(|a| 1.0 / a);
     // ray in body axes, scaled so that the ellipsoid is the unit sphere: q(s) = q0 + s w
@@ -222,11 +235,60 @@ fn body_pixel(shape: &Shape, pose: &Pose, o: &Vector3<f64>, back: &Vector3<f64>)
             hit = Some((s, SPHERE_COLOUR, (d - back * s).normalize()));
         }
     }
+    let tube_floor = SHARP_RIM_TUBE * shape.semi_axes.iter().copied().fold(0.0, f64::max);
+    for rim in &shape.rims {
+        let centre = pose.c0 + pose.r * Vector3::from(rim.center);
+        let q0 = pose.r.transpose() * (o - centre);
+        let w = pose.r.transpose() * -back;
+        if let Some((s, n)) = torus_hit(q0, w, rim.radius, rim.edge.max(tube_floor))
+            && hit.is_none_or(|h| s < h.0)
+        {
+            hit = Some((s, RIM_COLOUR, pose.r * n));
+        }
+    }
     let (_, colour, n) = hit?;
     let light = Vector3::new(-0.3, -0.5, 0.8).normalize();
     let lambert = 0.35 + 0.65 * n.dot(&light).max(0.0);
     let level = (lambert * f64::from(BODY_LEVELS - 1)).round() as u8;
     Some(BODY + colour * BODY_LEVELS + level.min(BODY_LEVELS - 1))
+}
+
+/// Where the ray q0 + s w (|w| = 1, the rim's axes: its circle of radius `ring` about z
+/// through the origin) first meets the torus of tube radius `tube`, and the outward
+/// normal there: sphere tracing of the distance √((√(x² + y²) − R)² + z²) − r from the
+/// ray's entry into the torus's bounding sphere (the distance never overshoots the
+/// surface), to 1e-4 of the tube; None if the ray leaves that sphere first.
+fn torus_hit(
+    q0: Vector3<f64>,
+    w: Vector3<f64>,
+    ring: f64,
+    tube: f64,
+) -> Option<(f64, Vector3<f64>)> {
+    let bound = ring + tube;
+    let disc = q0.dot(&w).powi(2) - (q0.dot(&q0) - bound * bound);
+    if disc < 0.0 {
+        return None;
+    }
+    let (mut s, exit) = (-q0.dot(&w) - disc.sqrt(), -q0.dot(&w) + disc.sqrt());
+    s = s.max(0.0);
+    for _ in 0..256 {
+        let q = q0 + w * s;
+        let radial = q.xy().norm();
+        let d = (radial - ring).hypot(q.z) - tube;
+        if d < 1e-4 * tube {
+            let on_ring = if radial > 0.0 {
+                Vector3::new(q.x, q.y, 0.0) * (ring / radial)
+            } else {
+                Vector3::new(ring, 0.0, 0.0)
+            };
+            return Some((s, (q - on_ring).normalize()));
+        }
+        s += d;
+        if s > exit {
+            return None;
+        }
+    }
+    None
 }
 
 /// The smaller root s of a s² + 2 b s + c = 0 (a > 0), if it has one.
@@ -327,8 +389,13 @@ pub fn gif(
     cancel: &AtomicBool,
 ) -> Result<usize, String> {
     let (w, h) = (opt.width, opt.height);
-    let mut enc = gif::Encoder::new(out, w as u16, h as u16, &palette(has_spheres(table)))
-        .map_err(|e| e.to_string())?;
+    let mut enc = gif::Encoder::new(
+        out,
+        w as u16,
+        h as u16,
+        &palette(body_colours(table.shape.as_ref())),
+    )
+    .map_err(|e| e.to_string())?;
     enc.set_repeat(gif::Repeat::Infinite)
         .map_err(|e| e.to_string())?;
     let delay = (100.0 / opt.fps).round().max(1.0) as u16;
@@ -373,7 +440,7 @@ pub fn mp4(table: &Table, opt: &Options, cancel: &AtomicBool) -> Result<(Vec<u8>
                 program.to_string_lossy()
             )
         })?;
-    let pal = palette(has_spheres(table));
+    let pal = palette(body_colours(table.shape.as_ref()));
     let mut stdin = child.stdin.take().expect("piped");
     let mut rgb = Vec::new();
     let rendered = render(table, opt, cancel, |buf| {
@@ -409,11 +476,6 @@ pub fn mp4(table: &Table, opt: &Options, cancel: &AtomicBool) -> Result<(Vec<u8>
     }
     let bytes = std::fs::read(&out).map_err(|e| format!("cannot read ffmpeg's MP4: {e}"))?;
     Ok((bytes, frames))
-}
-
-/// Whether the body of `table` has contact spheres.
-fn has_spheres(table: &Table) -> bool {
-    table.shape.as_ref().is_some_and(|s| !s.spheres.is_empty())
 }
 
 /// The columns an animation needs.
@@ -486,10 +548,15 @@ fn render(
     let frames = frame_count(t, opt)?;
     debug_assert!(frames <= MAX_FRAMES);
     let rmax = shape.semi_axes.iter().copied().fold(0.0, f64::max);
-    // how far the body reaches from C0: its ellipsoid, or a contact sphere beyond it
-    let reach0 = shape.spheres.iter().fold(rmax, |m, s| {
-        m.max(Vector3::from(s.center).norm() + s.radius)
-    });
+    // how far the body reaches from C0: its ellipsoid, or a contact sphere or rim beyond it
+    let tube_floor = SHARP_RIM_TUBE * rmax;
+    let reach0 = (shape.spheres.iter())
+        .map(|s| Vector3::from(s.center).norm() + s.radius)
+        .chain(
+            (shape.rims.iter())
+                .map(|r| Vector3::from(r.center).norm() + r.radius + r.edge.max(tube_floor)),
+        )
+        .fold(rmax, f64::max);
     // the box the camera keeps in view: every position of G, grown by the body
     let (mut lo, mut hi) = (
         Vector3::repeat(f64::INFINITY),
@@ -509,11 +576,9 @@ fn render(
     let floor: Vec<u8> = (0..n)
         .map(|p| floor_pixel(&cam.origin(p as u32 % w, p as u32 / w), &cam.back, rmax))
         .collect();
-    // the ellipsoid's lowest point; with contact spheres, the contact point the run wrote
-    // (on whichever surface touches)
-    let written = (!shape.spheres.is_empty())
-        .then(|| table.contact_path())
-        .flatten();
+    // the ellipsoid's lowest point; with contact spheres or rims, the contact point the run
+    // wrote (on whichever surface touches)
+    let written = shape.several().then(|| table.contact_path()).flatten();
     let trace: Vec<(f64, f64)> = (0..t.len())
         .map(|i| {
             let c = match &written {
@@ -625,6 +690,8 @@ mod tests {
             semi_axes: [1.0; 3],
             com_offset: [0.0; 3],
             spheres: Vec::new(),
+            rims: Vec::new(),
+            ellipsoid_contact: true,
         };
         let cam = Camera::fit(
             Vector3::new(-3.0, -3.0, 0.0),
@@ -659,6 +726,8 @@ mod tests {
                 center: [0.0, 0.0, -2.0],
                 radius: 0.5,
             }],
+            rims: Vec::new(),
+            ellipsoid_contact: true,
         };
         let cam = Camera::fit(
             Vector3::new(-4.0, -4.0, 0.0),
@@ -676,6 +745,81 @@ mod tests {
         assert_eq!(colour(Vector3::new(0.0, 0.0, 0.15)), Some(SPHERE_COLOUR));
         assert!(colour(Vector3::new(0.0, 0.0, 2.5)).is_some_and(|c| c < SPHERE_COLOUR));
         assert_eq!(colour(Vector3::new(3.0, 3.0, 0.0)), None);
+    }
+
+    /// The torus's ray hits against its closed form: straight down through the top of the
+    /// tube (at z = r), through the tube's circle at x = R + r/2 (at z = r √3/2), along x
+    /// from outside (at x = −(R + r)), to 1e-4 of the tube, with the outward normal; a
+    /// ray down through the hole misses.
+    #[test]
+    fn a_ray_meets_the_torus_where_its_closed_form_says() {
+        let (ring, tube) = (1.5, 0.3);
+        let down = Vector3::new(0.0, 0.0, -1.0);
+        let cases = [
+            (
+                Vector3::new(ring, 0.0, 10.0),
+                down,
+                10.0 - tube,
+                Vector3::z(),
+            ),
+            (
+                Vector3::new(ring + tube / 2.0, 0.0, 10.0),
+                down,
+                10.0 - tube * 3f64.sqrt() / 2.0,
+                Vector3::new(0.5, 0.0, 3f64.sqrt() / 2.0),
+            ),
+            (
+                Vector3::new(-10.0, 0.0, 0.0),
+                Vector3::x(),
+                10.0 - ring - tube,
+                -Vector3::x(),
+            ),
+        ];
+        for (q0, w, s, n) in cases {
+            let (hit, normal) = torus_hit(q0, w, ring, tube).unwrap();
+            assert!((hit - s).abs() < 1e-4 * tube, "{q0:?}: {hit} against {s}");
+            assert!(
+                (normal - n).norm() < 1e-3,
+                "{q0:?}: {normal:?} against {n:?}"
+            );
+        }
+        assert!(torus_hit(Vector3::new(0.0, 0.0, 10.0), down, ring, tube).is_none());
+    }
+
+    /// A coin-like body (a small ellipsoid inside a rim): a ray through the rim's tube
+    /// is drawn in the rim's colour, one through the centre hits the ellipsoid, one beside
+    /// both hits nothing.
+    #[test]
+    fn a_rim_is_drawn_as_its_torus_around_the_ellipsoid() {
+        let shape = Shape {
+            semi_axes: [0.2; 3],
+            com_offset: [0.0; 3],
+            spheres: Vec::new(),
+            rims: vec![crate::table::RimShape {
+                name: "edge".into(),
+                center: [0.0; 3],
+                radius: 1.5,
+                edge: 0.3,
+            }],
+            ellipsoid_contact: false,
+        };
+        let cam = Camera::fit(
+            Vector3::new(-4.0, -4.0, 0.0),
+            Vector3::new(4.0, 4.0, 4.0),
+            400,
+            400,
+        );
+        let pose = Pose::new(&shape, Vector3::new(0.0, 0.0, 2.0), 0.0, 0.0, 0.0);
+        let colour = |p: Vector3<f64>| {
+            let (x, y) = cam.pixel(&p);
+            body_pixel(&shape, &pose, &cam.origin(x as u32, y as u32), &cam.back)
+                .map(|c| (c - BODY) / BODY_LEVELS)
+        };
+        assert_eq!(colour(Vector3::new(0.0, 1.5, 2.3)), Some(RIM_COLOUR));
+        assert!(colour(Vector3::new(0.0, 0.0, 2.0)).is_some_and(|c| c < SPHERE_COLOUR));
+        assert_eq!(colour(Vector3::new(3.5, -3.5, 0.0)), None);
+        assert_eq!(body_colours(Some(&shape)), BODY_COLOURS.len());
+        assert_eq!(palette(body_colours(Some(&shape))).len(), 3 * (6 + 6 * 40));
     }
 
     /// A run needing more than MAX_FRAMES frames is refused, naming the smallest speed of

@@ -81,6 +81,24 @@ pub struct Shape {
     /// The contact spheres fixed in the body (a tippe top's stem, a top's peg), in the
     /// body's order; empty for a one-surface body.
     pub spheres: Vec<SphereShape>,
+    /// The rims (circular edges: a coin's, a disc's), in the body's order.
+    pub rims: Vec<RimShape>,
+    /// Whether the ellipsoid itself touches the plane (false: a coin, which touches with
+    /// its rim only).
+    pub ellipsoid_contact: bool,
+}
+
+/// A rim of the body, as drawn: the torus of `body::Rim`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RimShape {
+    /// Its name (the per-surface columns name it).
+    pub name: String,
+    /// The centre of its circle in body axes, from the ellipsoid's centre C0 \[m\].
+    pub center: [f64; 3],
+    /// The radius of the circle through the centres of the edge's cross-section \[m\].
+    pub radius: f64,
+    /// The radius of the rounded edge (0: sharp) \[m\].
+    pub edge: f64,
 }
 
 /// A contact sphere of the body, as drawn.
@@ -98,6 +116,47 @@ pub struct SphereShape {
 pub const ELLIPSOID: &str = "ellipsoid";
 
 impl Shape {
+    /// The drawing of `body`: its ellipsoid, contact spheres and rims.
+    pub fn of(body: &ellipsoid_core::body::Body) -> Shape {
+        let (a, g) = (body.semi_axes(), body.com_offset());
+        let triple = |v: &Vector3<f64>| [v.x, v.y, v.z];
+        Shape {
+            semi_axes: triple(&a),
+            com_offset: triple(&g),
+            spheres: (body.spheres().iter())
+                .map(|s| SphereShape {
+                    name: s.name.clone(),
+                    center: triple(&s.center),
+                    radius: s.radius,
+                })
+                .collect(),
+            rims: (body.rims().iter())
+                .map(|r| RimShape {
+                    name: r.name.clone(),
+                    center: triple(&r.center),
+                    radius: r.radius,
+                    edge: r.edge,
+                })
+                .collect(),
+            ellipsoid_contact: body.ellipsoid_contact(),
+        }
+    }
+
+    /// Whether the body has a surface besides its ellipsoid (its outputs then name each
+    /// surface).
+    pub fn several(&self) -> bool {
+        !(self.spheres.is_empty() && self.rims.is_empty())
+    }
+
+    /// The surfaces that touch, in the body's order (`Body::surfaces`): the ellipsoid
+    /// unless it does not touch, the spheres, the rims.
+    pub fn surface_names(&self) -> Vec<&str> {
+        (self.ellipsoid_contact.then_some(ELLIPSOID).into_iter())
+            .chain(self.spheres.iter().map(|s| s.name.as_str()))
+            .chain(self.rims.iter().map(|r| r.name.as_str()))
+            .collect()
+    }
+
     /// The world position of the contact point for G at `g` and z-x-z Euler angles
     /// (θ, φ, ψ): C0 = G − R g_b, C = C0 + R p_c with p_c = −A²ζ/√(ζᵀA²ζ), ζ = Rᵀe3
     /// (docs/physics.md, "Contact geometry").
@@ -238,13 +297,15 @@ impl Table {
     }
 
     /// The contact point's horizontal path: the `contact_x`, `contact_y` columns when the
-    /// file has them, else computed from G, the Euler angles and the shape; `None` if
-    /// neither is possible.
+    /// file has them, else computed from G, the Euler angles and the shape of a body that
+    /// touches with its ellipsoid alone; `None` if neither is possible.
     pub fn contact_path(&self) -> Option<(Vec<f64>, Vec<f64>)> {
         if let (Some(x), Some(y)) = (self.column("contact_x"), self.column("contact_y")) {
             return Some((x.to_vec(), y.to_vec()));
         }
-        let shape = self.shape.as_ref()?;
+        // Computed, it is the ellipsoid's lowest point: of a body that touches with
+        // other surfaces only the written columns say where it touches.
+        let shape = self.shape.as_ref().filter(|s| !s.several())?;
         let cols = self
             .require(&["x", "y", "z", "theta", "phi", "psi"], "the contact path")
             .ok()?;
@@ -388,7 +449,7 @@ impl Table {
     /// Sets the scenario's name and the body's shape, with its contact spheres, from the
     /// JSON of a CSV file's comment line (`ellipsoid_io::csv::comment`); a comment that does
     /// not parse changes nothing (a summary can still give them). A comment that gives a
-    /// body and a `spheres` list that is not one a body may have (see [`comment_spheres`])
+    /// body and a `spheres` or `rims` list that is not one a body may have (see [`comment_body`])
     /// is an error, the rule it breaks.
     pub fn apply_comment(&mut self, json: &str) -> Result<(), String> {
         let Ok(v) = serde_json::from_str::<Value>(json) else {
@@ -409,15 +470,7 @@ impl Table {
         if let (Some(semi_axes), Some(com_offset)) = (triple("semi_axes"), triple("com_offset"))
             && semi_axes.iter().all(|a| *a > 0.0)
         {
-            let spheres = match v.get("spheres") {
-                Some(list) => comment_spheres(list, semi_axes, com_offset)?,
-                None => Vec::new(),
-            };
-            self.shape = Some(Shape {
-                semi_axes,
-                com_offset,
-                spheres,
-            });
+            self.shape = Some(comment_body(&v, semi_axes, com_offset)?);
             self.shape_note = format!(
                 "body from the file's comment line ({})",
                 name.as_deref().unwrap_or("its scenario")
@@ -444,12 +497,7 @@ impl Table {
     /// Sets the shape from the body of the scenario `source`, which the note names by its
     /// file name alone (a page carries no directories of the machine that made it).
     pub fn set_body(&mut self, body: &ellipsoid_core::body::Body, source: &str) {
-        let (a, g) = (body.semi_axes(), body.com_offset());
-        self.shape = Some(Shape {
-            semi_axes: [a.x, a.y, a.z],
-            com_offset: [g.x, g.y, g.z],
-            spheres: body.spheres().iter().map(SphereShape::of).collect(),
-        });
+        self.shape = Some(Shape::of(body));
         let name = Path::new(source)
             .file_name()
             .map_or_else(|| source.into(), |n| n.to_string_lossy());
@@ -457,67 +505,111 @@ impl Table {
     }
 }
 
-impl SphereShape {
-    /// The drawing of a body's contact sphere.
-    fn of(s: &ellipsoid_core::body::Sphere) -> SphereShape {
-        SphereShape {
-            name: s.name.clone(),
-            center: [s.center.x, s.center.y, s.center.z],
-            radius: s.radius,
-        }
-    }
-}
-
-/// The `spheres` list of a CSV comment line, `[{"name": …, "center": [x, y, z], "radius": …}]`
-/// for the body of `semi_axes` and `com_offset`: entries with exactly these keys, at most
-/// `body::MAX_SPHERES`, and values a body may have (`Body::with_spheres`: names unique
-/// words of at most `body::MAX_NAME` bytes, centres finite, radii positive lengths). The
-/// error names the entry, its value and the rule.
-pub fn comment_spheres(
+/// The entries of the comment line's list `key` (`spheres` or `rims`): each
+/// `{"name": …, "center": [x, y, z], n: …}` for the numbers `numbers` names, at most
+/// `max` of them; the name, centre and numbers of each. The error names the entry and
+/// the rule.
+fn comment_entries(
     list: &Value,
-    semi_axes: [f64; 3],
-    com_offset: [f64; 3],
-) -> Result<Vec<SphereShape>, String> {
-    use ellipsoid_core::body::{Body, MAX_SPHERES, Sphere, uniform_inertia};
+    key: &str,
+    max: usize,
+    numbers: &[&str],
+) -> Result<Vec<(String, Vector3<f64>, Vec<f64>)>, String> {
     let entries = list
         .as_array()
-        .ok_or("the comment line's `spheres` is not a list")?;
-    if entries.len() > MAX_SPHERES {
+        .ok_or_else(|| format!("the comment line's `{key}` is not a list"))?;
+    if entries.len() > max {
         return Err(format!(
-            "the comment line's `spheres` has {} entries; a body has at most {MAX_SPHERES} contact spheres",
+            "the comment line's `{key}` has {} entries; a body has at most {max}",
             entries.len()
         ));
     }
-    let mut spheres = Vec::with_capacity(entries.len());
+    let quoted: Vec<String> = ["name", "center"]
+        .iter()
+        .chain(numbers)
+        .map(|n| format!("\"{n}\""))
+        .collect();
+    let typed: Vec<String> = numbers
+        .iter()
+        .map(|n| format!(", \"{n}\": a number"))
+        .collect();
+    let mut out = Vec::with_capacity(entries.len());
     for (k, e) in entries.iter().enumerate() {
-        let bad = |rule: &str| format!("the comment line's spheres[{k}]: {rule}");
+        let bad = |rule: &str| format!("the comment line's {key}[{k}]: {rule}");
         let fields = e
             .as_object()
-            .filter(|o| o.len() == 3)
-            .ok_or_else(|| bad("expected {\"name\", \"center\", \"radius\"}"))?;
+            .filter(|o| o.len() == 2 + numbers.len())
+            .ok_or_else(|| bad(&format!("expected {{{}}}", quoted.join(", "))))?;
         let name = fields.get("name").and_then(Value::as_str);
         let center: Option<Vec<f64>> = fields
             .get("center")
             .and_then(Value::as_array)
             .and_then(|c| c.iter().map(Value::as_f64).collect());
-        let radius = fields.get("radius").and_then(Value::as_f64);
-        let (Some(name), Some(center), Some(radius)) = (name, center, radius) else {
-            return Err(bad(
-                "expected {\"name\": text, \"center\": [x, y, z], \"radius\": a number}",
-            ));
+        let values: Option<Vec<f64>> = numbers
+            .iter()
+            .map(|n| fields.get(*n).and_then(Value::as_f64))
+            .collect();
+        let (Some(name), Some(center), Some(values)) = (name, center, values) else {
+            return Err(bad(&format!(
+                "expected {{\"name\": text, \"center\": [x, y, z]{}}}",
+                typed.concat()
+            )));
         };
         let center = <[f64; 3]>::try_from(center)
             .map_err(|c| bad(&format!("center has {} coordinates, not 3", c.len())))?;
-        spheres.push(Sphere {
-            name: name.to_owned(),
-            center: Vector3::from(center),
-            radius,
-        });
+        out.push((name.to_owned(), Vector3::from(center), values));
     }
+    Ok(out)
+}
+
+/// The body of a CSV comment line `v` with `semi_axes` and `com_offset`: its `spheres`
+/// (`[{"name": …, "center": [x, y, z], "radius": …}]`), `rims` (the same with `edge`) and
+/// `ellipsoid_contact` (true unless given false), each optional, with values a body may
+/// have (`Body::with_spheres`, `with_rims`, `without_ellipsoid_contact`: names unique
+/// words of at most `body::MAX_NAME` bytes, centres finite, radii positive lengths, rims
+/// on the axis, at most `MAX_SPHERES` spheres and `MAX_RIMS` rims). The error names the
+/// entry, its value and the rule.
+pub fn comment_body(v: &Value, semi_axes: [f64; 3], com_offset: [f64; 3]) -> Result<Shape, String> {
+    use ellipsoid_core::body::{Body, MAX_RIMS, MAX_SPHERES, Rim, Sphere, uniform_inertia};
+    let list = |key: &str, max: usize, numbers: &[&str]| match v.get(key) {
+        Some(list) => comment_entries(list, key, max, numbers),
+        None => Ok(Vec::new()),
+    };
+    let spheres = list("spheres", MAX_SPHERES, &["radius"])?
+        .into_iter()
+        .map(|(name, center, x)| Sphere {
+            name,
+            center,
+            radius: x[0],
+        })
+        .collect();
+    let rims = list("rims", MAX_RIMS, &["radius", "edge"])?
+        .into_iter()
+        .map(|(name, center, x)| Rim {
+            name,
+            center,
+            radius: x[0],
+            edge: x[1],
+        })
+        .collect();
+    let touches = match v.get("ellipsoid_contact") {
+        None => true,
+        Some(b) => b
+            .as_bool()
+            .ok_or("the comment line's `ellipsoid_contact` is not true or false")?,
+    };
     let a = Vector3::from(semi_axes);
     Body::new(a, 1.0, uniform_inertia(a, 1.0), Vector3::from(com_offset))
         .and_then(|b| b.with_spheres(spheres))
-        .map(|b| b.spheres().iter().map(SphereShape::of).collect())
+        .and_then(|b| b.with_rims(rims))
+        .and_then(|b| {
+            if touches {
+                Ok(b)
+            } else {
+                b.without_ellipsoid_contact()
+            }
+        })
+        .map(|b| Shape::of(&b))
         .map_err(|e| format!("the comment line's body: {e}"))
 }
 
@@ -1245,6 +1337,43 @@ mod tests {
             }]
         );
         assert_eq!(shape.semi_axes, [0.015; 3]);
+        // A coin: its rim, and its ellipsoid that does not touch.
+        let coin = crate::csv::comment(&bundled("coin.toml"));
+        let p = write(dir.path(), "coin.csv", &format!("{coin}\nt,x\n0,1\n"));
+        let shape = read(&p).unwrap().shape.unwrap();
+        assert_eq!(
+            shape.rims,
+            [RimShape {
+                name: "edge".into(),
+                center: [0.0; 3],
+                radius: 0.011255,
+                edge: 0.000875
+            }]
+        );
+        assert!(!shape.ellipsoid_contact && shape.several());
+        assert_eq!(shape.surface_names(), ["edge"]);
+        // Hostile rims and flags: the body's own rules, named.
+        let body = r#""semi_axes":[0.01,0.01,0.001],"com_offset":[0.0,0.0,0.0]"#;
+        for (extra, rule) in [
+            (
+                r#""rims":[{"name":"edge","center":[0.001,0,0],"radius":0.01,"edge":0}]"#,
+                "body.rim[0].center",
+            ),
+            (
+                r#""rims":[{"name":"edge","center":[0,0,0],"radius":0.01}]"#,
+                "rims[0]: expected {\"name\", \"center\", \"radius\", \"edge\"}",
+            ),
+            (r#""ellipsoid_contact":3"#, "is not true or false"),
+            (
+                r#""ellipsoid_contact":false"#,
+                "needs a contact sphere or a rim",
+            ),
+        ] {
+            let text = format!("# ellipsoid {{{body},{extra}}}\nt,x\n0,1\n");
+            let p = write(dir.path(), "bad.csv", &text);
+            let err = read(&p).unwrap_err().to_string();
+            assert!(err.contains(rule), "{extra}: {err}");
+        }
     }
 
     /// A comment line whose spheres are not a body's is refused, naming the line, the
@@ -1431,6 +1560,8 @@ mod tests {
             semi_axes: [0.1; 3],
             com_offset: [0.0, 0.0, -0.02],
             spheres: Vec::new(),
+            rims: Vec::new(),
+            ellipsoid_contact: true,
         };
         let theta: f64 = 0.7;
         // C0 is at G + R(0,0,0.02); the contact point at C0 − 0.1 e3.
@@ -1454,6 +1585,8 @@ mod tests {
             semi_axes: [0.1; 3],
             com_offset: [0.0, 0.0, -0.02],
             spheres: Vec::new(),
+            rims: Vec::new(),
+            ellipsoid_contact: true,
         });
         let (x, y) = t.centre_path().unwrap();
         // C0 = G + 0.02 e3*, e3* = (sin φ sin θ, −cos φ sin θ, cos θ).
@@ -1466,6 +1599,8 @@ mod tests {
             semi_axes: [0.1; 3],
             com_offset: [0.0; 3],
             spheres: Vec::new(),
+            rims: Vec::new(),
+            ellipsoid_contact: true,
         });
         assert!(t.centre_path().is_none(), "C0 is G");
     }

@@ -1,8 +1,9 @@
 //! The 3-D viewer: one self-contained HTML page (no network: three.js r170 and its MIT
 //! licence are inlined from `assets/three/`, the trajectory is embedded) showing the
 //! body as it is — its semi-axes, meridians and an equatorial band that make the spin
-//! visible, the symmetry axis and G, and its contact spheres (a tippe top's stem, a top's
-//! peg), each surface marked while it touches the plane — on the plane with the trace of
+//! visible, the symmetry axis and G, its contact spheres (a tippe top's stem, a top's
+//! peg) and rims (a coin's edge, drawn as its torus; a sharp edge with a thin tube), each
+//! surface marked while it touches the plane — on the plane with the trace of
 //! the contact point; play/pause, speed, a time slider, events, and θ(t) and energy plots
 //! (and, for a body with contact spheres, the normal force of each surface) whose cursor
 //! follows the 3-D view. Shared by `ellipsoid view` and Python's `Trajectory.view()`.
@@ -305,21 +306,33 @@ fn surfaces_plot(table: &Table, name: &str, quantity: &str) -> Option<serde_json
     Some(serde_json::json!({ "name": name, "label": label, "lines": lines }))
 }
 
-/// The body's contact spheres and, per pose, which surfaces touch the plane (bit k of
-/// `touch[i]` for surface k of `names`: the ellipsoid, then the spheres), for the page's
+/// The body's contact spheres and rims, whether its ellipsoid touches, and per pose which
+/// surfaces touch the plane (bit k of `touch[i]` for surface k of `names`, in the body's
+/// order: the ellipsoid unless it does not touch, the spheres, the rims), for the page's
 /// data; `None` for a one-surface body (its page is as it always was).
 fn surfaces_data(table: &Table, idx: &[usize]) -> Option<serde_json::Value> {
-    let shape = table.shape.as_ref().filter(|s| !s.spheres.is_empty())?;
-    let names: Vec<&str> = std::iter::once(ELLIPSOID)
-        .chain(shape.spheres.iter().map(|s| s.name.as_str()))
-        .collect();
+    let shape = table.shape.as_ref().filter(|s| s.several())?;
+    let names = shape.surface_names();
     let touch = b64_f32(idx.iter().map(|&i| f64::from(table.in_contact(i, &names))));
     let spheres: Vec<serde_json::Value> = shape
         .spheres
         .iter()
         .map(|s| serde_json::json!({ "name": s.name, "center": s.center, "radius": s.radius }))
         .collect();
-    Some(serde_json::json!({ "names": names, "spheres": spheres, "touch": touch }))
+    let rims: Vec<serde_json::Value> = shape
+        .rims
+        .iter()
+        .map(|r| {
+            serde_json::json!({ "name": r.name, "center": r.center, "radius": r.radius, "edge": r.edge })
+        })
+        .collect();
+    Some(serde_json::json!({
+        "names": names,
+        "ellipsoid": shape.ellipsoid_contact,
+        "spheres": spheres,
+        "rims": rims,
+        "touch": touch,
+    }))
 }
 
 /// The viewer page for `table`, titled `title`, with a side plot against time of each of
@@ -653,8 +666,47 @@ mod tests {
                 center: [0.0, 0.0, 0.013],
                 radius: 0.005,
             }],
+            rims: Vec::new(),
+            ellipsoid_contact: true,
         });
         t
+    }
+
+    /// A coin (its ellipsoid does not touch) with two rims, the lower touching alone up to
+    /// row 5 and both from row 5 on: the page names the rims only, carries them, and bit
+    /// k of each pose is rim k (not the ellipsoid's bit 0 of a body whose ellipsoid
+    /// touches).
+    #[test]
+    fn a_body_with_rims_carries_them_and_its_ellipsoid_takes_no_bit() {
+        let mut t = table(10);
+        t.mode_names = vec!["rolling@bottom".into(), "two_contacts@bottom+top".into()];
+        t.modes = Some((0..10).map(|i| u8::from(i >= 5)).collect());
+        let rim = |name: &str, z: f64| crate::table::RimShape {
+            name: name.into(),
+            center: [0.0, 0.0, z],
+            radius: 0.03,
+            edge: 0.001,
+        };
+        t.shape = Some(crate::table::Shape {
+            semi_axes: [0.031, 0.031, 0.005],
+            com_offset: [0.0; 3],
+            spheres: Vec::new(),
+            rims: vec![rim("bottom", -0.004), rim("top", 0.004)],
+            ellipsoid_contact: false,
+        });
+        let d = data(&html(&t, "x", &DEFAULT_PLOTS).unwrap());
+        let s = &d["surfaces"];
+        assert_eq!(s["names"], serde_json::json!(["bottom", "top"]));
+        assert_eq!(s["ellipsoid"], serde_json::json!(false));
+        assert_eq!(
+            s["rims"][1],
+            serde_json::json!({"name": "top", "center": [0.0, 0.0, 0.004], "radius": 0.03, "edge": 0.001})
+        );
+        let touch: Vec<f32> = base64_decode(s["touch"].as_str().unwrap())
+            .chunks(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        assert_eq!(touch, [1., 1., 1., 1., 1., 3., 3., 3., 3., 3.]);
     }
 
     /// A body with contact spheres: the page carries them and which surfaces touch per

@@ -4,12 +4,14 @@ criterion C²n² > 4 A m g (l − ρ) (docs/physics.md, "Steady motions and thei
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import ellipsoid
 
+REPO = Path(__file__).resolve().parents[3]
 G = 9.81
 A_SEMI, C_SEMI, MASS = 0.02, 0.03, 0.06  # a prolate egg on its end
 BIG_A = MASS * (A_SEMI**2 + C_SEMI**2) / 5
@@ -169,12 +171,34 @@ def lens(phi_dot: float, model: str = "rolling") -> ellipsoid.Scenario:
 
 
 @pytest.mark.parametrize(("family", "model"), [("rolling-circle", "rolling"), ("precession", "frictionless")])
-def test_a_tilted_family_at_zero_precession_raises_scenario_error_not_a_panic(family: str, model: str) -> None:
-    # Issue 48: solved for θ at φ̇ = 0 this was a PanicException ("Singular value was NaN").
-    with pytest.raises(ellipsoid.ScenarioError, match="initial.phi_dot = 0"):
-        ellipsoid.steady(lens(0.0, model), family=family, solve="theta")
-    with pytest.raises(ellipsoid.ScenarioError, match="without precession"):
-        ellipsoid.steady(lens(1.0, model), family=family, solve="theta", vary={"initial.phi_dot": [-1.0, 0.0, 1.0]})
+def test_a_tilted_family_at_zero_precession_stands_on_the_edge(family: str, model: str) -> None:
+    # Issue 48: solved for θ at φ̇ = 0 this was a PanicException ("Singular value was NaN");
+    # issue 44: φ̇ = 0 has its motion, the lens on its edge (θ = π/2) rolling straight on
+    # (infinite circles) or spinning in place (G fixed).
+    res = ellipsoid.steady(lens(0.0, model), family=family, solve="theta")
+    assert res.theta[0] == pytest.approx(math.pi / 2, abs=1e-12)
+    assert res.phi_dot[0] == 0.0
+    radius_g = res.circles[0, 0]
+    assert math.isinf(radius_g) if model == "rolling" else radius_g == 0.0
+    sweep = ellipsoid.steady(lens(1.0, model), family=family, solve="theta", vary={"initial.phi_dot": [-1.0, 0.0, 1.0]})
+    assert np.isfinite(sweep.eigenvalues).all()
+
+
+def test_a_disc_rolling_upright_is_stable_above_its_critical_spin() -> None:
+    """Issue 44: a rim's steady motions. The thin uniform disc of scenarios/rolling-disc.toml
+    rolling upright (θ = π/2, φ̇ = 0) is stable above n² = g/(3R); its upright family
+    (flat on its face) is refused naming the rim."""
+    disc = ellipsoid.load(str(REPO / "scenarios/rolling-disc.toml")).replace(
+        **{"initial.theta": math.pi / 2, "initial.phi_dot": 0.0, "initial.psi_dot": 1.0}
+    )
+    n_c = math.sqrt(G / (3 * 0.05))
+    res = ellipsoid.steady(disc, family="rolling-circle", vary={"initial.psi_dot": np.linspace(0.0, 2 * n_c, 9)})
+    (crit,) = res.critical
+    assert crit["value"] == pytest.approx(n_c, rel=1e-9)
+    assert crit["stable_side"] == "above"
+    assert res.surface == ["edge"] * 9
+    with pytest.raises(ellipsoid.ScenarioError, match='body.rim = "edge": the upright spin rests on this rim'):
+        ellipsoid.steady(disc, family="upright")
 
 
 def test_rates_beyond_what_doubles_resolve_are_refused_at_once() -> None:

@@ -207,6 +207,7 @@ pub fn steady_motion(
         }
     };
     let body = field.body();
+    check_not_flat(body, family)?;
     let zeta = rest_attitude(body, start)?;
     check_principal(body, family, &zeta)?;
     let init = &scene.initial;
@@ -229,6 +230,23 @@ pub fn start_attitude(scene: &Scene, family: Family) -> Vector3<f64> {
             super::tilted::zeta_at(angles.theta, angles.psi)
         }
     }
+}
+
+/// Refuses an upright or inverted spin on a rim: with its axis vertical the whole circle
+/// touches (the body lies on its face, docs/physics.md, "Rims", "The flat landing"), so
+/// there is no contact point to linearise about. A disc on its edge is a tilted motion.
+fn check_not_flat(body: &Body, family: Family) -> Result<(), ModelError> {
+    if let Surface::Rim(_) = body.surface() {
+        return Err(ModelError::invalid(
+            "body.rim",
+            Value::Name(body.surface_name(body.surface()).into()),
+            format!(
+                "the {} spin rests on this rim with its axis vertical, that is flat on its face, where no single point touches: a disc on its edge is analysed by the tilted families (rolling-circle, precession; at phi_dot = 0 rolling straight on or spinning in place)",
+                family.name()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Refuses a motion at ζ0 on a surface that is not the body's lowest there: another

@@ -151,7 +151,7 @@ pub fn resting_surface(body: &Body, zeta: &Vector3<f64>) -> Surface {
     Contact::lowest(body, *zeta, Vector3::zeros()).surface
 }
 
-/// Refuses what no steady analysis takes: effects, rims and a contact disc.
+/// Refuses what no steady analysis takes: effects and a contact disc.
 pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
     if scene.effects.any() {
         // The effects are the keys of [effects] but gravity, named in alphabetical order.
@@ -165,13 +165,6 @@ pub(super) fn plain(scene: &Scene) -> Result<(), ModelError> {
                 "steady motions are analysed without effects ({}): remove them",
                 effects.join(", ")
             ),
-        ));
-    }
-    if let Some(rim) = scene.body.rims().first() {
-        return Err(ModelError::invalid(
-            "body.rim",
-            Value::Name(rim.name.clone()),
-            "steady motions are analysed on the ellipsoid and contact spheres: a body with rims is not analysed yet",
         ));
     }
     if let Some(disc) = &scene.disc {

@@ -230,14 +230,23 @@ pub fn sweep_with<T: Stability>(
             format!("a sweep takes 1 to {MAX_VALUES} values"),
         ));
     }
-    if family.tilted() && solved_keys(solve).contains(&key) {
+    // At φ̇ = 0 the spin is not solved for but given (`tilted::from_angles`).
+    let init = &base.scene.initial;
+    let spin_given =
+        solve == Solve::Spin && init.angles.phi_dot == 0.0 && init.omega_body.is_none();
+    if family.tilted() && !spin_given && solved_keys(solve).contains(&key) {
+        let given: Vec<&str> = ["initial.theta", "initial.phi_dot", "initial.psi_dot"]
+            .into_iter()
+            .filter(|k| !solved_keys(solve).contains(k))
+            .collect();
         return Err(ModelError::invalid(
             key,
             Value::Count(values.len() as u64, "values"),
             format!(
-                "the {} family solves for {} here, which replaces this key: vary one of the given quantities (initial.theta, initial.phi_dot, initial.psi_dot) or a body or gravity key instead",
+                "the {} family solves for {} here, which replaces this key: vary one of the given quantities ({}) or a body or gravity key instead",
                 family.name(),
-                solve.name()
+                solve.name(),
+                given.join(", ")
             ),
         ));
     }

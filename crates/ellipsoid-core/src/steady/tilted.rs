@@ -17,7 +17,11 @@
 //! In body axes ζ and ω turn about k at −ψ̇ (ζ̇ = −ψ̇ k × ζ), so the motion is an
 //! equilibrium of the reduced field in the frame turning about k at ν = −ψ̇. Three zero
 //! eigenvalues there are not the motion's: the turn about k (the body's symmetry) and
-//! the two directions of the family (θ and Ω at n solved).
+//! the two directions of the family (the null space of ∇F).
+//!
+//! At Ω = 0, F = m g s does not depend on n: where s = 0 (the contact point straight
+//! below G, a disc on its edge) every spin is steady, rolling straight on (κ = 1) or
+//! spinning in place (κ = 0); the spin is then the scenario's.
 
 use nalgebra::Vector3;
 
@@ -374,16 +378,6 @@ pub fn motion(
     n: f64,
 ) -> Result<SteadyMotion, ModelError> {
     let body = field.body();
-    if omega == 0.0 {
-        return Err(ModelError::invalid(
-            "initial.phi_dot",
-            omega,
-            format!(
-                "no {} motion without precession: at φ̇ = 0 the body spins about a fixed axis (or rolls straight on), not on a circle; the family's tangent along θ, −F_θ/F_n, is undefined there (F_n = φ̇ (C sin θ + κ m h u) = 0)",
-                family.name()
-            ),
-        ));
-    }
     let geo = meridian(body, theta, psi);
     let [_, f_theta, f_omega, f_n] = rel.evaluate(&geo, omega, n);
     let k = Vector3::z();
@@ -427,29 +421,38 @@ pub fn motion(
     super::families::check_lowest(body, &zeta, |rule| {
         ModelError::invalid("initial.theta", theta, rule)
     })?;
-    // The family's tangents: d/dθ and d/dΩ of x0 with n solved (n_θ = −F_θ/F_n, …).
+    // The family's tangents: the derivatives of x0 along the null space of ∇F.
     let t_theta = (zeta * ct - k) / st;
-    let n_theta = -f_theta / f_n;
-    let n_omega = -f_omega / f_n;
-    if !(n_theta.is_finite() && n_omega.is_finite()) {
+    let Some(tangents) = family_tangents([f_theta, f_omega, f_n], scale_omega) else {
         return Err(ModelError::invalid(
             "initial.theta",
             theta,
             format!(
-                "the {} family is singular at this tilt: F_n = φ̇ (C sin θ + κ m h u) = {}, so the spin does not follow the tilt and the precession rate along the family",
-                family.name(),
-                number(f_n)
+                "the {} family is singular at this tilt: ∇F = 0, so its neighbours are not a surface through this motion",
+                family.name()
             ),
         ));
-    }
-    let d_theta = join(&t_theta, &(t_theta * omega + k * (n_theta + omega * st)));
-    let d_omega = join(&Vector3::zeros(), &(zeta + k * (n_omega - ct)));
+    };
+    let [d_theta, d_omega] = tangents.map(|[dt, dw, dn]| {
+        join(
+            &(t_theta * dt),
+            &((t_theta * omega + k * (omega * st)) * dt + (zeta - k * ct) * dw + k * dn),
+        )
+    });
     // G's velocity −ω × r (rolling) is constant in the turning frame: G circles at
-    // radius |v_G/Ω|, the contact point at |v_G/Ω + s| about the same vertical.
+    // radius |v_G/Ω|, the contact point at |v_G/Ω + s| about the same vertical; at Ω = 0
+    // G rests (frictionless) or goes straight on (rolling: radii infinite).
     let speed = rel.kappa * -(n * geo.u + omega * geo.w * st);
-    let circles = Circles {
-        center: (speed / omega).abs(),
-        contact: (speed / omega + geo.s()).abs(),
+    let circles = if speed == 0.0 {
+        Circles {
+            center: 0.0,
+            contact: geo.s().abs(),
+        }
+    } else {
+        Circles {
+            center: (speed / omega).abs(),
+            contact: (speed / omega + geo.s()).abs(),
+        }
     };
     Ok(SteadyMotion {
         family,
@@ -465,6 +468,28 @@ pub fn motion(
         circles: Some(circles),
         residual,
     })
+}
+
+/// Two directions (dθ, dΩ, dn) spanning the null space of ∇F = (F_θ, F_Ω, F_n): the
+/// family's tangents, along which F stays 0 to first order. The component of ∇F largest
+/// with the rates in units of `rate` [rad/s] (so that the three compare) is solved for,
+/// each of the other two taken as 1 in turn. Where that is the spin (F_n), these are
+/// d/dθ and d/dΩ with n following; at Ω = 0, where F_n = Ω (C sin θ + κ m h u)
+/// vanishes, they are d/dn and a turn of θ and Ω together. None where ∇F = 0.
+fn family_tangents(grad: [f64; 3], rate: f64) -> Option<[[f64; 3]; 2]> {
+    let scaled = [grad[0], grad[1] * rate, grad[2] * rate];
+    let pivot = (0..3).max_by(|&i, &j| scaled[i].abs().total_cmp(&scaled[j].abs()))?;
+    if !(scaled[pivot].abs() > 0.0 && scaled.iter().all(|g| g.is_finite())) {
+        return None;
+    }
+    let tangent = |j: usize| {
+        let mut v = [0.0; 3];
+        v[j] = 1.0;
+        v[pivot] = -grad[j] / grad[pivot];
+        v
+    };
+    let mut free = (0..3).filter(|&j| j != pivot);
+    Some([tangent(free.next()?), tangent(free.next()?)])
 }
 
 /// Checks the tilt of a tilted family: strictly between upright and inverted.
@@ -507,6 +532,23 @@ pub fn from_angles(
         check_derived_rate(body, field.gravity(), "spin n", spin)?;
     }
     let (theta, omega, n) = match solve {
+        Solve::Spin if angles.phi_dot == 0.0 => {
+            // F = m g s(θ) does not depend on n: every spin is steady where s = 0.
+            let s = meridian(body, theta, psi).s();
+            if !(s.abs() <= REVOLUTION_TOLERANCE * body.semi_axes().max()) {
+                return Err(ModelError::invalid(
+                    "initial.theta",
+                    theta,
+                    format!(
+                        "at phi_dot = 0 a {} motion is steady only where the contact point is straight below G, with the spin free; here it is {} m from G's vertical (solve = \"theta\" finds the tilt)",
+                        family.name(),
+                        number(s)
+                    ),
+                ));
+            }
+            check_derived_rate(body, field.gravity(), "spin n", spin)?;
+            (theta, 0.0, spin)
+        }
         Solve::Spin => {
             let n = solve_spin(&rel, &meridian(body, theta, psi), angles.phi_dot)?;
             (theta, angles.phi_dot, n)

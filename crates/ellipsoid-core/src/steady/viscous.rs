@@ -195,17 +195,14 @@ impl ViscousSpin {
 /// [`families::steady_motion`] takes it) and its stability.
 pub fn analyse(scene: &Scene, family: Family) -> Result<ViscousSpin, ModelError> {
     let field = ViscousField::from_scene(scene)?;
-    let start = match family {
-        Family::Upright => Vector3::z(),
-        Family::Inverted => -Vector3::z(),
-        Family::Precession | Family::RollingCircle => {
-            return Err(ModelError::invalid(
-                "family",
-                Value::Choice(family.name().into()),
-                "under the viscous law only the upright and inverted spins are steady (a tilted motion slips, and viscous friction then acts)",
-            ));
-        }
-    };
+    if family.tilted() {
+        return Err(ModelError::invalid(
+            "family",
+            Value::Choice(family.name().into()),
+            "under the viscous law only the upright and inverted spins are steady (a tilted motion slips, and viscous friction then acts)",
+        ));
+    }
+    let start = families::start_attitude(scene, family);
     let zeta = families::rest_attitude(&field.system.body, start)?;
     families::check_principal(&field.system.body, family, &zeta)?;
     let init = &scene.initial;
