@@ -85,7 +85,7 @@ const TEXT: u8 = 4;
 const TEXT_BG: u8 = 5;
 const BODY: u8 = 6;
 const BODY_LEVELS: u8 = 40;
-const BODY_COLOURS: [[f64; 3]; 5] = [
+const BODY_COLOURS: [[f64; 3]; 6] = [
     [0.20, 0.45, 0.85], // upper half, even octants
     [0.95, 0.95, 0.98], // upper half, odd octants
     [0.90, 0.45, 0.15], // lower half, even

@@ -73,7 +73,7 @@ class Steady:
         self.phi_dot: np.ndarray | None = raw["phi_dot"]
         """A tilted family's precession rate φ̇ about the vertical per value [rad/s] (None for upright and inverted)."""
         self.circles: np.ndarray | None = raw["circles"]
-        """A tilted family's circles per value: the radii of G's and of the contact point's circle [m] (None for upright and inverted)."""
+        """A tilted family's circles per value: the radii of G's and of the contact point's circle [m] (inf where φ̇ = 0 and the body rolls straight on; None for upright and inverted)."""
         self.max_real: np.ndarray = raw["max_real"]
         """The largest real part of each row of eigenvalues [1/s]."""
         self.stable: np.ndarray = raw["stable"]
