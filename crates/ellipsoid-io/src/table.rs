@@ -505,16 +505,23 @@ impl Table {
     }
 }
 
+/// One entry of a comment line's `spheres` or `rims`: its name, centre and the numbers
+/// asked for, in their order.
+struct Entry {
+    name: String,
+    center: Vector3<f64>,
+    numbers: Vec<f64>,
+}
+
 /// The entries of the comment line's list `key` (`spheres` or `rims`): each
 /// `{"name": …, "center": [x, y, z], n: …}` for the numbers `numbers` names, at most
-/// `max` of them; the name, centre and numbers of each. The error names the entry and
-/// the rule.
+/// `max` of them. The error names the entry and the rule.
 fn comment_entries(
     list: &Value,
     key: &str,
     max: usize,
     numbers: &[&str],
-) -> Result<Vec<(String, Vector3<f64>, Vec<f64>)>, String> {
+) -> Result<Vec<Entry>, String> {
     let entries = list
         .as_array()
         .ok_or_else(|| format!("the comment line's `{key}` is not a list"))?;
@@ -557,7 +564,11 @@ fn comment_entries(
         };
         let center = <[f64; 3]>::try_from(center)
             .map_err(|c| bad(&format!("center has {} coordinates, not 3", c.len())))?;
-        out.push((name.to_owned(), Vector3::from(center), values));
+        out.push(Entry {
+            name: name.to_owned(),
+            center: Vector3::from(center),
+            numbers: values,
+        });
     }
     Ok(out)
 }
@@ -577,19 +588,19 @@ pub fn comment_body(v: &Value, semi_axes: [f64; 3], com_offset: [f64; 3]) -> Res
     };
     let spheres = list("spheres", MAX_SPHERES, &["radius"])?
         .into_iter()
-        .map(|(name, center, x)| Sphere {
-            name,
-            center,
-            radius: x[0],
+        .map(|e| Sphere {
+            name: e.name,
+            center: e.center,
+            radius: e.numbers[0],
         })
         .collect();
     let rims = list("rims", MAX_RIMS, &["radius", "edge"])?
         .into_iter()
-        .map(|(name, center, x)| Rim {
-            name,
-            center,
-            radius: x[0],
-            edge: x[1],
+        .map(|e| Rim {
+            name: e.name,
+            center: e.center,
+            radius: e.numbers[0],
+            edge: e.numbers[1],
         })
         .collect();
     let touches = match v.get("ellipsoid_contact") {
