@@ -110,6 +110,8 @@ fn bad_input_exits_2_and_writes_nothing() {
                 "precession",
                 "--set",
                 "initial.theta=0.5",
+                "--set",
+                "initial.phi_dot=1",
                 "--vary",
                 "initial.psi_dot=1:2:2",
             ],
@@ -777,7 +779,11 @@ fn steady_at_zero_precession_stands_the_lens_on_its_edge() {
         let base = ["--family", family, "--solve", "theta", "--set", model];
         let out = steady_within(
             &scene,
-            &[&base[..], &["--set", "initial.phi_dot=0"]].concat(),
+            &[
+                &base[..],
+                &["--set", "initial.phi_dot=0", "--set", "initial.psi_dot=10"],
+            ]
+            .concat(),
             10.0,
         );
         let text = String::from_utf8_lossy(&out.stdout);
